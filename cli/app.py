@@ -1,0 +1,89 @@
+"""The ``motiontool`` command line: one file per command, registered here."""
+
+from __future__ import annotations
+
+import contextvars
+import functools
+import sys
+from collections.abc import Callable
+from typing import Annotated, Any, TypeVar
+
+import typer
+
+from motiontool import __version__
+from motiontool.cli import codes, info, sample, validate
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = ["app", "main"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+_debug: contextvars.ContextVar[bool] = contextvars.ContextVar("motiontool_debug", default=False)
+
+app = typer.Typer(
+    name="motiontool",
+    help=(
+        "Lint, transform and simulate Webots .motion files.\n\n"
+        "Exit codes: 0 clean, 1 findings (or a failed run), 2 usage or I/O error."
+    ),
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+def _guard(func: F) -> F:
+    """Turn a :class:`MotionToolError` into one line on stderr and exit code 2."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except MotionToolError as exc:
+            if _debug.get():
+                raise
+            typer.echo(f"motiontool: error: {exc}", err=True)
+            raise typer.Exit(2) from None
+
+    return wrapper  # type: ignore[return-value]
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"motiontool {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    debug: Annotated[
+        bool, typer.Option("--debug", help="Show a traceback instead of a one-line error.")
+    ] = False,
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version", callback=_version, is_eager=True, help="Print the version and exit."
+        ),
+    ] = False,
+) -> None:
+    _debug.set(debug)
+
+
+for _name, _command in [
+    ("validate", validate.validate_command),
+    ("info", info.info_command),
+    ("sample", sample.sample_command),
+    ("codes", codes.codes_command),
+]:
+    app.command(_name)(_guard(_command))
+
+
+def main() -> None:
+    """Console entry point."""
+    try:
+        app(prog_name="motiontool")
+    except MotionToolError as exc:  # raised outside a command (only with --debug it escapes)
+        typer.echo(f"motiontool: error: {exc}", err=True)
+        sys.exit(2)

@@ -1,0 +1,26 @@
+"""Version stamps for every report: the tool and the libraries that produced the numbers."""
+
+from __future__ import annotations
+
+from importlib import metadata
+
+from motiontool import __version__
+
+__all__ = ["stamps"]
+
+_LIBRARIES = {"mujoco": "mujoco", "pinocchio": "pin", "rerun": "rerun-sdk", "numpy": "numpy"}
+
+
+def _version(dist: str) -> str | None:
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def stamps(model_hash: str | None = None) -> dict[str, str | None]:
+    """Tool and library versions (read from package metadata, without importing them)."""
+    out: dict[str, str | None] = {"motiontool": __version__}
+    out.update({name: _version(dist) for name, dist in _LIBRARIES.items()})
+    out["model_sha256"] = model_hash
+    return out

@@ -1,0 +1,64 @@
+"""The ``.motion`` format: Webots-exact reading, lossless editing, canonical writing, playback.
+
+Depends on the standard library and numpy only.
+"""
+
+from motiontool.motionfmt.diagnostics import CODES, Code, Diagnostic, Severity
+from motiontool.motionfmt.document import MotionDocument, dumps, loads
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.fileio import atomic_write, collect_motion_files, read_file
+from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.player import CommandStream, elapsed_steps, sample, targets_at
+from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes
+from motiontool.motionfmt.validate import (
+    Check,
+    FileReport,
+    ValidationReport,
+    validate_bytes,
+    validate_paths,
+)
+from motiontool.motionfmt.writer import TimeStyle, format_motion, format_time, format_value
+
+__all__ = [
+    "CODES",
+    "NO_VALUE_MARKER",
+    "Check",
+    "Code",
+    "CommandStream",
+    "Diagnostic",
+    "FileReport",
+    "Motion",
+    "MotionDocument",
+    "MotionSyntaxError",
+    "MotionToolError",
+    "ReadResult",
+    "Severity",
+    "TimeStyle",
+    "ValidationReport",
+    "atomic_write",
+    "collect_motion_files",
+    "dumps",
+    "elapsed_steps",
+    "format_motion",
+    "format_time",
+    "format_value",
+    "load",
+    "loads",
+    "read_bytes",
+    "read_file",
+    "read_motion",
+    "sample",
+    "targets_at",
+    "validate_bytes",
+    "validate_paths",
+]
+
+
+def load(path: str) -> MotionDocument:
+    """Load a file Webots accepts as an editable document (raises :class:`MotionSyntaxError`)."""
+    return loads(read_file(path), path)
+
+
+def read_motion(path: str) -> Motion:
+    """Read a file as the :class:`Motion` Webots plays (raises :class:`MotionSyntaxError`)."""
+    return read_bytes(read_file(path), path).motion

@@ -1,0 +1,121 @@
+"""Diagnostics: what ``validate`` reports, with stable codes.
+
+Codes are grouped by what they mean for a robot:
+
+* ``MT1xx`` errors: Webots rejects the file (``wbu_motion_new`` returns NULL) or plays something
+  other than what is written.
+* ``MT2xx`` warnings: Webots accepts the file, but reads or plays it in a way the author probably
+  did not intend.
+* ``MT3xx`` robot checks (limits, velocities, collisions, balance).
+* ``MT9xx`` notes about the validation itself.
+
+A code never changes meaning once released; retired codes are not reused.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+
+__all__ = ["CODES", "Code", "Diagnostic", "Severity"]
+
+
+class Severity(enum.IntEnum):
+    """How bad a finding is; ordered so that ``max()`` gives the worst."""
+
+    INFO = 0
+    WARNING = 1
+    ERROR = 2
+
+    def __str__(self) -> str:
+        return self.name.lower()
+
+
+@dataclass(frozen=True)
+class Code:
+    """A diagnostic code: its identifier, default severity and a one-line title."""
+
+    id: str
+    severity: Severity
+    title: str
+
+
+def _codes(*codes: Code) -> dict[str, Code]:
+    return {c.id: c for c in codes}
+
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO  # noqa: E741
+
+CODES: dict[str, Code] = _codes(
+    # Webots rejects the file.
+    Code("MT100", E, "file is empty"),
+    Code("MT101", E, "invalid header: the first token must be '#WEBOTS_MOTION'"),
+    Code("MT102", E, "unsupported version: the second header token must be 'V1.0'"),
+    Code("MT103", E, "the header names no joint"),
+    Code("MT104", E, "the file has no pose"),
+    Code("MT105", E, "invalid pose time"),
+    Code("MT106", E, "pose times do not strictly increase"),
+    Code("MT107", E, "pose name missing"),
+    Code("MT108", E, "invalid value: expected a number or '*'"),
+    Code("MT109", E, "too few values on a pose line"),
+    Code("MT110", E, "too many values on a pose line"),
+    Code("MT111", E, "line of 4095 bytes or more: Webots cuts it into pieces"),
+    Code("MT112", E, "pose time out of range: Webots' int milliseconds overflow"),
+    Code("MT113", E, "value is nan or infinite"),
+    Code("MT114", E, "NUL byte: Webots stops reading the line there"),
+    # Webots accepts the file but plays something else than it seems to say.
+    Code("MT201", W, "a blank line ends the motion: every later line is ignored"),
+    Code("MT202", W, "empty cell between commas: the following values shift left"),
+    Code("MT203", W, "trailing characters after a number are ignored"),
+    Code("MT204", W, "-9999999.9 is Webots' marker for 'no value': it reads as '*'"),
+    Code("MT205", W, "joint named twice: the later column wins"),
+    Code("MT206", W, "first pose after t = 0: the robot jumps to it at once"),
+    Code("MT207", W, "'*' leaves a joint uncommanded over whole segments"),
+    Code("MT208", W, "bytes that are not UTF-8"),
+    Code("MT209", W, "pose time is not a multiple of the controller time step"),
+    Code("MT210", W, "joint name with leading or trailing white space"),
+    Code("MT211", W, "a joint is never commanded: every cell is '*'"),
+    # Notes about the validation itself.
+    Code("MT901", I, "robot checks skipped"),
+)
+
+
+@dataclass(frozen=True)
+class Diagnostic:
+    """One finding in one file.
+
+    Attributes:
+        code: stable identifier, a key of :data:`CODES`.
+        severity: error, warning or info.
+        path: the file as the user named it.
+        line: 1-based line number (physical lines, split on ``\\n``).
+        column: 1-based byte column of the first byte of the offending token.
+        message: what was expected and what was found.
+        hint: how to fix it, or ``None``.
+        joint: the joint (column) concerned, or ``None``.
+        time_ms: the pose time concerned, in milliseconds, or ``None``.
+        end_column: 1-based column one past the last byte of the token, or ``None``.
+    """
+
+    code: str
+    severity: Severity
+    path: str
+    line: int
+    column: int
+    message: str
+    hint: str | None = None
+    joint: str | None = None
+    time_ms: int | None = None
+    end_column: int | None = field(default=None, compare=False)
+
+    @property
+    def title(self) -> str:
+        """The code's one-line title."""
+        return CODES[self.code].title
+
+    def format(self) -> str:
+        """``path:line:col: severity CODE: message`` — one line, compiler style."""
+        return f"{self.path}:{self.line}:{self.column}: {self.severity} {self.code}: {self.message}"
+
+    def sort_key(self) -> tuple[str, int, int, str]:
+        return (self.path, self.line, self.column, self.code)

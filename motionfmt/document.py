@@ -1,0 +1,174 @@
+"""A lossless, editable ``.motion`` document: ``dumps(loads(text)) == text``, byte for byte.
+
+The document keeps every line as the bytes it was read from: spacing, ``+0.1``, digits of
+precision, CRLF ends, a missing final newline, lines after a terminating blank line, bytes that
+are not UTF-8. An edit re-renders only the cells it touches (new text in the canonical spelling of
+:mod:`motiontool.motionfmt.writer`, keeping the cell's leading white space); everything else stays
+as it was.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, overload
+
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.reader import ReadResult, _spans, read_bytes
+from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
+
+if TYPE_CHECKING:
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["MotionDocument", "dumps", "loads"]
+
+
+class MotionDocument:
+    """An editable ``.motion`` file that Webots accepts.
+
+    Use :func:`loads` to make one. Poses are addressed by index (0-based, file order) and joints
+    by column index (0-based) or name.
+    """
+
+    def __init__(self, data: bytes, path: str, *, as_text: bool = False) -> None:
+        result = read_bytes(data, path)
+        if not result.accepted:
+            result.motion  # raises the error where Webots stops  # noqa: B018
+        cut = [d for d in result.diagnostics if d.code == "MT111"]
+        if cut:
+            d = cut[0]
+            raise MotionSyntaxError(d.message + " [MT111]", d.path, d.line, d.column)
+        self.path = path
+        self._as_text = as_text
+        self._final_newline = data.endswith(b"\n")
+        lines = data.split(b"\n")
+        if self._final_newline:
+            lines.pop()
+        n = len(result.times_ms)
+        # The header is line 1 and the poses are lines 2..n+1: in a file Webots accepts, every
+        # line before the terminating blank line is a pose.
+        self._header = lines[0]
+        self._poses = lines[1 : n + 1]
+        self._suffix = lines[n + 1 :]
+        self._crlf = self._header.endswith(b"\r")
+        self.joints: tuple[str, ...] = tuple(result.joints)
+        first_time = self._cell(0, 0).decode("ascii")
+        self.time_style = TimeStyle.of(first_time.strip())
+        self._result: ReadResult | None = result
+
+    # -- reading ----------------------------------------------------------------------------------
+
+    @property
+    def n_poses(self) -> int:
+        return len(self._poses)
+
+    @property
+    def result(self) -> ReadResult:
+        """The current content read as Webots reads it (re-read after edits)."""
+        if self._result is None:
+            self._result = read_bytes(self.to_bytes(), self.path)
+        return self._result
+
+    @property
+    def motion(self) -> Motion:
+        """The current content as a :class:`Motion`."""
+        return self.result.motion
+
+    def to_bytes(self) -> bytes:
+        """The document's bytes; equal to the input until an edit."""
+        body = b"\n".join([self._header, *self._poses, *self._suffix])
+        return body + b"\n" if self._final_newline else body
+
+    def dumps(self) -> bytes | str:
+        """The document as it was given to :func:`loads`: ``str`` in, ``str`` out."""
+        data = self.to_bytes()
+        return data.decode("utf-8", "surrogateescape") if self._as_text else data
+
+    # -- editing ----------------------------------------------------------------------------------
+
+    def _column(self, joint: int | str) -> int:
+        if isinstance(joint, int):
+            if not 0 <= joint < len(self.joints):
+                raise MotionToolError(f"joint index {joint} out of range 0..{len(self.joints) - 1}")
+            return joint
+        for j in range(len(self.joints) - 1, -1, -1):
+            if self.joints[j] == joint:
+                return j
+        raise MotionToolError(f"no joint {joint!r}; the file has {', '.join(self.joints)}")
+
+    def _cell(self, pose: int, cell: int) -> bytes:
+        line = self._poses[pose]
+        a, b = _spans(line)[cell]
+        return line[a:b]
+
+    def _set_cell(self, pose: int, cell: int, text: str) -> None:
+        line = self._poses[pose]
+        a, b = _spans(line)[cell]
+        token = line[a:b]
+        lead = len(token) - len(token.lstrip(b" \t"))
+        self._poses[pose] = line[: a + lead] + text.encode("utf-8") + line[b:]
+        self._result = None
+
+    def set_value(self, pose: int, joint: int | str, value: float) -> None:
+        """Set one cell; NaN writes ``*``. Cells equal to ``value`` keep their spelling."""
+        j = self._column(joint)
+        current = self.result.rows[pose][j] if self._result is not None else None
+        if current is not None and (current == value or (current != current and value != value)):
+            return
+        self._set_cell(pose, 2 + j, format_value(value))
+
+    def set_time(self, pose: int, time_ms: int) -> None:
+        """Set a pose time in milliseconds, spelt in the file's own time style."""
+        self._set_cell(pose, 0, format_time(time_ms, self.time_style))
+
+    def set_times(self, times_ms: Sequence[int]) -> None:
+        """Set every pose time at once (P values, milliseconds, strictly increasing)."""
+        if len(times_ms) != self.n_poses:
+            raise MotionToolError(f"expected {self.n_poses} times, got {len(times_ms)}")
+        if any(b <= a for a, b in itertools.pairwise(times_ms)):
+            raise MotionToolError("pose times must strictly increase")
+        old = self.result.times_ms
+        for p, t in enumerate(times_ms):
+            if old[p] != t:
+                self._set_cell(p, 0, format_time(int(t), self.time_style))
+
+    def delete_pose(self, pose: int) -> None:
+        """Remove one pose line."""
+        if self.n_poses == 1:
+            raise MotionToolError("cannot delete the only pose: a motion needs at least one")
+        del self._poses[pose]
+        self._result = None
+
+    def insert_pose(self, index: int, time_ms: int, name: str, values: Sequence[float]) -> None:
+        """Insert a new pose line before pose ``index`` (``n_poses`` appends), canonically spelt."""
+        if len(values) != len(self.joints):
+            raise MotionToolError(f"expected {len(self.joints)} values, got {len(values)}")
+        line = _pose_line(time_ms, name, values, self.time_style).encode("utf-8")
+        eol = b"\r" if self._crlf else b""
+        if index == self.n_poses and not self._suffix and not self._final_newline:
+            # The new line becomes the unterminated last line; the old last line gets an end.
+            self._poses[-1] += eol
+        else:
+            line += eol
+        self._poses.insert(index, line)
+        self._result = None
+
+
+@overload
+def loads(data: bytes, path: str = ...) -> MotionDocument: ...
+@overload
+def loads(data: str, path: str = ...) -> MotionDocument: ...
+def loads(data: bytes | str, path: str = "<string>") -> MotionDocument:
+    """Parse a file Webots accepts into an editable document.
+
+    Raises:
+        MotionSyntaxError: at the first error where Webots stops, or at a line Webots cuts.
+    """
+    if isinstance(data, str):
+        return MotionDocument(data.encode("utf-8", "surrogateescape"), path, as_text=True)
+    return MotionDocument(bytes(data), path)
+
+
+def dumps(doc: MotionDocument) -> bytes | str:
+    """The document's content; ``dumps(loads(x)) == x`` for every file Webots accepts."""
+    return doc.dumps()

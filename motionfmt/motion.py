@@ -1,0 +1,88 @@
+"""The frozen, array-backed view of a motion: what a robot is asked to do."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["Motion"]
+
+
+@dataclass(frozen=True, eq=False)
+class Motion:
+    """A motion as Webots plays it.
+
+    Attributes:
+        joints: J joint (motor) names, in column order; a name may appear twice (the later
+            column wins on the robot).
+        pose_names: P pose names.
+        times_ms: int64 array, shape (P,), strictly increasing pose times in milliseconds.
+        values: float64 array, shape (P, J): joint targets in radians (metres for linear
+            joints); NaN where the cell is ``*`` (no command), including Webots' -9999999.9
+            marker and a literal ``nan``.
+
+    Both arrays are read-only.
+    """
+
+    joints: tuple[str, ...]
+    pose_names: tuple[str, ...]
+    times_ms: npt.NDArray[np.int64]
+    values: npt.NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        import numpy as np
+
+        times = np.array(self.times_ms, dtype=np.int64)
+        values = np.array(self.values, dtype=np.float64).reshape(len(times), len(self.joints))
+        times.flags.writeable = False
+        values.flags.writeable = False
+        object.__setattr__(self, "times_ms", times)
+        object.__setattr__(self, "values", values)
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "pose_names", tuple(self.pose_names))
+        if len(self.pose_names) != len(times):
+            raise ValueError(f"{len(self.pose_names)} pose names for {len(times)} poses")
+        if len(times) == 0 or len(self.joints) == 0:
+            raise ValueError("a motion needs at least one joint and one pose")
+        if len(times) > 1 and not bool(np.all(np.diff(times) > 0)):
+            raise ValueError("pose times must strictly increase")
+
+    @property
+    def n_poses(self) -> int:
+        """P, the number of poses."""
+        return int(self.times_ms.shape[0])
+
+    @property
+    def n_joints(self) -> int:
+        """J, the number of joint columns."""
+        return len(self.joints)
+
+    @property
+    def duration_ms(self) -> int:
+        """The last pose's time in milliseconds (Webots' ``wbu_motion_get_duration``)."""
+        return int(self.times_ms[-1])
+
+    def column(self, joint: str) -> int:
+        """Index of the column that drives ``joint`` on the robot (the last one of that name)."""
+        for j in range(len(self.joints) - 1, -1, -1):
+            if self.joints[j] == joint:
+                return j
+        raise KeyError(joint)
+
+    def __eq__(self, other: object) -> bool:
+        import numpy as np
+
+        if not isinstance(other, Motion):
+            return NotImplemented
+        return (
+            self.joints == other.joints
+            and self.pose_names == other.pose_names
+            and np.array_equal(self.times_ms, other.times_ms)
+            and np.array_equal(self.values, other.values, equal_nan=True)
+        )
+
+    __hash__ = None  # type: ignore[assignment]

@@ -1,0 +1,96 @@
+"""The command stream a Webots controller sends while it plays a motion.
+
+Reproduces ``wbu_motion_play`` + ``wb_robot_step``: at every step, *before* the physics step, each
+joint's target is computed at the playback time ``elapsed`` (ms), then ``elapsed`` advances by the
+time step. The interpolation is evaluated with the same double-precision expression and order of
+operations as Webots' C code, so the targets are bit-identical::
+
+    v[a] + (double)(elapsed - t[a]) * (v[b] - v[a]) / (double)(t[b] - t[a])
+
+with ``a, b = a + 1`` the first segment such that ``t[a] <= elapsed <= t[b]``. A segment touching a
+``*`` cell gives that joint no command (NaN here).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["CommandStream", "elapsed_steps", "sample", "targets_at"]
+
+
+@dataclass(frozen=True, eq=False)
+class CommandStream:
+    """What the controller commands, step by step.
+
+    Attributes:
+        joints: J joint names (the motion's columns).
+        timestep_ms: the controller time step in milliseconds.
+        elapsed_ms: int64 array (S,): the playback time of each step, in milliseconds.
+        targets: float64 array (S, J): the position sent to each motor at each step (radians,
+            metres for linear joints); NaN where the joint gets no command at that step.
+    """
+
+    joints: tuple[str, ...]
+    timestep_ms: int
+    elapsed_ms: npt.NDArray[np.int64]
+    targets: npt.NDArray[np.float64]
+
+
+def elapsed_steps(
+    duration_ms: int, timestep_ms: int, *, reverse: bool = False, loops: int = 1
+) -> npt.NDArray[np.int64]:
+    """Playback times (ms) at which a controller stepping every ``timestep_ms`` computes targets.
+
+    Forward: ``0, T, 2T, ...`` up to and including the first multiple of ``T`` that is
+    ``>= duration_ms``. Reverse: ``D, D - T, ...`` down to the first value ``<= 0``. With
+    ``loops > 1`` the cycle repeats, as Webots' loop mode restarts at the other end.
+    """
+    import numpy as np
+
+    if timestep_ms <= 0:
+        raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
+    if loops < 1:
+        raise ValueError(f"loops must be >= 1, got {loops}")
+    n = -(-duration_ms // timestep_ms) + 1  # ceil(D / T) + 1 steps
+    steps = np.arange(n, dtype=np.int64) * timestep_ms
+    if reverse:
+        steps = duration_ms - steps
+    return np.tile(steps, loops)
+
+
+def targets_at(motion: Motion, elapsed_ms: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
+    """Targets (S, J) at the given playback times, NaN where no command is sent."""
+    import numpy as np
+
+    t = motion.times_ms
+    v = motion.values
+    e = np.asarray(elapsed_ms, dtype=np.int64)
+    out = np.empty((e.shape[0], v.shape[1]), dtype=np.float64)
+    first = e <= t[0]
+    last = ~first & (e >= t[-1])
+    mid = ~(first | last)
+    out[first] = v[0]
+    out[last] = v[-1]
+    if np.any(mid):
+        em = e[mid]
+        a = np.searchsorted(t, em, side="left") - 1
+        va = v[a]
+        vb = v[a + 1]
+        num = (em - t[a]).astype(np.float64)[:, None] * (vb - va)
+        out[mid] = va + num / (t[a + 1] - t[a]).astype(np.float64)[:, None]
+    return out
+
+
+def sample(
+    motion: Motion, timestep_ms: int, *, reverse: bool = False, loops: int = 1
+) -> CommandStream:
+    """The command stream of ``motion`` played by a controller stepping every ``timestep_ms``."""
+    elapsed = elapsed_steps(motion.duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    return CommandStream(motion.joints, timestep_ms, elapsed, targets_at(motion, elapsed))

@@ -1,0 +1,798 @@
+"""Read ``.motion`` bytes exactly as Webots does, and report everything that is off.
+
+The reader emulates ``wbu_motion_new`` (``src/controller/c/motion.c``) step by step: ``fgets``
+with a 4096-byte buffer, ``strtok`` on ``",\\n\\r"``, ``str_to_time``, ``sscanf("%lf")``. It
+records where Webots would stop (:attr:`ReadResult.rejected_at`) but, unlike Webots, goes on to
+the end of the motion so that one pass reports every problem. ``../shared/FORMAT.md`` is the
+reference.
+
+Columns are 1-based byte offsets in the physical line (lines split on ``\\n``).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.cscan import INT_MAX, scan_double, scan_time
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.errors import MotionSyntaxError
+
+if TYPE_CHECKING:
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["FGETS_PIECE", "HEADER", "NO_VALUE_MARKER", "VERSION", "ReadResult", "read_bytes"]
+
+HEADER = b"#WEBOTS_MOTION"
+VERSION = b"V1.0"
+NO_VALUE_MARKER = -9999999.9
+"""Webots' internal 'undefined position': a cell holding this number behaves like ``*``."""
+FGETS_PIECE = 4095
+"""Webots reads lines with ``fgets(buffer, 4096, file)``: at most 4095 bytes a piece."""
+
+_BOM = b"\xef\xbb\xbf"
+_NAN = float("nan")
+_TOKEN = re.compile(rb"[^,\r\n]+")
+_UNIT_SUFFIX = re.compile(rb"\s*(rad|deg|degrees?|m|mm|cm|\xc2\xb0)\s*$", re.IGNORECASE)
+_INT_TOKEN = re.compile(rb"-?\d+")
+_DIGITS_TOKEN = re.compile(rb"\d+")
+
+# Diagnostics whose condition makes Webots' loader return NULL.
+_REJECTING = frozenset(
+    {"MT100", "MT101", "MT102", "MT103", "MT104", "MT105", "MT106", "MT107", "MT108", "MT109",
+     "MT110"}
+)  # fmt: skip
+
+
+def show(token: bytes, limit: int = 40) -> str:
+    """A token as a quoted, printable string for messages (non-UTF-8 bytes escaped)."""
+    text = token.decode("utf-8", "backslashreplace")
+    if len(text) > limit:
+        text = text[: limit - 3] + "..."
+    return repr(text)
+
+
+def _decode(raw: bytes) -> str:
+    """Names keep undecodable bytes as surrogates, so they survive a round trip."""
+    return raw.decode("utf-8", "surrogateescape")
+
+
+def _spans(piece: bytes) -> list[tuple[int, int]]:
+    """(start, end) byte offsets of the tokens ``strtok`` finds in ``piece``."""
+    nul = piece.find(b"\0")
+    if nul >= 0:
+        piece = piece[:nul]
+    return [m.span() for m in _TOKEN.finditer(piece)]
+
+
+@dataclass(frozen=True)
+class _Piece:
+    """What one ``fgets`` call returns: part of a physical line."""
+
+    line: int  # 1-based physical line
+    col0: int  # byte offset of the piece in its physical line
+    data: bytes  # without the newline
+
+
+@dataclass
+class ReadResult:
+    """Everything a read found.
+
+    Attributes:
+        path: the file as the user named it.
+        diagnostics: every finding, in file order.
+        rejected_at: the error at which Webots' loader stops, or ``None`` when Webots loads the
+            file (it may still mis-read it: see the warnings).
+        joints: header joint names (undecodable bytes kept as surrogates).
+        pose_names, times_ms, rows: the poses Webots reads, in file order; ``rows[p][j]`` is NaN
+            for ``*`` and the -9999999.9 marker.
+        pose_lines: 1-based physical line of each pose.
+        end_line: the blank line that ends the motion early, or ``None``.
+    """
+
+    path: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    rejected_at: Diagnostic | None = None
+    joints: list[str] = field(default_factory=list)
+    pose_names: list[str] = field(default_factory=list)
+    times_ms: list[int] = field(default_factory=list)
+    rows: list[list[float]] = field(default_factory=list)
+    pose_lines: list[int] = field(default_factory=list)
+    end_line: int | None = None
+    _motion: Motion | None = field(default=None, repr=False)
+
+    @property
+    def accepted(self) -> bool:
+        """Whether Webots' ``wbu_motion_new`` loads this file."""
+        return self.rejected_at is None
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
+
+    @property
+    def motion(self) -> Motion:
+        """The motion Webots plays; raises :class:`MotionSyntaxError` if Webots rejects it."""
+        if self.rejected_at is not None:
+            d = self.rejected_at
+            raise MotionSyntaxError(f"{d.message} [{d.code}]", d.path, d.line, d.column)
+        if self._motion is None:
+            from motiontool.motionfmt.motion import Motion
+
+            self._motion = Motion(
+                joints=tuple(self.joints),
+                pose_names=tuple(self.pose_names),
+                times_ms=self.times_ms,  # type: ignore[arg-type]
+                values=self.rows,  # type: ignore[arg-type]
+            )
+        return self._motion
+
+
+class _Reader:
+    """One pass over one file; see :func:`read_bytes`."""
+
+    def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
+        self.data = data
+        self.path = path
+        self.timestep_ms = timestep_ms
+        self.result = ReadResult(path=path)
+        self.lines = data.split(b"\n")
+        self.has_final_newline = data.endswith(b"\n")
+        if self.has_final_newline:
+            self.lines.pop()  # fgets returns NULL after the last newline
+        self.joint_tokens: list[bytes] = []
+        self.n_joints = 0
+        self.star_seen = False
+        self.pose_cols0: list[int] = []
+
+    # -- reporting ------------------------------------------------------------------------------
+
+    def report(
+        self,
+        code: str,
+        line: int,
+        column: int,
+        message: str,
+        hint: str | None = None,
+        *,
+        joint: str | None = None,
+        time_ms: int | None = None,
+        end_column: int | None = None,
+        severity: Severity | None = None,
+    ) -> None:
+        spec = CODES[code]
+        diag = Diagnostic(
+            code=code,
+            severity=spec.severity if severity is None else severity,
+            path=self.path,
+            line=line,
+            column=column,
+            message=message,
+            hint=hint,
+            joint=joint,
+            time_ms=time_ms,
+            end_column=end_column,
+        )
+        self.result.diagnostics.append(diag)
+        if code in _REJECTING and self.result.rejected_at is None:
+            self.result.rejected_at = diag
+
+    # -- pieces -----------------------------------------------------------------------------------
+
+    def pieces(self) -> Iterator[_Piece]:
+        """The lines as Webots' ``fgets`` returns them, with long lines cut into pieces."""
+        last = len(self.lines) - 1
+        for i, content in enumerate(self.lines):
+            has_newline = i < last or self.has_final_newline
+            full_length = len(content) + (1 if has_newline else 0)
+            if full_length <= FGETS_PIECE:
+                yield _Piece(i + 1, 0, content)
+                continue
+            self.report(
+                "MT111",
+                i + 1,
+                FGETS_PIECE + 1,
+                f"line is {len(content)} bytes long; Webots reads at most {FGETS_PIECE - 1} bytes"
+                f" of a line (plus its newline) at a time and reads the rest as a new line",
+                "split the motion into fewer joints, or shorten pose names and numbers",
+                end_column=len(content) + 1,
+            )
+            for start in range(0, full_length, FGETS_PIECE):
+                yield _Piece(i + 1, start, content[start : start + FGETS_PIECE])
+
+    # -- header ---------------------------------------------------------------------------------
+
+    def read_header(self, piece: _Piece) -> bool:
+        """Check the header; return whether the pose lines can be read against it."""
+        raw = piece.data
+        spans = _spans(raw)
+        tokens = [raw[a:b] for a, b in spans]
+        nul = raw.find(b"\0")
+        if nul >= 0:
+            self.report("MT114", piece.line, nul + 1, "NUL byte in the header: Webots stops there")
+        if not tokens:
+            self.report(
+                "MT101",
+                piece.line,
+                1,
+                "the first line is empty; expected the header '#WEBOTS_MOTION,V1.0,<joint>,...'",
+                "the header must be the very first line of the file",
+            )
+            return False
+        first = tokens[0]
+        proceed = True
+        if first != HEADER:
+            hint = None
+            if first.startswith(_BOM):
+                hint = "the file starts with a UTF-8 byte-order mark (BOM): save it without BOM"
+            elif first.strip() == HEADER:
+                hint = "remove the white space around '#WEBOTS_MOTION'"
+            elif first.upper() == HEADER:
+                hint = "the header is case-sensitive: write '#WEBOTS_MOTION'"
+            else:
+                proceed = first.strip(b" \t").upper().lstrip(_BOM) == HEADER
+            self.report(
+                "MT101",
+                piece.line,
+                spans[0][0] + 1,
+                f"expected '#WEBOTS_MOTION' as the first token, found {show(first)}",
+                hint,
+                end_column=spans[0][1] + 1,
+            )
+            proceed = proceed or hint is not None
+        if len(tokens) < 2:
+            end = spans[-1][1] + 1
+            self.report(
+                "MT102",
+                piece.line,
+                end,
+                "expected the version 'V1.0' after '#WEBOTS_MOTION', found end of line",
+                "the header is '#WEBOTS_MOTION,V1.0,<joint>,<joint>,...'",
+            )
+            return False
+        if tokens[1] != VERSION:
+            hint = None
+            if tokens[1].strip() == VERSION:
+                hint = "remove the white space around 'V1.0'"
+            elif tokens[1].upper() == VERSION.upper():
+                hint = "the version is case-sensitive: write 'V1.0'"
+            self.report(
+                "MT102",
+                piece.line,
+                spans[1][0] + 1,
+                f"expected the version 'V1.0' after '#WEBOTS_MOTION', found {show(tokens[1])}",
+                hint or "V1.0 is the only version Webots reads",
+                end_column=spans[1][1] + 1,
+            )
+        if not proceed:
+            return False
+        self.joint_tokens = tokens[2:]
+        self.n_joints = len(self.joint_tokens)
+        self.result.joints = [_decode(t) for t in self.joint_tokens]
+        if not self.joint_tokens:
+            self.report(
+                "MT103",
+                piece.line,
+                spans[-1][1] + 1,
+                "the header names no joint; expected '#WEBOTS_MOTION,V1.0,<joint>,...'",
+                "list the motor names after 'V1.0', separated by commas",
+            )
+        seen: dict[bytes, int] = {}
+        for j, (tok, (a, b)) in enumerate(zip(self.joint_tokens, spans[2:], strict=True)):
+            name = self.result.joints[j]
+            if tok != tok.strip():
+                self.report(
+                    "MT210",
+                    piece.line,
+                    a + 1,
+                    f"joint name {show(tok)} has leading or trailing white space; Webots looks"
+                    f" for a motor named exactly that",
+                    f"write {show(tok.strip())}",
+                    joint=name,
+                    end_column=b + 1,
+                )
+            if tok in seen:
+                self.report(
+                    "MT205",
+                    piece.line,
+                    a + 1,
+                    f"joint {show(tok)} is named twice (columns {seen[tok] + 1} and {j + 1});"
+                    f" both drive the same motor and the later column wins",
+                    "remove one of the two columns",
+                    joint=name,
+                    end_column=b + 1,
+                )
+            seen[tok] = j
+        return True
+
+    # -- pose lines -----------------------------------------------------------------------------
+
+    def read_pose_fast(self, piece: _Piece, prev_time: int) -> int | None:
+        """The common case of a clean line, without spans; ``None`` sends it to the slow path."""
+        raw = piece.data
+        if raw.endswith(b"\r"):
+            raw = raw[:-1]
+        if b"\r" in raw or b"\0" in raw:
+            return None
+        toks = raw.split(b",")
+        if len(toks) != self.n_joints + 2 or b"" in toks:
+            return None
+        values_raw = raw[len(toks[0]) + len(toks[1]) + 2 :]
+        if b"_" in values_raw or b"*" in values_raw:
+            return None  # float() reads '1_0' as 10; '*' needs the full path
+        t_tok = toks[0]
+        if t_tok.isdigit():
+            if len(t_tok) > 9:
+                return None
+            t = int(t_tok)
+        else:
+            parts = t_tok.split(b":")
+            if len(parts) > 3 or not all(p.isdigit() and len(p) < 6 for p in parts):
+                return None
+            t = int(parts[-1]) + 1000 * int(parts[-2])
+            if len(parts) == 3:
+                t += 60000 * int(parts[0])
+        if t <= prev_time:
+            return None
+        try:
+            values = list(map(float, toks[2:]))
+        except ValueError:
+            return None
+        if not math.isfinite(sum(values)) or NO_VALUE_MARKER in values:
+            return None
+        res = self.result
+        res.times_ms.append(t)
+        res.pose_names.append(_decode(toks[1]))
+        res.rows.append(values)
+        res.pose_lines.append(piece.line)
+        self.pose_cols0.append(piece.col0)
+        return t
+
+    def read_pose_slow(
+        self, piece: _Piece, spans: list[tuple[int, int]], prev: tuple[int, int]
+    ) -> int | None:
+        """Check one pose line fully; return its time as Webots reads it, or ``None``."""
+        raw = piece.data
+        line = piece.line
+        c0 = piece.col0 + 1  # add to a 0-based offset in the piece to get a 1-based column
+        tokens = [raw[a:b] for a, b in spans]
+        nul = raw.find(b"\0")
+        if nul >= 0:
+            self.report(
+                "MT114",
+                line,
+                c0 + nul,
+                "NUL byte: Webots' C strings end there, so the rest of the line is lost",
+                "remove the NUL byte",
+            )
+        ok = True
+        # Empty cells that strtok collapses.
+        content_end = spans[-1][1]
+        for k in range(1, len(spans)):
+            gap = raw[spans[k - 1][1] : spans[k][0]]
+            if gap.count(b",") > 1:
+                where = spans[k - 1][1] + gap.index(b",") + 1
+                self.report(
+                    "MT202",
+                    line,
+                    c0 + where,
+                    "empty cell: Webots skips ',,' so every value after it moves one joint left",
+                    "write '*' for a joint that gets no command in this pose",
+                    end_column=c0 + where + 1,
+                )
+        # Time.
+        t_tok = tokens[0]
+        a0, b0 = spans[0]
+        scanned = scan_time(t_tok)
+        time_ms: int | None = None if scanned is None else scanned.ms
+        if _well_formed_time(t_tok) and (scanned is None or scanned.exact_ms > INT_MAX):
+            # Digits Webots accepts, but the arithmetic overflows a C int.
+            outcome = "rejects it" if scanned is None else f"reads it as {scanned.ms} ms"
+            self.report(
+                "MT112",
+                line,
+                c0 + a0,
+                f"pose time {show(t_tok)} is {_exact_time(t_tok)} ms, beyond the {INT_MAX} ms"
+                f" a C int holds; Webots {outcome}",
+                "motions longer than 24 days are not supported",
+                end_column=c0 + b0,
+            )
+            if scanned is None and self.result.rejected_at is None:
+                self.result.rejected_at = self.result.diagnostics[-1]
+        elif scanned is None:
+            self.report(
+                "MT105",
+                line,
+                c0 + a0,
+                f"expected a pose time ('m:s:ms', 's:ms' or 'ms'), found {show(t_tok)}",
+                _time_hint(t_tok),
+                end_column=c0 + b0,
+            )
+        prev_time, prev_line = prev
+        if time_ms is not None and time_ms <= prev_time:
+            self.report(
+                "MT106",
+                line,
+                c0 + a0,
+                f"pose time {time_ms} ms is not after the previous pose's {prev_time} ms"
+                f" (line {prev_line})",
+                "pose times must strictly increase",
+                time_ms=time_ms,
+                end_column=c0 + b0,
+            )
+            ok = False
+        if time_ms is None:
+            ok = False
+        # Pose name.
+        if len(tokens) < 2 and time_ms is not None:
+            self.report(
+                "MT107",
+                line,
+                c0 + b0,
+                "expected a pose name after the time, found end of line",
+                "a pose line is 'time,name,value,...'",
+                time_ms=time_ms,
+            )
+            return time_ms
+        if len(tokens) < 2:
+            return None
+        # Values.
+        n = self.n_joints
+        values_toks = tokens[2:]
+        values: list[float] = []
+        for j, tok in enumerate(values_toks[:n]):
+            a, b = spans[2 + j]
+            joint = self.result.joints[j]
+            if tok == b"*":
+                values.append(_NAN)
+                self.star_seen = True
+                continue
+            scanned_v = scan_double(tok)
+            if scanned_v is None:
+                hint = None
+                if tok.strip(b" \t") == b"*":
+                    hint = "'*' must stand alone: remove the white space around it"
+                elif tok.strip() == b"":
+                    hint = "a cell of white space is not empty to Webots: write a number or '*'"
+                self.report(
+                    "MT108",
+                    line,
+                    c0 + a,
+                    f"expected a number or '*' for {joint}, found {show(tok)}",
+                    hint,
+                    joint=joint,
+                    time_ms=time_ms,
+                    end_column=c0 + b,
+                )
+                ok = False
+                values.append(_NAN)
+                continue
+            value, end = scanned_v
+            rest = tok[end:]
+            if rest.strip(b" \t\v\f"):
+                unit = _UNIT_SUFFIX.match(rest)
+                self.report(
+                    "MT203",
+                    line,
+                    c0 + a + end,
+                    f"{joint} = {show(tok)} reads as {value!r}: Webots ignores {show(rest)}",
+                    "values are plain numbers in radians (metres for linear joints)"
+                    if unit
+                    else f"write {show(tok[:end].strip())}",
+                    joint=joint,
+                    time_ms=time_ms,
+                    end_column=c0 + b,
+                )
+            if not math.isfinite(value):
+                self.report(
+                    "MT113",
+                    line,
+                    c0 + a,
+                    f"{joint} = {show(tok)} is not a finite number; Webots sends it to the motor",
+                    "write a number, or '*' for no command",
+                    joint=joint,
+                    time_ms=time_ms,
+                    end_column=c0 + b,
+                )
+                value = _NAN if math.isnan(value) else value
+            elif value == NO_VALUE_MARKER:
+                self.report(
+                    "MT204",
+                    line,
+                    c0 + a,
+                    f"{joint} = {show(tok)} is Webots' 'no value' marker: the cell reads as '*'",
+                    "write '*' if no command is meant",
+                    joint=joint,
+                    time_ms=time_ms,
+                    end_column=c0 + b,
+                )
+                value = _NAN
+                self.star_seen = True
+            values.append(value)
+        if len(values_toks) < n:
+            missing = self.result.joints[len(values_toks) :]
+            names = ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")
+            self.report(
+                "MT109",
+                line,
+                c0 + content_end,
+                f"expected {n} values (one per joint), found {len(values_toks)}; no value for"
+                f" {names}",
+                "write '*' for a joint that gets no command in this pose",
+                time_ms=time_ms,
+            )
+            ok = False
+        elif len(values_toks) > n:
+            a, b = spans[2 + n]
+            self.report(
+                "MT110",
+                line,
+                c0 + a,
+                f"expected {n} values (one per joint), found {len(values_toks)}; extra"
+                f" {show(values_toks[n])}",
+                _decimal_comma_hint(values_toks),
+                time_ms=time_ms,
+                end_column=c0 + b,
+            )
+            ok = False
+        if ok and time_ms is not None:
+            res = self.result
+            res.times_ms.append(time_ms)
+            res.pose_names.append(_decode(tokens[1]))
+            res.rows.append(values)
+            res.pose_lines.append(line)
+            self.pose_cols0.append(piece.col0)
+        return time_ms
+
+    # -- whole file -----------------------------------------------------------------------------
+
+    def read(self) -> ReadResult:
+        res = self.result
+        if not self.data:
+            self.report(
+                "MT100",
+                1,
+                1,
+                "file is empty; expected the header '#WEBOTS_MOTION,V1.0,<joint>,...'",
+            )
+            return res
+        self.check_utf8()
+        pieces = self.pieces()
+        header_piece = next(pieces)
+        if not self.read_header(header_piece):
+            return res
+        prev = (-1, header_piece.line)
+        last_line = header_piece.line
+        pose_lines_seen = 0
+        for piece in pieces:
+            t = self.read_pose_fast(piece, prev[0])
+            if t is None:
+                spans = _spans(piece.data)
+                if not spans:
+                    self.blank_line(piece)
+                    break
+                t = self.read_pose_slow(piece, spans, prev)
+            pose_lines_seen += 1
+            last_line = piece.line
+            if t is not None:
+                prev = (t, piece.line)
+        if pose_lines_seen == 0:
+            self.report(
+                "MT104",
+                res.end_line or last_line + 1,
+                1,
+                "no pose; expected at least one line 'time,name,value,...' after the header",
+            )
+        if self.n_joints == 0 or not res.accepted:
+            return res
+        self.check_motion()
+        return res
+
+    def blank_line(self, piece: _Piece) -> None:
+        """A line with no token ends the motion; warn if anything follows it."""
+        res = self.result
+        res.end_line = piece.line
+        later = [i + 1 for i in range(piece.line, len(self.lines)) if _spans(self.lines[i])]
+        if not later:
+            return
+        where = f"line {later[0]}" if len(later) == 1 else f"lines {later[0]}-{later[-1]}"
+        self.report(
+            "MT201",
+            piece.line,
+            1,
+            f"blank line ends the motion: Webots ignores everything after it ({where})",
+            "remove the blank line",
+        )
+
+    def check_utf8(self) -> None:
+        try:
+            self.data.decode("utf-8")
+        except UnicodeDecodeError:
+            pass
+        else:
+            return
+        for i, content in enumerate(self.lines):
+            try:
+                content.decode("utf-8")
+            except UnicodeDecodeError as exc:
+                bad = content[exc.start]
+                where = "a joint name" if i == 0 else "this line"
+                consequence = (
+                    "; no motor name will match it" if i == 0 else "; other tools may not read it"
+                )
+                self.report(
+                    "MT208",
+                    i + 1,
+                    exc.start + 1,
+                    f"byte 0x{bad:02X} in {where} is not UTF-8{consequence}",
+                    "save the file as UTF-8",
+                )
+
+    # -- checks on the motion Webots reads -------------------------------------------------------
+
+    def cell_column(self, pose: int, cell: int) -> tuple[int, int]:
+        """1-based (column, end column) of token ``cell`` (0 = time) of pose ``pose``."""
+        line = self.result.pose_lines[pose]
+        col0 = self.pose_cols0[pose]
+        content = self.lines[line - 1][col0 : col0 + FGETS_PIECE]
+        a, b = _spans(content)[cell]
+        return col0 + a + 1, col0 + b + 1
+
+    def check_motion(self) -> None:
+        res = self.result
+        times = res.times_ms
+        if not times:
+            return
+        if times[0] > 0:
+            col, end = self.cell_column(0, 0)
+            self.report(
+                "MT206",
+                res.pose_lines[0],
+                col,
+                f"first pose is at {times[0]} ms: Webots commands it at once (t = 0), so the"
+                f" robot jumps to it instead of moving there in {times[0]} ms",
+                "add a first pose at 00:00:000 that holds the robot's start position",
+                time_ms=times[0],
+                end_column=end,
+            )
+        step = self.timestep_ms
+        if step:
+            for p, t in enumerate(times):
+                if t % step:
+                    col, end = self.cell_column(p, 0)
+                    lo = t - t % step
+                    self.report(
+                        "MT209",
+                        res.pose_lines[p],
+                        col,
+                        f"pose at {t} ms is not a multiple of the {step} ms time step: the"
+                        f" controller never commands it exactly (steps at {lo} and {lo + step} ms)",
+                        f"move it to {lo} or {lo + step} ms",
+                        time_ms=t,
+                        end_column=end,
+                    )
+        if self.star_seen:
+            self.check_uncommanded()
+
+    def check_uncommanded(self) -> None:
+        """Report runs of ``*`` cells: the joint gets no command over the segments they touch."""
+        res = self.result
+        times = res.times_ms
+        n_poses = len(times)
+        header_spans = _spans(self.lines[0])[2:]
+        for j, joint in enumerate(res.joints):
+            column = [row[j] for row in res.rows]
+            undefined = [v != v for v in column]
+            if all(undefined):
+                a, b = header_spans[j]
+                self.report(
+                    "MT211",
+                    1,
+                    a + 1,
+                    f"{joint} is '*' in every pose: this motion never commands it",
+                    "remove the column if the motion is not meant to drive this joint",
+                    joint=joint,
+                    end_column=b + 1,
+                )
+                continue
+            p = 0
+            while p < n_poses:
+                if not undefined[p]:
+                    p += 1
+                    continue
+                q = p
+                while q + 1 < n_poses and undefined[q + 1]:
+                    q += 1
+                start = times[p - 1] if p > 0 else 0
+                col, end = self.cell_column(p, 2 + j)
+                if q + 1 < n_poses:
+                    message = (
+                        f"'*' leaves {joint} uncommanded from {start} ms to {times[q + 1]} ms:"
+                        " it holds its previous target instead of moving"
+                    )
+                    severity = Severity.WARNING
+                else:  # a trailing run only holds the last target: worth knowing, not a trap
+                    message = (
+                        f"'*' leaves {joint} uncommanded from {start} ms to the end:"
+                        " it holds its last target"
+                    )
+                    severity = Severity.INFO
+                self.report(
+                    "MT207",
+                    res.pose_lines[p],
+                    col,
+                    message,
+                    "write a value where the joint should move; '*' does not interpolate",
+                    joint=joint,
+                    time_ms=times[p],
+                    end_column=end,
+                    severity=severity,
+                )
+                p = q + 1
+
+
+def _well_formed_time(tok: bytes) -> bool:
+    """Digits and at most two colons, every field non-empty: the shape Webots accepts."""
+    fields = tok.split(b":")
+    return len(fields) <= 3 and all(f.isdigit() for f in fields)
+
+
+def _exact_time(tok: bytes) -> int:
+    fields = [int(f) for f in tok.split(b":")]
+    fields = [0] * (3 - len(fields)) + fields
+    return fields[0] * 60000 + fields[1] * 1000 + fields[2]
+
+
+def _time_hint(tok: bytes) -> str:
+    stripped = tok.strip(b" \t")
+    if stripped.startswith(b"#"):
+        return "'#' does not start a comment: .motion files have no comments; remove the line"
+    if not stripped:
+        return (
+            "this line holds only white space, which Webots does not take for a blank line;"
+            " delete the spaces"
+        )
+    if stripped != tok:
+        return "remove the white space around the time"
+    if tok.startswith((b"-", b"+")):
+        return "pose times are unsigned milliseconds"
+    if b"." in tok:
+        return "times are integer milliseconds: write 'm:s:ms', e.g. 00:01:500"
+    if tok.count(b":") > 2:
+        return "at most two ':' (minutes:seconds:milliseconds)"
+    if b":" in tok:
+        return "every field of 'm:s:ms' needs at least one digit"
+    return "write the time as 'm:s:ms', e.g. 00:01:500"
+
+
+def _decimal_comma_hint(values: list[bytes]) -> str | None:
+    for a, b in itertools.pairwise(values):
+        if _INT_TOKEN.fullmatch(a.strip()) and _DIGITS_TOKEN.fullmatch(b.strip()):
+            return (
+                f"decimal comma? '{a.strip().decode()},{b.strip().decode()}' splits into two"
+                f" values: write '{a.strip().decode()}.{b.strip().decode()}'"
+            )
+    return None
+
+
+def read_bytes(
+    data: bytes, path: str = "<string>", *, timestep_ms: int | None = None
+) -> ReadResult:
+    """Read a ``.motion`` file's bytes as Webots does and collect every diagnostic.
+
+    Args:
+        data: the file's content, as bytes.
+        path: how diagnostics name the file.
+        timestep_ms: the controller time step in milliseconds; when given, pose times that are
+            not a multiple of it are reported.
+
+    Returns:
+        The poses Webots reads and the diagnostics; never raises on bad content.
+    """
+    if timestep_ms is not None and timestep_ms <= 0:
+        raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
+    return _Reader(data, path, timestep_ms).read()
