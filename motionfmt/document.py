@@ -10,11 +10,13 @@ as it was.
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, overload
 
+from motiontool.motionfmt.cscan import scan_double
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
-from motiontool.motionfmt.reader import ReadResult, _spans, read_bytes
+from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, _spans, read_bytes
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
 
 if TYPE_CHECKING:
@@ -112,8 +114,10 @@ class MotionDocument:
     def set_value(self, pose: int, joint: int | str, value: float) -> None:
         """Set one cell; NaN writes ``*``. Cells equal to ``value`` keep their spelling."""
         j = self._column(joint)
-        current = self.result.rows[pose][j] if self._result is not None else None
-        if current is not None and (current == value or (current != current and value != value)):
+        token = self._cell(pose, 2 + j)
+        scanned = None if token == b"*" else scan_double(token)
+        current = math.nan if scanned is None or scanned.value == NO_VALUE_MARKER else scanned.value
+        if current == value or (math.isnan(current) and math.isnan(value)):
             return
         self._set_cell(pose, 2 + j, format_value(value))
 

@@ -83,8 +83,9 @@ def targets_at(motion: Motion, elapsed_ms: npt.NDArray[np.int64]) -> npt.NDArray
         a = np.searchsorted(t, em, side="left") - 1
         va = v[a]
         vb = v[a + 1]
-        num = (em - t[a]).astype(np.float64)[:, None] * (vb - va)
-        out[mid] = va + num / (t[a + 1] - t[a]).astype(np.float64)[:, None]
+        with np.errstate(invalid="ignore", over="ignore"):  # nan/inf cells give NaN, as in C
+            num = (em - t[a]).astype(np.float64)[:, None] * (vb - va)
+            out[mid] = va + num / (t[a + 1] - t[a]).astype(np.float64)[:, None]
     return out
 
 

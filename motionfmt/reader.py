@@ -575,7 +575,11 @@ class _Reader:
                 if not spans:
                     self.blank_line(piece)
                     break
+                before = len(res.diagnostics)
                 t = self.read_pose_slow(piece, spans, prev)
+                if piece.col0:
+                    # The rest of a cut line: MT111 said why; keep only where Webots stops.
+                    del res.diagnostics[before + 1 :]
             pose_lines_seen += 1
             last_line = piece.line
             if t is not None:
@@ -600,11 +604,16 @@ class _Reader:
         if not later:
             return
         where = f"line {later[0]}" if len(later) == 1 else f"lines {later[0]}-{later[-1]}"
+        what = (
+            "the end of this cut line reads as a blank line, which ends the motion"
+            if piece.col0
+            else "blank line ends the motion"
+        )
         self.report(
             "MT201",
             piece.line,
-            1,
-            f"blank line ends the motion: Webots ignores everything after it ({where})",
+            piece.col0 + 1,
+            f"{what}: Webots ignores everything after it ({where})",
             "remove the blank line",
         )
 

@@ -1,0 +1,158 @@
+"""The lossless document layer, the canonical writer, and robustness on arbitrary bytes."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT, corpus_params, golden
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from strategies import motion_files
+
+from motiontool.motionfmt import (
+    Motion,
+    MotionSyntaxError,
+    MotionToolError,
+    dumps,
+    format_motion,
+    loads,
+    read_bytes,
+)
+
+ACCEPTED_GOLDEN = [p for p in golden("valid") if p.stem != "line_4095_bytes"]
+
+
+@pytest.mark.parametrize(
+    "path", ACCEPTED_GOLDEN + sorted((ROOT / "motions").rglob("*.motion")), ids=lambda p: p.stem
+)
+def test_round_trip_golden_and_project_motions(path: Path) -> None:
+    data = path.read_bytes()
+    assert dumps(loads(data)) == data
+    text = data.decode("utf-8", "surrogateescape")
+    assert dumps(loads(text)) == text
+
+
+@pytest.mark.parametrize("path", corpus_params())
+def test_round_trip_corpus(path: Path) -> None:
+    data = path.read_bytes()
+    assert dumps(loads(data)) == data
+
+
+@settings(max_examples=200, deadline=None)
+@given(motion_files())
+def test_round_trip_generated(data: bytes) -> None:
+    assert dumps(loads(data)) == data
+
+
+def test_edit_rerenders_only_the_touched_cells() -> None:
+    src = b"#WEBOTS_MOTION,V1.0,A,B\r\n00:00:000,P1, +0.10,*\r\n00:00:100,P2,1.000,2e0\r\n"
+    doc = loads(src)
+    doc.set_value(0, "A", 0.25)
+    doc.set_value(1, 1, 2.0)  # equal value: spelling kept
+    assert (
+        doc.to_bytes()
+        == b"#WEBOTS_MOTION,V1.0,A,B\r\n00:00:000,P1, 0.25,*\r\n00:00:100,P2,1.000,2e0\r\n"
+    )
+    doc.set_time(1, 61040)
+    assert doc.to_bytes().splitlines()[2] == b"01:01:040,P2,1.000,2e0"
+    assert doc.motion.times_ms.tolist() == [0, 61040]
+
+
+def test_insert_and_delete_keep_line_ends() -> None:
+    doc = loads(b"#WEBOTS_MOTION,V1.0,A\r\n0,P1,0\r\n100,P2,1")
+    doc.insert_pose(2, 250, "P3", [float("nan")])
+    assert doc.to_bytes() == b"#WEBOTS_MOTION,V1.0,A\r\n0,P1,0\r\n100,P2,1\r\n250,P3,*"
+    doc.delete_pose(0)
+    assert doc.to_bytes() == b"#WEBOTS_MOTION,V1.0,A\r\n100,P2,1\r\n250,P3,*"
+    assert doc.motion.pose_names == ("P2", "P3")
+
+
+def test_suffix_after_blank_line_survives_edits() -> None:
+    doc = loads(b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n\n100,ignored,1\n")
+    doc.insert_pose(1, 50, "P2", [0.5])
+    assert doc.to_bytes() == b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n50,P2,0.5\n\n100,ignored,1\n"
+
+
+def test_loads_rejects_what_webots_rejects() -> None:
+    with pytest.raises(MotionSyntaxError, match=r"^x.motion:2:17: expected a number"):
+        loads(b"#WEBOTS_MOTION,V1.0,A,B\n00:00:000,Pose1,abc,0\n", "x.motion")
+
+
+def test_canonical_writer_round_trips_values_exactly() -> None:
+    rng = np.random.default_rng(1)
+    values = rng.uniform(-3, 3, size=(5, 3))
+    values[1, 2] = np.nan
+    m = Motion(
+        ("A", "B", "C"),
+        tuple(f"P{i}" for i in range(5)),
+        np.array([0, 40, 80, 1000, 61040]),
+        values,
+    )
+    text = format_motion(m)
+    assert text.splitlines()[0] == "#WEBOTS_MOTION,V1.0,A,B,C"
+    assert text.splitlines()[5].startswith("01:01:040,P4,")
+    back = read_bytes(text.encode()).motion
+    assert back == m
+    assert {d.code for d in read_bytes(text.encode()).diagnostics} == {"MT207"}  # the NaN cell
+
+
+def test_writer_refuses_names_webots_cannot_read() -> None:
+    m = Motion(("A,B",), ("P",), np.array([0]), np.zeros((1, 1)))
+    with pytest.raises(MotionToolError, match="joint 'A,B' cannot be written"):
+        format_motion(m)
+
+
+def test_motion_arrays_are_read_only() -> None:
+    m = read_bytes(b"#WEBOTS_MOTION,V1.0,A\n0,P,1\n").motion
+    with pytest.raises(ValueError):
+        m.values[0, 0] = 2.0
+    assert m.times_ms.dtype == np.int64 and m.values.dtype == np.float64
+
+
+# -- robustness: only diagnostics or MotionToolError, never another exception -----------------
+
+
+def _never_crashes(data: bytes) -> None:
+    result = read_bytes(data, "fuzz.motion", timestep_ms=20)
+    for d in result.diagnostics:
+        assert d.line >= 1 and d.column >= 1
+    try:
+        doc = loads(data, "fuzz.motion")
+    except MotionToolError:
+        assert not result.accepted or any(d.code == "MT111" for d in result.diagnostics)
+    else:
+        assert dumps(doc) == data
+        assert math.isfinite(doc.motion.duration_ms)
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.binary(max_size=300))
+def test_random_bytes(data: bytes) -> None:
+    _never_crashes(data)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.binary(max_size=120).map(lambda b: b"#WEBOTS_MOTION,V1.0,A,B\n" + b))
+def test_random_bytes_after_a_header(data: bytes) -> None:
+    _never_crashes(data)
+
+
+@pytest.mark.parametrize("path", corpus_params())
+def test_mutated_corpus_files(path: Path) -> None:
+    data = path.read_bytes()
+    rng = np.random.default_rng(len(data))
+    for _ in range(40):
+        b = bytearray(data)
+        for _ in range(int(rng.integers(1, 4))):
+            i = int(rng.integers(0, len(b)))
+            op = int(rng.integers(0, 3))
+            if op == 0:
+                b[i] = int(rng.integers(0, 256))
+            elif op == 1:
+                del b[i]
+            else:
+                b.insert(i, int(rng.choice(list(b",\n\r *:.-0e"))))
+        _never_crashes(bytes(b))

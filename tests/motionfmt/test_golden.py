@@ -1,0 +1,78 @@
+"""Golden pairs: every edge case of FORMAT.md with the exact diagnostics and parse expected."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+from conftest import golden
+from oracle import webots_load
+
+from motiontool.motionfmt import MotionSyntaxError, Severity, read_bytes
+
+TIMESTEP = {"timestep_offgrid": 20}
+
+
+def _text(path: Path) -> str:
+    result = read_bytes(path.read_bytes(), path.name, timestep_ms=TIMESTEP.get(path.stem))
+    lines = []
+    for d in result.diagnostics:
+        lines.append(d.format())
+        if d.hint:
+            lines.append(f"  hint: {d.hint}")
+    return "\n".join(lines) + ("\n" if lines else "")
+
+
+@pytest.mark.parametrize("path", golden("valid") + golden("invalid"), ids=lambda p: p.stem)
+def test_exact_diagnostics(path: Path) -> None:
+    assert _text(path) == path.with_suffix(".expected").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("path", golden("valid"), ids=lambda p: p.stem)
+def test_valid_files_parse_as_expected(path: Path) -> None:
+    result = read_bytes(path.read_bytes(), path.name)
+    assert result.accepted
+    expected = json.loads(path.with_suffix(".json").read_text(encoding="utf-8"))
+    assert result.joints == expected["joints"]
+    assert result.pose_names == expected["pose_names"]
+    assert result.times_ms == expected["times_ms"]
+    values = [[None if math.isnan(v) else repr(v) for v in row] for row in result.rows]
+    assert values == expected["values"]
+
+
+@pytest.mark.parametrize("path", golden("invalid"), ids=lambda p: p.stem)
+def test_invalid_files_are_rejected_where_webots_stops(path: Path) -> None:
+    data = path.read_bytes()
+    result = read_bytes(data, path.name)
+    oracle = webots_load(data)
+    assert not oracle.ok, "golden invalid file must be rejected by the oracle"
+    assert not result.accepted
+    assert result.rejected_at is not None and result.rejected_at.severity is Severity.ERROR
+    if oracle.stop_line is not None:
+        lines = {d.line for d in result.errors}
+        assert oracle.stop_line in lines
+        assert result.rejected_at.line == oracle.stop_line
+    with pytest.raises(MotionSyntaxError) as info:
+        _ = result.motion
+    assert str(info.value).startswith(f"{path.name}:{result.rejected_at.line}:")
+
+
+@pytest.mark.parametrize("path", golden("valid"), ids=lambda p: p.stem)
+def test_valid_files_are_accepted_by_the_oracle(path: Path) -> None:
+    assert webots_load(path.read_bytes()).ok
+
+
+def test_every_code_is_exercised_by_a_golden_file() -> None:
+    from motiontool.motionfmt.diagnostics import CODES
+
+    seen = set()
+    for path in golden("valid") + golden("invalid"):
+        seen |= {
+            line.split()[2].rstrip(":")
+            for line in _text(path).splitlines()
+            if ": " in line and not line.startswith("  ")
+        }
+    missing = {c for c in CODES if c.startswith(("MT1", "MT2"))} - seen
+    assert not missing, f"codes without a golden file: {sorted(missing)}"
