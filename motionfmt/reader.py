@@ -33,6 +33,8 @@ NO_VALUE_MARKER = -9999999.9
 """Webots' internal 'undefined position': a cell holding this number behaves like ``*``."""
 FGETS_PIECE = 4095
 """Webots reads lines with ``fgets(buffer, 4096, file)``: at most 4095 bytes a piece."""
+BULK_MIN_BYTES = 1 << 20
+"""Files of at least this size try the bulk path (pyarrow) before the line-by-line one."""
 
 _BOM = b"\xef\xbb\xbf"
 _NAN = float("nan")
@@ -135,8 +137,11 @@ class ReadResult:
 class _Reader:
     """One pass over one file; see :func:`read_bytes`."""
 
-    def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
+    def __init__(
+        self, data: bytes, path: str, timestep_ms: int | None, bulk_min_bytes: int = BULK_MIN_BYTES
+    ) -> None:
         self.data = data
+        self.bulk_min_bytes = bulk_min_bytes
         self.path = path
         self.timestep_ms = timestep_ms
         self.result = ReadResult(path=path)
@@ -565,6 +570,8 @@ class _Reader:
         header_piece = next(pieces)
         if not self.read_header(header_piece):
             return res
+        if len(self.data) >= self.bulk_min_bytes and header_piece.col0 == 0 and self.read_bulk():
+            return res
         prev = (-1, header_piece.line)
         last_line = header_piece.line
         pose_lines_seen = 0
@@ -595,6 +602,26 @@ class _Reader:
             return res
         self.check_motion()
         return res
+
+    def read_bulk(self) -> bool:
+        """Read a large clean file in one go (see :mod:`._bulk`); False to take the exact path."""
+        from motiontool.motionfmt._bulk import read_clean_body
+
+        if len(self.lines[0]) + 1 > FGETS_PIECE:
+            return False
+        body = self.data[len(self.lines[0]) + 1 :]
+        got = read_clean_body(body, self.n_joints, NO_VALUE_MARKER, FGETS_PIECE - 1)
+        if got is None:
+            return False
+        times, names, values = got
+        res = self.result
+        res.times_ms = times
+        res.pose_names = names
+        res.rows = values  # type: ignore[assignment]  # (P, J) float64 array
+        res.pose_lines = list(range(2, len(times) + 2))
+        self.pose_cols0 = [0] * len(times)
+        self.check_motion()
+        return True
 
     def blank_line(self, piece: _Piece) -> None:
         """A line with no token ends the motion; warn if anything follows it."""
