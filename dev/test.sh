@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The project's whole test command: lint, format, types, then every test (slow ones included).
+# Extra arguments go to pytest, e.g. `bash dev/test.sh -m "not slow"` for a quick local run.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+PY=${PYTHON:-.venv/bin/python}
+
+"$PY" -m ruff check .
+"$PY" -m ruff format --check .
+# mypy resolves `motiontool.*` through a link to the repository root (the package's source).
+mkdir -p build/typecheck && ln -sfn ../.. build/typecheck/motiontool
+"$PY" -m mypy -p motiontool.motionfmt -p motiontool.kinematics
+"$PY" -m pytest -n 2 "$@"

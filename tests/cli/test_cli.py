@@ -1,0 +1,235 @@
+"""The command line, in process (Typer's CliRunner) and once through the installed script."""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from conftest import CORPUS, DATA
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+
+runner = CliRunner()
+
+GOOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:500,Pose2,0.5,-0.2\n"
+BAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:040,Pose2,-1.5,abc\n"
+WARN = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:01:000,Pose1,0.5\n"
+
+
+@pytest.fixture
+def files(tmp_path: Path) -> Path:
+    (tmp_path / "good.motion").write_bytes(GOOD)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "bad.motion").write_bytes(BAD)
+    (tmp_path / "warn.motion").write_bytes(WARN)
+    (tmp_path / "notes.txt").write_text("not a motion")
+    return tmp_path
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    result = runner.invoke(app, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_validate_clean_file_exits_0(files: Path) -> None:
+    code, out, _ = invoke("validate", str(files / "good.motion"))
+    assert code == 0
+    assert out == "checked 1 file: 0 errors, 0 warnings, 0 notes\n"
+
+
+def test_validate_text_reads_like_a_compiler(files: Path) -> None:
+    code, out, _ = invoke("validate", str(files / "sub" / "bad.motion"))
+    assert code == 1
+    path = files / "sub" / "bad.motion"
+    assert out.splitlines() == [
+        f"{path}:3:22: error MT108: expected a number or '*' for HeadPitch, found 'abc'",
+        " 3 | 00:00:040,Pose2,-1.5,abc",
+        "   |                      ^~~",
+        "checked 1 file: 1 error, 0 warnings, 0 notes",
+    ]
+
+
+def test_validate_directory_recursively(files: Path) -> None:
+    code, out, _ = invoke("validate", str(files))
+    assert code == 1
+    assert out.endswith("checked 3 files: 1 error, 1 warning, 0 notes\n")
+
+
+def test_warnings_pass_unless_strict(files: Path) -> None:
+    assert invoke("validate", str(files / "warn.motion"))[0] == 0
+    assert invoke("validate", "--strict", str(files / "warn.motion"))[0] == 1
+    assert invoke("validate", "--strict", "--ignore", "MT206", str(files / "warn.motion"))[0] == 0
+
+
+def test_json_report(files: Path) -> None:
+    code, out, _ = invoke("validate", "--format", "json", str(files))
+    assert code == 1
+    doc = json.loads(out)
+    assert doc["schema"] == "motiontool.validate" and doc["schema_version"] == 1
+    assert doc["stamps"]["motiontool"] and "mujoco" in doc["stamps"]
+    assert doc["summary"] == {"files": 3, "errors": 1, "warnings": 1, "notes": 0}
+    bad = next(f for f in doc["files"] if f["path"].endswith("bad.motion"))
+    assert bad["accepted_by_webots"] is False
+    assert bad["diagnostics"] == [
+        {
+            "code": "MT108",
+            "severity": "error",
+            "line": 3,
+            "column": 22,
+            "end_column": 25,
+            "message": "expected a number or '*' for HeadPitch, found 'abc'",
+            "hint": None,
+            "joint": "HeadPitch",
+            "time_ms": 40,
+        }
+    ]
+
+
+def test_sarif_report(files: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(files)
+    out_file = files / "report.sarif"
+    code, out, _ = invoke("validate", "--format", "sarif", "-o", str(out_file), ".")
+    assert code == 1 and out == ""
+    doc = json.loads(out_file.read_text())
+    assert doc["version"] == "2.1.0"
+    run = doc["runs"][0]
+    assert run["tool"]["driver"]["name"] == "motiontool"
+    rules = [r["id"] for r in run["tool"]["driver"]["rules"]]
+    results = run["results"]
+    assert {r["ruleId"] for r in results} == {"MT108", "MT206"}
+    bad = next(r for r in results if r["ruleId"] == "MT108")
+    assert rules[bad["ruleIndex"]] == "MT108"
+    assert bad["level"] == "error"
+    loc = bad["locations"][0]["physicalLocation"]
+    assert loc["artifactLocation"]["uri"] == "sub/bad.motion"
+    assert loc["region"] == {"startLine": 3, "startColumn": 22, "endColumn": 25}
+
+
+def test_github_annotations(files: Path) -> None:
+    code, out, _ = invoke("validate", "--format", "github", str(files / "sub" / "bad.motion"))
+    assert code == 1
+    line = out.splitlines()[0]
+    assert line.startswith(
+        f"::error file={files / 'sub' / 'bad.motion'},line=3,col=22,endColumn=25,"
+    )
+    assert "title=MT108 invalid value%3A expected a number or '*'::" in line
+    assert line.endswith("::expected a number or '*' for HeadPitch, found 'abc'")
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (
+            ["validate", "missing.motion"],
+            "motiontool: error: 'missing.motion': no such file or directory\n",
+        ),
+        (["validate", "emptydir"], "motiontool: error: no .motion file under 'emptydir'\n"),
+        (
+            ["validate", "--ignore", "MT999", "x"],
+            "motiontool: error: unknown diagnostic code MT999; codes are listed by 'motiontool codes'\n",
+        ),
+        (
+            ["info", "missing.motion"],
+            "motiontool: error: cannot read 'missing.motion': No such file or directory\n",
+        ),
+    ],
+)
+def test_usage_and_io_errors_exit_2_with_one_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: list[str], message: str
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "emptydir").mkdir()
+    (tmp_path / "x").write_bytes(GOOD)
+    code, out, err = invoke(*args)
+    assert (code, out, err) == (2, "", message)
+
+
+def test_bad_option_value_is_a_usage_error(files: Path) -> None:
+    code, _, err = invoke("validate", "--format", "xml", str(files))
+    assert code == 2 and "xml" in err
+
+
+def test_info_text_and_json(files: Path) -> None:
+    code, out, _ = invoke("info", str(files / "good.motion"))
+    assert code == 0
+    rows = dict(re.split(r"\s{2,}", line, maxsplit=1) for line in out.splitlines())
+    assert rows["poses"] == "2" and rows["duration"] == "500 ms (0.500 s)"
+    assert rows["spacing"] == "500 ms (uniform)" and rows["undefined"] == "0 cells ('*')"
+    code, out, _ = invoke("info", "--format", "json", str(files / "good.motion"))
+    doc = json.loads(out)
+    assert (
+        doc["poses"] == 2
+        and doc["duration_ms"] == 500
+        and doc["joints"] == ["HeadYaw", "HeadPitch"]
+    )
+
+
+def test_info_on_a_rejected_file_names_the_error(files: Path) -> None:
+    code, out, err = invoke("info", str(files / "sub" / "bad.motion"))
+    assert code == 2 and out == ""
+    assert (
+        err
+        == f"motiontool: error: {files / 'sub' / 'bad.motion'}:3:22: expected a number or '*' for HeadPitch, found 'abc' [MT108]\n"
+    )
+
+
+def test_sample_csv(tmp_path: Path) -> None:
+    path = tmp_path / "ex.motion"
+    path.write_bytes(
+        b"#WEBOTS_MOTION,V1.0,A,B\n00:00:000,P1,0,*\n00:00:100,P2,1,2\n00:00:150,P3,0.5,1\n"
+    )
+    code, out, _ = invoke("sample", str(path), "--timestep", "32")
+    assert code == 0
+    assert out == "time_ms,A,B\n0,0.0,\n32,0.32,\n64,0.64,\n96,0.96,\n128,0.72,1.44\n160,0.5,1.0\n"
+
+
+def test_sample_json_and_output_file(tmp_path: Path) -> None:
+    path = tmp_path / "ex.motion"
+    path.write_bytes(GOOD)
+    out_file = tmp_path / "s.json"
+    code, out, _ = invoke("sample", str(path), "-t", "250", "-f", "json", "-o", str(out_file))
+    assert code == 0 and out == ""
+    doc = json.loads(out_file.read_text())
+    assert doc["elapsed_ms"] == [0, 250, 500]
+    assert doc["targets"] == [[0.0, 0.0], [0.25, -0.1], [0.5, -0.2]]
+
+
+def test_codes_lists_every_code() -> None:
+    from motiontool.motionfmt.diagnostics import CODES
+
+    code, out, _ = invoke("codes")
+    assert code == 0 and len(out.splitlines()) == len(CODES)
+
+
+@pytest.mark.skipif(not CORPUS.is_dir(), reason=f"Webots corpus not found at {CORPUS}")
+def test_validate_the_webots_corpus_has_no_error() -> None:
+    code, out, _ = invoke("validate", str(CORPUS))
+    assert code == 0, out
+
+
+def test_installed_script(tmp_path: Path) -> None:
+    script = shutil.which("motiontool", path=str(Path(sys.executable).parent))
+    assert script, "the console script 'motiontool' is not installed next to this Python"
+    bad = DATA / "invalid" / "decimal_comma.motion"
+    proc = subprocess.run(
+        [script, "validate", str(bad)], capture_output=True, text=True, check=False
+    )
+    assert proc.returncode == 1
+    assert "error MT110" in proc.stdout and "decimal comma?" in proc.stdout
+    proc = subprocess.run(
+        [script, "validate", str(tmp_path / "nope.motion")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert (proc.returncode, proc.stderr) == (
+        2,
+        f"motiontool: error: '{tmp_path / 'nope.motion'}': no such file or directory\n",
+    )
+    assert "Traceback" not in proc.stderr
