@@ -106,6 +106,28 @@ class ReadResult:
     pose_lines: list[int] = field(default_factory=list)
     end_line: int | None = None
     _motion: Motion | None = field(default=None, repr=False)
+    _data: bytes = field(default=b"", repr=False)
+    _cols0: list[int] = field(default_factory=list, repr=False)
+    _line_starts: list[int] = field(default_factory=list, repr=False)
+
+    def cell_span(self, pose: int, joint: int | None = None) -> tuple[int, int, int]:
+        """(line, column, end column), 1-based, of a pose's value cell for column ``joint``
+        (0-based), or of its time token when ``joint`` is None — for diagnostics on cells."""
+        line = self.pose_lines[pose]
+        col0 = self._cols0[pose] if self._cols0 else 0
+        if not self._line_starts:
+            starts = [0]
+            find = self._data.find
+            pos = find(b"\n")
+            while pos >= 0:
+                starts.append(pos + 1)
+                pos = find(b"\n", pos + 1)
+            self._line_starts = starts
+        start = self._line_starts[line - 1]
+        end = self._data.find(b"\n", start)
+        content = self._data[start : end if end >= 0 else len(self._data)]
+        a, b = _spans(content[col0 : col0 + FGETS_PIECE])[0 if joint is None else 2 + joint]
+        return line, col0 + a + 1, col0 + b + 1
 
     @property
     def accepted(self) -> bool:
@@ -144,7 +166,7 @@ class _Reader:
         self.bulk_min_bytes = bulk_min_bytes
         self.path = path
         self.timestep_ms = timestep_ms
-        self.result = ReadResult(path=path)
+        self.result = ReadResult(path=path, _data=data)
         self.lines = data.split(b"\n")
         self.has_final_newline = data.endswith(b"\n")
         if self.has_final_newline:
@@ -152,7 +174,7 @@ class _Reader:
         self.joint_tokens: list[bytes] = []
         self.n_joints = 0
         self.star_seen = False
-        self.pose_cols0: list[int] = []
+        self.pose_cols0: list[int] = self.result._cols0
 
     # -- reporting ------------------------------------------------------------------------------
 
@@ -619,7 +641,7 @@ class _Reader:
         res.pose_names = names
         res.rows = values  # type: ignore[assignment]  # (P, J) float64 array
         res.pose_lines = list(range(2, len(times) + 2))
-        self.pose_cols0 = [0] * len(times)
+        self.pose_cols0.extend([0] * len(times))
         self.check_motion()
         return True
 
