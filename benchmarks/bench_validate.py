@@ -85,11 +85,16 @@ def main() -> None:
 
         def run(cmd: list[str]) -> float:
             samples = []
-            for _ in range(7):
+            for _ in range(5):
                 t0 = time.perf_counter()
                 subprocess.run(cmd, check=False, capture_output=True)
                 samples.append(time.perf_counter() - t0)
             return statistics.median(samples)
+
+        t_cold = run([script, "validate", str(big)])
+        print(
+            f"motiontool validate big.motion, whole process:     {t_cold:.3f} s  ratio {t_cold / t_base:.2f}x baseline  (start-up and imports included)"
+        )
 
         t_py = run([sys.executable, "-c", "pass"])
         t_cli = run([script, "validate", str(small)])
