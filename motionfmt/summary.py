@@ -50,10 +50,11 @@ def summarize(data: bytes, path: str) -> MotionSummary:
     lf = data.count(b"\n")
     line_ends = "CRLF" if crlf and crlf == lf else ("mixed" if crlf else "LF")
     undefined = {j: 0 for j in read.joints}
-    for row in read.rows:
-        for name, v in zip(read.joints, row, strict=True):
-            if v != v:
-                undefined[name] += 1
+    if isinstance(read.rows, list):  # the bulk reader's (P, J) array only comes without '*'
+        for row in read.rows:
+            for name, v in zip(read.joints, row, strict=True):
+                if v != v:
+                    undefined[name] += 1
     return MotionSummary(
         path=path,
         size_bytes=len(data),
