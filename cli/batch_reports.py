@@ -1,0 +1,149 @@
+"""Reports of a batch: a summary table, JUnit XML, JSON and Markdown (for a PR comment)."""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+from motiontool.cli.stamps import stamps
+from motiontool.motionfmt.fileio import atomic_write
+from motiontool.sim.batch import BatchResult, RunResult, result_json
+
+__all__ = ["motion_rows", "render_json", "render_markdown", "render_summary", "write_junit"]
+
+
+def _metric(r: RunResult, key: str) -> float | None:
+    value = (r.report or {}).get("robot", {}).get(key)
+    return float(value) if isinstance(value, int | float) else None
+
+
+def motion_rows(batch: BatchResult) -> list[dict[str, Any]]:
+    """Per (motion, robot): runs, share clean, and the worst run (largest tilt, or a failure)."""
+    groups: dict[tuple[str, str], list[RunResult]] = defaultdict(list)
+    for r in batch.runs:
+        groups[(r.spec.path, r.spec.robot)].append(r)
+    rows = []
+    for (path, robot), runs in groups.items():
+        clean = sum(r.ok for r in runs)
+
+        def badness(r: RunResult) -> tuple[int, float]:
+            return (0 if r.ok else 1, _metric(r, "max_tilt_deg") or 0.0)
+
+        worst = max(runs, key=badness)
+        rows.append(
+            {
+                "motion": path,
+                "robot": robot,
+                "runs": len(runs),
+                "clean": clean,
+                "clean_share": clean / len(runs),
+                "worst": worst.spec.label,
+                "worst_status": worst.status,
+                "worst_reason": worst.reason,
+                "worst_max_tilt_deg": _metric(worst, "max_tilt_deg"),
+            }
+        )
+    return rows
+
+
+def render_summary(batch: BatchResult) -> str:
+    """A plain-text table for the terminal, then one line of totals."""
+    rows = motion_rows(batch)
+    header = ("motion", "robot", "runs", "clean", "worst case")
+    table = [header] + [
+        (
+            row["motion"],
+            row["robot"],
+            str(row["runs"]),
+            f"{row['clean']} ({100 * row['clean_share']:.0f} %)",
+            "-"
+            if row["worst_status"] == "clean"
+            else f"{row['worst_status']}: {row['worst_reason']}",
+        )
+        for row in rows
+    ]
+    widths = [max(len(r[i]) for r in table) for i in range(len(header))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip() for r in table]
+    runs = len(batch.runs)
+    cached = sum(r.cached for r in batch.runs)
+    rate = (runs - cached) / batch.wall_s if batch.wall_s > 0 else 0.0
+    lines.append(
+        f"{runs} runs: {runs - len(batch.failures)} clean, {len(batch.failures)} not clean,"
+        f" {cached} from cache; {batch.wall_s:.1f} s wall, {rate:.2f} runs/s"
+        f" ({batch.executor}, {batch.jobs} jobs)"
+    )
+    return "\n".join(lines) + "\n"
+
+
+def render_json(batch: BatchResult) -> str:
+    """Every run's full report, with the batch's stamps and totals (units in the keys)."""
+    doc = {
+        "schema": "motiontool.batch",
+        "schema_version": 1,
+        "stamps": stamps(),
+        "executor": batch.executor,
+        "jobs": batch.jobs,
+        "wall_s": round(batch.wall_s, 3),
+        "summary": {
+            "runs": len(batch.runs),
+            "clean": len(batch.runs) - len(batch.failures),
+            "not_clean": len(batch.failures),
+            "cached": sum(r.cached for r in batch.runs),
+        },
+        "motions": motion_rows(batch),
+        "runs": [result_json(r) for r in batch.runs],
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def render_markdown(batch: BatchResult) -> str:
+    """A Markdown table for a pull-request comment."""
+    lines = [
+        "### motiontool batch",
+        "",
+        "| motion | robot | runs | clean | worst case |",
+        "|---|---|---:|---:|---|",
+    ]
+    for row in motion_rows(batch):
+        worst = (
+            "—"
+            if row["worst_status"] == "clean"
+            else f"{row['worst_status']}: {row['worst_reason']}"
+        )
+        lines.append(
+            f"| `{row['motion']}` | {row['robot']} | {row['runs']} |"
+            f" {row['clean']} ({100 * row['clean_share']:.0f} %) | {worst} |"
+        )
+    lines += [
+        "",
+        f"{len(batch.runs)} runs, {len(batch.failures)} not clean, {batch.wall_s:.1f} s wall"
+        f" ({batch.executor}, {batch.jobs} jobs); motiontool {stamps()['motiontool']},"
+        f" MuJoCo {stamps()['mujoco']}.",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def write_junit(batch: BatchResult, path: Path) -> None:
+    """JUnit XML: one test case per run; failures and errors carry the reason."""
+    from junitparser import Error, Failure, JUnitXml, TestCase, TestSuite
+
+    suite = TestSuite("motiontool batch")
+    for r in batch.runs:
+        case = TestCase(
+            r.spec.label, classname=f"motiontool.{r.spec.robot}", time=round(r.wall_s, 3)
+        )
+        if r.status == "failed":
+            case.result = [Failure(r.reason, "not clean")]
+        elif not r.ok:
+            case.result = [Error(r.reason, r.status)]
+        suite.add_testcase(case)
+    suite.update_statistics()
+    xml = JUnitXml()
+    xml.add_testsuite(suite)
+    with tempfile.TemporaryDirectory() as tmp:
+        scratch = Path(tmp) / "junit.xml"
+        xml.write(str(scratch), pretty=True)
+        atomic_write(path, scratch.read_bytes())

@@ -1,0 +1,85 @@
+"""The Ray executor (the only module importing ray): the same runs, on a Ray cluster.
+
+Ray is an optional extra (``pip install 'motiontool[ray]'``). Each run is one Ray task; at most
+``jobs`` are in flight; a task that exceeds the timeout is cancelled (its worker is killed) and
+reported as ``timeout``; a task whose worker dies is reported as ``crashed``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = ["run_ray"]
+
+
+def _call(runner: Callable[[Any], Any], task: Any) -> tuple[str, Any, str]:
+    try:
+        return "done", runner(task), ""
+    except Exception as exc:  # sent back as a result, like the local pool does
+        return "error", None, f"{type(exc).__name__}: {exc}"
+
+
+def run_ray(
+    runner: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    *,
+    jobs: int = 2,
+    timeout_s: float | None = None,
+    address: str | None = None,
+) -> Iterator[tuple[int, str, Any, str, float]]:
+    """Yield ``(index, status, value, reason, wall_s)`` for every task, as they end.
+
+    Connects to ``address`` (``auto`` finds a running cluster) or, when None, starts a local
+    Ray instance for the duration of the call.
+    """
+    try:
+        import ray
+    except ImportError:
+        raise MotionToolError("the Ray executor needs Ray: pip install 'motiontool[ray]'") from None
+    started_here = not ray.is_initialized()
+    if started_here:
+        try:
+            if address is None:
+                ray.init(num_cpus=max(jobs, 1), include_dashboard=False, log_to_driver=False)
+            else:
+                ray.init(address=address, include_dashboard=False, log_to_driver=False)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            raise MotionToolError(f"cannot reach the Ray cluster at {address!r}: {exc}") from exc
+    remote = ray.remote(max_retries=0)(_call)
+    try:
+        pending = list(range(len(tasks)))
+        in_flight: dict[Any, tuple[int, float]] = {}
+        while pending or in_flight:
+            while pending and len(in_flight) < jobs:
+                i = pending.pop(0)
+                in_flight[remote.remote(runner, tasks[i])] = (i, time.monotonic())
+            wait_s = None
+            if timeout_s is not None:
+                first = min(t for _, t in in_flight.values())
+                wait_s = max(0.0, first + timeout_s - time.monotonic())
+            ready, _ = ray.wait(list(in_flight), num_returns=1, timeout=wait_s)
+            now = time.monotonic()
+            for ref in ready:
+                i, t0 = in_flight.pop(ref)
+                try:
+                    status, value, reason = ray.get(ref)
+                except ray.exceptions.RayError as exc:
+                    status, value, reason = (
+                        "crashed",
+                        None,
+                        f"Ray task failed: {type(exc).__name__}",
+                    )
+                yield i, status, value, reason, now - t0
+            if timeout_s is not None:
+                for ref, (i, t0) in list(in_flight.items()):
+                    if now - t0 >= timeout_s:
+                        ray.cancel(ref, force=True)
+                        del in_flight[ref]
+                        yield i, "timeout", None, f"exceeded the {timeout_s:g} s timeout", now - t0
+    finally:
+        if started_here:
+            ray.shutdown()

@@ -1,0 +1,312 @@
+"""Batch simulation: many files x robots x perturbation samples, cached, on a pool or a Ray cluster.
+
+The plan is a list of :class:`RunSpec` (pure data, picklable). A *runner* turns one spec into a
+JSON-able report (``motiontool.sim.runs.run_spec`` plays it in MuJoCo); the executors only move
+specs and reports around, so the local pool and Ray give identical results for the same seed.
+Results are cached on disk by (file content, model hash, options, perturbation, tool version):
+an interrupted or repeated batch only runs what is missing.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import random
+import time
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+from motiontool import __version__
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import atomic_write
+
+__all__ = [
+    "PERTURBATIONS",
+    "BatchResult",
+    "Perturbation",
+    "RunResult",
+    "RunSpec",
+    "parse_perturbation",
+    "plan",
+    "run_batch",
+]
+
+PERTURBATIONS: dict[str, str] = {
+    "friction": "floor friction coefficient scale (1 = nominal)",
+    "mass": "scale of every body mass (1 = nominal)",
+    "motor-strength": "scale of every motor's maxTorque (1 = nominal)",
+    "start-yaw": "start heading in degrees",
+    "start-noise": "standard deviation of start joint offsets in rad",
+    "speed": "playback speed factor (1 = as written)",
+}
+"""Perturbation names for ``--perturb NAME=LOW:HIGH`` and what they scale."""
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """A uniform range ``[low, high]`` for one perturbation parameter."""
+
+    name: str
+    low: float
+    high: float
+
+
+def parse_perturbation(text: str) -> Perturbation:
+    """``friction=0.7:1.3`` -> Perturbation; a one-line error naming the valid names otherwise."""
+    name, sep, bounds = text.partition("=")
+    name = name.strip()
+    if not sep or name not in PERTURBATIONS:
+        raise MotionToolError(
+            f"--perturb {text!r}: expected NAME=LOW:HIGH, NAME one of {', '.join(PERTURBATIONS)}"
+        )
+    low_s, colon, high_s = bounds.partition(":")
+    try:
+        low = float(low_s)
+        high = float(high_s) if colon else low
+    except ValueError:
+        raise MotionToolError(f"--perturb {text!r}: LOW and HIGH must be numbers") from None
+    if not (math.isfinite(low) and math.isfinite(high)) or high < low:
+        raise MotionToolError(f"--perturb {text!r}: need finite LOW <= HIGH")
+    return Perturbation(name, low, high)
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One simulation run: a motion file on a robot with one sample of perturbations.
+
+    Attributes:
+        path: the motion file as the user named it.
+        content_sha256: hash of the file's bytes (the cache key uses content, not the path).
+        robot: robot spec string (``nao``, ``ur5e``, a model path, ``erd:<name>``).
+        sample: sample index (0 = nominal when no perturbation is given).
+        params: perturbation values of this sample, name -> value (units in PERTURBATIONS).
+        options: play options (time step in ms, loops, reverse, start pose, ...).
+    """
+
+    path: str
+    content_sha256: str
+    robot: str
+    sample: int = 0
+    params: tuple[tuple[str, float], ...] = ()
+    options: tuple[tuple[str, Any], ...] = ()
+
+    @property
+    def label(self) -> str:
+        extra = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
+        return f"{self.path} [{self.robot}" + (f" #{self.sample}: {extra}]" if extra else "]")
+
+    def cache_key(self, model_hash: str) -> str:
+        doc = {
+            "content": self.content_sha256,
+            "model": model_hash,
+            "robot": self.robot,
+            "params": list(self.params),
+            "options": list(self.options),
+            "tool": __version__,
+        }
+        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+
+@dataclass
+class RunResult:
+    """The outcome of one run.
+
+    Attributes:
+        status: ``clean`` (upright, no collision, no warning), ``failed`` (the run says why:
+            fell, collided, simulator warning), ``error`` (the runner raised), ``crashed``
+            or ``timeout``.
+        reason: one line for anything but ``clean``.
+        report: the runner's full report (JSON-able), or None.
+        wall_s: wall-clock seconds (0 for a cached result).
+        cached: whether it came from the cache.
+    """
+
+    spec: RunSpec
+    status: str
+    reason: str = ""
+    report: dict[str, Any] | None = None
+    wall_s: float = 0.0
+    cached: bool = False
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "clean"
+
+
+@dataclass
+class BatchResult:
+    """Every run of a batch, in plan order, with totals."""
+
+    runs: list[RunResult] = field(default_factory=list)
+    wall_s: float = 0.0
+    executor: str = "local"
+    jobs: int = 1
+
+    @property
+    def failures(self) -> list[RunResult]:
+        return [r for r in self.runs if not r.ok]
+
+
+def _sha256(path: Path) -> str:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError as exc:
+        raise MotionToolError(f"cannot read '{path}': {exc.strerror or exc}") from exc
+
+
+def plan(
+    files: Sequence[str | Path],
+    robots: Sequence[str],
+    *,
+    perturbations: Sequence[Perturbation] = (),
+    samples: int = 1,
+    seed: int = 0,
+    options: dict[str, Any] | None = None,
+) -> list[RunSpec]:
+    """Every (file, robot, sample) run, with seeded perturbation draws.
+
+    Draws depend only on ``seed``, the sample index and the perturbation names, so the same
+    command plans the same runs on any executor. Without perturbations one sample is run.
+    """
+    if samples < 1:
+        raise MotionToolError(f"--samples must be >= 1, got {samples}")
+    if not perturbations:
+        samples = 1
+    opts = tuple(sorted((options or {}).items()))
+    specs = []
+    for raw in files:
+        path = Path(raw)
+        digest = _sha256(path)
+        for robot in robots:
+            for k in range(samples):
+                rng = random.Random(f"{seed}:{k}")
+                params = tuple(
+                    (p.name, rng.uniform(p.low, p.high))
+                    for p in sorted(perturbations, key=lambda p: p.name)
+                )
+                specs.append(RunSpec(str(raw), digest, robot, k, params, opts))
+    return specs
+
+
+def _classify(spec: RunSpec, status: str, value: Any, reason: str, wall_s: float) -> RunResult:
+    if status != "done":
+        return RunResult(spec, status, reason, None, wall_s)
+    report: dict[str, Any] = value
+    clean = bool(report.get("clean"))
+    why = "" if clean else str(report.get("reason") or "not clean")
+    return RunResult(spec, "clean" if clean else "failed", why, report, wall_s)
+
+
+def _cache_path(cache_dir: Path, key: str) -> Path:
+    return cache_dir / key[:2] / f"{key}.json"
+
+
+def default_cache_dir() -> Path:
+    """``$XDG_CACHE_HOME/motiontool/batch`` (``~/.cache/motiontool/batch``)."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "motiontool" / "batch"
+
+
+def run_batch(
+    specs: Sequence[RunSpec],
+    runner: Callable[[RunSpec], dict[str, Any]],
+    *,
+    model_hash: Callable[[str], str],
+    executor: str = "local",
+    jobs: int = 2,
+    timeout_s: float | None = None,
+    cache_dir: Path | None = None,
+    ray_address: str | None = None,
+    progress: Callable[[RunResult, int, int], None] | None = None,
+) -> BatchResult:
+    """Run ``specs`` (cached ones are not run again) and return every result in plan order.
+
+    Args:
+        runner: a picklable module-level function returning a JSON-able report with at least
+            ``clean`` (bool) and ``reason`` (str).
+        model_hash: robot spec -> model hash, for the cache key.
+        executor: ``local`` (a process pool on this machine) or ``ray``.
+        jobs: parallel runs (local workers, or Ray tasks in flight).
+        timeout_s: wall-clock limit of one run in seconds.
+        cache_dir: where results are cached; None disables the cache.
+        ray_address: Ray cluster address (``auto``, ``ray://...``); None starts a local one.
+        progress: called after every run with (result, runs done, runs total).
+    """
+    t0 = time.monotonic()
+    results: list[RunResult | None] = [None] * len(specs)
+    keys = [s.cache_key(model_hash(s.robot)) for s in specs]
+    todo = []
+    done = 0
+    for i, spec in enumerate(specs):
+        hit = _load_cached(cache_dir, keys[i]) if cache_dir is not None else None
+        if hit is not None:
+            results[i] = RunResult(spec, hit["status"], hit["reason"], hit["report"], 0.0, True)
+            done += 1
+            if progress:
+                progress(results[i], done, len(specs))  # type: ignore[arg-type]
+        else:
+            todo.append(i)
+    outcomes: Iterator[tuple[int, str, Any, str, float]]
+    if executor == "local":
+        from motiontool.sim.pool import run_pool
+
+        outcomes = (
+            (todo[o.index], o.status, o.value, o.reason, o.wall_s)
+            for o in run_pool(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s)
+        )
+    elif executor == "ray":
+        from motiontool.sim._ray import run_ray
+
+        outcomes = (
+            (todo[i], status, value, reason, wall)
+            for i, status, value, reason, wall in run_ray(
+                runner,
+                [specs[i] for i in todo],
+                jobs=jobs,
+                timeout_s=timeout_s,
+                address=ray_address,
+            )
+        )
+    else:
+        raise MotionToolError(f"unknown executor {executor!r}; choose local or ray")
+    for i, status, value, reason, wall in outcomes:
+        result = _classify(specs[i], status, value, reason, wall)
+        results[i] = result
+        if cache_dir is not None and result.status in ("clean", "failed"):
+            payload = {"status": result.status, "reason": result.reason, "report": result.report}
+            path = _cache_path(cache_dir, keys[i])
+            path.parent.mkdir(parents=True, exist_ok=True)
+            atomic_write(path, json.dumps(payload, sort_keys=True).encode())
+        done += 1
+        if progress:
+            progress(result, done, len(specs))
+    final = [r for r in results if r is not None]
+    assert len(final) == len(specs), "every run has a result"
+    return BatchResult(final, time.monotonic() - t0, executor, jobs)
+
+
+def _load_cached(cache_dir: Path, key: str) -> dict[str, Any] | None:
+    path = _cache_path(cache_dir, key)
+    try:
+        doc: dict[str, Any] = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    if doc.get("status") not in ("clean", "failed"):
+        return None
+    return doc
+
+
+def result_json(result: RunResult) -> dict[str, Any]:
+    """A run as JSON: its spec, status, reason, wall time (s), cache flag and full report."""
+    return {
+        "spec": asdict(result.spec),
+        "status": result.status,
+        "reason": result.reason,
+        "wall_s": round(result.wall_s, 3),
+        "cached": result.cached,
+        "report": result.report,
+    }
