@@ -10,4 +10,6 @@ PY=${PYTHON:-.venv/bin/python}
 # mypy resolves `motiontool.*` through a link to the repository root (the package's source).
 mkdir -p build/typecheck && ln -sfn ../.. build/typecheck/motiontool
 "$PY" -m mypy -p motiontool.motionfmt -p motiontool.kinematics
+# The project's own motion library must validate clean, warnings included.
+"$(dirname "$PY")/motiontool" validate motions/ --strict
 "$PY" -m pytest -n 2 "$@"
