@@ -25,7 +25,10 @@ def _times(column: pa.ChunkedArray) -> list[int] | None:
     import pyarrow as pa
     import pyarrow.compute as pc
 
-    text = column.cast(pa.string())
+    try:
+        text = column.cast(pa.string())
+    except pa.ArrowInvalid:  # not UTF-8, so not a valid time either
+        return None
     if not pc.all(pc.match_substring_regex(text, r"^\d{1,5}(:\d{1,5}){0,2}$")).as_py():
         return None
     fields = pc.split_pattern(text, ":")
