@@ -11,7 +11,12 @@ from typing import Annotated, Any, TypeVar
 import typer
 
 from motiontool import __version__
-from motiontool.cli import codes, info, sample, validate
+from motiontool.cli import (
+    codes,
+    info,
+    sample,
+    validate,
+)
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["app", "main"]
@@ -71,12 +76,13 @@ def _root(
     _debug.set(debug)
 
 
-for _name, _command in [
+_COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("validate", validate.validate_command),
     ("info", info.info_command),
     ("sample", sample.sample_command),
     ("codes", codes.codes_command),
-]:
+]
+for _name, _command in _COMMANDS:
     app.command(_name)(_guard(_command))
 
 

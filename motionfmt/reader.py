@@ -174,6 +174,7 @@ class _Reader:
         self.joint_tokens: list[bytes] = []
         self.n_joints = 0
         self.star_seen = False
+        self.header_end = (1, 1)
         self.pose_cols0: list[int] = self.result._cols0
 
     # -- reporting ------------------------------------------------------------------------------
@@ -300,14 +301,7 @@ class _Reader:
         self.joint_tokens = tokens[2:]
         self.n_joints = len(self.joint_tokens)
         self.result.joints = [_decode(t) for t in self.joint_tokens]
-        if not self.joint_tokens:
-            self.report(
-                "MT103",
-                piece.line,
-                spans[-1][1] + 1,
-                "the header names no joint; expected '#WEBOTS_MOTION,V1.0,<joint>,...'",
-                "list the motor names after 'V1.0', separated by commas",
-            )
+        self.header_end = (piece.line, spans[-1][1] + 1)
         seen: dict[bytes, int] = {}
         for j, (tok, (a, b)) in enumerate(zip(self.joint_tokens, spans[2:], strict=True)):
             name = self.result.joints[j]
@@ -613,6 +607,13 @@ class _Reader:
             last_line = piece.line
             if t is not None:
                 prev = (t, piece.line)
+        if not self.joint_tokens:  # Webots counts joints and poses after reading every line
+            self.report(
+                "MT103",
+                *self.header_end,
+                "the header names no joint; expected '#WEBOTS_MOTION,V1.0,<joint>,...'",
+                "list the motor names after 'V1.0', separated by commas",
+            )
         if pose_lines_seen == 0:
             self.report(
                 "MT104",

@@ -144,6 +144,7 @@ def run_pool(
                         feed(slot)
                         continue
                 if slot.process.sentinel in ready or not slot.process.is_alive():
+                    slot.process.join(timeout=5.0)  # reap it, so that its exit code is known
                     code = slot.process.exitcode
                     retire(slot)
                     yield Outcome(index, "crashed", reason=f"worker died (exit code {code})",
