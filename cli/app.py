@@ -14,6 +14,7 @@ from motiontool import __version__
 from motiontool.cli import (
     codes,
     info,
+    robots,
     sample,
     validate,
 )
@@ -84,6 +85,7 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
 ]
 for _name, _command in _COMMANDS:
     app.command(_name)(_guard(_command))
+app.add_typer(robots.build_app(_guard), name="robots")
 
 
 def main() -> None:

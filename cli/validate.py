@@ -1,18 +1,109 @@
-"""``motiontool validate``: lint motion files exactly as Webots reads them."""
+"""``motiontool validate``: lint motion files exactly as Webots reads them, then against a robot."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli.formats import render
+from motiontool.cli.formats import render, render_json
 from motiontool.cli.options import ReportFormat
 from motiontool.cli.output import emit
-from motiontool.motionfmt.validate import validate_paths
+from motiontool.cli.stamps import stamps
+from motiontool.kinematics.checks import (
+    DEFAULT_CHECKS,
+    DEFAULT_PENETRATION_TOLERANCE_MM,
+    ROBOT_CHOICES,
+    RobotChecks,
+    parse_checks,
+)
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.validate import ValidationReport, validate_paths
 
 __all__ = ["validate_command"]
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _robots_used(checker: RobotChecks) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
+    """{robot name: (spec, files checked against it)}, and the files no robot was found for."""
+    used: dict[str, tuple[RobotSpec, list[str]]] = {}
+    skipped = []
+    for path, spec in checker.used.items():
+        if spec is None:
+            skipped.append(path)
+        else:
+            used.setdefault(spec.name, (spec, []))[1].append(path)
+    return used, skipped
+
+
+def _robot_line(checker: RobotChecks | None) -> str:
+    """One line for people: which robot checked what (nothing if no file got that far)."""
+    if checker is None:
+        return "robot: none (--robot none): Webots syntax checks only\n"
+    used, skipped = _robots_used(checker)
+    parts = []
+    for name, (spec, files) in used.items():
+        step = checker.timestep_ms or spec.default_timestep_ms
+        count = f"{_plural(len(files), 'file')}, " if len(used) + bool(skipped) > 1 else ""
+        parts.append(
+            f"{name} ({count}{step} ms controller step, model sha256 {spec.model_hash[:12]})"
+        )
+    if skipped:
+        parts.append(f"none for {_plural(len(skipped), 'file')} (MT901)")
+    if not parts:
+        return ""  # no file reached the robot checks (Webots rejects them all)
+    checks = ", ".join(checker.checks)
+    if "collision" in checker.checks:
+        checks += f" (overlaps under {checker.penetration_tolerance_mm:g} mm ignored)"
+    return f"robot: {'; '.join(parts)}; checks: {checks}\n"
+
+
+def _robot_json(checker: RobotChecks | None, requested: str) -> dict[str, Any]:
+    """The JSON report's ``robot`` section and the stamps with the model hash."""
+    if checker is None:
+        return {"stamps": stamps(), "robot": {"requested": requested, "checks": []}}
+    used, skipped = _robots_used(checker)
+    robots = [
+        {
+            "name": name,
+            "model_sha256": spec.model_hash,
+            "model_file": spec.model_path.name,
+            "timestep_ms": checker.timestep_ms or spec.default_timestep_ms,
+            "files": files,
+        }
+        for name, (spec, files) in used.items()
+    ]
+    only = next(iter(used.values()))[0].model_hash if len(used) == 1 else None
+    return {
+        "stamps": stamps(only),
+        "robot": {
+            "requested": requested,
+            "checks": list(checker.checks),
+            "collision_tolerance_mm": checker.penetration_tolerance_mm,
+            "robots": robots,
+            "unchecked_files": skipped,
+        },
+    }
+
+
+def _render(
+    report: ValidationReport, fmt: ReportFormat, checker: RobotChecks | None, requested: str
+) -> str:
+    extra = _robot_json(checker, requested)
+    if fmt is ReportFormat.json:
+        return render_json(report, extra)
+    if fmt is ReportFormat.sarif:
+        doc = json.loads(render(report, fmt.value))
+        doc["runs"][0]["properties"].update(extra)
+        return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    if fmt is ReportFormat.text:
+        return _robot_line(checker) + render(report, fmt.value)
+    return render(report, fmt.value)
 
 
 def validate_command(
@@ -36,9 +127,35 @@ def validate_command(
         typer.Option(
             "--timestep",
             min=1,
-            help="Controller time step in ms: report pose times that are not a multiple of it.",
+            help="Controller time step in ms: report pose times that are not a multiple of it, "
+            "and check the command stream at that step (default: the robot's, Nao 20 ms).",
         ),
     ] = None,
+    robot: Annotated[
+        str,
+        typer.Option(
+            "--robot",
+            "-r",
+            help=f"Robot to check against: {ROBOT_CHOICES}. auto picks, per file, the built-in "
+            "robot that has all its joints ('motiontool robots' lists them).",
+        ),
+    ] = "auto",
+    checks: Annotated[
+        str,
+        typer.Option(
+            "--checks",
+            help="Robot checks, comma-separated: limits, velocity, collision, balance (or all).",
+        ),
+    ] = ",".join(DEFAULT_CHECKS),
+    collision_tolerance: Annotated[
+        float,
+        typer.Option(
+            "--collision-tolerance",
+            min=0.0,
+            help="Self-collisions shallower than this many mm are not reported (the robots' "
+            "collision shapes are coarse); 0 reports every overlap.",
+        ),
+    ] = DEFAULT_PENETRATION_TOLERANCE_MM,
     strict: Annotated[
         bool, typer.Option("--strict", help="Fail (exit 1) on warnings too, not only on errors.")
     ] = False,
@@ -47,14 +164,25 @@ def validate_command(
         typer.Option("--ignore", help="Diagnostic code to leave out (repeat, or comma-separate)."),
     ] = None,
 ) -> None:
-    """Check motion files as Webots reads them; every problem, with file:line:col.
+    """Check motion files as Webots reads them, then against the robot; every problem, with
+    file:line:col.
 
     Exit code 0 when no error is found (warnings allowed unless --strict), 1 on findings,
     2 on a usage or I/O error.
     """
     codes = [c for item in ignore or [] for c in item.split(",")]
-    report = validate_paths(paths, timestep_ms=timestep, ignore=codes)
-    text = render(report, format.value)
+    checker = None
+    if robot != "none":
+        checker = RobotChecks(
+            robot,
+            parse_checks(checks),
+            timestep_ms=timestep,
+            penetration_tolerance_mm=collision_tolerance,
+        )
+    report = validate_paths(
+        paths, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes
+    )
+    text = _render(report, format, checker, robot)
     if format is ReportFormat.text and output is None:
         typer.echo(text, nl=False)
     else:

@@ -2,6 +2,9 @@
 
 Importing this package is cheap: Pinocchio (and numpy) are imported only when a function that
 needs them runs, so looking up a built-in robot's joint table never loads them.
+
+``robot_checks`` / ``RobotChecks`` (:mod:`~motiontool.kinematics.checks`) are the robot checks of
+``motiontool validate``; ``scan_self_collisions`` checks many configurations at once.
 """
 
 from motiontool.kinematics._pinocchio import (
@@ -13,6 +16,16 @@ from motiontool.kinematics._pinocchio import (
     self_collisions,
     sole_heights,
 )
+from motiontool.kinematics.checks import (
+    CHECKS,
+    DEFAULT_CHECKS,
+    DEFAULT_PENETRATION_TOLERANCE_MM,
+    RobotChecks,
+    parse_checks,
+    robot_checks,
+)
+from motiontool.kinematics.collision import Contact, scan_self_collisions
+from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
 from motiontool.kinematics.robots import (
     JointSpec,
     RobotSpec,
@@ -25,8 +38,13 @@ from motiontool.kinematics.robots import (
 )
 
 __all__ = [
+    "CHECKS",
+    "DEFAULT_CHECKS",
+    "DEFAULT_PENETRATION_TOLERANCE_MM",
     "Balance",
+    "Contact",
     "JointSpec",
+    "RobotChecks",
     "RobotSpec",
     "body_positions",
     "build_model",
@@ -35,9 +53,14 @@ __all__ = [
     "detect_robot",
     "erd_robot_names",
     "load_robot",
+    "mjcf_bytes",
     "models_dir",
+    "parse_checks",
+    "robot_checks",
+    "scan_self_collisions",
     "self_collision_depths",
     "self_collisions",
     "sole_heights",
     "unknown_joint_message",
+    "urdf_bytes",
 ]

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import functools
 import math
+import re
 import threading
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -26,10 +27,15 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Balance",
+    "KinematicTables",
     "body_positions",
     "build_model",
     "com_and_support",
+    "configurations",
+    "geometry_centers",
     "joint_table",
+    "kinematic_tables",
+    "pair_signed_distances",
     "self_collision_depths",
     "self_collisions",
     "sole_heights",
@@ -452,3 +458,351 @@ def _signed_distance(p: tuple[float, float], hull: Sequence[tuple[float, float]]
     if len(hull) >= 3 and all(_cross(a, b, p) >= 0 for a, b in edges):
         return distance
     return -distance
+
+
+# --------------------------------------------------------------------------- batched kinematics
+
+#: Joint kinds in :class:`KinematicTables`.
+FIXED, REVOLUTE, PRISMATIC = 0, 1, 2
+#: Geometry shapes in :class:`KinematicTables`.
+OTHER, SPHERE, BOX, CAPSULE, CYLINDER = 0, 1, 2, 3, 4
+
+_FINGER = re.compile(r"phalanx|finger", re.IGNORECASE)
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+class KinematicTables(NamedTuple):
+    """A model's kinematic tree and collision geometry as plain numpy arrays.
+
+    Enough to evaluate forward kinematics for many configurations at once in numpy
+    (:mod:`motiontool.kinematics.collision`) without a Python loop per configuration. Model
+    joints are in Pinocchio's order (a parent before its children); index 0 is the universe.
+
+    Attributes:
+        joint_parent: (nj,) int64, parent joint of each joint (the universe's is 0).
+        joint_rotation: (nj, 3, 3) float64, joint placement in the parent joint frame.
+        joint_translation: (nj, 3) float64, m, same placement.
+        joint_axis: (nj, 3) float64, unit motion axis in the joint frame (zero if fixed).
+        joint_kind: (nj,) int64, :data:`REVOLUTE`, :data:`PRISMATIC` or :data:`FIXED` (the
+            universe, a free-flyer root held at the origin, and joints that are not motors).
+        joint_motor: (nj,) int64, index of the joint's motor in ``spec.joints``, or -1.
+        exact: False if the model has joints this table cannot move (e.g. mimic joints), so
+            batched kinematics would hold them at their neutral position.
+        geom_joint: (G,) int64, joint that carries each collision geometry.
+        geom_rotation: (G, 3, 3) float64, geometry placement in its joint's frame.
+        geom_translation: (G, 3) float64, m.
+        geom_radius: (G,) float64, m, radius of a sphere about the geometry's origin that
+            encloses it (exact for spheres, capsules, cylinders and boxes; from the local
+            axis-aligned bounding box otherwise, about its centre ``geom_center``).
+        geom_center: (G, 3) float64, m, centre of that sphere in the geometry frame.
+        geom_shape: (G,) int64, :data:`SPHERE`, :data:`BOX`, :data:`CAPSULE`,
+            :data:`CYLINDER` (aligned with the geometry's z axis), or :data:`OTHER` (a mesh:
+            only its bounding sphere is known here).
+        geom_size: (G, 3) float64, m: half sizes of a box; (radius, half length, 0) of a
+            capsule or cylinder; (radius, 0, 0) of a sphere or of the bounding sphere (OTHER).
+        geom_body: G body (MJCF) or link (URDF) names: the frame holding each geometry.
+        geom_limb: G names for reports: the body, except that a finger (a body moved by a
+            joint named like ``*Phalanx*`` or ``*finger*``) counts as part of its hand.
+        pair_first, pair_second: (K,) int64, the geometries of each self-collision pair
+            checked (see :func:`build_model`); index k is also Pinocchio's pair index.
+        pair_motors: (K, M) bool: the motors whose motion changes the pose of the pair's two
+            geometries relative to each other (joints on the tree path between them).
+        pair_group: (K,) int64, index in ``group_joints`` of the pair's two joints.
+        group_joints: (P, 2) int64, the distinct (joint, joint) of the pairs' geometries.
+        joint_center: (nj, 3) float64, m, centre (joint frame) of a sphere enclosing every
+            geometry the joint carries (its geometries' bounding spheres).
+        joint_radius: (nj,) float64, m, its radius (0 for a joint without geometry).
+    """
+
+    joint_parent: np.ndarray
+    joint_rotation: np.ndarray
+    joint_translation: np.ndarray
+    joint_axis: np.ndarray
+    joint_kind: np.ndarray
+    joint_motor: np.ndarray
+    exact: bool
+    geom_joint: np.ndarray
+    geom_rotation: np.ndarray
+    geom_translation: np.ndarray
+    geom_radius: np.ndarray
+    geom_center: np.ndarray
+    geom_shape: np.ndarray
+    geom_size: np.ndarray
+    geom_body: tuple[str, ...]
+    geom_limb: tuple[str, ...]
+    pair_first: np.ndarray
+    pair_second: np.ndarray
+    pair_motors: np.ndarray
+    pair_group: np.ndarray
+    group_joints: np.ndarray
+    joint_center: np.ndarray
+    joint_radius: np.ndarray
+
+
+def kinematic_tables(spec: RobotSpec) -> KinematicTables:
+    """The :class:`KinematicTables` of ``spec``'s model, built once per process and robot."""
+    return _tables(spec.name, spec.joint_names, *_built_key(spec))
+
+
+def _built_key(spec: RobotSpec) -> tuple[Path, str, bool | None, int]:
+    floating = spec.floating_base if spec.model_format == "urdf" else None
+    return spec.model_path, spec.model_format, floating, _stamp(spec.model_path)
+
+
+@functools.lru_cache(maxsize=16)
+def _tables(
+    name: str,
+    motors: tuple[str, ...],
+    path: Path,
+    fmt: str,
+    floating_base: bool | None,
+    stamp: int,
+) -> KinematicTables:
+    import numpy as np
+
+    built = _build(path, fmt, floating_base, stamp)
+    model, geoms = built.model, built.geoms
+    nj = model.njoints
+    motor_index = {m: i for i, m in enumerate(motors)}
+    parent = np.zeros(nj, dtype=np.int64)
+    rotation = np.tile(np.eye(3), (nj, 1, 1))
+    translation = np.zeros((nj, 3))
+    axis = np.zeros((nj, 3))
+    kind = np.full(nj, FIXED, dtype=np.int64)
+    motor = np.full(nj, -1, dtype=np.int64)
+    exact = True
+    for jid in range(1, nj):
+        joint = model.joints[jid]
+        parent[jid] = model.parents[jid]
+        placement = model.jointPlacements[jid]
+        rotation[jid] = placement.rotation
+        translation[jid] = placement.translation
+        short = joint.shortname()
+        name_j = model.names[jid]
+        if short == "JointModelFreeFlyer" or name_j not in motor_index:
+            exact = exact and (short == "JointModelFreeFlyer" or joint.nv == 0)
+            continue
+        motor[jid] = motor_index[name_j]
+        kind_j, axis_j = _joint_motion(joint, short)
+        if kind_j == FIXED:
+            exact = False
+        kind[jid] = kind_j
+        axis[jid] = axis_j
+    objects = geoms.geometryObjects
+    n_geoms = len(objects)
+    geom_joint = np.array([o.parentJoint for o in objects], dtype=np.int64).reshape(n_geoms)
+    geom_rotation = np.array([o.placement.rotation for o in objects]).reshape(n_geoms, 3, 3)
+    geom_translation = np.array([o.placement.translation for o in objects]).reshape(n_geoms, 3)
+    bounds = [_bounding_sphere(o.geometry) for o in objects]
+    geom_center = np.array([c for c, _r in bounds], dtype=np.float64).reshape(n_geoms, 3)
+    geom_radius = np.array([r for _c, r in bounds], dtype=np.float64).reshape(n_geoms)
+    shapes = [_shape(o.geometry) for o in objects]
+    geom_shape = np.array([k for k, _s in shapes], dtype=np.int64).reshape(n_geoms)
+    geom_size = np.array([size for _k, size in shapes], dtype=np.float64).reshape(n_geoms, 3)
+    other = geom_shape == OTHER
+    geom_size[other, 0] = geom_radius[other]
+    geom_body = tuple(model.frames[o.parentFrame].name for o in objects)
+    joint_body = {
+        f.parentJoint: f.name
+        for f in reversed(list(model.frames))
+        if str(f.type) == "BODY" and str(model.frames[f.parentFrame].type) == "JOINT"
+    }
+    limbs = []
+    for obj, body in zip(objects, geom_body, strict=True):
+        j = obj.parentJoint
+        while j > 0 and _FINGER.search(model.names[j]):
+            j = int(parent[j])
+        limbs.append(body if j == obj.parentJoint else joint_body.get(j, body))
+    geom_limb = tuple(limbs)
+    pairs = [(p.first, p.second) for p in geoms.collisionPairs]
+    first = np.array([a for a, _b in pairs], dtype=np.int64)
+    second = np.array([b for _a, b in pairs], dtype=np.int64)
+    ancestors = []
+    for jid in range(nj):
+        chain = set()
+        j = jid
+        while j != 0:
+            chain.add(j)
+            j = int(parent[j])
+        ancestors.append(chain)
+    pair_motors = np.zeros((len(pairs), len(motors)), dtype=bool)
+    for k, (a, b) in enumerate(pairs):
+        for jid in ancestors[int(geom_joint[a])] ^ ancestors[int(geom_joint[b])]:
+            if motor[jid] >= 0:
+                pair_motors[k, motor[jid]] = True
+    # One sphere per joint around all the geometries it carries, and the pairs grouped by
+    # their two joints: a broad phase over joint pairs first.
+    local = geom_translation + np.einsum("gij,gj->gi", geom_rotation, geom_center)
+    joint_center = np.zeros((nj, 3))
+    joint_radius = np.zeros(nj)
+    for jid in np.unique(geom_joint):
+        on = geom_joint == jid
+        lo = (local[on] - geom_radius[on, None]).min(axis=0)
+        hi = (local[on] + geom_radius[on, None]).max(axis=0)
+        joint_center[jid] = (lo + hi) / 2.0
+        joint_radius[jid] = (
+            np.linalg.norm(local[on] - joint_center[jid], axis=1) + geom_radius[on]
+        ).max()
+    keys = np.stack([geom_joint[first], geom_joint[second]], axis=1).reshape(-1, 2)
+    group_joints, pair_group = np.unique(keys, axis=0, return_inverse=True)
+    pair_group = pair_group.reshape(-1).astype(np.int64)
+    for array in (parent, rotation, translation, axis, kind, motor, geom_joint, geom_rotation):
+        array.flags.writeable = False
+    return KinematicTables(
+        joint_parent=parent,
+        joint_rotation=rotation,
+        joint_translation=translation,
+        joint_axis=axis,
+        joint_kind=kind,
+        joint_motor=motor,
+        exact=exact,
+        geom_joint=geom_joint,
+        geom_rotation=geom_rotation,
+        geom_translation=geom_translation,
+        geom_radius=geom_radius,
+        geom_center=geom_center,
+        geom_shape=geom_shape,
+        geom_size=geom_size,
+        geom_body=geom_body,
+        geom_limb=geom_limb,
+        pair_first=first,
+        pair_second=second,
+        pair_motors=pair_motors,
+        pair_group=pair_group,
+        group_joints=group_joints.astype(np.int64).reshape(-1, 2),
+        joint_center=joint_center,
+        joint_radius=joint_radius,
+    )
+
+
+def _joint_motion(joint: Any, short: str) -> tuple[int, tuple[float, float, float]]:
+    """(kind, unit axis) of a 1-DoF Pinocchio joint; (FIXED, 0) for anything else."""
+    for prefix, kind in (
+        ("JointModelRUB", REVOLUTE),
+        ("JointModelR", REVOLUTE),
+        ("JointModelP", PRISMATIC),
+    ):
+        rest = short[len(prefix) :]
+        if short.startswith(prefix) and rest in _AXES:
+            return kind, _AXES[rest]
+    unaligned = {
+        "JointModelRevoluteUnaligned": REVOLUTE,
+        "JointModelRevoluteUnboundedUnaligned": REVOLUTE,
+        "JointModelPrismaticUnaligned": PRISMATIC,
+    }
+    if short in unaligned:
+        a = [float(x) for x in joint.extract().axis]
+        norm = math.sqrt(sum(x * x for x in a)) or 1.0
+        return unaligned[short], (a[0] / norm, a[1] / norm, a[2] / norm)
+    return FIXED, (0.0, 0.0, 0.0)
+
+
+def _shape(geometry: Any) -> tuple[int, tuple[float, float, float]]:
+    """(shape code, sizes in m) of a coal geometry, as :class:`KinematicTables` holds them."""
+    kind = type(geometry).__name__
+    if kind == "Sphere":
+        return SPHERE, (float(geometry.radius), 0.0, 0.0)
+    if kind == "Box":
+        h = geometry.halfSide
+        return BOX, (float(h[0]), float(h[1]), float(h[2]))
+    if kind in ("Capsule", "Cylinder"):
+        code = CAPSULE if kind == "Capsule" else CYLINDER
+        return code, (float(geometry.radius), float(geometry.halfLength), 0.0)
+    return OTHER, (0.0, 0.0, 0.0)
+
+
+def _bounding_sphere(geometry: Any) -> tuple[tuple[float, float, float], float]:
+    """(centre in the geometry frame, radius), m, of a sphere enclosing a coal geometry."""
+    kind = type(geometry).__name__
+    origin = (0.0, 0.0, 0.0)
+    if kind == "Sphere":
+        return origin, float(geometry.radius)
+    if kind == "Capsule":
+        return origin, float(geometry.radius) + float(geometry.halfLength)
+    if kind == "Cylinder":
+        return origin, math.hypot(float(geometry.radius), float(geometry.halfLength))
+    if kind == "Box":
+        return origin, math.sqrt(sum(float(h) ** 2 for h in geometry.halfSide))
+    geometry.computeLocalAABB()
+    c = geometry.aabb_center
+    return (float(c[0]), float(c[1]), float(c[2])), float(geometry.aabb_radius)
+
+
+def configurations(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
+    """Pinocchio configuration vectors, shape (N, nq) float64, for motor positions
+    ``q_motors`` (N, M) float64 in ``spec.joints`` order (rad or m, finite)."""
+    import numpy as np
+
+    pin = _pin()
+    model = _built(spec).model
+    q = np.tile(np.asarray(pin.neutral(model), dtype=np.float64), (q_motors.shape[0], 1))
+    for m, joint_spec in enumerate(spec.joints):
+        jid = model.getJointId(joint_spec.name)
+        if jid >= model.njoints:
+            raise MotionToolError(unknown_joint_message(joint_spec.name, spec))
+        joint = model.joints[jid]
+        if joint.nq == 2:
+            q[:, joint.idx_q] = np.cos(q_motors[:, m])
+            q[:, joint.idx_q + 1] = np.sin(q_motors[:, m])
+        else:
+            q[:, joint.idx_q] = q_motors[:, m]
+    return q
+
+
+def geometry_centers(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
+    """World centres (N, G, 3) float64, m, of the geometries' bounding spheres, computed by
+    Pinocchio one configuration at a time (for models :class:`KinematicTables` cannot move)."""
+    import numpy as np
+
+    pin = _pin()
+    built = _built(spec)
+    model, geoms = built.model, built.geoms
+    data, geom_data = built.buffers()
+    tables = kinematic_tables(spec)
+    out = np.empty((q_motors.shape[0], len(geoms.geometryObjects), 3))
+    for n, q in enumerate(configurations(spec, q_motors)):
+        pin.updateGeometryPlacements(model, data, geoms, geom_data, q)
+        for g, placement in enumerate(geom_data.oMg):
+            out[n, g] = placement.act(tables.geom_center[g])
+    return out
+
+
+def pair_signed_distances(
+    spec: RobotSpec, q_motors: np.ndarray, rows: np.ndarray, pairs: np.ndarray
+) -> np.ndarray:
+    """Signed distance (m; negative = penetration depth) of collision pair ``pairs[c]`` at
+    configuration ``q_motors[rows[c]]``, shape (C,) float64.
+
+    ``q_motors`` is (N, M) float64 in ``spec.joints`` order; ``rows`` and ``pairs`` are (C,)
+    int arrays, ``pairs`` indexing :attr:`KinematicTables.pair_first`. Primitive pairs get
+    the exact signed distance (GJK/EPA). Where coal gives no signed distance (intersecting
+    meshes read as 0), the depth of the contact its collision test reports is used.
+    """
+    import numpy as np
+
+    pin = _pin()
+    built = _built(spec)
+    model, geoms = built.model, built.geoms
+    data, geom_data = built.buffers()
+    out = np.empty(rows.shape[0], dtype=np.float64)
+    if rows.shape[0] == 0:
+        return out
+    order = np.argsort(rows, kind="stable")
+    q_all = configurations(spec, q_motors[np.unique(rows)])
+    row_pos = {int(r): i for i, r in enumerate(np.unique(rows))}
+    current = -1
+    for c in order:
+        row = int(rows[c])
+        if row != current:
+            pin.updateGeometryPlacements(model, data, geoms, geom_data, q_all[row_pos[row]])
+            current = row
+        k = int(pairs[c])
+        distance = float(pin.computeDistance(geoms, geom_data, k).min_distance)
+        if distance == 0.0 and pin.computeCollision(geoms, geom_data, k):  # meshes
+            result = geom_data.collisionResults[k]
+            depths = [
+                float(result.getContact(i).penetration_depth) for i in range(result.numContacts())
+            ]
+            distance = min(distance, *(-abs(d) for d in depths)) if depths else distance
+        out[c] = distance
+    return out

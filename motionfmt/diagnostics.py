@@ -75,6 +75,15 @@ CODES: dict[str, Code] = _codes(
     Code("MT209", W, "pose time is not a multiple of the controller time step"),
     Code("MT210", W, "joint name with leading or trailing white space"),
     Code("MT211", W, "a joint is never commanded: every cell is '*'"),
+    # Robot checks (motiontool.kinematics.checks).
+    Code("MT301", W, "joint is not a motor of the robot: Webots ignores the column"),
+    Code("MT302", E, "position outside the joint's limits: the motor is clamped"),
+    Code("MT303", W, "segment faster than the joint's maxVelocity: the motor falls behind"),
+    Code("MT304", W, "command stream faster than maxVelocity at the controller time step"),
+    Code("MT305", E, "HeadPitch outside the real robot's HeadYaw-dependent range"),
+    Code("MT306", E, "joints one motor drives on the real robot differ"),
+    Code("MT307", W, "self-collision: two bodies of the robot overlap"),
+    Code("MT308", W, "static balance: centre of mass outside the support polygon"),
     # Notes about the validation itself.
     Code("MT901", I, "robot checks skipped"),
 )

@@ -54,15 +54,31 @@ def _imported_after(code: str) -> set[str]:
 
 
 def test_help_and_syntax_validation_import_no_heavy_library(tmp_path: Path) -> None:
+    # A joint no built-in robot has: validate stays at syntax level (MT901).
     motion = tmp_path / "small.motion"
-    motion.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n")
-    for argv in (["--help"], ["validate", str(motion)]):
+    motion.write_bytes(b"#WEBOTS_MOTION,V1.0,NoSuchMotor\n0,P,0\n")
+    for argv in (["--help"], ["validate", str(motion)], ["robots"], ["robots", "show", "nao"]):
         code = (
             "import sys\nfrom motiontool.cli.app import app\n"
             f"try:\n    app({argv!r}, prog_name='motiontool')\nexcept SystemExit:\n    pass"
         )
         loaded = _imported_after(code)
         assert not loaded & set(HEAVY), f"{argv} imported {sorted(loaded & set(HEAVY))}"
+
+
+def test_limits_and_velocity_checks_import_no_heavy_library(tmp_path: Path) -> None:
+    # A Nao file: auto-detection loads the Nao's joint table, but limits and velocities come
+    # from it alone; only the collision and balance checks load Pinocchio.
+    motion = tmp_path / "nao.motion"
+    motion.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P,0,0\n100,Q,3,0.7\n")
+    argv = ["validate", "--checks", "limits,velocity", str(motion)]
+    code = (
+        "import sys\nfrom motiontool.cli.app import app\n"
+        f"try:\n    app({argv!r}, prog_name='motiontool')\nexcept SystemExit:\n    pass\n"
+        "assert 'motiontool.kinematics.checks' in sys.modules"
+    )
+    loaded = _imported_after(code)
+    assert not loaded & set(HEAVY), f"{argv} imported {sorted(loaded & set(HEAVY))}"
 
 
 def test_built_wheel_contains_every_subpackage(tmp_path: Path) -> None:

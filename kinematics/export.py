@@ -1,0 +1,324 @@
+"""A robot's model file, for MuJoCo / Pinocchio users: ``motiontool robots export``.
+
+MJCF is the built-in robots' own format: ``nao`` and ``ur5e`` export their model file byte for
+byte; ``nao-v5`` exports ``nao.xml`` with the real robot's limits written into it.
+
+URDF is written from the Pinocchio model (:func:`urdf_bytes`), so it holds what Pinocchio read:
+kinematic tree, joint limits, masses, centres of mass, inertias and collision primitives. URDF
+has no capsule, so each capsule becomes its exact equivalent, a cylinder and two end spheres.
+What URDF cannot hold is left out and said in the file's leading comment: the free-flying root
+(load the file with a free-flyer root joint), the MuJoCo actuators, the Webots time step and the
+names of the feet.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any
+from xml.sax.saxutils import quoteattr
+
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = ["mjcf_bytes", "urdf_bytes"]
+
+
+def _g(x: float) -> str:
+    return repr(float(x))
+
+
+def mjcf_bytes(spec: RobotSpec) -> bytes:
+    """The MJCF file of ``spec`` (raises :class:`MotionToolError` for a URDF robot)."""
+    if spec.model_format != "mjcf":
+        raise MotionToolError(
+            f"robot {spec.name} comes from a URDF file ({spec.model_path}); export it with "
+            "--urdf, or let MuJoCo convert it (mujoco.MjModel.from_xml_path, then "
+            "mujoco.mj_saveLastXML)"
+        )
+    raw = spec.model_path.read_bytes()
+    if spec.overrides_path is None:
+        return raw
+    text = raw.decode("utf-8")
+    for joint in spec.joints:
+        name = re.escape(joint.name)
+        frc = f"{_g(-joint.max_torque)} {_g(joint.max_torque)}"
+        vel = f"{_g(-joint.max_velocity)} {_g(joint.max_velocity)}"
+        text = _set_attrs(
+            text, rf'<joint name="{name}"[^>]*/>', {"range": f"{_g(joint.lower)} {_g(joint.upper)}"}
+        )
+        text = _set_attrs(text, rf'<joint name="{name}"[^>]*/>', {"actuatorfrcrange": frc})
+        text = _set_attrs(
+            text,
+            rf'<velocity name="{name}"[^>]*/>',
+            {"ctrlrange": vel, "forcerange": frc},
+        )
+    groups: dict[str, list[str]] = {}
+    for leader, follower in spec.coupled_joints:
+        groups.setdefault(leader, [leader]).append(follower)
+    coupled = "; ".join(" = ".join(members) for members in groups.values())
+    note = (  # no "--" inside an XML comment
+        f"<!--\n  Robot {spec.name}: {spec.model_path.name} with the limits of "
+        f"{spec.overrides_path.name} (the real robot's ranges and torques) written in.\n"
+        "  Not expressible in MJCF, and checked by motiontool's validate with this robot "
+        "instead: the HeadYaw-dependent HeadPitch range, and joints one motor drives: "
+        f"{coupled}.\n-->\n"
+    )
+    head, _, rest = text.partition("\n")
+    return (head + "\n" + note + rest).encode("utf-8")
+
+
+def _set_attrs(text: str, element: str, attrs: dict[str, str]) -> str:
+    """Set attributes of the one element matching the regex ``element``."""
+    match = re.search(element, text)
+    if match is None:
+        return text
+    tag = match.group(0)
+    for key, value in attrs.items():
+        if re.search(rf'\s{key}="[^"]*"', tag):
+            tag = re.sub(rf'(\s){key}="[^"]*"', rf'\g<1>{key}="{value}"', tag)
+        else:
+            tag = tag[:-2].rstrip() + f' {key}="{value}" />'
+    return text[: match.start()] + tag + text[match.end() :]
+
+
+def urdf_bytes(spec: RobotSpec) -> bytes:
+    """A URDF file equivalent to ``spec``'s model as Pinocchio reads it (see the module doc).
+
+    A robot that comes from a URDF file (without overrides) exports that file as it is.
+
+    Raises:
+        MotionToolError: the model has a joint URDF cannot express (neither a motor nor the
+            free-flying root), or a body that does not sit at its joint's origin.
+    """
+    if spec.model_format == "urdf" and spec.overrides_path is None:
+        return spec.model_path.read_bytes()
+    return _Urdf(spec).text().encode("utf-8")
+
+
+class _Urdf:
+    """Writes a Pinocchio model (and its collision geometry) as URDF."""
+
+    def __init__(self, spec: RobotSpec) -> None:
+        import numpy as np
+
+        from motiontool.kinematics._pinocchio import FIXED, PRISMATIC, build_model
+
+        self.spec = spec
+        self.model, self.geoms = build_model(spec)
+        self.np = np
+        self.fixed, self.prismatic = FIXED, PRISMATIC
+        model = self.model
+        self.frames = list(model.frames)
+        self.floating = model.njoints > 1 and model.joints[1].shortname() == "JointModelFreeFlyer"
+        # The body that moves with each joint: the BODY frame right after its JOINT frame.
+        self.main: dict[int, int] = {}
+        for fid, frame in enumerate(self.frames):
+            if str(frame.type) != "BODY":
+                continue
+            parent = self.frames[frame.parentFrame]
+            if str(parent.type) == "JOINT" and frame.parentJoint not in self.main:
+                if not np.allclose(frame.placement.homogeneous, np.eye(4), atol=1e-12):
+                    raise MotionToolError(
+                        f"cannot write robot {spec.name} as URDF: body '{frame.name}' is not "
+                        "at its joint's origin"
+                    )
+                self.main[frame.parentJoint] = fid
+        root_joint = 1 if self.floating else 0
+        universe_bodies = [
+            fid
+            for fid, f in enumerate(self.frames)
+            if str(f.type) == "BODY"
+            and f.parentJoint == root_joint
+            and fid not in self.main.values()
+        ]
+        if root_joint not in self.main:
+            self.main[root_joint] = universe_bodies.pop(0) if universe_bodies else -1
+        self.root_joint = root_joint
+
+    def link_of_joint(self, jid: int) -> str:
+        fid = self.main[jid]
+        return "world" if fid < 0 else self.frames[fid].name
+
+    def placement(self, fid: int) -> Any:
+        """Placement (4x4) of frame ``fid`` in its joint's frame (identity for 'world')."""
+        np = self.np
+        return np.eye(4) if fid < 0 else np.asarray(self.frames[fid].placement.homogeneous)
+
+    def text(self) -> str:
+        spec, model = self.spec, self.model
+        out = [
+            '<?xml version="1.0" encoding="utf-8"?>',
+            "<!--",
+            f"  Robot {spec.name}, written by motiontool from {spec.model_path.name}",
+            f"  (sha256 {spec.model_hash}) as Pinocchio reads it.",
+        ]
+        if self.floating:
+            out.append(
+                f"  The root link '{self.link_of_joint(1)}' is free-flying: load this file with a "
+                "free-flyer root joint (pinocchio.JointModelFreeFlyer())."
+            )
+        out += [
+            "  URDF has no capsule: each capsule is written as its exact equivalent, a cylinder",
+            "  and two end spheres. Not written (no URDF equivalent): MuJoCo actuators and",
+            "  options, sites, the Webots time step and the names of the feet.",
+            "-->",
+            f"<robot name={quoteattr(spec.name)}>",
+        ]
+        links: dict[str, list[str]] = {}
+        order: list[str] = []
+        joints_xml: list[str] = []
+
+        def link(name: str) -> list[str]:
+            if name not in links:
+                links[name] = []
+                order.append(name)
+            return links[name]
+
+        for jid in sorted(self.main):
+            name = self.link_of_joint(jid)
+            body = link(name)
+            inertia = model.inertias[jid]
+            if jid >= self.root_joint and float(inertia.mass) > 0.0 and self.main[jid] >= 0:
+                body.append(self._inertial(inertia))
+            if jid <= self.root_joint:
+                continue
+            joints_xml.append(self._joint(jid))
+        # Fixed bodies (e.g. the Nao's foot force-sensor boxes) and their fixed joints.
+        mains = set(self.main.values())
+        for fid, frame in enumerate(self.frames):
+            if str(frame.type) != "BODY" or fid in mains:
+                continue
+            parent_fid = self._parent_body(fid)
+            link(frame.name)
+            rel = self.np.linalg.inv(self.placement(parent_fid)) @ self.placement(fid)
+            joint_name = self.frames[frame.parentFrame].name
+            joints_xml.append(
+                f'  <joint name={quoteattr(joint_name)} type="fixed">'
+                f"<parent link={quoteattr(self._body_name(parent_fid))}/>"
+                f"<child link={quoteattr(frame.name)}/>{origin(rel[:3, :3], rel[:3, 3])}</joint>"
+            )
+        for obj in self.geoms.geometryObjects:
+            body_fid = obj.parentFrame
+            name = self.frames[body_fid].name if body_fid > 0 else self.link_of_joint(0)
+            rel = self.np.linalg.inv(self.placement(body_fid if body_fid > 0 else -1)) @ (
+                self.np.asarray(obj.placement.homogeneous)
+            )
+            link(name).extend(self._collisions(obj, rel))
+        for name in order:
+            body = links[name]
+            if body:
+                out.append(f"  <link name={quoteattr(name)}>")
+                out.extend("    " + line for line in body)
+                out.append("  </link>")
+            else:
+                out.append(f"  <link name={quoteattr(name)}/>")
+        out.extend(joints_xml)
+        out.append("</robot>")
+        return "\n".join(out) + "\n"
+
+    def _parent_body(self, fid: int) -> int:
+        """The BODY frame a fixed body hangs from (-1: the world)."""
+        frame_id = int(self.frames[fid].parentFrame)
+        while frame_id > 0 and str(self.frames[frame_id].type) != "BODY":
+            frame_id = int(self.frames[frame_id].parentFrame)
+        if frame_id > 0:
+            return frame_id
+        return self.main.get(int(self.frames[fid].parentJoint), -1)
+
+    def _body_name(self, fid: int) -> str:
+        return "world" if fid < 0 else self.frames[fid].name
+
+    def _inertial(self, inertia: Any) -> str:
+        i = inertia.inertia
+        com = inertia.lever
+        return (
+            f'<inertial>{origin(self.np.eye(3), com)}<mass value="{_g(inertia.mass)}"/>'
+            f'<inertia ixx="{_g(i[0, 0])}" ixy="{_g(i[0, 1])}" ixz="{_g(i[0, 2])}" '
+            f'iyy="{_g(i[1, 1])}" iyz="{_g(i[1, 2])}" izz="{_g(i[2, 2])}"/></inertial>'
+        )
+
+    def _joint(self, jid: int) -> str:
+        from motiontool.kinematics._pinocchio import _joint_motion
+
+        model = self.model
+        name = model.names[jid]
+        joint = model.joints[jid]
+        kind, axis = _joint_motion(joint, joint.shortname())
+        if kind == self.fixed or name not in self.spec:
+            raise MotionToolError(
+                f"cannot write robot {self.spec.name} as URDF: joint '{name}' "
+                f"({joint.shortname()}) has no URDF equivalent"
+            )
+        limits = self.spec.joint(name)
+        placement = model.jointPlacements[jid]
+        bounded = math.isfinite(limits.lower) and math.isfinite(limits.upper)
+        if kind == self.prismatic:
+            urdf_type = "prismatic"
+        else:
+            urdf_type = "revolute" if bounded and joint.nq == 1 else "continuous"
+        attrs = []
+        if urdf_type != "continuous":
+            attrs.append(f'lower="{_g(limits.lower)}" upper="{_g(limits.upper)}"')
+        attrs.append(
+            f'effort="{_g(limits.max_torque if math.isfinite(limits.max_torque) else 0)}" '
+            f'velocity="{_g(limits.max_velocity if math.isfinite(limits.max_velocity) else 0)}"'
+        )
+        parent = self.link_of_joint(int(model.parents[jid]))
+        return (
+            f'  <joint name={quoteattr(name)} type="{urdf_type}">'
+            f"<parent link={quoteattr(parent)}/><child link={quoteattr(self.link_of_joint(jid))}/>"
+            f"{origin(placement.rotation, placement.translation)}"
+            f'<axis xyz="{" ".join(_g(a) for a in axis)}"/><limit {" ".join(attrs)}/></joint>'
+        )
+
+    def _collisions(self, obj: Any, rel: Any) -> list[str]:
+        np = self.np
+        geometry = obj.geometry
+        kind = type(geometry).__name__
+        shapes: list[tuple[Any, str]] = []
+        if kind == "Sphere":
+            shapes.append((rel, f'<sphere radius="{_g(geometry.radius)}"/>'))
+        elif kind == "Box":
+            size = " ".join(_g(2.0 * h) for h in geometry.halfSide)
+            shapes.append((rel, f'<box size="{size}"/>'))
+        elif kind in ("Cylinder", "Capsule"):
+            r, half = float(geometry.radius), float(geometry.halfLength)
+            shapes.append((rel, f'<cylinder radius="{_g(r)}" length="{_g(2.0 * half)}"/>'))
+            if kind == "Capsule":
+                for sign in (-1.0, 1.0):
+                    end = np.eye(4)
+                    end[2, 3] = sign * half
+                    shapes.append((rel @ end, f'<sphere radius="{_g(r)}"/>'))
+        elif kind in ("BVHModelOBBRSS", "BVHModelOBB", "Convex") and obj.meshPath:
+            scale = " ".join(_g(s) for s in obj.meshScale)
+            shapes.append((rel, f'<mesh filename={quoteattr(str(obj.meshPath))} scale="{scale}"/>'))
+        else:
+            raise MotionToolError(
+                f"cannot write robot {self.spec.name} as URDF: geometry '{obj.name}' is a "
+                f"{kind}, which URDF cannot hold"
+            )
+        return [
+            f"<collision>{origin(m[:3, :3], m[:3, 3])}<geometry>{shape}</geometry></collision>"
+            for m, shape in shapes
+        ]
+
+
+def _rpy(rotation: Any) -> tuple[float, float, float]:
+    """URDF roll, pitch, yaw (rad) of a rotation matrix (R = Rz(yaw) Ry(pitch) Rx(roll))."""
+    r = [[float(rotation[i][j]) for j in range(3)] for i in range(3)]
+    pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
+    if abs(r[2][0]) < 1.0 - 1e-12:
+        roll = math.atan2(r[2][1], r[2][2])
+        yaw = math.atan2(r[1][0], r[0][0])
+    else:  # gimbal lock: yaw absorbs roll
+        roll = 0.0
+        yaw = math.atan2(-r[0][1], r[1][1])
+    return roll, pitch, yaw
+
+
+def origin(rotation: Any, translation: Any) -> str:
+    """A URDF ``<origin>`` element for a placement (rotation matrix, translation in m)."""
+    xyz = " ".join(_g(float(v)) for v in translation)
+    rpy = " ".join(_g(v) for v in _rpy(rotation))
+    return f"<origin xyz={quoteattr(xyz)} rpy={quoteattr(rpy)}/>"

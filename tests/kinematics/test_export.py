@@ -1,0 +1,93 @@
+"""Model export: MJCF byte for byte (nao-v5 with its limits written in), URDF that Pinocchio
+reads back as the same robot."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from motiontool.kinematics import load_robot, models_dir
+from motiontool.kinematics.collision import scan_self_collisions
+from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
+from motiontool.kinematics.robots import _from_pinocchio
+from motiontool.motionfmt.errors import MotionToolError
+
+pin = pytest.importorskip("pinocchio")
+
+
+@pytest.mark.parametrize("robot", ["nao", "ur5e"])
+def test_builtin_mjcf_is_the_model_file(robot: str) -> None:
+    assert mjcf_bytes(load_robot(robot)) == (models_dir() / f"{robot}.xml").read_bytes()
+
+
+def test_nao_v5_mjcf_carries_the_real_robots_limits(tmp_path: Path) -> None:
+    path = tmp_path / "nao-v5.xml"
+    path.write_bytes(mjcf_bytes(load_robot("nao-v5")))
+    reread = load_robot(str(path))  # through Pinocchio's MJCF reader
+    assert reread.joints == load_robot("nao-v5").joints
+    assert reread.joints != load_robot("nao").joints
+    text = path.read_text()
+    assert "LHipYawPitch = RHipYawPitch" in text
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    elbow = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "RElbowRoll")
+    assert model.jnt_range[elbow].tolist() == pytest.approx([0.0349066, 1.54462])
+
+
+def test_urdf_robot_has_no_mjcf() -> None:
+    with pytest.raises(MotionToolError, match="comes from a URDF file"):
+        mjcf_bytes(load_robot("erd:ur5"))
+    spec = load_robot("erd:ur5")
+    assert urdf_bytes(spec) == spec.model_path.read_bytes()
+
+
+@pytest.mark.parametrize(("robot", "floating"), [("nao", True), ("nao-v5", True), ("ur5e", False)])
+def test_urdf_reads_back_as_the_same_robot(tmp_path: Path, robot: str, floating: bool) -> None:
+    spec = load_robot(robot)
+    path = tmp_path / f"{robot}.urdf"
+    path.write_bytes(urdf_bytes(spec))
+    if floating:
+        assert "free-flyer root joint" in path.read_text()
+    back = _from_pinocchio(robot, path, "urdf", floating_base=floating)
+    # Joint limits, velocities and torques.
+    assert {j.name: j for j in back.joints} == {j.name: j for j in spec.joints}
+    # Kinematics and mass distribution, at random configurations.
+    from motiontool.kinematics import _pinocchio
+
+    model, _ = _pinocchio.build_model(spec)
+    model2, _ = _pinocchio.build_model(back)
+    data, data2 = model.createData(), model2.createData()
+    lo = np.array([j.lower for j in spec.joints])
+    hi = np.array([j.upper for j in spec.joints])
+    q = lo + (hi - lo) * np.random.default_rng(0).random((40, len(lo)))
+    order = [spec.joint_names.index(n) for n in back.joint_names]
+    configs = _pinocchio.configurations(spec, q)
+    configs2 = _pinocchio.configurations(back, q[:, order])
+    assert sum(i.mass for i in model2.inertias) == pytest.approx(
+        sum(i.mass for i in model.inertias), rel=1e-12
+    )
+    for c, c2 in zip(configs[:5], configs2[:5], strict=True):
+        pin.framesForwardKinematics(model, data, c)
+        pin.framesForwardKinematics(model2, data2, c2)
+        for fid, frame in enumerate(model.frames):
+            if str(frame.type) == "BODY":
+                np.testing.assert_allclose(
+                    data2.oMf[model2.getFrameId(frame.name)].homogeneous,
+                    data.oMf[fid].homogeneous,
+                    atol=1e-9,
+                )
+        np.testing.assert_allclose(
+            pin.centerOfMass(model2, data2, c2), pin.centerOfMass(model, data, c), atol=1e-9
+        )
+    # Collision: the same solids (a capsule is a cylinder and two spheres), so the same pairs
+    # of bodies touch; a split capsule's depth is that of its deepest piece, never more than
+    # the capsule's, and equal to it for shallow contacts.
+    contacts = {c[:3]: c.depth_m for c in scan_self_collisions(spec, q)}
+    contacts2 = {c[:3]: c.depth_m for c in scan_self_collisions(back, q[:, order])}
+    assert contacts2.keys() == contacts.keys()
+    for key, depth in contacts.items():
+        assert contacts2[key] <= depth + 1e-6
+        if depth < 0.003:
+            assert contacts2[key] == pytest.approx(depth, abs=1e-6)
