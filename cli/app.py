@@ -13,7 +13,11 @@ import typer
 from motiontool import __version__
 from motiontool.cli import (
     codes,
+    diff,
     info,
+    plot,
+    resample,
+    retime,
     robots,
     sample,
     validate,
@@ -82,6 +86,10 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("info", info.info_command),
     ("sample", sample.sample_command),
     ("codes", codes.codes_command),
+    ("diff", diff.diff_command),
+    ("resample", resample.resample_command),
+    ("retime", retime.retime_command),
+    ("plot", plot.plot_command),
 ]
 for _name, _command in _COMMANDS:
     app.command(_name)(_guard(_command))

@@ -1,0 +1,369 @@
+"""PNG plots of motions (``plot``, ``diff --plot``): the only module that imports matplotlib.
+
+matplotlib is imported inside the functions, so ``motiontool --help`` never loads it. Figures
+are drawn on an explicit :class:`matplotlib.figure.Figure` with the Agg canvas (no pyplot, no
+display, no global figure state), in matplotlib's default style whatever the user's matplotlibrc
+says, and saved without a timestamp: the same input gives the same bytes with the same library
+versions.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["JointLimits", "Panel", "limb_groups", "panels_for", "plot_diff", "plot_motion"]
+
+_DPI = 100
+_PANEL_W_IN = 3.4
+_PANEL_H_IN = 2.1
+_MAX_COLUMNS = 6
+_MIN_WIDTH_IN = 7.0  # room for the title and the caption
+_CAPTION_IN = 0.4  # room below the grid for a two-line caption
+_TITLE_IN = 0.35  # room above it for the title
+_NEAR_LIMIT_RAD = 0.2  # a limit this close to the plotted values (or one span) is drawn in view
+
+_NAO_GROUPS = (
+    ("head", re.compile(r"Head(Yaw|Pitch)$")),
+    ("left arm", re.compile(r"L(Shoulder|Elbow|Wrist)\w+$")),
+    ("right arm", re.compile(r"R(Shoulder|Elbow|Wrist)\w+$")),
+    ("left leg", re.compile(r"L(Hip|Knee|Ankle)\w+$")),
+    ("right leg", re.compile(r"R(Hip|Knee|Ankle)\w+$")),
+    ("hands", re.compile(r"[LR](Hand|Phalanx\d*)$")),
+)
+
+
+@dataclass(frozen=True)
+class JointLimits:
+    """A joint's range (rad or m; ±inf if none) and maximum velocity (unit/s; inf if none)."""
+
+    lower: float
+    upper: float
+    max_velocity: float
+    unit: str = "rad"
+
+
+@dataclass
+class Panel:
+    """One subplot: joints drawn together (same base name, e.g. ``LPhalanx1`` to ``8``)."""
+
+    title: str
+    joints: list[str] = field(default_factory=list)
+
+
+def limb_groups(
+    joints: Sequence[str], robot: str | None, order: Sequence[str] = ()
+) -> list[tuple[str, list[str]]]:
+    """Joints grouped by limb for the Nao (head, left arm, right arm, left leg, right leg,
+    hands, then anything else); one group ``joints`` for other robots. Within a group, joints
+    come in the robot's ``order`` (its model order, shoulder to wrist, hip to ankle), then in
+    file order.
+    """
+    rank = {name: k for k, name in enumerate(order)}
+    names = list(dict.fromkeys(joints))
+    names.sort(key=lambda n: rank.get(n, len(rank)))  # stable: file order among the unranked
+    if robot is None or not robot.startswith("nao"):
+        return [("joints", names)]
+    groups: dict[str, list[str]] = {title: [] for title, _ in _NAO_GROUPS}
+    other: list[str] = []
+    for name in names:
+        for title, pattern in _NAO_GROUPS:
+            if pattern.match(name):
+                groups[title].append(name)
+                break
+        else:
+            other.append(name)
+    out = [(title, js) for title, js in groups.items() if js]
+    if other:
+        out.append(("other", other))
+    return out
+
+
+def panels_for(joints: Sequence[str]) -> list[Panel]:
+    """One panel per joint, except that names differing only in a trailing number
+    (``LPhalanx1`` ... ``LPhalanx8``) share one panel."""
+    panels: dict[str, Panel] = {}
+    for name in joints:
+        m = re.fullmatch(r"(.*?\D)(\d+)", name)
+        base = m.group(1) if m else name
+        key = base if m else f"={name}"
+        panels.setdefault(key, Panel(name)).joints.append(name)
+    for panel in panels.values():
+        if len(panel.joints) > 1:
+            first, last = panel.joints[0], panel.joints[-1]
+            panel.title = f"{first} to {last}"
+    return list(panels.values())
+
+
+def _style() -> Any:
+    """matplotlib's default style, whatever the user's matplotlibrc says (no backend change)."""
+    import matplotlib.style
+
+    return matplotlib.style.context("default")
+
+
+def _figure(rows: int, cols: int) -> Any:
+    from matplotlib.figure import Figure
+
+    width = max(_PANEL_W_IN * cols, _MIN_WIDTH_IN)
+    return Figure(figsize=(width, _PANEL_H_IN * rows + _CAPTION_IN + _TITLE_IN), dpi=_DPI)
+
+
+def _finish(fig: Any, title: str, caption: str) -> None:
+    """Title above, caption below (fixed heights in inches), panels in between."""
+    height = fig.get_figheight()
+    fig.suptitle(title, fontsize=11, y=1.0 - 0.1 / height, va="top")
+    fig.text(0.01, 0.05 / height, caption, fontsize=7, color="#555555", ha="left", va="bottom")
+    fig.tight_layout(rect=(0, _CAPTION_IN / height, 1, 1.0 - _TITLE_IN / height))
+
+
+def _png(fig: Any, comment: str) -> bytes:
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(fig)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=_DPI, metadata={"Software": None, "Comment": comment})
+    return buf.getvalue()
+
+
+def _layout(
+    groups: Sequence[tuple[str, list[str]]],
+) -> tuple[list[tuple[str, Panel, int, int]], int, int]:
+    """(group title, panel, row, column) for each panel; rows and columns of the grid."""
+    placed = []
+    row = 0
+    cols = 1
+    for title, joints in groups:
+        panels = panels_for(joints)
+        for i, panel in enumerate(panels):
+            placed.append(
+                (title if i == 0 else "", panel, row + i // _MAX_COLUMNS, i % _MAX_COLUMNS)
+            )
+        cols = max(cols, min(len(panels), _MAX_COLUMNS))
+        row += -(-len(panels) // _MAX_COLUMNS)
+    return placed, max(row, 1), cols
+
+
+def _view(
+    values: npt.NDArray[np.float64], limits: JointLimits | None
+) -> tuple[float, float, list[float]]:
+    """y range for a panel and the limits to draw inside it."""
+    import numpy as np
+
+    finite = values[np.isfinite(values)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
+    span = hi - lo
+    shown: list[float] = []
+    if limits is not None:
+        reach = max(span, _NEAR_LIMIT_RAD)
+        for lim in (limits.lower, limits.upper):
+            if math.isfinite(lim) and lo - reach <= lim <= hi + reach:
+                shown.append(lim)
+                lo, hi = min(lo, lim), max(hi, lim)
+    pad = max(0.08 * (hi - lo), 0.02)
+    return lo - pad, hi + pad, shown
+
+
+def plot_motion(
+    motion: Motion,
+    *,
+    groups: Sequence[tuple[str, list[str]]],
+    limits: Mapping[str, JointLimits],
+    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
+    title: str,
+    caption: str,
+    comment: str,
+) -> tuple[bytes, int, int]:
+    """Every joint over time as a PNG; returns (png bytes, limit violations, fast segments).
+
+    Args:
+        motion: the motion (keyframes drawn as a polyline, broken where a segment touches ``*``).
+        groups: (group title, joint names) per grid row (see :func:`limb_groups`).
+        limits: per joint name; limit lines and shaded out-of-range bands where given.
+        held: (elapsed ms (S,), {joint: held target (S,)}) to draw held targets, dotted, where
+            the joint gets no command; None to leave those spans empty.
+        title, caption: text above and below the grid; ``comment`` goes into the PNG's text.
+    """
+    with _style():
+        return _plot_motion(motion, groups, limits, held, title, caption, comment)
+
+
+def _plot_motion(
+    motion: Motion,
+    groups: Sequence[tuple[str, list[str]]],
+    limits: Mapping[str, JointLimits],
+    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
+    title: str,
+    caption: str,
+    comment: str,
+) -> tuple[bytes, int, int]:
+    import numpy as np
+
+    placed, rows, cols = _layout(groups)
+    fig = _figure(rows, cols)
+    t_s = motion.times_ms.astype(np.float64) / 1000.0
+    n_limit = n_fast = 0
+    axes = fig.subplots(rows, cols, squeeze=False)
+    used = set()
+    for group, panel, r, c in placed:
+        ax = axes[r][c]
+        used.add((r, c))
+        columns = [motion.column(j) for j in panel.joints]
+        values = motion.values[:, columns]
+        lim = limits.get(panel.joints[0])
+        y0, y1, shown = _view(values, lim)
+        if lim is not None and math.isfinite(lim.lower + lim.upper):
+            ax.text(
+                0.5,
+                1.01,
+                f"range {lim.lower:.3g} to {lim.upper:.3g} {lim.unit}",
+                transform=ax.transAxes,
+                ha="center",
+                va="bottom",
+                fontsize=6,
+                color="#777777",
+            )
+        if lim is not None:
+            if math.isfinite(lim.upper):
+                ax.axhspan(lim.upper, max(y1, lim.upper), color="#f4c7c3", lw=0, zorder=0)
+            if math.isfinite(lim.lower):
+                ax.axhspan(min(y0, lim.lower), lim.lower, color="#f4c7c3", lw=0, zorder=0)
+            for value in shown:
+                ax.axhline(value, color="#c0392b", lw=0.8, ls="--", zorder=1)
+        for k, (name, col) in enumerate(zip(panel.joints, columns, strict=True)):
+            color = f"C{k % 10}"
+            v = motion.values[:, col]
+            ax.plot(t_s, v, color=color, lw=1.2, marker="o", ms=2.2, label=name, zorder=3)
+            if held is not None:
+                elapsed, series = held
+                h = series[name]
+                commanded = motion_commanded(motion, col, elapsed)
+                # held spans, joined to the last commanded step before each
+                held_span = ~commanded
+                held_span[:-1] |= ~commanded[1:]
+                dotted = np.where(held_span, h, np.nan)
+                ax.plot(elapsed / 1000.0, dotted, color=color, lw=1.0, ls=":", zorder=2)
+            jl = limits.get(name)
+            if jl is None:
+                continue
+            out = (v < jl.lower) | (v > jl.upper)
+            n_limit += int(out.sum())
+            if out.any():
+                ax.plot(
+                    t_s[out], v[out], ls="none", marker="x", ms=7, mew=2, color="#c0392b", zorder=5
+                )
+            if math.isfinite(jl.max_velocity) and t_s.shape[0] > 1:
+                with np.errstate(invalid="ignore"):
+                    speed = np.abs(np.diff(v)) / np.diff(t_s)
+                fast = np.flatnonzero(speed > jl.max_velocity * (1.0 + 1e-9))
+                n_fast += int(fast.shape[0])
+                for s in fast.tolist():
+                    ax.plot(t_s[s : s + 2], v[s : s + 2], color="#c0392b", lw=3.2, zorder=4)
+        ax.set_ylim(y0, y1)
+        ax.set_xlim(0.0, max(float(t_s[-1]), 1e-3) * 1.0)
+        ax.set_title(panel.title, fontsize=9, pad=10)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, lw=0.3, alpha=0.6)
+        unit = lim.unit if lim is not None else "rad"
+        if c == 0:
+            ax.set_ylabel(f"{group}\n({unit})" if group else f"({unit})", fontsize=8)
+        if len(panel.joints) > 1 and len(panel.joints) <= 4:
+            ax.legend(fontsize=6, loc="best")
+    for r in range(rows):
+        for c in range(cols):
+            if (r, c) not in used:
+                axes[r][c].set_visible(False)
+    for c in range(cols):
+        bottom = max((r for r in range(rows) if (r, c) in used), default=None)
+        if bottom is not None:
+            axes[bottom][c].set_xlabel("time (s)", fontsize=8)
+    _finish(fig, title, caption)
+    return _png(fig, comment), n_limit, n_fast
+
+
+def motion_commanded(motion: Motion, column: int, elapsed: npt.NDArray[np.int64]) -> Any:
+    """(S,) bool: whether ``column`` is commanded at each playback time."""
+    import numpy as np
+
+    from motiontool.motionfmt.player import targets_at
+
+    return ~np.isnan(targets_at(motion, elapsed)[:, column])
+
+
+def plot_diff(
+    elapsed_ms: npt.NDArray[np.int64],
+    old: Mapping[str, npt.NDArray[np.float64]],
+    new: Mapping[str, npt.NDArray[np.float64]],
+    joints: Sequence[str],
+    *,
+    title: str,
+    caption: str,
+    comment: str,
+) -> bytes:
+    """Old (grey) and new (blue) held targets of ``joints`` over time, one panel each, with
+    their difference shaded, as a PNG."""
+    with _style():
+        return _plot_diff(elapsed_ms, old, new, joints, title, caption, comment)
+
+
+def _plot_diff(
+    elapsed_ms: npt.NDArray[np.int64],
+    old: Mapping[str, npt.NDArray[np.float64]],
+    new: Mapping[str, npt.NDArray[np.float64]],
+    joints: Sequence[str],
+    title: str,
+    caption: str,
+    comment: str,
+) -> bytes:
+    import numpy as np
+
+    cols = min(max(len(joints), 1), 4)
+    rows = max(-(-len(joints) // cols), 1)
+    fig = _figure(rows, cols)
+    axes = fig.subplots(rows, cols, squeeze=False)
+    t = elapsed_ms / 1000.0
+    for i in range(rows * cols):
+        ax = axes[i // cols][i % cols]
+        if i >= len(joints):
+            ax.set_visible(False)
+            continue
+        name = joints[i]
+        a, b = old[name], new[name]
+        ax.plot(t, a, color="#7f7f7f", lw=2.2, label="old", zorder=2)
+        ax.plot(t, b, color="#1f77b4", lw=1.0, label="new", zorder=3)
+        with np.errstate(invalid="ignore"):
+            ax.fill_between(
+                t,
+                a,
+                b,
+                where=~(np.isnan(a) | np.isnan(b)),
+                color="#d62728",
+                alpha=0.25,
+                lw=0,
+                zorder=1,
+            )
+        ax.set_title(name, fontsize=9)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, lw=0.3, alpha=0.6)
+        if i % cols == 0:
+            ax.set_ylabel("target (rad)", fontsize=8)
+        if i // cols == rows - 1 or i + cols >= len(joints):
+            ax.set_xlabel("time (s)", fontsize=8)
+        if i == 0:
+            ax.legend(fontsize=7, loc="best")
+    if not joints:
+        axes[0][0].set_visible(True)
+        axes[0][0].axis("off")
+        axes[0][0].text(0.5, 0.5, "no joint in common", ha="center", va="center")
+    _finish(fig, title, caption)
+    return _png(fig, comment)

@@ -1,0 +1,104 @@
+"""``motiontool plot``: every joint over time, against the robot's limits, as a PNG."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from motiontool.cli.stamps import stamps
+from motiontool.kinematics.robots import RobotSpec, detect_robot, load_robot
+from motiontool.motionfmt.compare import held_targets
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.reader import read_bytes
+
+__all__ = ["plot_command"]
+
+_DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
+
+
+def _robot(name: str, joints: tuple[str, ...]) -> RobotSpec | None:
+    if name == "none":
+        return None
+    if name == "auto":
+        found = detect_robot(joints)
+        return None if found is None else load_robot(found)
+    return load_robot(name)
+
+
+def plot_command(
+    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    output: Annotated[
+        Path, typer.Option("--output", "-o", help="The PNG file to write.", show_default=False)
+    ],
+    robot: Annotated[
+        str,
+        typer.Option(
+            "--robot",
+            "-r",
+            help="Robot whose limits are drawn: auto (the built-in robot with every joint of the "
+            "file, else none), none, nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>.",
+        ),
+    ] = "auto",
+    timestep: Annotated[
+        int | None,
+        typer.Option(
+            "--timestep",
+            "-t",
+            min=1,
+            help="Controller step (ms) at which held targets ('*' spans, dotted) are drawn "
+            "(default: the robot's, else 20).",
+        ),
+    ] = None,
+) -> None:
+    """Draw every joint over time into a PNG: grouped by limb for the Nao, the robot's limits as
+    dashed lines with the out-of-range bands shaded, values outside them marked x and segments
+    faster than maxVelocity drawn thick red; dotted where a joint gets no command ('*') and
+    holds its previous target. Deterministic (same input, same bytes), no display needed.
+    """
+    from motiontool.cli._plotting import JointLimits, limb_groups, plot_motion
+
+    if output.exists() and output.resolve() == path.resolve():
+        raise MotionToolError(f"-o '{output}' is the input file; write the PNG to another file")
+    motion = read_bytes(read_file(path), str(path)).motion
+    spec = _robot(robot, motion.joints)
+    limits = {}
+    if spec is not None:
+        limits = {
+            j.name: JointLimits(j.lower, j.upper, j.max_velocity, j.unit)
+            for j in spec.joints
+            if j.name in motion.joints
+        }
+    step = timestep or (spec.default_timestep_ms if spec else _DEFAULT_TIMESTEP_MS)
+    names = tuple(dict.fromkeys(motion.joints))
+    elapsed, held = held_targets(motion, step, names=names)
+    groups = limb_groups(
+        motion.joints, spec.name if spec else None, spec.joint_names if spec else ()
+    )
+    who = f"robot {spec.name} (model {spec.model_hash[:12]})" if spec else "no robot: no limits"
+    png, n_limit, n_fast = plot_motion(
+        motion,
+        groups=groups,
+        limits=limits,
+        held=(elapsed, {n: held[:, k] for k, n in enumerate(names)}),
+        title=f"{path.name}: {len(names)} joints, {motion.n_poses} poses, {motion.duration_ms} ms",
+        caption=f"{who} | motiontool {stamps()['motiontool']}\n"
+        "dashed: joint range, shaded beyond · x: outside the range · thick red: above "
+        f"maxVelocity · dotted: target held over '*' ({step} ms step)",
+        comment=json.dumps(stamps(spec.model_hash if spec else None), sort_keys=True),
+    )
+    atomic_write(output, png)
+    if spec is None:
+        findings = "no robot limits drawn"
+        if robot == "auto":
+            findings += " (no built-in robot has every joint; name one with --robot)"
+    else:
+        findings = (
+            f"{n_limit} keyframe value{'' if n_limit == 1 else 's'} outside the limits, "
+            f"{n_fast} segment{'' if n_fast == 1 else 's'} above maxVelocity"
+        )
+    grouped = f"{len(groups)} group{'' if len(groups) == 1 else 's'}"
+    typer.echo(f"wrote {output}: {len(names)} joints in {grouped}; {who}; {findings}")

@@ -1,0 +1,244 @@
+"""``motiontool resample``: keyframes on a uniform grid, or fewer keyframes, within a bound.
+
+Also holds what the commands that write a motion share: where the result goes (``-o`` or
+``--in-place``, never over the input otherwise) and the deviation line of a report.
+"""
+
+from __future__ import annotations
+
+import enum
+import json
+import os
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from motiontool.cli.stamps import stamps
+from motiontool.motionfmt.compare import MotionDiff
+from motiontool.motionfmt.document import MotionDocument, loads
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
+
+__all__ = [
+    "Format",
+    "FormatOption",
+    "InPlace",
+    "Output",
+    "deviation_json",
+    "deviation_text",
+    "load_input",
+    "output_target",
+    "resample_command",
+    "say",
+    "write_result",
+]
+
+
+class Format(enum.StrEnum):
+    """Formats of a transform's report."""
+
+    text = "text"
+    json = "json"
+
+
+FormatOption = Annotated[
+    Format, typer.Option("--format", "-f", help="Report as text for people or json for CI.")
+]
+Output = Annotated[
+    Path | None,
+    typer.Option(
+        "--output",
+        "-o",
+        help="Write the result here ('-': stdout). Never the input file, unless --in-place.",
+    ),
+]
+InPlace = Annotated[bool, typer.Option("--in-place", help="Replace the input file (atomically).")]
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except OSError:
+        return a.resolve() == b.resolve()
+
+
+def output_target(path: Path, output: Path | None, in_place: bool) -> Path | None:
+    """Where to write the result of transforming ``path``: a file, or None for stdout.
+
+    Raises :class:`MotionToolError` when neither ``-o`` nor ``--in-place`` is given, when ``-o``
+    names the input without ``--in-place``, or when both name different files.
+    """
+    if output is not None and str(output) == "-":
+        if in_place:
+            raise MotionToolError("--in-place writes the input file; do not give -o - with it")
+        return None
+    if in_place:
+        if output is not None and not _same_file(output, path):
+            raise MotionToolError(
+                f"--in-place writes '{path}'; -o names another file '{output}': give one of them"
+            )
+        return path
+    if output is None:
+        raise MotionToolError(
+            f"say where to write the result: -o FILE, -o - for stdout, or --in-place to "
+            f"replace '{path}'"
+        )
+    if output.exists() and _same_file(output, path):
+        raise MotionToolError(
+            f"-o '{output}' is the input file; add --in-place to overwrite it, "
+            "or write to another file"
+        )
+    return output
+
+
+def load_input(path: Path) -> MotionDocument:
+    """The input as a lossless document (:class:`MotionSyntaxError` where Webots rejects it)."""
+    return loads(read_file(path), str(path))
+
+
+def write_result(doc: MotionDocument, target: Path | None) -> None:
+    """Write ``doc`` atomically to ``target``, or to stdout when None."""
+    data = doc.to_bytes()
+    if target is None:
+        sys.stdout.flush()
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
+    else:
+        atomic_write(target, data)
+
+
+def say(text: str, target: Path | None) -> None:
+    """Print a report: on stdout, or on stderr when the motion itself goes to stdout."""
+    typer.echo(text, nl=False, err=target is None)
+
+
+def _num(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def deviation_text(diff: MotionDiff) -> str:
+    """One line: the largest deviation of a transformed motion from the original."""
+    worst = diff.largest
+    if worst is None or worst.at_ms is None:
+        line = "largest deviation from the original command stream: none (no joint commanded)"
+    elif worst.max_delta <= ROUNDING_RAD:
+        line = (
+            f"largest deviation from the original command stream: {_num(worst.max_delta)} rad "
+            "(floating-point rounding only)"
+        )
+    else:
+        line = (
+            f"largest deviation from the original command stream: {_num(worst.max_delta)} rad "
+            f"at {worst.at_ms} ms ({worst.joint})"
+        )
+    line += f", compared every {diff.timestep_ms} ms\n"
+    presence = [j for j in diff.joints if j.old_only_steps or j.new_only_steps]
+    for j in presence:
+        line += (
+            f"  {j.joint}: commanded where the original sends no command (or the reverse) at "
+            f"{j.old_only_steps + j.new_only_steps} steps, first at {j.presence_at_ms} ms\n"
+        )
+    return line
+
+
+def deviation_json(diff: MotionDiff) -> dict[str, Any]:
+    worst = diff.largest
+    return {
+        "max_delta": None if worst is None else worst.max_delta,
+        "at_ms": None if worst is None else worst.at_ms,
+        "joint": None if worst is None else worst.joint,
+        "compared_every_ms": diff.timestep_ms,
+        "joints": [j.to_json() for j in diff.joints],
+    }
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _text(r: Resampled, source: Path, target: Path | None, max_error: float | None) -> str:
+    dest = "stdout" if target is None else str(target)
+    old_poses = r.deviation.old_poses
+    lines = [f"resampled {source} -> {dest}: {old_poses} -> {r.deviation.new_poses} poses"]
+    if r.step_ms is not None:
+        if r.grid_has_keyframes:
+            lines.append(
+                f"grid: every {r.step_ms} ms; it holds every original pose time, so the result "
+                f"is lossless ({_plural(r.inserted, 'pose')} inserted on their segments)"
+            )
+        else:
+            lines.append(
+                f"grid: every {r.step_ms} ms; {_plural(r.dropped_off_grid, 'original pose')} off "
+                f"the grid dropped, {_plural(r.inserted, 'pose')} inserted: NOT lossless"
+            )
+    if max_error is not None:
+        lines.append(
+            f"removed {r.removed} of {old_poses - r.dropped_off_grid + r.inserted} keyframes "
+            f"({r.collinear} exactly collinear), keeping every joint within {_num(max_error)} rad"
+        )
+    return "\n".join(lines) + "\n" + deviation_text(r.deviation)
+
+
+def _json(r: Resampled, source: Path, target: Path | None, max_error: float | None) -> str:
+    doc = {
+        "schema": "motiontool.resample",
+        "schema_version": 1,
+        "stamps": stamps(),
+        "input": str(source),
+        "output": None if target is None else str(target),
+        "units": {"step_ms": "ms", "max_error": "rad (m for linear joints)", "max_delta": "rad"},
+        "step_ms": r.step_ms,
+        "max_error": max_error,
+        "grid_has_keyframes": r.grid_has_keyframes,
+        "poses": {"old": r.deviation.old_poses, "new": r.deviation.new_poses},
+        "inserted": r.inserted,
+        "dropped_off_grid": r.dropped_off_grid,
+        "removed": r.removed,
+        "collinear": r.collinear,
+        "deviation": deviation_json(r.deviation),
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def resample_command(
+    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    step: Annotated[
+        int | None,
+        typer.Option(
+            "--step",
+            min=1,
+            help="Grid step in ms: keyframes at every multiple of it from the first to the last "
+            "pose (both kept). Lossless when the grid holds every pose time.",
+        ),
+    ] = None,
+    max_error: Annotated[
+        float | None,
+        typer.Option(
+            "--max-error",
+            min=0.0,
+            help="Remove keyframes while every joint stays within this many rad of the "
+            "original command stream (0: only exactly collinear ones).",
+        ),
+    ] = None,
+    output: Output = None,
+    in_place: InPlace = False,
+    format: FormatOption = Format.text,
+) -> None:
+    """Put keyframes on a uniform time grid, or drop the ones the motion does not need.
+
+    Kept lines keep their spelling; new poses are spelt canonically and named Pose<ms>ms. A new
+    keyframe inside a segment that touches '*' gets '*': that span stays uncommanded. The report
+    gives the largest deviation from the original command stream (rad, time, joint), compared
+    at every millisecond.
+    """
+    if step is None and max_error is None:
+        raise MotionToolError("give --step MS, --max-error RAD, or both")
+    target = output_target(path, output, in_place)
+    doc = load_input(path)
+    result = resample(doc, step_ms=step, max_error=max_error)
+    write_result(result.document, target)
+    report = _json if format is Format.json else _text
+    say(report(result, path, target, max_error), target)

@@ -1,0 +1,288 @@
+"""``motiontool retime``: new pose times, never new values."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from motiontool.cli.resample import (
+    Format,
+    FormatOption,
+    InPlace,
+    Output,
+    load_input,
+    output_target,
+    say,
+    write_result,
+)
+from motiontool.cli.stamps import stamps
+from motiontool.kinematics.checks import Velocity
+from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
+from motiontool.motionfmt.diagnostics import Diagnostic
+from motiontool.motionfmt.document import MotionDocument
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.reader import read_bytes
+from motiontool.motionfmt.transform import (
+    DEFAULT_MARGIN,
+    Retimed,
+    fit_duration,
+    fit_limits,
+    scale_times,
+)
+
+__all__ = ["retime_command"]
+
+_LISTED = 10  # stretched segments listed in the text report (all of them in JSON)
+
+
+def _num(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def _robot(name: str | None, joints: tuple[str, ...]) -> RobotSpec:
+    if name is None or name == "auto":
+        found = detect_robot(joints)
+        if found is None:
+            raise MotionToolError(
+                "no built-in robot ("
+                + ", ".join(builtin_robots())
+                + ") has every joint of this motion; name one with --robot"
+            )
+        name = found
+    return load_robot(name)
+
+
+def _velocity_findings(
+    doc: MotionDocument, spec: RobotSpec, timestep_ms: int | None
+) -> list[Diagnostic]:
+    """What ``validate``'s velocity check still reports on the result."""
+    return Velocity(spec, timestep_ms)(read_bytes(doc.to_bytes(), doc.path))
+
+
+def _duration_line(r: Retimed) -> str:
+    pct = r.added_percent
+    share = "" if pct is None else f", {pct:+.1f}%"
+    return f"duration: {r.old_duration_ms} ms -> {r.duration_ms} ms ({r.added_ms:+d} ms{share})"
+
+
+def _stretch_lines(r: Retimed) -> list[str]:
+    out = []
+    for s in r.stretches[:_LISTED]:
+        t0, t1 = r.old_times_ms[s.segment], r.old_times_ms[s.segment + 1]
+        out.append(
+            f"  {t0} ms to {t1} ms (poses {s.segment + 1} to {s.segment + 2}): "
+            f"{s.old_ms} ms -> {s.new_ms} ms, {s.joint} ({s.reason})"
+        )
+    if len(r.stretches) > _LISTED:
+        out.append(f"  ... and {len(r.stretches) - _LISTED} more (--format json lists them all)")
+    return out
+
+
+def retime_command(
+    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    speed: Annotated[
+        float | None,
+        typer.Option(
+            "--speed",
+            help="Play this many times as fast: 0.5 takes twice as long (times scaled from 0).",
+        ),
+    ] = None,
+    duration: Annotated[
+        int | None,
+        typer.Option("--duration", min=0, help="Scale the times so the last pose is at this ms."),
+    ] = None,
+    fit: Annotated[
+        bool,
+        typer.Option(
+            "--fit-limits",
+            help="Stretch each segment that is too fast for a joint to the shortest whole-ms "
+            "duration within maxVelocity x margin; other segments keep theirs.",
+        ),
+    ] = False,
+    robot: Annotated[
+        str,
+        typer.Option(
+            "--robot",
+            "-r",
+            help="Robot whose limits --fit-limits uses: auto (the built-in robot with every "
+            "joint of the file), nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>.",
+        ),
+    ] = "auto",
+    margin: Annotated[
+        float,
+        typer.Option(
+            "--margin",
+            help="Fraction of maxVelocity --fit-limits allows, in (0, 1].",
+        ),
+    ] = DEFAULT_MARGIN,
+    accel: Annotated[
+        float | None,
+        typer.Option(
+            "--accel",
+            help="Also limit each joint's velocity change at a pose to this many rad/s² "
+            "(over the half segments around it; the motion starts and ends at rest).",
+        ),
+    ] = None,
+    timestep: Annotated[
+        int | None,
+        typer.Option(
+            "--timestep",
+            min=1,
+            help="Controller step (ms) of the velocity check run on the result "
+            "(default: the robot's, Nao 20 ms).",
+        ),
+    ] = None,
+    output: Output = None,
+    in_place: InPlace = False,
+    format: FormatOption = Format.text,
+) -> None:
+    """Change pose times only, never values: --speed, --duration or --fit-limits.
+
+    Times are whole ms, rounded so that no limit is exceeded and they stay strictly increasing;
+    the lines keep their spelling except for the times that change. --fit-limits checks the
+    result with validate's velocity check and exits 1 if a warning remains (a target jump after
+    a '*' stretch, which no retiming removes). Running it again changes nothing.
+    """
+    modes = [
+        m
+        for m, on in (
+            ("--speed", speed is not None),
+            ("--duration", duration is not None),
+            ("--fit-limits", fit),
+        )
+        if on
+    ]
+    if len(modes) != 1:
+        raise MotionToolError(
+            "give exactly one of --speed, --duration or --fit-limits"
+            + (f" (got {' and '.join(modes)})" if modes else "")
+        )
+    if accel is not None and not fit:
+        raise MotionToolError("--accel applies to --fit-limits only")
+    target = output_target(path, output, in_place)
+    doc = load_input(path)
+    motion = doc.motion
+    times = [int(t) for t in motion.times_ms]
+    spec: RobotSpec | None = None
+    findings: list[Diagnostic] = []
+    if speed is not None:
+        result = scale_times(times, speed)
+        how = f"speed x{_num(speed)}"
+    elif duration is not None:
+        result = fit_duration(times, duration)
+        how = f"duration {duration} ms"
+    else:
+        spec = _robot(robot, motion.joints)
+        limits = {j.name: j.max_velocity for j in spec.joints}
+        result = fit_limits(
+            times, motion.joints, motion.values, limits, margin=margin, max_acceleration=accel
+        )
+        how = f"fit to {spec.name}'s limits"
+    doc.set_times(list(result.times_ms))
+    if spec is not None:
+        findings = _velocity_findings(doc, spec, timestep)
+    write_result(doc, target)
+    if format is Format.json:
+        say(_json(result, path, target, spec, margin, accel, findings), target)
+    else:
+        say(_text(result, path, target, how, spec, margin, accel, findings, timestep), target)
+    if findings:
+        raise typer.Exit(1)
+
+
+def _text(
+    r: Retimed,
+    source: Path,
+    target: Path | None,
+    how: str,
+    spec: RobotSpec | None,
+    margin: float,
+    accel: float | None,
+    findings: list[Diagnostic],
+    timestep: int | None,
+) -> str:
+    dest = "stdout" if target is None else str(target)
+    lines = [f"retimed {source} -> {dest}: {how}"]
+    if spec is not None:
+        limit = f"velocity within {_num(margin * 100)}% of maxVelocity"
+        if accel is not None:
+            limit += f", acceleration within {_num(accel)} rad/s²"
+        lines.append(f"robot: {spec.name} (model {spec.model_hash[:12]}); {limit}")
+        if r.unconstrained:
+            lines.append(
+                f"not motors of {spec.name}, not constrained: {', '.join(r.unconstrained)}"
+            )
+        segments = len(r.times_ms) - 1
+        lines.append(
+            f"stretched {len(r.stretches)} of {segments} segments" + (":" if r.stretches else "")
+        )
+        lines.extend(_stretch_lines(r))
+    else:
+        lines.append(
+            f"pose times rounded to whole ms: at most {_num(r.rounding_ms)} ms from exact scaling"
+        )
+    lines.append(_duration_line(r))
+    if spec is not None:
+        step = timestep or spec.default_timestep_ms
+        if findings:
+            lines.append(
+                f"velocity check ({step} ms controller step): {len(findings)} warnings remain "
+                "that retiming cannot remove:"
+            )
+            lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)
+        else:
+            lines.append(f"velocity check ({step} ms controller step): no warning")
+    return "\n".join(lines) + "\n"
+
+
+def _json(
+    r: Retimed,
+    source: Path,
+    target: Path | None,
+    spec: RobotSpec | None,
+    margin: float,
+    accel: float | None,
+    findings: list[Diagnostic],
+) -> str:
+    doc: dict[str, Any] = {
+        "schema": "motiontool.retime",
+        "schema_version": 1,
+        "stamps": stamps(None if spec is None else spec.model_hash),
+        "input": str(source),
+        "output": None if target is None else str(target),
+        "units": {
+            "times_ms": "ms",
+            "duration_ms": "ms",
+            "added_percent": "%",
+            "rounding_ms": "ms",
+            "max_acceleration": "rad/s²",
+        },
+        "robot": None if spec is None else spec.name,
+        "margin": margin if spec is not None else None,
+        "max_acceleration": accel,
+        "old_times_ms": list(r.old_times_ms),
+        "times_ms": list(r.times_ms),
+        "duration_ms": {"old": r.old_duration_ms, "new": r.duration_ms},
+        "added_ms": r.added_ms,
+        "added_percent": r.added_percent,
+        "rounding_ms": r.rounding_ms,
+        "stretches": [
+            {
+                "segment": s.segment,
+                "old_ms": s.old_ms,
+                "new_ms": s.new_ms,
+                "joint": s.joint,
+                "reason": s.reason,
+            }
+            for s in r.stretches
+        ],
+        "unconstrained": list(r.unconstrained),
+        "remaining_velocity_findings": [
+            {"code": d.code, "line": d.line, "column": d.column, "message": d.message}
+            for d in findings
+        ],
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

@@ -1,0 +1,302 @@
+"""Semantic comparison of two motions: what a robot is commanded, not how the file is spelt.
+
+Two motions are compared through the targets a Webots controller sends while playing them
+(:func:`motiontool.motionfmt.player.targets_at`, bit-identical to Webots' player), on one common
+grid of playback times ``0, T, 2T, ...`` up to the first multiple of ``T`` at or after the longer
+motion's end. Joints are matched by name:
+
+* Of two columns with one name, the later one's command wins at a step where it sends one; where
+  it sends none (``*``) the earlier column's command, if any, reaches the motor.
+* Where a joint gets no command at a step (a segment touching ``*``), the motor keeps its
+  previous target: the comparison uses that *held target*, the last value commanded at an
+  earlier step of the grid. Before a motion first commands a joint, it holds no target (the
+  motor sits wherever it was); a step where only one side holds a target is a *presence*
+  difference, counted separately from the value differences.
+* After a motion ends, its motors hold their last targets: a shorter motion is compared, up to
+  the longer one's end, with the targets it leaves behind.
+
+So a file that only re-spells numbers, re-spaces keyframes along the same lines, or re-orders its
+columns is the *same* motion; added or removed joints and a changed duration are differences.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from motiontool.motionfmt.player import targets_at
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = [
+    "DEFAULT_TOLERANCE_RAD",
+    "JointDiff",
+    "MotionDiff",
+    "compare_motions",
+    "held_targets",
+    "joint_names",
+]
+
+DEFAULT_TOLERANCE_RAD = 1e-4
+"""Largest |Δq| (rad, m for linear joints) for which two commanded targets count as the same.
+
+1e-4 rad is 0.006°, below the resolution of the Nao's joint encoders (12 bit over 2π, 1.5e-3 rad)
+and well above the rounding of a value written with 6 decimals (5e-7)."""
+
+_CHUNK_STEPS = 1 << 16  # steps compared at once: bounds memory to a few MB per joint block
+
+
+def joint_names(motion: Motion) -> tuple[str, ...]:
+    """The distinct joint names of ``motion``, in order of first appearance."""
+    return tuple(dict.fromkeys(motion.joints))
+
+
+def _named_targets(
+    motion: Motion, names: Sequence[str], elapsed_ms: npt.NDArray[np.int64]
+) -> npt.NDArray[np.float64]:
+    """(S, len(names)) targets per joint name (NaN: no command); a later column wins."""
+    import numpy as np
+
+    raw = targets_at(motion, elapsed_ms)
+    index = {name: k for k, name in enumerate(names)}
+    out = np.full((raw.shape[0], len(names)), np.nan)
+    for j, name in enumerate(motion.joints):
+        k = index.get(name)
+        if k is None:
+            continue
+        column = raw[:, j]
+        out[:, k] = np.where(np.isnan(column), out[:, k], column)
+    return out
+
+
+def _hold(
+    targets: npt.NDArray[np.float64], carry: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]:
+    """Forward-fill NaN rows with the last commanded value, starting from ``carry`` (N,)."""
+    import numpy as np
+
+    steps = targets.shape[0]
+    index = np.where(np.isnan(targets), -1, np.arange(steps)[:, None])
+    np.maximum.accumulate(index, axis=0, out=index)
+    held = np.take_along_axis(targets, np.maximum(index, 0), axis=0)
+    return np.where(index < 0, carry[None, :], held)
+
+
+def held_targets(
+    motion: Motion,
+    timestep_ms: int,
+    *,
+    until_ms: int | None = None,
+    names: Sequence[str] | None = None,
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+    """The target each motor holds at each step of a controller stepping every ``timestep_ms``.
+
+    Args:
+        motion: the motion played.
+        timestep_ms: controller time step, ms.
+        until_ms: last playback time to cover, ms (default: the motion's duration); the grid runs
+            up to the first multiple of ``timestep_ms`` at or after it.
+        names: joint names (default: :func:`joint_names`); a name the motion lacks gives NaN.
+
+    Returns:
+        ``elapsed_ms`` int64 (S,) and ``held`` float64 (S, N): the commanded target, or the
+        previous one where the step sends none, NaN before the joint is first commanded.
+    """
+    import numpy as np
+
+    names = joint_names(motion) if names is None else names
+    end = motion.duration_ms if until_ms is None else until_ms
+    elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
+    carry = np.full(len(names), np.nan)
+    return elapsed, _hold(_named_targets(motion, names, elapsed), carry)
+
+
+@dataclass(frozen=True)
+class JointDiff:
+    """How one joint's held target differs between two motions.
+
+    Attributes:
+        joint: the joint name.
+        max_delta: largest |old - new| held target (rad, m for linear joints) over the steps where
+            both hold one; 0.0 if they never both do.
+        at_ms: the first playback time (ms) where ``max_delta`` occurs, None if never compared.
+        old_value, new_value: the held targets there (rad), None if never compared.
+        old_only_steps: how many steps only the old motion holds a target for the joint.
+        new_only_steps: how many steps only the new motion does.
+        presence_at_ms: the first step (ms) where only one of them does, None if none.
+    """
+
+    joint: str
+    max_delta: float
+    at_ms: int | None
+    old_value: float | None
+    new_value: float | None
+    old_only_steps: int = 0
+    new_only_steps: int = 0
+    presence_at_ms: int | None = None
+
+    def differs(self, tolerance: float) -> bool:
+        """Whether the joint is commanded differently (``tolerance`` in rad)."""
+        return self.max_delta > tolerance or self.old_only_steps > 0 or self.new_only_steps > 0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "joint": self.joint,
+            "max_delta": self.max_delta,
+            "at_ms": self.at_ms,
+            "old_value": self.old_value,
+            "new_value": self.new_value,
+            "old_only_steps": self.old_only_steps,
+            "new_only_steps": self.new_only_steps,
+            "presence_at_ms": self.presence_at_ms,
+        }
+
+
+@dataclass(frozen=True)
+class MotionDiff:
+    """The semantic difference between an old and a new motion.
+
+    Attributes:
+        timestep_ms: the comparison grid's step, ms.
+        tolerance: largest |Δq| (rad) still counted as the same.
+        added: joints only the new motion has (its order).
+        removed: joints only the old motion has (its order).
+        reordered: whether the joints both have appear in a different order.
+        old_duration_ms, new_duration_ms: the motions' durations (last pose time), ms.
+        old_poses, new_poses: pose counts.
+        joints: one :class:`JointDiff` per joint both have, in the old motion's order.
+    """
+
+    timestep_ms: int
+    tolerance: float
+    added: tuple[str, ...]
+    removed: tuple[str, ...]
+    reordered: bool
+    old_duration_ms: int
+    new_duration_ms: int
+    old_poses: int
+    new_poses: int
+    joints: tuple[JointDiff, ...] = field(default=())
+
+    @property
+    def changed(self) -> tuple[JointDiff, ...]:
+        """The joints commanded differently beyond the tolerance."""
+        return tuple(j for j in self.joints if j.differs(self.tolerance))
+
+    @property
+    def same(self) -> bool:
+        """No joint added or removed, same duration, every joint within the tolerance."""
+        return (
+            not self.added
+            and not self.removed
+            and self.old_duration_ms == self.new_duration_ms
+            and not self.changed
+        )
+
+    @property
+    def largest(self) -> JointDiff | None:
+        """The joint with the largest |Δq| (first in order among equals), None without joints."""
+        best: JointDiff | None = None
+        for j in self.joints:
+            if best is None or j.max_delta > best.max_delta:
+                best = j
+        return best
+
+
+def compare_motions(
+    old: Motion,
+    new: Motion,
+    *,
+    timestep_ms: int = 1,
+    tolerance: float = DEFAULT_TOLERANCE_RAD,
+) -> MotionDiff:
+    """Compare what a robot is commanded by ``old`` and by ``new``.
+
+    Args:
+        old, new: the two motions.
+        timestep_ms: controller time step of the comparison grid, ms. The default, 1 ms, compares
+            at every playback time any controller can sample (pose times are whole ms).
+        tolerance: largest |Δq| (rad, m for linear joints) that still counts as the same.
+
+    Returns:
+        a :class:`MotionDiff`; ``diff.same`` answers the question.
+    """
+    import numpy as np
+
+    if timestep_ms <= 0:
+        raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
+    old_names, new_names = joint_names(old), joint_names(new)
+    new_set, old_set = set(new_names), set(old_names)
+    common = [n for n in old_names if n in new_set]
+    common_in_new = [n for n in new_names if n in old_set]
+    end = max(old.duration_ms, new.duration_ms)
+    n_steps = -(-end // timestep_ms) + 1
+    n = len(common)
+    best = np.full(n, -1.0)
+    best_step = np.full(n, -1, dtype=np.int64)
+    best_old = np.full(n, np.nan)
+    best_new = np.full(n, np.nan)
+    old_only = np.zeros(n, dtype=np.int64)
+    new_only = np.zeros(n, dtype=np.int64)
+    presence_first = np.full(n, -1, dtype=np.int64)
+    carry_old = np.full(n, np.nan)
+    carry_new = np.full(n, np.nan)
+    for start in range(0, n_steps, _CHUNK_STEPS):
+        steps = np.arange(start, min(start + _CHUNK_STEPS, n_steps), dtype=np.int64)
+        elapsed = steps * timestep_ms
+        a = _hold(_named_targets(old, common, elapsed), carry_old)
+        b = _hold(_named_targets(new, common, elapsed), carry_new)
+        carry_old, carry_new = a[-1], b[-1]
+        only_one = np.isnan(a) != np.isnan(b)
+        both = ~np.isnan(a) & ~np.isnan(b)
+        with np.errstate(invalid="ignore"):
+            delta = np.where(a == b, 0.0, np.abs(a - b))  # equal infinities are equal
+        delta = np.where(both, delta, -1.0)
+        delta = np.where(np.isnan(delta), np.inf, delta)
+        if delta.shape[1]:
+            k = np.argmax(delta, axis=0)
+            top = delta[k, np.arange(n)]
+            better = top > best
+            best = np.where(better, top, best)
+            best_step = np.where(better, steps[k], best_step)
+            best_old = np.where(better, a[k, np.arange(n)], best_old)
+            best_new = np.where(better, b[k, np.arange(n)], best_new)
+            counts = only_one.sum(axis=0)
+            first = np.where(counts > 0, steps[np.argmax(only_one, axis=0)], -1)
+            presence_first = np.where((presence_first < 0) & (counts > 0), first, presence_first)
+            old_only += (~np.isnan(a) & np.isnan(b)).sum(axis=0)
+            new_only += (np.isnan(a) & ~np.isnan(b)).sum(axis=0)
+    joints = []
+    for i, name in enumerate(common):
+        compared = best_step[i] >= 0
+        joints.append(
+            JointDiff(
+                joint=name,
+                max_delta=float(best[i]) if compared else 0.0,
+                at_ms=int(best_step[i] * timestep_ms) if compared else None,
+                old_value=float(best_old[i]) if compared else None,
+                new_value=float(best_new[i]) if compared else None,
+                old_only_steps=int(old_only[i]),
+                new_only_steps=int(new_only[i]),
+                presence_at_ms=(
+                    int(presence_first[i] * timestep_ms) if presence_first[i] >= 0 else None
+                ),
+            )
+        )
+    return MotionDiff(
+        timestep_ms=timestep_ms,
+        tolerance=tolerance,
+        added=tuple(n for n in new_names if n not in old_set),
+        removed=tuple(n for n in old_names if n not in new_set),
+        reordered=common != common_in_new,
+        old_duration_ms=old.duration_ms,
+        new_duration_ms=new.duration_ms,
+        old_poses=old.n_poses,
+        new_poses=new.n_poses,
+        joints=tuple(joints),
+    )

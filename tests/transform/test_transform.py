@@ -1,0 +1,311 @@
+"""Library properties of resample and retime (motiontool.motionfmt.transform)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from conftest import corpus_params
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from strategies import motion_files
+
+from motiontool.motionfmt import loads, read_file, sample
+from motiontool.motionfmt.compare import compare_motions
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.transform import (
+    ROUNDING_RAD,
+    fit_duration,
+    fit_limits,
+    grid_times,
+    resample,
+    scale_times,
+)
+
+TIMESTEPS = (1, 7, 8, 16, 20, 32, 40)
+SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+@st.composite
+def motions(draw: st.DrawFn, *, min_gap: int = 1, star: bool = True, base: int = 1) -> bytes:
+    """Motion files whose times are multiples of ``base`` ms, gaps >= ``min_gap`` bases."""
+    n_joints = draw(st.integers(1, 4))
+    n_poses = draw(st.integers(1, 9))
+    gaps = draw(st.lists(st.integers(min_gap, 40), min_size=n_poses, max_size=n_poses))
+    start = draw(st.integers(0, 10))
+    times = [base * (start + sum(gaps[:i])) for i in range(n_poses)]
+    value = st.floats(-2.5, 2.5, allow_nan=False).map(lambda x: repr(round(x, 4)))
+    cell = st.one_of(value, st.just("*")) if star else value
+    lines = ["#WEBOTS_MOTION,V1.0," + ",".join(f"J{j}" for j in range(n_joints))]
+    for p, t in enumerate(times):
+        cells = [draw(cell) for _ in range(n_joints)]
+        lines.append(
+            ",".join([f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d}", f"P{p}", *cells])
+        )
+    return ("\n".join(lines) + "\n").encode()
+
+
+def assert_same_stream(a: Motion, b: Motion, timestep: int, *, reverse: bool = False) -> None:
+    """Webots' command streams equal at ``timestep``: same steps commanded, same targets to
+    within floating-point rounding of the interpolation."""
+    sa, sb = sample(a, timestep, reverse=reverse), sample(b, timestep, reverse=reverse)
+    assert np.array_equal(sa.elapsed_ms, sb.elapsed_ms)
+    assert np.array_equal(np.isnan(sa.targets), np.isnan(sb.targets))
+    both = ~np.isnan(sa.targets)
+    assert np.all(np.abs(sa.targets[both] - sb.targets[both]) <= ROUNDING_RAD)
+
+
+# --------------------------------------------------------------------------- resample
+
+
+@SETTINGS
+@given(data=motion_files(), divisor=st.sampled_from([1, 2, 4]))
+def test_resample_onto_a_grid_holding_every_keyframe_is_lossless(data: bytes, divisor: int) -> None:
+    doc = loads(data)
+    m = doc.motion
+    gcd = int(np.gcd.reduce(m.times_ms)) or m.duration_ms or 1
+    step = max(gcd // divisor, 1) if gcd % divisor == 0 else gcd
+    r = resample(doc, step_ms=step)
+    out = r.document.motion
+    assert r.grid_has_keyframes and r.dropped_off_grid == 0
+    assert out.times_ms.tolist() == grid_times(int(m.times_ms[0]), m.duration_ms, step)
+    for timestep in TIMESTEPS:
+        assert_same_stream(m, out, timestep)
+    assert_same_stream(m, out, 20, reverse=True)
+    assert r.deviation.same
+    # kept lines keep their spelling, byte for byte
+    kept = set(data.split(b"\n")[1:]) - {b""}
+    out_lines = set(r.document.to_bytes().split(b"\n"))
+    assert {line.rstrip(b"\r") for line in kept} <= {line.rstrip(b"\r") for line in out_lines}
+    assert doc.to_bytes() == data  # the input document is not modified
+
+
+@SETTINGS
+@given(data=motions(), step=st.integers(1, 50))
+def test_resample_off_grid_reports_the_deviation_it_introduces(data: bytes, step: int) -> None:
+    doc = loads(data)
+    r = resample(doc, step_ms=step)
+    out = r.document.motion
+    assert out.times_ms[0] == doc.motion.times_ms[0] and out.duration_ms == doc.motion.duration_ms
+    # The report's number is the true largest held-target deviation at 1 ms.
+    again = compare_motions(doc.motion, out, timestep_ms=1)
+    assert r.deviation.joints == again.joints
+
+
+def test_new_keyframe_inside_a_star_segment_gets_a_star() -> None:
+    doc = loads(b"#WEBOTS_MOTION,V1.0,A,B\n0,P1,0,*\n100,P2,1,2\n150,P3,0.5,1\n")
+    r = resample(doc, step_ms=50)
+    assert r.document.to_bytes() == (
+        b"#WEBOTS_MOTION,V1.0,A,B\n0,P1,0,*\n50,Pose50ms,0.5,*\n100,P2,1,2\n150,P3,0.5,1\n"
+    )
+
+
+@SETTINGS
+@given(data=motions(), bound=st.sampled_from([0.0, 1e-3, 0.05, 0.5]))
+def test_max_error_keeps_every_joint_within_the_bound(data: bytes, bound: float) -> None:
+    doc = loads(data)
+    r = resample(doc, max_error=bound)
+    out = r.document.motion
+    assert out.n_poses == doc.motion.n_poses - r.removed
+    assert r.collinear <= r.removed
+    for timestep in (1, 20):
+        sa, sb = sample(doc.motion, timestep), sample(out, timestep)
+        assert np.array_equal(np.isnan(sa.targets), np.isnan(sb.targets))
+        both = ~np.isnan(sa.targets)
+        assert np.all(np.abs(sa.targets[both] - sb.targets[both]) <= bound + ROUNDING_RAD)
+    assert r.deviation.same
+
+
+@SETTINGS
+@given(data=motions(), step=st.integers(1, 60), bound=st.sampled_from([0.0, 0.01]))
+def test_grid_then_max_error_is_measured_against_the_original(
+    data: bytes, step: int, bound: float
+) -> None:
+    doc = loads(data)
+    grid = resample(doc, step_ms=step)
+    both = resample(doc, step_ms=step, max_error=bound)
+    worst_grid = grid.deviation.largest
+    worst = both.deviation.largest
+    assert (
+        worst is None
+        or worst_grid is None
+        or (worst.max_delta <= max(bound, worst_grid.max_delta) + ROUNDING_RAD)
+    )
+
+
+def test_collinear_keyframes_go_for_free() -> None:
+    doc = loads(b"#WEBOTS_MOTION,V1.0,A\n0,a,0\n10,b,0.1\n20,c,0.2\n30,d,0.30000001\n40,e,0\n")
+    r = resample(doc, max_error=0.0)
+    assert (r.removed, r.collinear) == (1, 1)
+    assert (
+        r.document.to_bytes()
+        == b"#WEBOTS_MOTION,V1.0,A\n0,a,0\n20,c,0.2\n30,d,0.30000001\n40,e,0\n"
+    )
+    r = resample(doc, max_error=1e-6)
+    assert (r.removed, r.collinear) == (2, 1)
+
+
+def test_resample_needs_something_to_do() -> None:
+    with pytest.raises(MotionToolError, match="nothing to do"):
+        resample(loads(b"#WEBOTS_MOTION,V1.0,A\n0,a,0\n"))
+
+
+@pytest.mark.parametrize("path", corpus_params())
+def test_corpus_resample_lossless_and_simplified(path: object) -> None:
+    doc = loads(read_file(str(path)), str(path))
+    m = doc.motion
+    step = int(np.gcd.reduce(m.times_ms)) or 1
+    r = resample(doc, step_ms=step)
+    for timestep in (8, 20, 32):
+        assert_same_stream(m, r.document.motion, timestep)
+    small = resample(doc, max_error=0.01)
+    assert small.deviation.same and small.document.motion.n_poses <= m.n_poses
+
+
+# --------------------------------------------------------------------------- retime
+
+increasing_times = st.lists(st.integers(2, 400), min_size=1, max_size=12).flatmap(
+    lambda gaps: st.integers(0, 300).map(
+        lambda start: [start + sum(gaps[:i]) for i in range(len(gaps))]
+    )
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(times=increasing_times, k=st.floats(0.125, 2.0))
+def test_retime_by_k_then_one_over_k_returns_within_1_ms(times: list[int], k: float) -> None:
+    there = scale_times(times, k)
+    assert all(b > a for a, b in zip(there.times_ms, there.times_ms[1:], strict=False))
+    back = scale_times(there.times_ms, 1.0 / k)
+    assert max(abs(a - b) for a, b in zip(back.times_ms, times, strict=True)) <= 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    times=st.lists(st.integers(0, 10_000), min_size=2, max_size=12, unique=True),
+    d=st.integers(0, 20_000),
+)
+def test_fit_duration_lands_exactly(times: list[int], d: int) -> None:
+    times = sorted(times)
+    if times[-1] == 0:
+        return
+    if d < len(times) - 1:
+        with pytest.raises(MotionToolError, match="cannot hold"):
+            fit_duration(times, d)
+        return
+    r = fit_duration(times, d)
+    assert r.duration_ms == d
+    assert all(b > a for a, b in zip(r.times_ms, r.times_ms[1:], strict=False))
+    assert r.times_ms[0] >= 0
+
+
+def test_speed_rounds_half_up_and_keeps_times_increasing() -> None:
+    assert scale_times([0, 1, 2, 3, 4], 2.0).times_ms == (0, 1, 2, 3, 4)
+    assert scale_times([0, 10, 25], 2.0).times_ms == (0, 5, 13)
+    assert scale_times([100, 200], 0.5).times_ms == (200, 400)
+    with pytest.raises(MotionToolError, match="positive"):
+        scale_times([0, 10], 0.0)
+
+
+@st.composite
+def limited_motions(draw: st.DrawFn) -> tuple[list[int], list[str], np.ndarray, dict[str, float]]:
+    n_joints = draw(st.integers(1, 4))
+    n_poses = draw(st.integers(1, 10))
+    gaps = draw(st.lists(st.integers(1, 200), min_size=n_poses, max_size=n_poses))
+    start = draw(st.integers(0, 100))
+    times = [start + sum(gaps[:i]) for i in range(n_poses)]
+    values = np.array(
+        draw(
+            st.lists(
+                st.lists(
+                    st.one_of(st.floats(-3, 3, allow_nan=False), st.just(math.nan)),
+                    min_size=n_joints,
+                    max_size=n_joints,
+                ),
+                min_size=n_poses,
+                max_size=n_poses,
+            )
+        )
+    )
+    joints = [f"J{j}" for j in range(n_joints)]
+    if n_joints > 1 and draw(st.booleans()):
+        joints[-1] = joints[0]  # a duplicate column: held to the limit as well
+    limits = {
+        name: draw(st.floats(0.5, 30.0))
+        for name in set(joints)
+        if draw(st.integers(0, 4))  # some joints unconstrained
+    }
+    return times, joints, values, limits
+
+
+def _velocity_ok(
+    times: tuple[int, ...],
+    joints: list[str],
+    values: np.ndarray,
+    limits: dict[str, float],
+    margin: float,
+) -> bool:
+    d = np.diff(np.asarray(times)) / 1000.0
+    for j, name in enumerate(joints):
+        if name not in limits:
+            continue
+        with np.errstate(invalid="ignore"):
+            speed = np.abs(np.diff(values[:, j])) / d
+        if np.any(speed > limits[name] * margin):  # NaN compares False
+            return False
+    return True
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    m=limited_motions(),
+    margin=st.sampled_from([1.0, 0.9, 0.5]),
+    accel=st.sampled_from([None, 5.0, 200.0]),
+)
+def test_fit_limits_never_violates_and_is_idempotent(
+    m: tuple, margin: float, accel: float | None
+) -> None:
+    times, joints, values, limits = m
+    r = fit_limits(times, joints, values, limits, margin=margin, max_acceleration=accel)
+    assert r.times_ms[0] == times[0]
+    assert all(b > a for a, b in zip(r.times_ms, r.times_ms[1:], strict=False))
+    old_d, new_d = np.diff(times), np.diff(r.times_ms)
+    assert np.all(new_d >= old_d)  # only ever longer
+    assert _velocity_ok(r.times_ms, joints, values, limits, margin)
+    # shortest: one ms less on a stretched velocity segment would break a limit
+    for s in r.stretches:
+        if s.reason == "velocity":
+            shorter = list(r.times_ms)
+            for i in range(s.segment + 1, len(shorter)):
+                shorter[i] -= 1
+            assert not _velocity_ok(tuple(shorter), joints, values, limits, margin)
+    again = fit_limits(r.times_ms, joints, values, limits, margin=margin, max_acceleration=accel)
+    assert again.times_ms == r.times_ms and again.stretches == ()
+    if accel is not None:
+        from motiontool.motionfmt.transform import _accel_ratio
+
+        cols = [j for j, name in enumerate(joints) if name in limits]
+        if len(times) > 1 and cols:
+            with np.errstate(invalid="ignore"):
+                dq = np.diff(values[:, cols], axis=0)
+            ratio = _accel_ratio(np.diff(r.times_ms).astype(float), dq, accel)
+            assert np.all(ratio <= 1.0)
+
+
+def test_fit_limits_stretches_to_the_shortest_whole_ms() -> None:
+    # 0.262 rad in 40 ms at 6.40239 rad/s x 0.9: needs 45.47 ms -> 46 ms
+    r = fit_limits([0, 40, 80], ["K"], np.array([[0.0], [0.262], [0.262]]), {"K": 6.40239})
+    assert r.times_ms == (0, 46, 86)
+    assert [(s.segment, s.old_ms, s.new_ms, s.joint, s.reason) for s in r.stretches] == [
+        (0, 40, 46, "K", "velocity")
+    ]
+    assert (r.added_ms, round(r.added_percent or 0, 2)) == (6, 7.5)
+    unlimited = fit_limits([0, 1], ["X"], np.array([[0.0], [9.0]]), {})
+    assert unlimited.times_ms == (0, 1) and unlimited.unconstrained == ("X",)
+
+
+def test_fit_limits_rejects_a_bad_margin() -> None:
+    with pytest.raises(MotionToolError, match="margin"):
+        fit_limits([0, 10], ["A"], np.zeros((2, 1)), {"A": 1.0}, margin=1.5)
