@@ -9,7 +9,7 @@ PY=${PYTHON:-.venv/bin/python}
 "$PY" -m ruff format --check .
 # mypy resolves `motiontool.*` through a link to the repository root (the package's source).
 mkdir -p build/typecheck && ln -sfn ../.. build/typecheck/motiontool
-"$PY" -m mypy -p motiontool.motionfmt -p motiontool.kinematics
+"$PY" -m mypy -p motiontool.motionfmt -p motiontool.kinematics -p motiontool.sim -p motiontool.cli
 # The project's own motion library must validate clean, warnings included.
 "$(dirname "$PY")/motiontool" validate motions/ --strict
 "$PY" -m pytest -n 2 "$@"

@@ -1,1 +1,54 @@
-"""sim"""
+"""Simulation: play motions headlessly in MuJoCo as Webots would, record runs to Rerun, batch runs.
+
+Importing this package is cheap: MuJoCo (:mod:`motiontool.sim._mujoco`) and Rerun
+(:mod:`motiontool.sim.recording`) are imported only when a run or a recording needs them.
+"""
+
+from motiontool.sim.motor import DEFAULT_P_GAIN, MotorLimits, velocity_command
+from motiontool.sim.play import (
+    LIMIT_TOLERANCE,
+    STARTS,
+    TORQUE_CAP_FRACTION,
+    Marker,
+    PlayOptions,
+    command_matrix,
+    play,
+    resolve_robot,
+)
+from motiontool.sim.report import (
+    SCHEMA,
+    SCHEMA_VERSION,
+    BaseStats,
+    ContactSummary,
+    FileRun,
+    FootStats,
+    JointStats,
+    PlayReport,
+)
+from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
+
+__all__ = [
+    "DEFAULT_P_GAIN",
+    "LIMIT_TOLERANCE",
+    "SCHEMA",
+    "SCHEMA_VERSION",
+    "STARTS",
+    "TORQUE_CAP_FRACTION",
+    "BaseStats",
+    "BodyShapes",
+    "ContactEvent",
+    "ContactSummary",
+    "FileRun",
+    "FootStats",
+    "JointStats",
+    "Marker",
+    "MotorLimits",
+    "PlayOptions",
+    "PlayReport",
+    "Shape",
+    "Trace",
+    "command_matrix",
+    "play",
+    "resolve_robot",
+    "velocity_command",
+]

@@ -1,0 +1,203 @@
+"""``motiontool play``: play motions headlessly in MuJoCo, as Webots would, and report the run."""
+
+from __future__ import annotations
+
+import enum
+import json
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any
+
+import typer
+
+from motiontool.cli.output import emit
+from motiontool.cli.stamps import stamps
+from motiontool.motionfmt.errors import MotionToolError
+
+if TYPE_CHECKING:
+    from motiontool.sim.report import ContactSummary, PlayReport
+
+__all__ = ["play_command"]
+
+
+class Start(enum.StrEnum):
+    """Start states of a run."""
+
+    standing = "standing"
+    lying_front = "lying-front"
+
+
+def _num(value: float | None, fmt: str, unit: str) -> str:
+    return "n/a" if value is None or not math.isfinite(value) else f"{value:{fmt}} {unit}"
+
+
+def _contacts(title: str, rows: list[ContactSummary], limit: int = 8) -> list[str]:
+    if not rows:
+        return [f"{title}: none"]
+    lines = [f"{title}: {len(rows)}"]
+    for c in rows[:limit]:
+        lines.append(
+            f"  {c.body_a} / {c.body_b}: from {c.first_s:.2f} s, {c.duration_s:.2f} s in all, "
+            f"max depth {c.max_depth_m * 1000:.1f} mm"
+        )
+    if len(rows) > limit:
+        lines.append(f"  ... and {len(rows) - limit} more (see --json)")
+    return lines
+
+
+def render_text(report: PlayReport) -> str:
+    """The summary for people: the outcome, the robot, the feet, contacts, then one row per
+    commanded joint."""
+    stamps_ = report.stamps
+    names = " + ".join(Path(f.path).name for f in report.files)
+    lines = [
+        f"{names} on {report.robot}: {report.simulated_s:.2f} s simulated "
+        f"({report.control_steps} control steps of {stamps_.get('control_step_ms')} ms, "
+        f"physics step {stamps_.get('physics_step_ms'):g} ms)",
+        "result: " + ("clean" if report.clean else "; ".join(report.problems)),
+    ]
+    base = report.base
+    if base is not None:
+        lines.append(
+            f"base: dx {base.dx_m:+.3f} m, dy {base.dy_m:+.3f} m, "
+            f"yaw {_num(base.yaw_change_deg, '+.1f', 'deg')}, "
+            f"max tilt {base.max_tilt_deg:.1f} deg, final tilt {base.final_tilt_deg:.1f} deg, "
+            f"height {base.final_height_m:.3f} m (min {base.min_height_m:.3f} m)"
+            + (f", fell at {base.fell_at_s:.2f} s" if base.fell_at_s is not None else "")
+        )
+    for foot in report.feet:
+        lines.append(
+            f"foot {foot.name}: on the floor {foot.contact_s:.2f} s, "
+            f"slip {foot.slip_m * 1000:.1f} mm, "
+            f"moved {foot.max_displacement_m * 1000:.1f} mm at most, "
+            f"{foot.final_displacement_m * 1000:.1f} mm at the end"
+        )
+    lines += _contacts("self-collisions", report.self_collisions)
+    lines += _contacts("contacts with anything but the floor", report.scene_contacts)
+    if report.ground_contacts:
+        lines += _contacts("other body parts on the floor", report.ground_contacts, limit=4)
+    raised = {k: v for k, v in report.warnings.items() if v}
+    lines.append(
+        "MuJoCo warnings: " + (", ".join(f"{k} x{v}" for k, v in raised.items()) or "none")
+    )
+    if report.ignored_joints:
+        lines.append("ignored (not motors of the robot): " + ", ".join(report.ignored_joints))
+    rows = [j for j in report.joints if j.commanded]
+    if rows:
+        wj = max(5, *(len(j.name) for j in rows))
+        wl = max(4, *(len(j.limb) for j in rows))
+        lines.append(
+            f"{'joint':<{wj}} {'limb':<{wl}} {'rms error':>11} {'max error':>11} "
+            f"{'at vel cap':>10} {'at torque cap':>13} {'clipped':>8}"
+        )
+        for j in rows:
+            lines.append(
+                f"{j.name:<{wj}} {j.limb:<{wl}} {j.rms_error:>7.4f} {j.unit:<3} "
+                f"{j.max_error:>7.4f} {j.unit:<3} {j.velocity_cap_s:>8.2f} s "
+                f"{j.torque_cap_s:>11.2f} s {j.target_clipped_s:>6.2f} s"
+            )
+    if report.error:
+        lines.append(f"error: {report.error}")
+    return "\n".join(lines) + "\n"
+
+
+def _error_json(message: str, files: list[Path], doc_stamps: dict[str, Any]) -> str:
+    doc = {
+        "schema": "motiontool.play",
+        "schema_version": 1,
+        "stamps": doc_stamps,
+        "files": [{"path": str(f)} for f in files],
+        "clean": False,
+        "exit_code": 2,
+        "reason": message,
+        "error": message,
+    }
+    return json.dumps(doc, ensure_ascii=False, indent=1) + "\n"
+
+
+def play_command(
+    files: Annotated[
+        list[Path],
+        typer.Argument(help="Motion files, played one after another.", show_default=False),
+    ],
+    headless: Annotated[
+        bool, typer.Option("--headless", help="Run without a viewer (the only mode there is).")
+    ] = False,
+    json_path: Annotated[
+        Path | None,
+        typer.Option("--json", help="Write the full report as JSON (schema motiontool.play)."),
+    ] = None,
+    rrd: Annotated[
+        Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
+    ] = None,
+    loop: Annotated[int, typer.Option("--loop", min=1, help="Play each motion N times.")] = 1,
+    reverse: Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")] = False,
+    timestep: Annotated[
+        int | None,
+        typer.Option(
+            "--timestep",
+            "-t",
+            min=1,
+            help="Controller time step in ms (default: the robot's Webots world, Nao 20, UR5e 8).",
+        ),
+    ] = None,
+    robot: Annotated[
+        str,
+        typer.Option("--robot", help="auto, nao, nao-v5, ur5e, a .urdf/.xml model or erd:<name>."),
+    ] = "auto",
+    start: Annotated[
+        Start, typer.Option("--start", help="Start standing, or lying face down.")
+    ] = Start.standing,
+    hold: Annotated[
+        float,
+        typer.Option("--hold", min=0.0, help="Seconds to keep simulating after the last motion."),
+    ] = 1.0,
+    seed: Annotated[int, typer.Option("--seed", help="Seed of random draws (stamped).")] = 0,
+) -> None:
+    """Play motion files headlessly in MuJoCo as a Webots controller would, and report the run.
+
+    Motors follow Webots' law: the target is clipped to the motor limits, a P controller
+    (P = 10) makes a velocity command capped at maxVelocity, a velocity servo limited to
+    maxTorque realises it. Exit code 0 when the run is clean, 1 when the robot fell, collided
+    or MuJoCo raised a warning, 2 on error. --json and --rrd are written in every case.
+    """
+    if not headless:
+        raise MotionToolError(
+            "only headless playback exists (there is no viewer); pass --headless, and --rrd "
+            "to look at the run in Rerun"
+        )
+    from motiontool.motionfmt import read_motion
+    from motiontool.sim.play import PlayOptions, play, resolve_robot
+
+    doc_stamps: dict[str, Any] = dict(stamps())
+    try:
+        motions = [read_motion(str(f)) for f in files]
+        spec = resolve_robot(robot, motions)
+        doc_stamps = dict(stamps(spec.model_hash))
+        options = PlayOptions(
+            timestep_ms=timestep,
+            loops=loop,
+            reverse=reverse,
+            start=start.value,
+            hold_s=hold,
+            seed=seed,
+        )
+        report = play(files, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
+    except MotionToolError as exc:
+        if json_path is not None:
+            emit(_error_json(str(exc), files, doc_stamps), json_path)
+        if rrd is not None:
+            from motiontool.sim.recording import write_failure
+
+            props = {k: "" if v is None else str(v) for k, v in doc_stamps.items()}
+            write_failure(rrd, str(exc), props, " + ".join(f.name for f in files))
+        raise
+    for name in report.ignored_joints:
+        typer.echo(
+            f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored",
+            err=True,
+        )
+    if json_path is not None:
+        emit(json.dumps(report.to_json(), ensure_ascii=False, indent=1) + "\n", json_path)
+    typer.echo(render_text(report), nl=False)
+    raise typer.Exit(report.exit_code)

@@ -1,0 +1,760 @@
+"""The MuJoCo side of ``play``: the scene, Webots-like motors, and the stepping loop.
+
+The only module that imports :mod:`mujoco` (lazily, inside functions).
+
+Scene (built with :class:`mujoco.MjSpec` from the robot's model file): a floor plane, a light and
+the robot. A free-flying robot (the Nao) stands in its zero pose with its lowest point
+:data:`SPAWN_CLEARANCE_M` above the floor (the Nao's torso then sits at 0.334 m, the Webots PROTO
+spawn height); ``lying-front`` lays it face down instead. A fixed-base robot (the UR5e) stands on
+a 0.6 m wooden box, its base on the top face, as in Webots' ``ure.wbt``.
+
+Motors (see :mod:`motiontool.sim.motor` for the control law): Webots hands the P controller's
+velocity command to an ODE joint motor, i.e. a velocity constraint whose force is bounded by
+maxTorque, solved together with the contacts. MuJoCo has no such motor, so each motor joint is
+coupled through a fixed tendon ``q_joint - q_driver`` to an extra *driver* hinge (on a body of its
+own, with a huge armature so that the tendon force does not slow it down), whose velocity is set
+to the command every control step; the tendon's ``frictionloss`` = maxTorque turns it into a
+velocity constraint ``dq_joint/dt = command`` with a force bounded by maxTorque, solved with the
+contacts. Plain ``<velocity>`` actuators with a force range chatter once the torque saturates and
+make the walks fall (``shared/SIM-NOTES.md``). Joint ranges are not hard stops (Webots' PROTOs
+have none): targets are clipped, the joints themselves are free.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.sim.motor import MotorLimits
+from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.kinematics.robots import RobotSpec
+
+__all__ = [
+    "BOX_HEIGHT_M",
+    "SPAWN_CLEARANCE_M",
+    "Scene",
+    "build_scene",
+    "mujoco_version",
+    "run",
+    "scene_shapes",
+]
+
+Start = Literal["standing", "lying-front"]
+
+SPAWN_CLEARANCE_M = 1e-4
+"""Gap between a free-flying robot's lowest point and the floor at spawn, m (the Webots Nao PROTO
+spawns its torso at 0.334 m, its FSR soles being 0.3339 m below the torso origin)."""
+
+BOX_HEIGHT_M = 0.6
+"""Edge of the wooden box a fixed-base robot stands on, m (Webots ``WoodenBox`` default size)."""
+
+DRIVER_ARMATURE = 1e6
+"""Armature of each driver hinge, kg·m²: a motor torque of 15 N·m changes its speed by
+3e-8 rad/s per 2 ms step, and its speed is set again every control step."""
+
+MOTOR_SOLIMP = (0.99, 0.99, 0.001, 0.5, 2.0)
+"""solimp of the motor constraints: nearly hard, as ODE's joint motors."""
+
+FLOOR_BOUNCE = 0.3
+"""Restitution of robot-floor contacts (Webots ``nao_demo.wbt`` / ``nao_robocup.wbt``
+contactProperties bounce 0.3), realised as the damping ratio of MuJoCo's contact spring (the
+walks are insensitive to it, measured). Webots' bounceVelocity (3 mm/s) has no MuJoCo equivalent."""
+
+FLOOR_TIMECONST_S = 0.02
+"""Time constant of the floor contacts, s (MuJoCo's default; 0.005 to 0.05 walk the same)."""
+
+SOLVER_TOLERANCE = 1e-10
+"""Newton solver tolerance. At MuJoCo's default (1e-8) the solver stops before the contact and
+motor forces balance: a Nao standing still jitters and its feet wander 2 mm in 6 s; at 1e-10
+they stay within 0.05 mm, at no extra cost (measured)."""
+
+_WARNINGS = (
+    "inertia",
+    "contact_full",
+    "constraint_full",
+    "bad_qpos",
+    "bad_qvel",
+    "bad_qacc",
+    "bad_ctrl",
+)
+"""Names of MuJoCo's warnings (``mjtWarning`` order) in reports."""
+
+_NAO_LIMBS = (
+    (re.compile(r"^Head"), "Head"),
+    (re.compile(r"^([LR])Phalanx"), r"\1Hand"),
+    (re.compile(r"^([LR])(Shoulder|Elbow|Wrist)"), r"\1Arm"),
+    (re.compile(r"^([LR])(Hip|Knee|Ankle)"), r"\1Leg"),
+)
+"""Limb names for the Webots Nao's motors (others: the name of the root's child body)."""
+
+
+def mujoco_version() -> str:
+    """The MuJoCo version string."""
+    import mujoco
+
+    return str(mujoco.__version__)
+
+
+@dataclass(eq=False)
+class Scene:
+    """A compiled scene and the indices the stepping loop needs.
+
+    Attributes:
+        model, data: the MuJoCo model and its data (at the start state).
+        robot: the robot.
+        joints: the J motors (model order) and ``limits`` their limits (torque scaled).
+        qpos_adr: (J,) int, qpos address of each motor joint.
+        driver_dof: (J,) int, dof address of each motor's driver hinge.
+        control_substeps: physics steps per control step.
+        root_body: the robot's root body id.
+        floating: whether the root is free-flying.
+        robot_bodies: (B,) int, ids of the robot's bodies (root first).
+        body_limbs: limb of each robot body (same order).
+        joint_limbs: limb of each motor joint.
+        geom_class: (ngeom,) int: 0 floor, 1 foot, 2 other robot geom, 3 other scene geom.
+        foot_geoms: (F,) int, the foot geometries (``RobotSpec.feet``).
+        probe: the self-collision probe (a copy of the model where only the candidate pairs of
+            robot geometries collide), or None if the robot has fewer than two bodies.
+    """
+
+    model: Any
+    data: Any
+    robot: RobotSpec
+    joints: tuple[str, ...]
+    limits: MotorLimits
+    qpos_adr: npt.NDArray[np.intp]
+    driver_dof: npt.NDArray[np.intp]
+    control_substeps: int
+    root_body: int
+    floating: bool
+    robot_bodies: npt.NDArray[np.intp]
+    body_limbs: tuple[str, ...]
+    joint_limbs: tuple[str, ...]
+    geom_class: npt.NDArray[np.intp]
+    foot_geoms: npt.NDArray[np.intp]
+    probe: tuple[Any, Any] | None = None
+    _names: dict[int, str] = field(default_factory=dict)
+
+    @property
+    def physics_step_s(self) -> float:
+        return float(self.model.opt.timestep)
+
+    @property
+    def control_step_s(self) -> float:
+        return float(self.model.opt.timestep) * self.control_substeps
+
+    def body_name(self, body: int) -> str:
+        if body not in self._names:
+            self._names[body] = str(self.model.body(body).name)
+        return self._names[body]
+
+    def geom_name(self, geom: int) -> str:
+        name = str(self.model.geom(geom).name)
+        return name or f"geom{geom}"
+
+
+# ------------------------------------------------------------------------------- building
+
+
+def build_scene(
+    robot: RobotSpec,
+    control_step_ms: int,
+    *,
+    physics_step_ms: float = 2.0,
+    start: Start = "standing",
+    start_joints: dict[str, float] | None = None,
+    floor_friction: float = 1.0,
+    mass_scale: float = 1.0,
+    torque_scale: float = 1.0,
+    start_yaw_deg: float = 0.0,
+    p_gain: float = 10.0,
+) -> Scene:
+    """Compile the scene of ``robot`` at its start state.
+
+    Args:
+        robot: the robot (its ``model_path`` is read with :meth:`mujoco.MjSpec.from_file`).
+        control_step_ms: the control period (Webots' basicTimeStep), ms.
+        physics_step_ms: the largest MuJoCo step, ms; the step used divides the control step.
+        start: ``standing`` (zero pose, upright) or ``lying-front`` (face down; free-flying
+            robots only).
+        start_joints: initial motor positions, rad (m), overriding the zero pose.
+        floor_friction: Coulomb friction coefficient between the robot and the floor (pyramidal
+            cone); 1.0 walks as reported in SIM-NOTES (Webots' coulombFriction 7 makes MuJoCo's
+            pyramidal cone grip so hard that every walk falls).
+        mass_scale: factor on every robot body's mass and inertia.
+        torque_scale: factor on every motor's maxTorque.
+        start_yaw_deg: heading of the robot at start, degrees about +z.
+        p_gain: P gain of the position controller, 1/s.
+    """
+    import mujoco
+    import numpy as np
+
+    if control_step_ms <= 0:
+        raise MotionToolError(f"--timestep must be a positive number of ms, got {control_step_ms}")
+    if not physics_step_ms > 0:
+        raise MotionToolError(f"physics step must be positive, got {physics_step_ms} ms")
+    substeps = max(1, math.ceil(control_step_ms / physics_step_ms - 1e-9))
+    dt = control_step_ms / 1000.0 / substeps
+
+    try:
+        spec = mujoco.MjSpec.from_file(str(robot.model_path))
+    except Exception as exc:  # MuJoCo raises ValueError with its own message
+        raise MotionToolError(f"MuJoCo cannot read '{robot.model_path}': {exc}") from exc
+    _resolve_package_meshes(spec, robot.model_path)
+    spec.option.timestep = dt
+    spec.option.jacobian = mujoco.mjtJacobian.mjJAC_DENSE  # SIM-NOTES: sparse diverged (86 DoF)
+    spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
+    spec.option.tolerance = SOLVER_TOLERANCE
+    spec.compiler.balanceinertia = True
+    spec.compiler.fusestatic = False  # MuJoCo's URDF import would fuse a fixed base away
+    for actuator in list(spec.actuators):  # the motors are modelled below
+        spec.delete(actuator)
+
+    motor_names = robot.joint_names
+    joint_specs = {j.name: j for j in spec.joints}
+    missing = [n for n in motor_names if n not in joint_specs]
+    if missing:
+        raise MotionToolError(
+            f"MuJoCo model of robot {robot.name} has no joint named {', '.join(missing)}"
+        )
+    roots = [b for b in spec.worldbody.bodies]
+    if not roots:
+        raise MotionToolError(f"robot model '{robot.model_path}' has no body")
+    floating = any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in roots[0].joints)
+    if robot.floating_base and not floating and len(roots) == 1:  # a URDF: no free joint
+        roots[0].add_freejoint()
+        floating = True
+
+    for body in spec.bodies:
+        if body.name != "world" and mass_scale != 1.0:
+            body.mass = body.mass * mass_scale
+            body.fullinertia = [v * mass_scale for v in body.fullinertia]
+            body.inertia = [v * mass_scale for v in body.inertia]
+
+    # The scene.
+    floor = spec.worldbody.add_geom(
+        name="floor",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[0.0, 0.0, 0.05],
+        rgba=[0.6, 0.6, 0.6, 1.0],
+    )
+    floor.friction = [floor_friction, 0.005, 0.0001]
+    floor.priority = 1  # its friction and solref win over the robot geoms' defaults
+    floor.solref = [FLOOR_TIMECONST_S, _damping_ratio(FLOOR_BOUNCE)]
+    floor.contype = 1
+    floor.conaffinity = 1
+    spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, 4.0], dir=[0.0, 0.0, -1.0])
+    if not floating:
+        half = BOX_HEIGHT_M / 2
+        box = spec.worldbody.add_geom(
+            name="wooden_box",
+            type=mujoco.mjtGeom.mjGEOM_BOX,
+            size=[half, half, half],
+            pos=[0.0, 0.0, half],
+            rgba=[0.63, 0.45, 0.25, 1.0],
+        )
+        box.contype = 1
+        box.conaffinity = 1
+        for body in roots:
+            body.pos = [body.pos[0], body.pos[1], body.pos[2] + BOX_HEIGHT_M]
+
+    # Motors: limits, free joints (no hard stops), drivers coupled through tendons.
+    lower = np.array([robot.joint(n).lower for n in motor_names], dtype=np.float64)
+    upper = np.array([robot.joint(n).upper for n in motor_names], dtype=np.float64)
+    vmax = np.array([_finite(robot.joint(n).max_velocity, 10.0) for n in motor_names])
+    tmax = np.array([_finite(robot.joint(n).max_torque, 10.0) for n in motor_names]) * torque_scale
+    for name in motor_names:
+        joint = joint_specs[name]
+        joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
+        joint.actfrclimited = mujoco.mjtLimited.mjLIMITED_FALSE
+    for k, name in enumerate(motor_names):
+        driver = spec.worldbody.add_body(name=f"motiontool_driver_{k}", mass=1e-3)
+        driver.inertia = [1e-6, 1e-6, 1e-6]
+        driver.explicitinertial = True
+        driver.add_joint(
+            name=f"motiontool_driver_{k}",
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0.0, 0.0, 1.0],
+            armature=DRIVER_ARMATURE,
+        )
+        tendon = spec.add_tendon(name=f"motiontool_motor_{k}")
+        tendon.wrap_joint(name, 1.0)
+        tendon.wrap_joint(f"motiontool_driver_{k}", -1.0)
+        tendon.frictionloss = float(tmax[k])
+        tendon.solref_friction = [2.0 * dt, 1.0]
+        tendon.solimp_friction = list(MOTOR_SOLIMP)
+
+    model = _compile(spec, robot)
+    # Robot bodies whose geometries already touch in the zero pose (a URDF's links, which
+    # MuJoCo collides by default) are part of the design: they never collide.
+    data = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_collision(model, data)
+    designed = {
+        tuple(sorted((int(model.geom_bodyid[a]), int(model.geom_bodyid[b]))))
+        for a, b in data.contact.geom.tolist()
+    }
+    designed = {p for p in designed if 0 not in p and p[0] != p[1]}
+    if designed:
+        for a, b in sorted(designed):
+            spec.add_exclude(bodyname1=model.body(a).name, bodyname2=model.body(b).name)
+        model = _compile(spec, robot)
+        data = mujoco.MjData(model)
+
+    qpos_adr = np.array([model.jnt_qposadr[model.joint(n).id] for n in motor_names], dtype=np.intp)
+    driver_dof = np.array(
+        [
+            model.jnt_dofadr[model.joint(f"motiontool_driver_{k}").id]
+            for k in range(len(motor_names))
+        ],
+        dtype=np.intp,
+    )
+    root_body = int(model.body(roots[0].name).id)
+    robot_bodies = np.array(
+        [
+            b
+            for b in range(1, model.nbody)
+            if _in_subtree(model, b, {int(model.body(r.name).id) for r in roots})
+        ],
+        dtype=np.intp,
+    )
+
+    # Start state.
+    if start_joints:
+        for name, value in start_joints.items():
+            if name in motor_names:
+                data.qpos[qpos_adr[motor_names.index(name)]] = value
+    if floating:
+        free_adr = int(model.jnt_qposadr[model.body_jntadr[root_body]])
+        quat = _quat_about_z(math.radians(start_yaw_deg))
+        if start == "lying-front":  # face down: the torso's x axis points to the floor
+            quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
+        data.qpos[free_adr + 3 : free_adr + 7] = quat
+        mujoco.mj_kinematics(model, data)
+        robot_geoms = [
+            g for g in range(model.ngeom) if model.geom_bodyid[g] in set(robot_bodies.tolist())
+        ]
+        lowest = _lowest_point(model, data, robot_geoms)
+        data.qpos[free_adr + 2] += SPAWN_CLEARANCE_M - lowest
+    elif start != "standing":
+        raise MotionToolError(f"--start {start} needs a free-flying robot; {robot.name} is fixed")
+    elif start_yaw_deg:
+        raise MotionToolError("a start yaw needs a free-flying robot")
+    mujoco.mj_forward(model, data)
+
+    limbs = _limbs(model, motor_names, root_body, robot_bodies)
+    geom_class = np.full(model.ngeom, 3, dtype=np.intp)
+    robot_set = set(robot_bodies.tolist())
+    for g in range(model.ngeom):
+        if model.geom_bodyid[g] in robot_set:
+            geom_class[g] = 2
+    geom_class[model.geom("floor").id] = 0
+    foot_geoms = np.array([model.geom(f).id for f in robot.feet], dtype=np.intp)
+    geom_class[foot_geoms] = 1
+
+    scene = Scene(
+        model=model,
+        data=data,
+        robot=robot,
+        joints=motor_names,
+        limits=MotorLimits(lower, upper, vmax, tmax, p_gain),
+        qpos_adr=qpos_adr,
+        driver_dof=driver_dof,
+        control_substeps=substeps,
+        root_body=root_body,
+        floating=floating,
+        robot_bodies=robot_bodies,
+        body_limbs=limbs[1],
+        joint_limbs=limbs[0],
+        geom_class=geom_class,
+        foot_geoms=foot_geoms,
+    )
+    scene.probe = _self_collision_probe(spec, model, scene)
+    return scene
+
+
+def _compile(spec: Any, robot: RobotSpec) -> Any:
+    try:
+        return spec.compile()
+    except Exception as exc:  # MuJoCo's ValueError carries its message
+        raise MotionToolError(f"MuJoCo cannot compile the scene of {robot.name}: {exc}") from exc
+
+
+def _resolve_package_meshes(spec: Any, model_path: Path) -> None:
+    """Point ``package://<pkg>/<path>`` mesh files of a URDF at the files: ``<dir>/<pkg>/<path>``
+    for the first folder above the model that has it (as ROS' share/ layout)."""
+    for mesh in spec.meshes:
+        name = str(mesh.file)
+        if not name.startswith("package://"):
+            continue
+        relative = name[len("package://") :]
+        for folder in model_path.resolve().parents:
+            if (folder / relative).is_file():
+                mesh.file = str(folder / relative)
+                break
+
+
+def _damping_ratio(restitution: float) -> float:
+    """Damping ratio of a spring-damper contact whose coefficient of restitution is the given
+    one: ``e = exp(-pi z / sqrt(1 - z^2))``, so ``z = -ln e / sqrt(pi^2 + ln^2 e)``."""
+    log_e = math.log(restitution)
+    return -log_e / math.sqrt(math.pi**2 + log_e**2)
+
+
+def _finite(value: float, default: float) -> float:
+    return value if math.isfinite(value) and value > 0 else default
+
+
+def _quat_about_z(angle: float) -> tuple[float, float, float, float]:
+    return (math.cos(angle / 2), 0.0, 0.0, math.sin(angle / 2))
+
+
+def _quat_mul(a: Sequence[float], b: Sequence[float]) -> tuple[float, float, float, float]:
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (
+        aw * bw - ax * bx - ay * by - az * bz,
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+    )
+
+
+def _in_subtree(model: Any, body: int, roots: set[int]) -> bool:
+    while body != 0:
+        if body in roots:
+            return True
+        body = int(model.body_parentid[body])
+    return False
+
+
+def _lowest_point(model: Any, data: Any, geoms: Sequence[int]) -> float:
+    """Lowest z (m) of the given geoms (exact for primitives, bounding box otherwise)."""
+    import mujoco
+
+    lowest = math.inf
+    for g in geoms:
+        kind = int(model.geom_type[g])
+        size = model.geom_size[g]
+        rot = data.geom_xmat[g].reshape(3, 3)
+        z = float(data.geom_xpos[g][2])
+        if kind == mujoco.mjtGeom.mjGEOM_SPHERE:
+            low = z - size[0]
+        elif kind == mujoco.mjtGeom.mjGEOM_CAPSULE:
+            low = z - abs(rot[2, 2]) * size[1] - size[0]
+        elif kind == mujoco.mjtGeom.mjGEOM_CYLINDER:
+            low = z - abs(rot[2, 2]) * size[1] - size[0] * math.sqrt(max(0.0, 1 - rot[2, 2] ** 2))
+        else:  # box, ellipsoid (bounding box), mesh: the oriented bounding box
+            aabb = model.geom_aabb[g]
+            centre = data.geom_xpos[g] + rot @ aabb[:3]
+            low = float(centre[2]) - float(sum(abs(rot[2, i]) * aabb[3 + i] for i in range(3)))
+        lowest = min(lowest, float(low))
+    return lowest
+
+
+def _limbs(
+    model: Any, motors: Sequence[str], root: int, bodies: npt.NDArray[np.intp]
+) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(limb of each motor, limb of each robot body)."""
+
+    def top(body: int) -> int:
+        while body != 0 and int(model.body_parentid[body]) != root and body != root:
+            body = int(model.body_parentid[body])
+        return body
+
+    def generic(body: int) -> str:
+        if body == root or body == 0:
+            return str(model.body(root).name)
+        return str(model.body(top(body)).name).removesuffix("_virtual")
+
+    def limb_of_joint(name: str) -> str:
+        for pattern, replacement in _NAO_LIMBS:
+            found = pattern.match(name)
+            if found:
+                return found.expand(replacement)
+        return generic(int(model.jnt_bodyid[model.joint(name).id]))
+
+    joint_limbs = tuple(limb_of_joint(n) for n in motors)
+    body_limb: dict[int, str] = {}
+    for name, limb in zip(motors, joint_limbs, strict=True):
+        body_limb.setdefault(int(model.jnt_bodyid[model.joint(name).id]), limb)
+    out = []
+    for b in bodies.tolist():
+        body = b
+        while body not in body_limb and body != root and body != 0:
+            body = int(model.body_parentid[body])
+        out.append(body_limb.get(body, generic(b) if body != root else str(model.body(root).name)))
+    return joint_limbs, tuple(out)
+
+
+def _self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any] | None:
+    """A copy of the scene where only candidate pairs of robot geometries collide.
+
+    Candidates, as in :func:`motiontool.kinematics.build_model`: geometries on different robot
+    bodies that are not adjacent (a body and its parent, skipping bodies without geometry such
+    as the Nao's Hinge2Joint helper frames) and do not already touch at the zero pose.
+    """
+    import mujoco
+
+    robot_geoms = [g for g in range(model.ngeom) if scene.geom_class[g] in (1, 2)]
+    if len({int(model.geom_bodyid[g]) for g in robot_geoms}) < 2:
+        return None
+    with_geometry = {int(model.geom_bodyid[g]) for g in robot_geoms}
+
+    def adjacent(a: int, b: int) -> bool:
+        for child, parent in ((a, b), (b, a)):
+            body = child
+            while body != 0:
+                body = int(model.body_parentid[body])
+                if body == parent:
+                    return True
+                if body in with_geometry:
+                    break
+        return False
+
+    probe_spec = spec.copy()
+    for geom in probe_spec.geoms:
+        geom.contype = 0
+        geom.conaffinity = 0
+    names = {g: _geom_key(model, g) for g in robot_geoms}
+    # Unnamed geoms get a name so that a pair can refer to them.
+    spec_geoms = list(probe_spec.geoms)
+    for g in robot_geoms:
+        if not spec_geoms[g].name:
+            spec_geoms[g].name = names[g]
+    pairs = []
+    for i, ga in enumerate(robot_geoms):
+        for gb in robot_geoms[i + 1 :]:
+            ba, bb = int(model.geom_bodyid[ga]), int(model.geom_bodyid[gb])
+            if ba != bb and not adjacent(ba, bb):
+                pairs.append(probe_spec.add_pair(geomname1=names[ga], geomname2=names[gb]))
+    if not pairs:
+        return None
+    # Pairs already touching at the zero pose are part of the design.
+    probe = probe_spec.compile()
+    probe_data = mujoco.MjData(probe)
+    mujoco.mj_kinematics(probe, probe_data)
+    mujoco.mj_collision(probe, probe_data)
+    touching = {
+        tuple(sorted((int(a), int(b)))) for a, b in probe_data.contact.geom[: probe_data.ncon]
+    }
+    kept = 0
+    for pair, (name_a, name_b) in zip(
+        pairs, [(p.geomname1, p.geomname2) for p in pairs], strict=True
+    ):
+        key = tuple(sorted((probe.geom(name_a).id, probe.geom(name_b).id)))
+        if key in touching:
+            probe_spec.delete(pair)
+        else:
+            kept += 1
+    if not kept:
+        return None
+    probe = probe_spec.compile()
+    return probe, mujoco.MjData(probe)
+
+
+def _geom_key(model: Any, g: int) -> str:
+    name = str(model.geom(g).name)
+    return name or f"motiontool_geom_{g}"
+
+
+# ------------------------------------------------------------------------------- stepping
+
+
+def run(
+    scene: Scene,
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    *,
+    record_bodies: bool = False,
+) -> Trace:
+    """Play ``targets`` (S, J), one row per control step, from the scene's start state.
+
+    Args:
+        scene: a freshly built scene (its data is stepped in place).
+        targets: (S, J) target positions in force at each step (NaN-free), rad (m), before
+            clipping to the motor limits.
+        commanded: (S, J) bool, whether the motion sent the target at that step.
+        record_bodies: also keep every robot body's pose at every frame (for a recording).
+
+    A failure inside the loop stops the run: the trace keeps what was simulated and says why.
+    """
+    import mujoco
+    import numpy as np
+
+    model, data = scene.model, scene.data
+    steps, n_joints = targets.shape
+    limits = scene.limits
+    clipped = np.clip(targets, limits.lower, limits.upper)
+    feet = scene.foot_geoms
+    bodies = scene.robot_bodies
+    n_frames = steps + 1
+    body_frames = n_frames if record_bodies else 0
+    trace = Trace(
+        joints=scene.joints,
+        control_step_s=scene.control_step_s,
+        physics_step_s=scene.physics_step_s,
+        time_s=np.arange(n_frames, dtype=np.float64) * scene.control_step_s,
+        commanded=commanded,
+        targets=targets,
+        velocity_cmd=np.zeros((steps, n_joints)),
+        torque=np.zeros((steps, n_joints)),
+        position=np.zeros((n_frames, n_joints)),
+        base_pos=np.zeros((n_frames, 3)),
+        base_quat=np.zeros((n_frames, 4)),
+        feet=tuple(scene.geom_name(int(g)) for g in feet),
+        foot_pos=np.zeros((n_frames, len(feet), 3)),
+        foot_contact=np.zeros((n_frames, len(feet)), dtype=bool),
+        bodies=tuple(scene.body_name(int(b)) for b in bodies),
+        body_pos=np.zeros((body_frames, len(bodies), 3)),
+        body_quat=np.zeros((body_frames, len(bodies), 4)),
+    )
+    qpos_adr, driver_dof = scene.qpos_adr, scene.driver_dof
+    p_gain, vmax = limits.p_gain, limits.max_velocity
+    substeps = scene.control_substeps
+    root = scene.root_body
+    position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+
+    def observe(frame: int) -> None:
+        position[frame] = data.qpos[qpos_adr]
+        trace.base_pos[frame] = data.xpos[root]
+        trace.base_quat[frame] = data.xquat[root]
+        if len(feet):
+            trace.foot_pos[frame] = data.geom_xpos[feet]
+        if record_bodies:
+            trace.body_pos[frame] = data.xpos[bodies]
+            trace.body_quat[frame] = data.xquat[bodies]
+        if data.ncon:
+            _contacts(scene, data, frame, trace)
+        if scene.probe is not None:
+            _self_collisions(scene, data, frame, trace)
+
+    try:
+        observe(0)
+        for k in range(steps):
+            command = np.clip(p_gain * (clipped[k] - position[k]), -vmax, vmax)
+            velocity_cmd[k] = command
+            data.qvel[driver_dof] = command
+            mujoco.mj_step(model, data, substeps)
+            torque[k] = data.qfrc_constraint[driver_dof]
+            np.negative(torque[k], out=torque[k])
+            observe(k + 1)
+            trace.steps_done = k + 1
+    except Exception as exc:  # keep what was simulated; the report says why it stopped
+        trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
+    trace.warnings = {name: int(data.warning[i].number) for i, name in enumerate(_WARNINGS)}
+    return trace if trace.steps_done == steps else trace.truncated()
+
+
+def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
+    """Foot-floor contacts into ``foot_contact``; every other robot contact into events."""
+    geoms = data.contact.geom
+    dist = data.contact.dist
+    cls = scene.geom_class
+    feet = scene.foot_geoms
+    model = scene.model
+    seen: dict[tuple[str, str, str], float] = {}
+    for (g1, g2), d in zip(geoms.tolist(), dist.tolist(), strict=True):
+        c1, c2 = cls[g1], cls[g2]
+        if c1 not in (1, 2):
+            g1, g2, c1, c2 = g2, g1, c2, c1
+        if c1 not in (1, 2):
+            continue  # scene-scene
+        if c2 == 0 and c1 == 1:
+            trace.foot_contact[frame, int((feet == g1).argmax())] = True
+            continue
+        body = scene.body_name(int(model.geom_bodyid[g1]))
+        if c2 in (1, 2):  # the model collides the robot with itself (Webots' UR5e)
+            other = scene.body_name(int(model.geom_bodyid[g2]))
+            kind, body, other = "touch", min(body, other), max(body, other)
+        elif c2 == 0:
+            kind = "scene" if not scene.floating else "ground"
+            other = "floor"
+        else:
+            kind, other = "scene", scene.geom_name(g2)
+        key = (kind, body, other)
+        seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
+    for (kind, body, other), depth in seen.items():
+        trace.events.append(ContactEvent(frame, kind, body, other, depth))  # type: ignore[arg-type]
+
+
+def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
+    import mujoco
+
+    assert scene.probe is not None
+    probe, probe_data = scene.probe
+    probe_data.qpos[:] = data.qpos
+    mujoco.mj_kinematics(probe, probe_data)
+    mujoco.mj_collision(probe, probe_data)
+    if not probe_data.ncon:
+        return
+    seen: dict[tuple[str, str], float] = {}
+    for (g1, g2), d in zip(
+        probe_data.contact.geom.tolist(), probe_data.contact.dist.tolist(), strict=True
+    ):
+        a = scene.body_name(int(probe.geom_bodyid[g1]))
+        b = scene.body_name(int(probe.geom_bodyid[g2]))
+        key = (a, b) if a < b else (b, a)
+        seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
+    for (a, b), depth in seen.items():
+        trace.events.append(ContactEvent(frame, "self", a, b, depth))
+
+
+# ------------------------------------------------------------------------------- geometry
+
+
+def scene_shapes(scene: Scene) -> list[BodyShapes]:
+    """Every body with collision geometry: the robot's (posed every frame) and the scene's."""
+    import mujoco
+
+    model = scene.model
+    kinds = {
+        mujoco.mjtGeom.mjGEOM_PLANE: "plane",
+        mujoco.mjtGeom.mjGEOM_SPHERE: "sphere",
+        mujoco.mjtGeom.mjGEOM_CAPSULE: "capsule",
+        mujoco.mjtGeom.mjGEOM_ELLIPSOID: "ellipsoid",
+        mujoco.mjtGeom.mjGEOM_CYLINDER: "cylinder",
+        mujoco.mjtGeom.mjGEOM_BOX: "box",
+    }
+    limb_of = dict(zip(scene.robot_bodies.tolist(), scene.body_limbs, strict=True))
+    out = []
+    for body in range(model.nbody):
+        shapes = []
+        for g in range(
+            model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body]
+        ):
+            kind = kinds.get(int(model.geom_type[g]))
+            size = [float(v) for v in model.geom_size[g]]
+            if kind is None:  # a mesh: its bounding box
+                kind = "box"
+                aabb = model.geom_aabb[g]
+                size = [float(v) for v in aabb[3:]]
+            shapes.append(
+                Shape(
+                    kind=kind,
+                    size=(size[0], size[1], size[2]),
+                    pos=tuple(float(v) for v in model.geom_pos[g]),  # type: ignore[arg-type]
+                    quat=tuple(float(v) for v in model.geom_quat[g]),  # type: ignore[arg-type]
+                    name=str(model.geom(g).name),
+                )
+            )
+        if shapes:
+            out.append(
+                BodyShapes(
+                    name=scene.body_name(body) if body else "world",
+                    limb=limb_of.get(body, ""),
+                    robot=body in limb_of,
+                    shapes=tuple(shapes),
+                )
+            )
+    return out

@@ -1,0 +1,560 @@
+"""Play motion files headlessly in MuJoCo as a Webots controller would, and measure the run.
+
+A run: the motions' command streams (:func:`motiontool.motionfmt.sample`, the exact targets a
+Webots controller sends) are played one after another, each starting at the control step after
+the previous one is over (``wbu_motion_is_over``), then the last targets are held for
+``hold_s``. Every control step the Webots motor law (:mod:`motiontool.sim.motor`) turns targets
+into velocity commands that MuJoCo realises with bounded-force velocity constraints
+(:mod:`motiontool.sim._mujoco`). The trace is then measured into a :class:`PlayReport` and, on
+request, recorded to a Rerun ``.rrd`` (:mod:`motiontool.sim.recording`).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal
+
+from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
+from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
+from motiontool.motionfmt import Motion, read_motion, sample
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.sim.report import (
+    BaseStats,
+    ContactSummary,
+    FileRun,
+    FootStats,
+    JointStats,
+    PlayReport,
+)
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.sim._mujoco import Scene
+    from motiontool.sim.trace import ContactEvent, Trace
+
+__all__ = [
+    "LIMIT_TOLERANCE",
+    "STARTS",
+    "TORQUE_CAP_FRACTION",
+    "Marker",
+    "PlayOptions",
+    "command_matrix",
+    "play",
+    "resolve_robot",
+]
+
+log = logging.getLogger("motiontool")
+
+STARTS = ("standing", "lying-front")
+"""Start states: ``standing`` (zero pose, upright) and ``lying-front`` (face down, the joints at
+the first motion's first pose)."""
+
+TORQUE_CAP_FRACTION = 0.999
+"""A motor counts as torque-limited when its torque reaches this fraction of maxTorque."""
+
+LIMIT_TOLERANCE = 0.01
+"""How far past a motor limit (rad, or m) a position must be to count as beyond the limits."""
+
+
+@dataclass(frozen=True)
+class PlayOptions:
+    """How to play (units in the names; defaults reproduce the Webots Nao worlds).
+
+    Attributes:
+        timestep_ms: control step (Webots' basicTimeStep), ms; None = the robot's world (Nao 20,
+            UR5e 8).
+        loops: cycles of each motion (Webots' loop mode).
+        reverse: play each motion backwards.
+        start: ``standing`` or ``lying-front``.
+        physics_step_ms: largest MuJoCo step, ms (the step used divides the control step).
+        p_gain: P gain of the motors' position controllers, 1/s (Webots' controlPID P).
+        hold_s: time to keep simulating after the last motion, the last targets held, s.
+        floor_friction: robot-floor friction coefficient (pyramidal cone).
+        mass_scale, torque_scale: factors on the robot's masses / motor torque limits.
+        start_yaw_deg: start heading, degrees.
+        start_noise_rad: standard deviation of random offsets added to the start joint
+            positions, rad (drawn from ``seed``).
+        seed: seed of every random draw (none without start noise).
+        fall_height_m, fall_tilt_deg: the robot is down while its root is lower than this (m)
+            or tilted more than this (degrees); the Nao's torso defaults.
+        collision_tolerance_mm: interpenetrations of two robot bodies shallower than this (mm)
+            are not self-collisions: the bounding primitives of Webots' robots overlap that
+            much in the motions that ship with Webots (the same threshold as ``validate``,
+            :data:`motiontool.kinematics.checks.DEFAULT_PENETRATION_TOLERANCE_MM`).
+    """
+
+    timestep_ms: int | None = None
+    loops: int = 1
+    reverse: bool = False
+    start: Literal["standing", "lying-front"] = "standing"
+    physics_step_ms: float = 2.0
+    p_gain: float = 10.0
+    hold_s: float = 1.0
+    floor_friction: float = 1.0
+    mass_scale: float = 1.0
+    torque_scale: float = 1.0
+    start_yaw_deg: float = 0.0
+    start_noise_rad: float = 0.0
+    seed: int = 0
+    fall_height_m: float = 0.2
+    fall_tilt_deg: float = 50.0
+    collision_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
+
+    def check(self) -> None:
+        """Raise :class:`MotionToolError` for an out-of-range option."""
+        if self.timestep_ms is not None and self.timestep_ms < 1:
+            raise MotionToolError(f"--timestep must be >= 1 ms, got {self.timestep_ms}")
+        if self.loops < 1:
+            raise MotionToolError(f"--loop must be >= 1, got {self.loops}")
+        if self.start not in STARTS:
+            raise MotionToolError(f"--start {self.start!r}: choose {', '.join(STARTS)}")
+        for name in ("physics_step_ms", "p_gain", "floor_friction", "mass_scale", "torque_scale"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise MotionToolError(f"{name} must be a positive number, got {value}")
+        if not (math.isfinite(self.collision_tolerance_mm) and self.collision_tolerance_mm >= 0):
+            raise MotionToolError(
+                f"collision tolerance must be >= 0 mm, got {self.collision_tolerance_mm}"
+            )
+        if not (math.isfinite(self.hold_s) and self.hold_s >= 0):
+            raise MotionToolError(f"--hold must be >= 0 s, got {self.hold_s}")
+
+
+@dataclass(frozen=True)
+class Marker:
+    """Something that happened during the run, for the recording's event log.
+
+    Attributes:
+        time_s: when, simulated s. level: ``INFO``, ``WARN`` or ``ERROR``. text: what.
+        entity: which part of the recording it concerns (``fall``, ``collision``, ``limit``,
+            ``motion``, ``simulator``).
+    """
+
+    time_s: float
+    level: str
+    text: str
+    entity: str
+
+
+def resolve_robot(robot: str, motions: Sequence[Motion]) -> RobotSpec:
+    """The robot to play ``motions`` on: ``auto`` picks the built-in robot that has every joint
+    of every motion (:func:`motiontool.kinematics.detect_robot`)."""
+    if robot != "auto":
+        return load_robot(robot)
+    joints = sorted({j for m in motions for j in m.joints})
+    found = detect_robot(joints)
+    if found is None:
+        raise MotionToolError(
+            "no built-in robot has every joint of the motion(s); pass --robot "
+            f"({', '.join(builtin_robots())}, a model file or erd:<name>)"
+        )
+    return load_robot(found)
+
+
+def command_matrix(
+    motions: Sequence[Motion],
+    joints: Sequence[str],
+    timestep_ms: int,
+    initial: npt.NDArray[np.float64],
+    *,
+    reverse: bool = False,
+    loops: int = 1,
+    hold_steps: int = 0,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], list[int], list[str]]:
+    """The targets in force at each control step of the sequence ``motions``.
+
+    Args:
+        motions: played one after another; each starts at the step after the previous ends.
+        joints: the robot's J motors.
+        timestep_ms: control step, ms.
+        initial: (J,) positions the motors hold before their first command, rad (m).
+        reverse, loops: Webots' reverse and loop modes, applied to each motion.
+        hold_steps: steps appended after the last motion, with no command.
+
+    Returns:
+        targets (S, J) float64 (a step without a command keeps the previous target; before the
+        first, ``initial``), commanded (S, J) bool (the motion sent a target at that step), the
+        number of steps of each motion, and the motion columns that are not motors (ignored,
+        as Webots does, with a warning).
+    """
+    import numpy as np
+
+    index = {name: i for i, name in enumerate(joints)}
+    streams = [sample(m, timestep_ms, reverse=reverse, loops=loops) for m in motions]
+    lengths = [len(s.elapsed_ms) for s in streams]
+    total = sum(lengths) + hold_steps
+    raw = np.full((total, len(joints)), np.nan)
+    ignored: list[str] = []
+    offset = 0
+    for stream, n in zip(streams, lengths, strict=True):
+        for column, name in enumerate(stream.joints):
+            if name not in index:
+                if name not in ignored:
+                    ignored.append(name)
+                continue
+            values = stream.targets[:, column]
+            sent = ~np.isnan(values)
+            # Webots calls set_position once per column: a later column of the same motor
+            # wins where it has a value, an earlier one stands where it has none.
+            raw[offset : offset + n, index[name]][sent] = values[sent]
+        offset += n
+    commanded = ~np.isnan(raw)
+    last = np.where(commanded, np.arange(total)[:, None], -1)
+    np.maximum.accumulate(last, axis=0, out=last)
+    cols = np.arange(len(joints))
+    targets = np.where(last >= 0, raw[np.maximum(last, 0), cols], initial[None, :])
+    return targets, commanded, lengths, ignored
+
+
+def play(
+    paths: Sequence[str | Path],
+    *,
+    robot: str | RobotSpec = "auto",
+    options: PlayOptions | None = None,
+    rrd: str | Path | None = None,
+    stamps: Mapping[str, Any] | None = None,
+) -> PlayReport:
+    """Play ``paths`` one after another on ``robot`` and measure the run.
+
+    Args:
+        paths: motion files.
+        robot: ``auto``, a :func:`motiontool.kinematics.load_robot` spec, or a RobotSpec.
+        options: how to play (:class:`PlayOptions`).
+        rrd: write a Rerun recording of the run there (also when the run fails).
+        stamps: versions to stamp the report and the recording with (tool, libraries, model
+            hash; ``motiontool.cli.stamps.stamps``); the time steps and seed are added.
+
+    Raises:
+        MotionToolError: a file Webots would reject, an unknown robot or a bad option. A run
+            that fails (falls, collides, raises a warning, stops on an error) is reported, not
+            raised.
+    """
+    import numpy as np
+
+    from motiontool.sim import _mujoco
+
+    opts = options or PlayOptions()
+    opts.check()
+    if not paths:
+        raise MotionToolError("no motion file to play")
+    motions = [read_motion(str(p)) for p in paths]
+    spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, motions)
+    timestep = opts.timestep_ms or spec.default_timestep_ms
+
+    start_joints = {j: 0.0 for j in spec.joint_names}
+    if opts.start == "lying-front":
+        first = sample(motions[0], timestep, reverse=opts.reverse)
+        for name, value in zip(first.joints, first.targets[0].tolist(), strict=True):
+            if name in start_joints and not math.isnan(value):
+                start_joints[name] = value
+    if opts.start_noise_rad > 0:
+        rng = np.random.default_rng(opts.seed)
+        noise = rng.normal(0.0, opts.start_noise_rad, len(start_joints))
+        start_joints = {
+            k: v + float(e) for (k, v), e in zip(start_joints.items(), noise, strict=True)
+        }
+    scene = _mujoco.build_scene(
+        spec,
+        timestep,
+        physics_step_ms=opts.physics_step_ms,
+        start=opts.start,
+        start_joints=start_joints,
+        floor_friction=opts.floor_friction,
+        mass_scale=opts.mass_scale,
+        torque_scale=opts.torque_scale,
+        start_yaw_deg=opts.start_yaw_deg,
+        p_gain=opts.p_gain,
+    )
+    initial = scene.data.qpos[scene.qpos_adr].copy()
+    hold_steps = round(opts.hold_s * 1000.0 / timestep)
+    targets, commanded, lengths, ignored = command_matrix(
+        motions,
+        scene.joints,
+        timestep,
+        initial,
+        reverse=opts.reverse,
+        loops=opts.loops,
+        hold_steps=hold_steps,
+    )
+    for name in ignored:
+        log.warning(
+            "joint %r is not a motor of robot %s: ignored (as Webots does)", name, spec.name
+        )
+    trace = _mujoco.run(scene, targets, commanded, record_bodies=rrd is not None)
+
+    files = []
+    step = 0
+    for path, n in zip(paths, lengths, strict=True):
+        files.append(FileRun(str(path), step * scene.control_step_s, n * scene.control_step_s, n))
+        step += n
+    all_stamps = dict(stamps or {})
+    all_stamps.setdefault("mujoco", _mujoco.mujoco_version())
+    all_stamps.setdefault("model_sha256", spec.model_hash)
+    all_stamps.update(
+        control_step_ms=timestep,
+        physics_step_ms=scene.physics_step_s * 1000.0,
+        seed=opts.seed,
+    )
+    options_doc = {
+        k: v for k, v in asdict(opts).items() if k not in ("timestep_ms", "physics_step_ms", "seed")
+    }
+    options_doc["p_gain_per_s"] = options_doc.pop("p_gain")
+    report = _measure(scene, trace, opts, spec, files, options_doc, all_stamps, ignored)
+    if rrd is not None:
+        from motiontool.sim import recording
+
+        markers = _markers(scene, trace, report, files, opts)
+        recording.write_recording(
+            Path(rrd),
+            trace,
+            _mujoco.scene_shapes(scene),
+            limits=scene.limits,
+            joint_limbs=scene.joint_limbs,
+            markers=markers,
+            properties={k: "" if v is None else str(v) for k, v in all_stamps.items()},
+            name=" + ".join(Path(p).name for p in paths) + f" on {spec.name}",
+        )
+    return report
+
+
+# ------------------------------------------------------------------------------- measuring
+
+
+def _tilt_and_heading(quat: npt.NDArray[np.float64]) -> tuple[Any, Any]:
+    """(tilt, heading) in degrees of (N, 4) quaternions (w, x, y, z)."""
+    import numpy as np
+
+    w, x, y, z = quat.T
+    r22 = np.clip(1.0 - 2.0 * (x * x + y * y), -1.0, 1.0)
+    r00 = 1.0 - 2.0 * (y * y + z * z)
+    r10 = 2.0 * (x * y + w * z)
+    return np.degrees(np.arccos(r22)), np.degrees(np.arctan2(r10, r00))
+
+
+def _down(trace: Trace, opts: PlayOptions) -> npt.NDArray[np.bool_]:
+    tilt, _heading = _tilt_and_heading(trace.base_quat)
+    down: npt.NDArray[np.bool_] = (trace.base_pos[:, 2] < opts.fall_height_m) | (
+        tilt > opts.fall_tilt_deg
+    )
+    return down
+
+
+def _base(trace: Trace, opts: PlayOptions) -> BaseStats:
+    import numpy as np
+
+    tilt, heading = _tilt_and_heading(trace.base_quat)
+    down = _down(trace, opts)
+    up = np.flatnonzero(~down)
+    yaw: float | None = None
+    if len(up):
+        steps = np.diff(heading[up])
+        yaw = float(np.sum((steps + 180.0) % 360.0 - 180.0))
+    fell_at: float | None = None
+    if len(up):
+        after = np.flatnonzero(down[up[0] :])
+        if len(after):
+            fell_at = float(trace.time_s[up[0] + after[0]])
+    d = trace.base_pos[-1] - trace.base_pos[0]
+    return BaseStats(
+        dx_m=float(d[0]),
+        dy_m=float(d[1]),
+        dz_m=float(d[2]),
+        yaw_change_deg=yaw,
+        max_tilt_deg=float(tilt.max()),
+        final_tilt_deg=float(tilt[-1]),
+        min_height_m=float(trace.base_pos[:, 2].min()),
+        final_height_m=float(trace.base_pos[-1, 2]),
+        started_down=bool(down[0]),
+        fell=fell_at is not None,
+        fell_at_s=fell_at,
+        upright_at_end=not bool(down[-1]),
+    )
+
+
+def _feet(trace: Trace) -> list[FootStats]:
+    import numpy as np
+
+    out = []
+    dt = trace.control_step_s
+    for f, name in enumerate(trace.feet):
+        xy = trace.foot_pos[:, f, :2]
+        touching = trace.foot_contact[:, f]
+        moves = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+        both = touching[1:] & touching[:-1]
+        away = np.linalg.norm(xy - xy[0], axis=1)
+        out.append(
+            FootStats(
+                name=name,
+                contact_s=float(touching[1:].sum() * dt),
+                slip_m=float(moves[both].sum()),
+                max_displacement_m=float(away.max()),
+                final_displacement_m=float(away[-1]),
+            )
+        )
+    return out
+
+
+def _joints(scene: Scene, trace: Trace) -> list[JointStats]:
+    import numpy as np
+
+    lim = scene.limits
+    dt = trace.control_step_s
+    clipped = np.clip(trace.targets, lim.lower, lim.upper)
+    error = clipped - trace.position[1:]
+    at_velocity_cap = np.abs(trace.velocity_cmd) >= lim.max_velocity
+    at_torque_cap = np.abs(trace.torque) >= TORQUE_CAP_FRACTION * lim.max_torque
+    outside_target = (trace.targets < lim.lower) | (trace.targets > lim.upper)
+    pos = trace.position[1:]
+    beyond = (pos < lim.lower - LIMIT_TOLERANCE) | (pos > lim.upper + LIMIT_TOLERANCE)
+    ever: npt.NDArray[np.bool_] = np.asarray(trace.commanded.any(axis=0))
+    first = np.where(ever, trace.commanded.argmax(axis=0), 0)
+    out = []
+    for j, name in enumerate(trace.joints):
+        e = error[first[j] :, j]
+        unit = scene.robot.joint(name).unit
+        out.append(
+            JointStats(
+                name=name,
+                limb=scene.joint_limbs[j],
+                unit=unit,
+                commanded=bool(ever[j]),
+                rms_error=float(np.sqrt(np.mean(e * e))) if len(e) else 0.0,
+                max_error=float(np.abs(e).max()) if len(e) else 0.0,
+                velocity_cap_s=float(at_velocity_cap[:, j].sum() * dt),
+                torque_cap_s=float(at_torque_cap[:, j].sum() * dt),
+                target_clipped_s=float(outside_target[:, j].sum() * dt),
+                beyond_limits_s=float(beyond[:, j].sum() * dt),
+            )
+        )
+    return out
+
+
+def _counted(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactEvent]:
+    """The events of ``kind``; self-collisions: the probe's from the tolerance down, and every
+    contact between robot bodies that the simulation itself collides."""
+    if kind != "self":
+        return [e for e in trace.events if e.kind == kind]
+    floor = opts.collision_tolerance_mm / 1000.0
+    return [
+        e for e in trace.events if e.kind == "touch" or (e.kind == "self" and e.depth_m >= floor)
+    ]
+
+
+def _contact_summaries(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactSummary]:
+    """One summary per pair of bodies: first frame, frames seen (as a duration), deepest."""
+    first: dict[tuple[str, str], int] = {}
+    frames: dict[tuple[str, str], set[int]] = {}
+    depth: dict[tuple[str, str], float] = {}
+    for e in _counted(trace, kind, opts):
+        key = (e.body_a, e.body_b)
+        first[key] = min(first.get(key, e.frame), e.frame)
+        frames.setdefault(key, set()).add(e.frame)
+        depth[key] = max(depth.get(key, 0.0), e.depth_m)
+    return [
+        ContactSummary(
+            key[0],
+            key[1],
+            float(trace.time_s[first[key]]),
+            len(frames[key]) * trace.control_step_s,
+            depth[key],
+        )
+        for key in sorted(first, key=lambda k: (first[k], k))
+    ]
+
+
+def _measure(
+    scene: Scene,
+    trace: Trace,
+    opts: PlayOptions,
+    spec: RobotSpec,
+    files: list[FileRun],
+    options_doc: dict[str, Any],
+    stamps: dict[str, Any],
+    ignored: list[str],
+) -> PlayReport:
+    return PlayReport(
+        robot=spec.name,
+        files=files,
+        options=options_doc,
+        stamps=stamps,
+        simulated_s=float(trace.time_s[-1]),
+        control_steps=trace.steps_done,
+        joints=_joints(scene, trace),
+        base=_base(trace, opts) if scene.floating else None,
+        feet=_feet(trace),
+        self_collisions=_contact_summaries(trace, "self", opts),
+        scene_contacts=_contact_summaries(trace, "scene", opts),
+        ground_contacts=_contact_summaries(trace, "ground", opts),
+        warnings=dict(trace.warnings),
+        ignored_joints=ignored,
+        error=trace.error,
+    )
+
+
+def _starts(flags: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
+    """Indices where a boolean series turns true."""
+    import numpy as np
+
+    prev = np.concatenate([[False], flags[:-1]])
+    return np.flatnonzero(flags & ~prev)
+
+
+def _markers(
+    scene: Scene, trace: Trace, report: PlayReport, files: list[FileRun], opts: PlayOptions
+) -> list[Marker]:
+    """Events of the run for the recording's timeline."""
+    import numpy as np
+
+    out = [Marker(f.start_s, "INFO", f"start {Path(f.path).name}", "motion") for f in files]
+    t = trace.time_s
+    if report.base is not None:
+        down = _down(trace, opts)
+        for k in _starts(down).tolist():
+            if k:
+                out.append(Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall"))
+        for k in _starts(~down).tolist():
+            if k:
+                out.append(Marker(float(t[k]), "INFO", "upright", "fall"))
+    frames: dict[tuple[str, str, str], list[int]] = {}
+    for kind in ("self", "scene", "ground"):
+        for e in _counted(trace, kind, opts):
+            frames.setdefault((kind, e.body_a, e.body_b), []).append(e.frame)
+    for (kind, a, b), ks in frames.items():
+        flags = np.zeros(len(t), dtype=bool)
+        flags[ks] = True
+        level = "INFO" if kind == "ground" else "WARN"
+        what = {"self": "self-collision", "scene": "contact", "ground": "on the floor"}[kind]
+        for k in _starts(flags).tolist():
+            out.append(Marker(float(t[k]), level, f"{what}: {a} / {b}", "collision"))
+    lim = scene.limits
+    for j, name in enumerate(trace.joints):
+        outside = (trace.targets[:, j] < lim.lower[j]) | (trace.targets[:, j] > lim.upper[j])
+        for k in _starts(outside).tolist():
+            out.append(
+                Marker(
+                    float(t[k]),
+                    "WARN",
+                    f"{name} target {trace.targets[k, j]:.4g} outside "
+                    f"[{lim.lower[j]:.4g}, {lim.upper[j]:.4g}]: clipped",
+                    "limit",
+                )
+            )
+        pos = trace.position[:, j]
+        beyond = (pos < lim.lower[j] - LIMIT_TOLERANCE) | (pos > lim.upper[j] + LIMIT_TOLERANCE)
+        for k in _starts(beyond).tolist():
+            out.append(
+                Marker(float(t[k]), "WARN", f"{name} at {pos[k]:.4g}, past its limits", "limit")
+            )
+    raised = {k: v for k, v in trace.warnings.items() if v}
+    if raised:
+        out.append(Marker(float(t[-1]), "ERROR", f"MuJoCo warnings: {raised}", "simulator"))
+    if trace.error:
+        out.append(Marker(float(t[-1]), "ERROR", trace.error, "simulator"))
+    out.sort(key=lambda m: m.time_s)
+    return out

@@ -1,0 +1,220 @@
+"""The report of a ``play`` run, and its JSON form (schema ``motiontool.play``, version 1).
+
+JSON schema (every number carries its unit in its key or in the ``unit`` next to it)::
+
+    {
+      "schema": "motiontool.play", "schema_version": 1,
+      "stamps": {"motiontool", "mujoco", "pinocchio", "rerun", "numpy": versions,
+                 "model_sha256": hex, "control_step_ms", "physics_step_ms", "seed"},
+      "robot": "nao",
+      "files": [{"path", "start_s", "duration_s", "steps"}],   # one per motion played, in order
+      "options": {"loops", "reverse", "start", "p_gain_per_s", "hold_s", "floor_friction",
+                  "mass_scale", "torque_scale", "start_yaw_deg", "start_noise_rad",
+                  "fall_height_m", "fall_tilt_deg", "collision_tolerance_mm"},
+      "simulated_s": 7.78, "control_steps": 389,
+      "clean": true, "exit_code": 0, "reason": "",               # reason: '; '-joined, '' if clean
+      "error": null,                                             # why the run stopped early
+      "base": null | {                                           # free-flying robots only
+        "dx_m", "dy_m", "dz_m",              # root displacement, start -> end, world frame
+        "yaw_change_deg",                    # heading change over the upright part (unwrapped)
+        "max_tilt_deg", "final_tilt_deg",    # angle between the root's z axis and the vertical
+        "min_height_m", "final_height_m",    # root height above the floor
+        "started_down", "fell", "fell_at_s", "upright_at_end"},
+      "joints": [{"name", "limb", "unit" ("rad"|"m"), "commanded",
+                  "rms_error", "max_error",          # target (clipped) - position, in "unit"
+                  "velocity_cap_s", "torque_cap_s",  # time with |Vc| at maxVelocity / |torque|
+                                                     # at maxTorque (sampled every control step)
+                  "target_clipped_s",                # time the target lay outside the limits
+                  "beyond_limits_s"}],               # time the position lay outside the limits
+      "feet": [{"name", "contact_s", "slip_m",          # slip: horizontal travel while touching
+                "max_displacement_m", "final_displacement_m"}],   # horizontal, from the start
+      "self_collisions": [{"body_a", "body_b", "first_s", "duration_s", "max_depth_m"}],
+                                        # pairs of robot bodies interpenetrating by at least
+                                        # options.collision_tolerance_mm
+      "scene_contacts": [...same...],   # the robot touching anything but the floor
+      "ground_contacts": [...same...],  # robot bodies other than the feet touching the floor
+      "warnings": {"bad_qacc": 0, ...}, # MuJoCo warning counters over the run
+      "ignored_joints": ["..."]         # motion columns that are not motors of the robot
+    }
+
+Times are simulated seconds from the start of the run. No wall-clock time is reported: the same
+inputs give the same report, bit for bit.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+__all__ = [
+    "SCHEMA",
+    "SCHEMA_VERSION",
+    "BaseStats",
+    "ContactSummary",
+    "FileRun",
+    "FootStats",
+    "JointStats",
+    "PlayReport",
+]
+
+SCHEMA = "motiontool.play"
+SCHEMA_VERSION = 1
+
+
+@dataclass(frozen=True)
+class FileRun:
+    """One motion of the sequence: where it starts (s), how long it plays (s), its steps."""
+
+    path: str
+    start_s: float
+    duration_s: float
+    steps: int
+
+
+@dataclass(frozen=True)
+class JointStats:
+    """Tracking of one motor (errors in ``unit``: rad for hinges, m for slides)."""
+
+    name: str
+    limb: str
+    unit: str
+    commanded: bool
+    rms_error: float
+    max_error: float
+    velocity_cap_s: float
+    torque_cap_s: float
+    target_clipped_s: float
+    beyond_limits_s: float
+
+
+@dataclass(frozen=True)
+class FootStats:
+    """One foot: time on the floor (s), slip while on it (m), displacement from the start (m)."""
+
+    name: str
+    contact_s: float
+    slip_m: float
+    max_displacement_m: float
+    final_displacement_m: float
+
+
+@dataclass(frozen=True)
+class ContactSummary:
+    """A contact (or interpenetration) over the run: first seen (s), total duration (s), depth."""
+
+    body_a: str
+    body_b: str
+    first_s: float
+    duration_s: float
+    max_depth_m: float
+
+
+@dataclass(frozen=True)
+class BaseStats:
+    """What the root body of a free-flying robot did (see the module docstring)."""
+
+    dx_m: float
+    dy_m: float
+    dz_m: float
+    yaw_change_deg: float | None
+    max_tilt_deg: float
+    final_tilt_deg: float
+    min_height_m: float
+    final_height_m: float
+    started_down: bool
+    fell: bool
+    fell_at_s: float | None
+    upright_at_end: bool
+
+
+@dataclass
+class PlayReport:
+    """Everything ``play`` measured (see the module docstring for the JSON form)."""
+
+    robot: str
+    files: list[FileRun]
+    options: dict[str, Any]
+    stamps: dict[str, Any]
+    simulated_s: float
+    control_steps: int
+    joints: list[JointStats]
+    base: BaseStats | None
+    feet: list[FootStats]
+    self_collisions: list[ContactSummary]
+    scene_contacts: list[ContactSummary]
+    ground_contacts: list[ContactSummary]
+    warnings: dict[str, int]
+    ignored_joints: list[str] = field(default_factory=list)
+    error: str | None = None
+
+    @property
+    def problems(self) -> list[str]:
+        """Why the run is not clean, one short phrase each (empty when clean)."""
+        out = []
+        if self.error:
+            out.append(self.error)
+        raised = {k: v for k, v in self.warnings.items() if v}
+        if raised:
+            out.append(
+                "MuJoCo warning " + ", ".join(f"{k} x{v}" for k, v in sorted(raised.items()))
+            )
+        if self.base is not None:
+            if self.base.fell:
+                out.append(f"fell at {self.base.fell_at_s:.2f} s")
+            elif self.base.started_down and not self.base.upright_at_end:
+                out.append("started down and did not get up")
+        for c in self.self_collisions:
+            out.append(f"self-collision {c.body_a}/{c.body_b} at {c.first_s:.2f} s")
+        for c in self.scene_contacts:
+            out.append(f"{c.body_a} touched {c.body_b} at {c.first_s:.2f} s")
+        return out
+
+    @property
+    def clean(self) -> bool:
+        """No error, no warning, no fall, no collision."""
+        return not self.problems
+
+    @property
+    def exit_code(self) -> int:
+        """0 clean, 1 fell / collided / simulator warning, 2 the run could not complete."""
+        if self.error:
+            return 2
+        return 0 if self.clean else 1
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON document (a dict of JSON types; non-finite numbers become null)."""
+        doc: dict[str, Any] = {
+            "schema": SCHEMA,
+            "schema_version": SCHEMA_VERSION,
+            "stamps": dict(self.stamps),
+            "robot": self.robot,
+            "files": [asdict(f) for f in self.files],
+            "options": dict(self.options),
+            "simulated_s": self.simulated_s,
+            "control_steps": self.control_steps,
+            "clean": self.clean,
+            "exit_code": self.exit_code,
+            "reason": "; ".join(self.problems),
+            "error": self.error,
+            "base": asdict(self.base) if self.base is not None else None,
+            "joints": [asdict(j) for j in self.joints],
+            "feet": [asdict(f) for f in self.feet],
+            "self_collisions": [asdict(c) for c in self.self_collisions],
+            "scene_contacts": [asdict(c) for c in self.scene_contacts],
+            "ground_contacts": [asdict(c) for c in self.ground_contacts],
+            "warnings": dict(self.warnings),
+            "ignored_joints": list(self.ignored_joints),
+        }
+        out: dict[str, Any] = _finite(doc)
+        return out
+
+
+def _finite(value: Any) -> Any:
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_finite(v) for v in value]
+    return value

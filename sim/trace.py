@@ -1,0 +1,163 @@
+"""What a simulated run leaves behind: per-step arrays and sparse contact events (numpy only).
+
+:mod:`motiontool.sim._mujoco` fills a :class:`Trace`; :mod:`motiontool.sim.play` turns it into a
+report and :mod:`motiontool.sim.recording` into a Rerun recording, neither touching MuJoCo.
+
+Frames: frame 0 is the state before the first control step; frame ``k >= 1`` the state after
+control step ``k - 1``, at ``time_s[k] = k * control_step_s``. Step ``k`` sends ``targets[k]``
+at ``time_s[k]`` (from the state of frame ``k``) and runs the physics to frame ``k + 1``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["BodyShapes", "ContactEvent", "Shape", "Trace"]
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One collision primitive, in its body's frame.
+
+    Attributes:
+        kind: ``box``, ``capsule``, ``cylinder``, ``sphere``, ``ellipsoid`` or ``plane``.
+        size: MuJoCo's geom size, m: box half-sizes (x, y, z); capsule / cylinder (radius,
+            half-length along local z, 0); sphere (radius, 0, 0); ellipsoid semi-axes; plane
+            (half-x, half-y, grid spacing), 0 meaning infinite.
+        pos: position in the body frame, m.
+        quat: orientation in the body frame, unit quaternion (w, x, y, z).
+        name: the geom's name ('' if unnamed).
+    """
+
+    kind: str
+    size: tuple[float, float, float]
+    pos: tuple[float, float, float]
+    quat: tuple[float, float, float, float]
+    name: str = ""
+
+
+@dataclass(frozen=True)
+class BodyShapes:
+    """A body of the scene and its collision primitives.
+
+    Attributes:
+        name: the body's name.
+        limb: for robot bodies, the limb it belongs to (``LArm``, ``RLeg``, ...), '' otherwise.
+        robot: whether the body belongs to the robot (posed every frame) or to the scene (static).
+        shapes: its primitives.
+    """
+
+    name: str
+    limb: str
+    robot: bool
+    shapes: tuple[Shape, ...]
+
+
+@dataclass(frozen=True)
+class ContactEvent:
+    """A contact or interpenetration seen at one frame.
+
+    Attributes:
+        frame: frame index (see the module docstring).
+        kind: ``self`` (two robot bodies interpenetrate, seen by the self-collision probe; the
+            Webots Nao has selfCollision FALSE, so they pass through each other, but the motion
+            asks for it), ``touch`` (two robot bodies in contact in the simulation itself, for
+            robots whose model has self-collision on, like Webots' UR5e), ``scene`` (the robot
+            touches something else than the floor) or ``ground`` (a robot body other than a
+            foot touches the floor).
+        body_a: robot body name.
+        body_b: other robot body (``self``, ``touch``), scene geom name (``scene``) or
+            ``floor``.
+        depth_m: penetration depth, m (>= 0).
+    """
+
+    frame: int
+    kind: Literal["self", "touch", "scene", "ground"]
+    body_a: str
+    body_b: str
+    depth_m: float
+
+
+@dataclass(eq=False)
+class Trace:
+    """Per-frame arrays of a run (float64 unless noted; S control steps, S + 1 frames).
+
+    Attributes:
+        joints: the J motors, in model order.
+        control_step_s: control period T, s.
+        physics_step_s: MuJoCo step, s.
+        time_s: (S + 1,) frame times, s.
+        commanded: (S, J) bool, whether the motion file commanded the joint at that step (as
+            opposed to keeping the previous target).
+        targets: (S, J) target in force at each step before clipping, rad (m).
+        velocity_cmd: (S, J) velocity command of the P controller, rad/s (m/s).
+        torque: (S, J) motor torque at the end of each step, N·m (N).
+        position: (S + 1, J) measured joint positions, rad (m).
+        base_pos: (S + 1, 3) root body position, m.
+        base_quat: (S + 1, 4) root body orientation (w, x, y, z).
+        feet: names of the foot geometries (may be empty).
+        foot_pos: (S + 1, F, 3) foot geometry centres, m.
+        foot_contact: (S + 1, F) bool, whether each foot touches the floor.
+        bodies: names of the B robot bodies posed in ``body_pos`` / ``body_quat``.
+        body_pos: (S + 1, B, 3) robot body positions, m (only when recording, else (0, B, 3)).
+        body_quat: (S + 1, B, 4) robot body orientations (w, x, y, z) (same).
+        events: contacts seen, frame by frame.
+        warnings: MuJoCo warning name -> count over the run.
+        steps_done: control steps actually simulated (< S if the run stopped on an error).
+        error: why the run stopped early, or None.
+    """
+
+    joints: tuple[str, ...]
+    control_step_s: float
+    physics_step_s: float
+    time_s: npt.NDArray[np.float64]
+    commanded: npt.NDArray[np.bool_]
+    targets: npt.NDArray[np.float64]
+    velocity_cmd: npt.NDArray[np.float64]
+    torque: npt.NDArray[np.float64]
+    position: npt.NDArray[np.float64]
+    base_pos: npt.NDArray[np.float64]
+    base_quat: npt.NDArray[np.float64]
+    feet: tuple[str, ...]
+    foot_pos: npt.NDArray[np.float64]
+    foot_contact: npt.NDArray[np.bool_]
+    bodies: tuple[str, ...]
+    body_pos: npt.NDArray[np.float64]
+    body_quat: npt.NDArray[np.float64]
+    events: list[ContactEvent] = field(default_factory=list)
+    warnings: dict[str, int] = field(default_factory=dict)
+    steps_done: int = 0
+    error: str | None = None
+
+    def truncated(self) -> Trace:
+        """The trace cut to the steps actually simulated (a copy of the arrays' views)."""
+        s = self.steps_done
+        body_frames = min(self.body_pos.shape[0], s + 1)
+        return Trace(
+            joints=self.joints,
+            control_step_s=self.control_step_s,
+            physics_step_s=self.physics_step_s,
+            time_s=self.time_s[: s + 1],
+            commanded=self.commanded[:s],
+            targets=self.targets[:s],
+            velocity_cmd=self.velocity_cmd[:s],
+            torque=self.torque[:s],
+            position=self.position[: s + 1],
+            base_pos=self.base_pos[: s + 1],
+            base_quat=self.base_quat[: s + 1],
+            feet=self.feet,
+            foot_pos=self.foot_pos[: s + 1],
+            foot_contact=self.foot_contact[: s + 1],
+            bodies=self.bodies,
+            body_pos=self.body_pos[:body_frames],
+            body_quat=self.body_quat[:body_frames],
+            events=[e for e in self.events if e.frame <= s],
+            warnings=dict(self.warnings),
+            steps_done=s,
+            error=self.error,
+        )
