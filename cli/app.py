@@ -12,6 +12,7 @@ import typer
 
 from motiontool import __version__
 from motiontool.cli import (
+    batch,
     codes,
     diff,
     info,
@@ -88,6 +89,7 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("sample", sample.sample_command),
     ("codes", codes.codes_command),
     ("play", play.play_command),
+    ("batch", batch.batch_command),
     ("diff", diff.diff_command),
     ("resample", resample.resample_command),
     ("retime", retime.retime_command),

@@ -16,7 +16,7 @@ __all__ = ["motion_rows", "render_json", "render_markdown", "render_summary", "w
 
 
 def _metric(r: RunResult, key: str) -> float | None:
-    value = (r.report or {}).get("robot", {}).get(key)
+    value = ((r.report or {}).get("base") or {}).get(key)
     return float(value) if isinstance(value, int | float) else None
 
 
@@ -140,7 +140,7 @@ def write_junit(batch: BatchResult, path: Path) -> None:
         elif not r.ok:
             case.result = [Error(r.reason, r.status)]
         suite.add_testcase(case)
-    suite.update_statistics()
+    suite.update_statistics()  # type: ignore[no-untyped-call]
     xml = JUnitXml()
     xml.add_testsuite(suite)
     with tempfile.TemporaryDirectory() as tmp:

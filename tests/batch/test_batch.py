@@ -25,7 +25,7 @@ def runner(spec: RunSpec) -> dict[str, Any]:
     return {
         "clean": not fell,
         "reason": "fell at 0.5 s" if fell else "",
-        "robot": {"max_tilt_deg": 60.0 if fell else 2.0},
+        "base": {"max_tilt_deg": 60.0 if fell else 2.0},
     }
 
 
@@ -91,7 +91,7 @@ def test_reports(motions: list[Path], tmp_path: Path) -> None:
     assert summary.splitlines()[-1].startswith("2 runs: 1 clean, 1 not clean, 0 from cache;")
     doc = json.loads(render_json(batch))
     assert doc["summary"] == {"runs": 2, "clean": 1, "not_clean": 1, "cached": 0}
-    assert doc["runs"][1]["report"]["robot"]["max_tilt_deg"] == 60.0
+    assert doc["runs"][1]["report"]["base"]["max_tilt_deg"] == 60.0
     md = render_markdown(batch)
     assert "| motion | robot | runs | clean | worst case |" in md and "0 (0 %)" in md
     junit = tmp_path / "r.xml"

@@ -1,0 +1,63 @@
+"""Benchmark: batch throughput, ``--jobs 1`` vs ``--jobs 2`` on the local pool, and Ray vs local.
+
+Run: ``python benchmarks/bench_batch.py``. Plays the same batch (a Nao motion x perturbation
+samples, no cache) with each executor and prints runs per second and the ratios measured in the
+same run. Targets (issue 6): jobs 2 >= 1.7x jobs 1; Ray >= 0.8x the local pool at 2 jobs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+from motiontool.kinematics.robots import load_robot
+from motiontool.sim.batch import parse_perturbation, plan, run_batch
+from motiontool.sim.runs import run_spec
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--motion", default=str(ROOT / "motions" / "nao" / "wave_right.motion"))
+    parser.add_argument("--samples", type=int, default=8)
+    parser.add_argument("--no-ray", action="store_true")
+    args = parser.parse_args()
+    specs = plan([args.motion], ["nao"], perturbations=[parse_perturbation("friction=0.8:1.2")],
+                 samples=args.samples, seed=1)  # fmt: skip
+
+    def model_hash(robot: str) -> str:
+        return load_robot(robot).model_hash
+
+    def rate(executor: str, jobs: int) -> float:
+        t0 = time.perf_counter()
+        batch = run_batch(
+            specs, run_spec, model_hash=model_hash, executor=executor, jobs=jobs, cache_dir=None
+        )
+        wall = time.perf_counter() - t0
+        assert len(batch.runs) == len(specs)
+        return len(specs) / wall
+
+    run_spec(specs[0])  # warm the page cache and this process's imports (workers fork from it)
+    r1 = rate("local", 1)
+    r2 = rate("local", 2)
+    print(f"batch: {len(specs)} runs of {Path(args.motion).name} on the Nao")
+    print(f"local pool, --jobs 1: {r1:.2f} runs/s")
+    print(f"local pool, --jobs 2: {r2:.2f} runs/s  ratio {r2 / r1:.2f}x jobs 1  (target >= 1.7)")
+    if not args.no_ray:
+        import ray
+
+        ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+        try:
+            rate("ray", 2)  # starts Ray's workers and their imports; measure the second batch
+            rr = rate("ray", 2)
+        finally:
+            ray.shutdown()
+        print(
+            f"ray (local cluster), 2 in flight: {rr:.2f} runs/s  ratio {rr / r2:.2f}x local pool  (target >= 0.8)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,178 @@
+"""``motiontool batch``: play many files x robots x perturbations, locally or on a Ray cluster."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from motiontool.cli.output import emit
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import collect_motion_files
+
+__all__ = ["batch_command"]
+
+
+def batch_command(
+    paths: Annotated[
+        list[Path],
+        typer.Argument(
+            help="Motion files, or directories searched for *.motion.", show_default=False
+        ),
+    ],
+    robot: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--robot",
+            "-r",
+            help="auto (per file, from its joints), nao, nao-v5, ur5e, a .urdf/.xml, erd:<name>;"
+            " repeat to run every file on several robots.",
+        ),
+    ] = None,
+    jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")] = 2,
+    executor: Annotated[
+        str, typer.Option("--executor", help="local (a process pool) or ray.")
+    ] = "local",
+    ray_address: Annotated[
+        str | None,
+        typer.Option(
+            "--ray-address", help="Ray cluster to use (auto: the running one); default: start one."
+        ),
+    ] = None,
+    timeout: Annotated[
+        float | None, typer.Option("--timeout", min=0.1, help="Wall-clock limit of one run, in s.")
+    ] = None,
+    perturb: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--perturb",
+            help="NAME=LOW:HIGH, uniform draws; NAME: friction, mass, motor-strength,"
+            " start-yaw (deg), start-noise (rad), speed. Repeatable.",
+        ),
+    ] = None,
+    samples: Annotated[
+        int, typer.Option("--samples", min=1, help="Perturbation samples per file and robot.")
+    ] = 1,
+    seed: Annotated[int, typer.Option("--seed", help="Seed of the perturbation draws.")] = 0,
+    timestep: Annotated[
+        int | None,
+        typer.Option(
+            "--timestep", min=1, help="Controller time step in ms (default: the robot's)."
+        ),
+    ] = None,
+    junit: Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")] = None,
+    json_out: Annotated[
+        Path | None, typer.Option("--json", help="Write every run's report (JSON) here.")
+    ] = None,
+    markdown: Annotated[
+        Path | None, typer.Option("--markdown", help="Write a Markdown summary here.")
+    ] = None,
+    rrd_dir: Annotated[
+        Path | None,
+        typer.Option("--rrd-dir", help="Keep a Rerun recording of every run in this folder."),
+    ] = None,
+    no_cache: Annotated[bool, typer.Option("--no-cache", help="Run everything again.")] = False,
+    cache_dir: Annotated[
+        Path | None,
+        typer.Option("--cache-dir", help="Result cache (default ~/.cache/motiontool/batch)."),
+    ] = None,
+) -> None:
+    """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
+    clean (fell, collided, simulator warning, error, crash or timeout)."""
+    from motiontool.cli.batch_reports import (
+        render_json,
+        render_markdown,
+        render_summary,
+        write_junit,
+    )
+    from motiontool.kinematics.robots import detect_robot, load_robot
+    from motiontool.motionfmt import read_bytes, read_file
+    from motiontool.sim.batch import default_cache_dir, parse_perturbation, plan, run_batch
+    from motiontool.sim.runs import run_spec
+
+    if executor not in ("local", "ray"):
+        raise typer.BadParameter(f"{executor!r}: choose local or ray", param_hint="--executor")
+    files = collect_motion_files(paths)
+    perturbations = [parse_perturbation(p) for p in perturb or []]
+    robots = robot or ["auto"]
+    specs = []
+    for f in files:
+        file_robots = []
+        for r in robots:
+            if r == "auto":
+                joints = read_bytes(read_file(f), str(f)).joints
+                found = detect_robot(joints)
+                if found is None:
+                    raise MotionToolError(
+                        f"{f}: no built-in robot has all of its joints; pass --robot"
+                    )
+                file_robots.append(found)
+            else:
+                load_robot(r)  # a clear error for a bad name, before anything runs
+                file_robots.append(r)
+        options: dict[str, object] = {"timestep_ms": timestep}
+        if rrd_dir is not None:
+            rrd_dir.mkdir(parents=True, exist_ok=True)
+            options["rrd_dir"] = str(rrd_dir)
+        specs += plan(
+            [f],
+            file_robots,
+            perturbations=perturbations,
+            samples=samples,
+            seed=seed,
+            options=options,
+        )
+
+    def model_hash(name: str) -> str:
+        return load_robot(name).model_hash
+
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
+
+    console = Console(stderr=True)
+    failures = 0
+    with Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[rate]:.2f} runs/s, {task.fields[failures]} not clean"),
+        TimeRemainingColumn(),
+        console=console,
+        transient=True,
+        disable=not console.is_terminal,
+    ) as bar:
+        task = bar.add_task("batch", total=len(specs), rate=0.0, failures=0)
+
+        def progress(result: object, done: int, total: int) -> None:
+            nonlocal failures
+            failures += not getattr(result, "ok", False)
+            elapsed = bar.tasks[0].elapsed or 1e-9
+            bar.update(task, completed=done, rate=done / elapsed, failures=failures)
+
+        batch = run_batch(
+            specs,
+            run_spec,
+            model_hash=model_hash,
+            executor=executor,
+            jobs=jobs,
+            timeout_s=timeout,
+            cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
+            ray_address=ray_address,
+            progress=progress,
+        )
+    typer.echo(render_summary(batch), nl=False)
+    if json_out is not None:
+        emit(render_json(batch), json_out)
+    if markdown is not None:
+        emit(render_markdown(batch), markdown)
+    if junit is not None:
+        write_junit(batch, junit)
+    if batch.failures:
+        raise typer.Exit(1)

@@ -1,0 +1,68 @@
+"""One batch run: a :class:`~motiontool.sim.batch.RunSpec` played in MuJoCo, as a JSON report.
+
+This is the runner the batch executors ship to their workers (a module-level function, so it
+pickles by reference). Perturbations map onto :class:`~motiontool.sim.play.PlayOptions`; the
+``speed`` perturbation retimes the motion (times only) before it is played.
+"""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from motiontool.sim.batch import RunSpec
+
+__all__ = ["run_spec"]
+
+_OPTION_OF = {
+    "friction": "floor_friction",
+    "mass": "mass_scale",
+    "motor-strength": "torque_scale",
+    "start-yaw": "start_yaw_deg",
+    "start-noise": "start_noise_rad",
+}
+
+
+def _retimed_copy(path: str, speed: float, directory: str) -> str:
+    """The motion played ``speed`` times faster (pose times divided by ``speed``, in ms)."""
+    from motiontool.motionfmt import load
+
+    doc = load(path)
+    times = [int(t) for t in doc.motion.times_ms]
+    new: list[int] = []
+    for t in times:
+        ms = round(t / speed)
+        new.append(max(ms, new[-1] + 1) if new else ms)
+    doc.set_times(new)
+    out = Path(directory) / Path(path).name
+    out.write_bytes(doc.to_bytes())
+    return str(out)
+
+
+def run_spec(spec: RunSpec) -> dict[str, Any]:
+    """Play ``spec`` headless and return the play report as JSON (``clean``, ``reason``, ...)."""
+    from motiontool.cli.stamps import stamps
+    from motiontool.kinematics.robots import load_robot
+    from motiontool.sim.play import PlayOptions, play
+
+    params = dict(spec.params)
+    options = dict(spec.options)
+    kwargs: dict[str, Any] = {_OPTION_OF[k]: v for k, v in params.items() if k in _OPTION_OF}
+    if options.get("timestep_ms"):
+        kwargs["timestep_ms"] = int(options["timestep_ms"])
+    kwargs["seed"] = spec.sample
+    robot = load_robot(spec.robot)
+    rrd = None
+    if options.get("rrd_dir"):
+        rrd = Path(options["rrd_dir"]) / f"{Path(spec.path).stem}.{robot.name}.{spec.sample}.rrd"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = spec.path
+        if "speed" in params and params["speed"] != 1.0:
+            path = _retimed_copy(spec.path, params["speed"], tmp)
+        report = play([path], robot=robot, options=PlayOptions(**kwargs), rrd=rrd,
+                      stamps=stamps(robot.model_hash))  # fmt: skip
+    doc = report.to_json()
+    doc["files"][0]["path"] = spec.path
+    doc["perturbation"] = params
+    return doc
