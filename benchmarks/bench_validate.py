@@ -91,13 +91,13 @@ def main() -> None:
                 samples.append(time.perf_counter() - t0)
             return statistics.median(samples)
 
-        t_cold = run([script, "validate", str(big)])
+        t_cold = run([script, "validate", "--robot", "none", str(big)])
         print(
             f"motiontool validate big.motion, whole process:     {t_cold:.3f} s  ratio {t_cold / t_base:.2f}x baseline  (start-up and imports included)"
         )
 
         t_py = run([sys.executable, "-c", "pass"])
-        t_cli = run([script, "validate", str(small)])
+        t_cli = run([script, "validate", "--robot", "none", str(small)])
         print(f"start-up, bare python -c pass:                     {t_py:.3f} s")
         print(
             f"start-up, motiontool validate small.motion:        {t_cli:.3f} s  ratio {t_cli / t_py:.2f}x bare python  (target < 0.3 s)"

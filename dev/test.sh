@@ -12,4 +12,6 @@ mkdir -p build/typecheck && ln -sfn ../.. build/typecheck/motiontool
 "$PY" -m mypy -p motiontool.motionfmt -p motiontool.kinematics -p motiontool.sim -p motiontool.cli
 # The project's own motion library must validate clean, warnings included.
 "$(dirname "$PY")/motiontool" validate motions/ --strict
+# ... and play clean in MuJoCo (no fall, no self-collision, no simulator warning).
+"$(dirname "$PY")/motiontool" batch motions/ --no-cache --jobs 2
 "$PY" -m pytest -n 2 "$@"
