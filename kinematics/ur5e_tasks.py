@@ -7,6 +7,8 @@ order: ``shoulder_pan_joint``, ``shoulder_lift_joint``, ``elbow_joint``, ``wrist
 * :func:`sorting_motion`: the sorting task of the Webots lesson that introduced the arm;
 * :func:`jog_motion`: home → jog each joint → home, like the lesson's keyboard jog.
 
+Both begin at the robot's start pose (every joint at 0 rad) and move to home first.
+
 No joint value is typed in: the sorting keyframes come from inverse kinematics
 (:func:`motiontool.kinematics.ik.solve_ik`) of the tool flange, the jog keyframes from the jog
 rule applied to the IK home pose. ``motiontool generate ur5e-sorting`` / ``ur5e-jog`` rewrite
@@ -265,6 +267,19 @@ def _checked_motion(
     return Motion(spec.joint_names, tuple(pose_names), np.array(times), np.array(rows))
 
 
+def _from_start(
+    spec: RobotSpec, names: list[str], times: list[int], rows: list[list[float]]
+) -> tuple[list[str], list[int], list[list[float]]]:
+    """Begin at the pose the robot starts in (every joint at 0 rad, as the UR5e spawns in Webots)
+    and move to the first pose in the shortest segment within the speed margin, instead of
+    commanding the first pose at once (validate's MT206 trap, hidden at t = 0)."""
+    start = [0.0] * len(spec.joints)
+    lead = segment_ms(
+        start, rows[0], [j.max_velocity for j in spec.joints], step_ms=spec.default_timestep_ms
+    )
+    return ["start", *names], [0, *(t + lead for t in times)], [start, *rows]
+
+
 def sorting_motion(items: Sequence[str] = ITEMS) -> Motion:
     """The sorting task (see the module docstring) for ``items``."""
     spec = load_robot(ROBOT)
@@ -279,7 +294,7 @@ def sorting_motion(items: Sequence[str] = ITEMS) -> Motion:
         )
         times.append(times[-1] + duration)
         rows.append(row)
-    return _checked_motion(spec, [w.name for w in plan], times, rows)
+    return _checked_motion(spec, *_from_start(spec, [w.name for w in plan], times, rows))
 
 
 def jog_motion(steps: int = JOG_STEPS) -> Motion:
@@ -297,7 +312,7 @@ def jog_motion(steps: int = JOG_STEPS) -> Motion:
             names.append(f"{joint}+{k}" if k else "home")
             times.append(times[-1] + JOG_STEP_MS)
             rows.append(row)
-    return _checked_motion(spec, names, times, rows)
+    return _checked_motion(spec, *_from_start(spec, names, times, rows))
 
 
 def peak_speeds(motion: Motion) -> npt.NDArray[np.float64]:

@@ -27,7 +27,7 @@ def read_file(path: str | Path) -> bytes:
 def atomic_write(path: str | Path, data: bytes) -> None:
     """Write ``data`` to ``path`` all or nothing: a temporary file beside it, then a rename.
 
-    The file's permission bits are kept when it already exists.
+    Missing parent folders are created; the file's permission bits are kept when it exists.
     """
     p = Path(path)
     directory = p.parent if str(p.parent) else Path()
@@ -40,6 +40,7 @@ def atomic_write(path: str | Path, data: bytes) -> None:
     except OSError as exc:
         raise MotionToolError(f"cannot write '{path}': {exc.strerror or exc}") from exc
     try:
+        directory.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=directory)
     except OSError as exc:
         raise MotionToolError(f"cannot write '{path}': {exc.strerror or exc}") from exc

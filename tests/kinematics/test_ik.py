@@ -260,13 +260,14 @@ def test_sorting_waypoints_reach_their_cartesian_targets(sorting: Motion) -> Non
     plan = sorting_plan()
     spots = sorting_spots()
     assert sorting.joints == NAMES
-    assert sorting.pose_names == tuple(w.name for w in plan)
-    for waypoint, row in zip(plan, sorting.values, strict=True):
+    assert sorting.pose_names == ("start", *(w.name for w in plan))
+    np.testing.assert_array_equal(sorting.values[0], 0.0)  # the UR5e's start pose
+    for waypoint, row in zip(plan, sorting.values[1:], strict=True):
         position, angle = flange_pose(UR5E, q_of(row)).errors_to(spots[waypoint.spot])
         assert position <= WAYPOINT_POSITION_TOLERANCE_M, waypoint.name
         assert angle <= WAYPOINT_ORIENTATION_TOLERANCE_RAD, waypoint.name
     # the flange points down at every waypoint
-    for row in sorting.values:
+    for row in sorting.values[1:]:
         assert flange_pose(UR5E, q_of(row)).rotation[:, 1] == pytest.approx([0, 0, -1], abs=1e-5)
 
 
@@ -274,8 +275,8 @@ def test_sorting_sorts_rusty_left_and_galvanized_right(sorting: Motion) -> None:
     places = [i for i, n in enumerate(sorting.pose_names) if n.startswith("place_")]
     ys = [flange_pose(UR5E, q_of(sorting.values[i])).position[1] for i in places]
     assert [y > 0 for y in ys] == [True, False, True]  # rusty, galvanized, rusty
-    assert sorting.pose_names[0] == sorting.pose_names[-1] == "home"
-    np.testing.assert_array_equal(sorting.values[0], sorting.values[-1])
+    assert sorting.pose_names[1] == sorting.pose_names[-1] == "home"
+    np.testing.assert_array_equal(sorting.values[1], sorting.values[-1])
     grasps = [i for i, n in enumerate(sorting.pose_names) if n.startswith("grasp_")]
     for i in grasps:  # a grasp is a pause at the pick pose
         np.testing.assert_array_equal(sorting.values[i], sorting.values[i - 1])
@@ -301,11 +302,12 @@ def test_segments_within_the_speed_margin_and_the_limits(
 
 def test_sorting_moves_are_as_short_as_the_margin_allows(sorting: Motion) -> None:
     limits = [UR5E.joint(n).max_velocity for n in NAMES]
-    plan = sorting_plan()
+    plan = [None, *sorting_plan()]  # pose 0 is the start pose, before the plan's home
     for k in range(1, sorting.n_poses):
         dt = int(sorting.times_ms[k] - sorting.times_ms[k - 1])
-        if plan[k].pause_ms is not None:
-            assert dt == plan[k].pause_ms
+        step = plan[k]
+        if step is not None and step.pause_ms is not None:
+            assert dt == step.pause_ms
             continue
         assert dt >= ur5e_tasks.MIN_SEGMENT_MS
         shorter = (dt - UR5E.default_timestep_ms) / 1000.0
@@ -324,8 +326,12 @@ def test_tool_stays_above_the_table_except_at_pick_and_place(sorting: Motion) ->
     assert lowest_allowed > TABLE_TOP_Z_M + 0.05 and lowest_allowed > ur5e_tasks.BIN_RIM_Z_M
     assert len(stream.targets) > sorting.duration_ms // 8
     lowest = math.inf
-    for row in stream.targets:
+    start_z = flange_pose(UR5E, q_of(sorting.values[0])).position[2]
+    for t, row in zip(stream.elapsed_ms, stream.targets, strict=True):
         position = flange_pose(UR5E, q_of(row)).position
+        if t <= sorting.times_ms[1]:  # from the start pose up to home: never below the start
+            assert position[2] >= start_z - 1e-3
+            continue
         lowest = min(lowest, position[2])
         assert position[2] >= lowest_allowed
         if position[2] < TRAVEL_Z_M - 5e-3:
@@ -343,15 +349,17 @@ def test_sorting_waypoints_are_free_of_self_collision(sorting: Motion) -> None:
 
 def test_jog_follows_the_keyboard_rule(jog: Motion) -> None:
     steps = ur5e_tasks.JOG_STEPS
-    home = jog.values[0]
+    assert jog.pose_names[0] == "start"
+    np.testing.assert_array_equal(jog.values[0], 0.0)  # the UR5e's start pose
+    home = jog.values[1]
     np.testing.assert_array_equal(jog.values[-1], home)
-    assert jog.pose_names[0] == jog.pose_names[-1] == "home"
-    np.testing.assert_array_equal(np.diff(jog.times_ms), ur5e_tasks.JOG_STEP_MS)
-    assert jog.n_poses == 1 + 6 * 2 * steps
+    assert jog.pose_names[1] == jog.pose_names[-1] == "home"
+    np.testing.assert_array_equal(np.diff(jog.times_ms[1:]), ur5e_tasks.JOG_STEP_MS)
+    assert jog.n_poses == 2 + 6 * 2 * steps
     # home is the sorting task's IK home
     spot = sorting_spots()["home"]
     assert flange_pose(UR5E, q_of(home)).errors_to(spot)[0] < WAYPOINT_POSITION_TOLERANCE_M
-    offsets = jog.values - home
+    offsets = jog.values[1:] - home
     moving = np.abs(offsets) > 1e-9
     assert (moving.sum(axis=1) <= 1).all()  # one joint at a time, the others held
     ladder = [*range(1, steps + 1), *range(steps - 1, -1, -1)]
@@ -380,8 +388,11 @@ def test_generate_command_writes_the_file_and_reports(tmp_path: Path) -> None:
     result = runner.invoke(app, ["generate", "ur5e-jog", "-o", str(out)])
     assert result.exit_code == 0, result.stderr
     assert out.read_bytes() == (MOTIONS / "jog.motion").read_bytes()
-    assert "121 poses, 7.680 s" in result.stdout
-    assert "max joint speed 0.156 rad/s" in result.stdout and "limit 3.14 rad/s" in result.stdout
+    assert "122 poses, 8.952 s" in result.stdout
+    assert (
+        "max joint speed 1.562 rad/s (elbow_joint" in result.stdout
+        and "limit 3.14 rad/s" in result.stdout
+    )
     assert f"sha256 {UR5E.model_hash}" in result.stdout
     bad = runner.invoke(app, ["generate", "ur5e-dance"])
     assert bad.exit_code == 2 and "ur5e-sorting" in bad.stderr
