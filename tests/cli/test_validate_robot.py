@@ -243,8 +243,10 @@ def test_robots_export_writes_model_files(tmp_path: Path) -> None:
     ]
     assert load_robot(str(urdf)).joints == load_robot("ur5e").joints
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5e.urdf", "ur5e.xml"]  # no temp left
-    code, _, err = invoke("robots", "export", "ur5e", "--mjcf", str(tmp_path / "no" / "x.xml"))
+    code, _, err = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf / "under-a-file.xml"))
     assert code == 2 and err.startswith("motiontool: error: cannot write")
+    code, _, _ = invoke("robots", "export", "ur5e", "--mjcf", str(tmp_path / "new" / "x.xml"))
+    assert code == 0 and (tmp_path / "new" / "x.xml").is_file()  # missing folders are made
 
 
 def test_installed_script_lists_robots_and_validates_with_one() -> None:
