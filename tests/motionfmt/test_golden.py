@@ -8,26 +8,15 @@ from pathlib import Path
 
 import pytest
 from conftest import golden
+from data.regen import expected_text  # the golden files' wording, shared with regen.py
 from oracle import webots_load
 
 from motiontool.motionfmt import MotionSyntaxError, Severity, read_bytes
 
-TIMESTEP = {"timestep_offgrid": 20}
-
-
-def _text(path: Path) -> str:
-    result = read_bytes(path.read_bytes(), path.name, timestep_ms=TIMESTEP.get(path.stem))
-    lines = []
-    for d in result.diagnostics:
-        lines.append(d.format())
-        if d.hint:
-            lines.append(f"  hint: {d.hint}")
-    return "\n".join(lines) + ("\n" if lines else "")
-
 
 @pytest.mark.parametrize("path", golden("valid") + golden("invalid"), ids=lambda p: p.stem)
 def test_exact_diagnostics(path: Path) -> None:
-    assert _text(path) == path.with_suffix(".expected").read_text(encoding="utf-8")
+    assert expected_text(path) == path.with_suffix(".expected").read_text(encoding="utf-8")
 
 
 @pytest.mark.parametrize("path", golden("valid"), ids=lambda p: p.stem)
@@ -71,7 +60,7 @@ def test_every_code_is_exercised_by_a_golden_file() -> None:
     for path in golden("valid") + golden("invalid"):
         seen |= {
             line.split()[2].rstrip(":")
-            for line in _text(path).splitlines()
+            for line in expected_text(path).splitlines()
             if ": " in line and not line.startswith("  ")
         }
     missing = {c for c in CODES if c.startswith(("MT1", "MT2"))} - seen
