@@ -205,6 +205,24 @@ def _pose_attrs(pos: Sequence[float], quat: Sequence[float]) -> dict[str, str]:
     return attrs
 
 
+def _hinge_body(parent: ET.Element, name: str, joint: dict[str, Any]) -> ET.Element:
+    """A child body posed by its Webots joint, with the hinge (range, torque) of its motor."""
+    attrs = {"name": name}
+    attrs.update(_pose_attrs(joint["translation"], joint["rotation_quat_wxyz"]))
+    el = _el(parent, "body", **attrs)
+    torque = joint["maxTorque"]
+    _el(
+        el,
+        "joint",
+        name=joint["name"],
+        type="hinge",
+        axis=_vec(joint["axis"]),
+        range=_vec([joint["minPosition"], joint["maxPosition"]]),
+        actuatorfrcrange=_vec([-torque, torque]),
+    )
+    return el
+
+
 def _geom(parent: ET.Element, name: str, prim: dict[str, Any]) -> None:
     mj = prim["mujoco_equivalent"]
     attrs = {"name": name, "type": mj["type"], "size": _vec(mj["size"])}
@@ -299,19 +317,7 @@ def _nao_xml(data: dict[str, Any], source: Path) -> str:
             _comment(el, "zero pose: FSR box bottoms on the floor z = 0 (torso 0.3339 m above)")
             _el(el, "freejoint", name="root")
         else:
-            attrs = {"name": name}
-            attrs.update(_pose_attrs(joint["translation"], joint["rotation_quat_wxyz"]))
-            el = _el(parent, "body", **attrs)
-            torque = joint["maxTorque"]
-            _el(
-                el,
-                "joint",
-                name=joint["name"],
-                type="hinge",
-                axis=_vec(joint["axis"]),
-                range=_vec([joint["minPosition"], joint["maxPosition"]]),
-                actuatorfrcrange=_vec([-torque, torque]),
-            )
+            el = _hinge_body(parent, name, joint)
         prims = body["webots_bounding_object"]
         if body["mass"] == 0.0:
             _comment(el, "massless Hinge2Joint helper frame (not a Webots Solid): negligible mass")
@@ -511,19 +517,7 @@ def _ur5e_xml(data: dict[str, Any], source: Path) -> str:
             )
             _el(el, "inertial", pos="0 0 0", mass="0", diaginertia="0 0 0")
         else:
-            attrs = {"name": name}
-            attrs.update(_pose_attrs(joint["translation"], joint["rotation_quat_wxyz"]))
-            el = _el(parent, "body", **attrs)
-            torque = joint["maxTorque"]
-            _el(
-                el,
-                "joint",
-                name=joint["name"],
-                type="hinge",
-                axis=_vec(joint["axis"]),
-                range=_vec([joint["minPosition"], joint["maxPosition"]]),
-                actuatorfrcrange=_vec([-torque, torque]),
-            )
+            el = _hinge_body(parent, name, joint)
         if body["mass"] is not None:
             _comment(
                 el,
