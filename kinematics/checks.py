@@ -210,17 +210,6 @@ def _table(result: ReadResult, spec: RobotSpec, motor_index: dict[str, int]) -> 
     )
 
 
-def _header_spans(result: ReadResult) -> list[tuple[int, int]]:
-    """1-based (column, end column) of each joint token of the header (line 1)."""
-    data = result._data  # the bytes the reader read; no public accessor for the header's cells
-    end = data.find(b"\n")
-    line = data[: end if end >= 0 else len(data)]
-    nul = line.find(b"\0")
-    if nul >= 0:
-        line = line[:nul]
-    return [(m.start() + 1, m.end() + 1) for m in _TOKEN.finditer(line)][2:]
-
-
 def _cell(
     table: _Table,
     code: str,
@@ -271,7 +260,7 @@ class UnknownJoints(_RobotCheck):
         unknown = [j for j, name in enumerate(result.joints) if name not in self.motor_index]
         if not unknown:
             return []
-        spans = _header_spans(result)
+        spans = result.header_spans()
         out = []
         for j in unknown:
             name = result.joints[j]
@@ -895,7 +884,7 @@ class RobotChecks:
 
 def _skipped(result: ReadResult) -> Diagnostic:
     """MT901 for a file whose joints no built-in robot has all of."""
-    spans = _header_spans(result)
+    spans = result.header_spans()
     joints = result.joints
     best: tuple[int, str, list[int]] | None = None
     for name in builtin_robots():

@@ -109,6 +109,13 @@ class ReadResult:
     _data: bytes = field(default=b"", repr=False)
     _cols0: list[int] = field(default_factory=list, repr=False)
     _line_starts: list[int] = field(default_factory=list, repr=False)
+    _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
+
+    def header_spans(self) -> list[tuple[int, int]]:
+        """1-based (column, end column) of each joint name in the header (line 1)."""
+        end = self._data.find(b"\n")
+        line = self._data[: end if end >= 0 else len(self._data)][:FGETS_PIECE]
+        return [(a + 1, b + 1) for a, b in _spans(line)[2:]]
 
     def cell_span(self, pose: int, joint: int | None = None) -> tuple[int, int, int]:
         """(line, column, end column), 1-based, of a pose's value cell for column ``joint``
@@ -123,10 +130,13 @@ class ReadResult:
                 starts.append(pos + 1)
                 pos = find(b"\n", pos + 1)
             self._line_starts = starts
-        start = self._line_starts[line - 1]
-        end = self._data.find(b"\n", start)
-        content = self._data[start : end if end >= 0 else len(self._data)]
-        a, b = _spans(content[col0 : col0 + FGETS_PIECE])[0 if joint is None else 2 + joint]
+        spans = self._span_cache.get(pose)
+        if spans is None:  # tokenised once per pose, however many diagnostics it gets
+            start = self._line_starts[line - 1]
+            end = self._data.find(b"\n", start)
+            content = self._data[start : end if end >= 0 else len(self._data)]
+            spans = self._span_cache[pose] = _spans(content[col0 : col0 + FGETS_PIECE])
+        a, b = spans[0 if joint is None else 2 + joint]
         return line, col0 + a + 1, col0 + b + 1
 
     @property
