@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -26,9 +27,13 @@ class FileReport:
     diagnostics: list[Diagnostic]
     data: bytes = field(default=b"", repr=False)
 
+    @functools.cached_property
+    def _lines(self) -> list[bytes]:
+        return self.data.split(b"\n")
+
     def source_line(self, line: int) -> bytes:
         """The bytes of physical line ``line`` (1-based), without its end of line."""
-        lines = self.data.split(b"\n")
+        lines = self._lines
         return lines[line - 1].rstrip(b"\r") if 0 < line <= len(lines) else b""
 
     def count(self, severity: Severity) -> int:
