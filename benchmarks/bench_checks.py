@@ -27,6 +27,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _timing import best_of  # benchmarks/_timing.py (run as a script)
+
 ROOT = Path(__file__).resolve().parents[1]
 CORPUS = ROOT.parent / "shared" / "corpus" / "webots"
 CHECKS = "limits,velocity,collision"
@@ -98,19 +100,11 @@ def _per_file() -> list[tuple[float, float, str, int]]:
         validate_bytes(data, path, checks=[checker])
     rows = []
     for path, data in files:
-        syntax = min(_timed(lambda d=data, p=path: validate_bytes(d, p)) for _ in range(5))
-        full = min(
-            _timed(lambda d=data, p=path: validate_bytes(d, p, checks=[checker])) for _ in range(5)
-        )
+        syntax = best_of(5, lambda d=data, p=path: validate_bytes(d, p))
+        full = best_of(5, lambda d=data, p=path: validate_bytes(d, p, checks=[checker]))
         poses = len(validate_bytes(data, path).read.times_ms)
         rows.append((full - syntax, syntax, path, poses))
     return rows
-
-
-def _timed(fn) -> float:  # type: ignore[no-untyped-def]
-    t0 = time.perf_counter()
-    fn()
-    return time.perf_counter() - t0
 
 
 def main() -> None:

@@ -20,6 +20,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _timing import best_of  # benchmarks/_timing.py (run as a script)
 
 JOINTS = [
     "HeadYaw", "HeadPitch", "LShoulderPitch", "LShoulderRoll", "LElbowYaw", "LElbowRoll",
@@ -39,15 +40,6 @@ def make_file(path: Path, poses: int, seed: int = 0) -> None:
             t = 40 * p
             cells = ",".join(repr(round(float(v), 6)) for v in values[p])
             f.write(f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d},Pose{p + 1},{cells}\n")
-
-
-def best_of(n: int, fn) -> float:  # type: ignore[no-untyped-def]
-    times = []
-    for _ in range(n):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main() -> None:
