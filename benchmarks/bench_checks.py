@@ -1,5 +1,5 @@
 """Benchmark: ``validate`` with the Nao model (limits + velocity + collision) on the whole Webots
-corpus (``../shared/corpus/webots``, 27 files), in one process.
+corpus (``tests/data/corpus/webots``, 27 files), in one process.
 
 Run: ``python benchmarks/bench_checks.py``. Reported, each time with its ratio to the syntax-only
 run (``--robot none``) measured in the same run:
@@ -30,7 +30,7 @@ from pathlib import Path
 from _timing import best_of  # benchmarks/_timing.py (run as a script)
 
 ROOT = Path(__file__).resolve().parents[1]
-CORPUS = ROOT.parent / "shared" / "corpus" / "webots"
+CORPUS = ROOT / "tests" / "data" / "corpus" / "webots"  # vendored (see its NOTICE)
 CHECKS = "limits,velocity,collision"
 
 

@@ -23,7 +23,7 @@ from pathlib import Path
 from _timing import best_of  # benchmarks/_timing.py (run as a script)
 
 ROOT = Path(__file__).resolve().parent.parent
-CORPUS = ROOT.parent / "shared" / "corpus" / "webots"
+CORPUS = ROOT / "tests" / "data" / "corpus" / "webots"  # vendored (see its NOTICE)
 WALK = "projects/robots/softbank/dancing_nao/motions/Forwards50.motion"
 
 

@@ -1,9 +1,10 @@
 """Generate the built-in robot models from the robot data JSON (the single source of truth).
 
-Usage (from the repository root)::
+Usage (from the repository root; ``<robots-dir>`` is the folder of the robot facts, e.g. the copy
+vendored in ``tests/data/robot_facts``)::
 
-    python -m motiontool.kinematics._modelgen /work/shared/robots kinematics/models
-    python -m motiontool.kinematics._modelgen /work/shared/robots kinematics/models --check
+    python -m motiontool.kinematics._modelgen <robots-dir> kinematics/models
+    python -m motiontool.kinematics._modelgen <robots-dir> kinematics/models --check
 
 It reads ``nao.json`` and ``ur5e.json`` (numbers transcribed from the Webots PROTO files) and
 writes ``nao.xml`` and ``ur5e.xml`` (MJCF, loadable by MuJoCo and by Pinocchio's MJCF reader) and
@@ -581,12 +582,22 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m motiontool.kinematics._modelgen", description=__doc__.splitlines()[0]
     )
-    parser.add_argument("source_dir", type=Path, help="folder holding nao.json and ur5e.json")
+    parser.add_argument(
+        "source_dir",
+        type=Path,
+        metavar="robots-dir",
+        help="folder holding nao.json and ur5e.json (e.g. tests/data/robot_facts)",
+    )
     parser.add_argument("output_dir", type=Path, help="folder to write the models into")
     parser.add_argument(
         "--check", action="store_true", help="write nothing; exit 1 if a file is out of date"
     )
     args = parser.parse_args(argv)
+    for name in _SOURCES:
+        if not (args.source_dir / name).is_file():
+            parser.error(
+                f"{args.source_dir / name}: not found (robots-dir holds {' and '.join(_SOURCES)})"
+            )
     outputs = generate(args.source_dir)
     stale = []
     for name in _OUTPUTS:

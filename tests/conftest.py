@@ -1,19 +1,62 @@
-"""Shared fixtures: where the golden data and the Webots corpus live."""
+"""Shared fixtures: where the golden data, the Webots corpus and the robot facts live.
+
+The Webots corpus and the robot facts the tests need are vendored, unmodified, in ``tests/data``
+(``corpus/webots`` with its MANIFEST.tsv and NOTICE, ``robot_facts`` with its README), so a fresh
+clone runs every test. Should they be missing, a test that needs them skips with the reason, except
+under ``CI=true``, where it fails: CI never passes by skipping.
+"""
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
+from typing import NoReturn
 
 import pytest
 
 TESTS = Path(__file__).parent
 ROOT = TESTS.parent
 DATA = TESTS / "data"
+#: The Webots corpus (27 .motion files, MANIFEST.tsv, NOTICE), vendored from ``SHARED``.
+CORPUS = DATA / "corpus" / "webots"
+#: The robot facts (nao.json, ur5e.json, README.md) that kinematics/models are generated from.
+ROBOT_FACTS = DATA / "robot_facts"
+#: Where both came from, beside the repository. Only tests/test_data.py looks there, to check
+#: that the vendored copies are still byte-identical; no other test needs it.
 SHARED = ROOT.parent / "shared"
-CORPUS = SHARED / "corpus" / "webots"
+#: Under CI=true (GitHub Actions, GitLab, ``.ci/run``) missing test data fails instead of skipping.
+IN_CI = os.environ.get("CI", "").strip().lower() == "true"
 
 sys.path.insert(0, str(TESTS))  # the plain-loop oracle
+
+
+def missing_data(reason: str) -> NoReturn:
+    """Skip the current test (or, at collection, the module) with ``reason``; fail under CI."""
+    if IN_CI:
+        pytest.fail(f"{reason} (CI=true: tests do not skip for missing data)", pytrace=False)
+    pytest.skip(reason)
+
+
+def require(path: Path, what: str) -> Path:
+    """``path`` if it exists; otherwise skip with a reason naming it (fail under CI=true)."""
+    if not path.exists():
+        missing_data(f"{what} not found at {path} (vendored in tests/data; restore it from git)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def corpus() -> Path:
+    """The vendored Webots corpus folder."""
+    return require(CORPUS / "MANIFEST.tsv", "Webots corpus").parent
+
+
+@pytest.fixture(scope="session")
+def robot_facts() -> Path:
+    """The vendored robot facts folder (nao.json, ur5e.json)."""
+    for name in ("nao.json", "ur5e.json"):
+        require(ROBOT_FACTS / name, "robot facts JSON")
+    return ROBOT_FACTS
 
 
 def corpus_files() -> list[Path]:
@@ -21,13 +64,15 @@ def corpus_files() -> list[Path]:
 
 
 def corpus_params() -> list[object]:
+    """One parameter per corpus file; without the corpus, one skipped parameter (fails in CI)."""
     files = corpus_files()
     if not files:
-        return [
-            pytest.param(
-                None, marks=pytest.mark.skip(reason=f"Webots corpus not found at {CORPUS}")
-            )
-        ]
+        reason = (
+            f"Webots corpus not found at {CORPUS} (vendored in tests/data; restore it from git)"
+        )
+        if IN_CI:  # at collection: the module errors and the run fails
+            missing_data(reason)
+        return [pytest.param(None, marks=pytest.mark.skip(reason=reason))]
     return [
         pytest.param(f, id=f.name if f.name != "Taichi.motion" else "Taichi-lower") for f in files
     ]

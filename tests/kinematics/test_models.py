@@ -8,10 +8,10 @@ import math
 import subprocess
 import sys
 import textwrap
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ROBOT_FACTS
 
 import motiontool.kinematics as kin
 from motiontool.kinematics import _modelgen, _pinocchio
@@ -23,11 +23,9 @@ from motiontool.kinematics.robots import (
 )
 from motiontool.motionfmt.errors import MotionToolError
 
-ROBOTS_DATA = Path(__file__).resolve().parents[2].parent / "shared" / "robots"
-needs_data = pytest.mark.skipif(
-    not (ROBOTS_DATA / "nao.json").is_file(),
-    reason=f"robot data JSON not found at {ROBOTS_DATA} (shared/robots is beside the repository)",
-)
+ROBOTS_DATA = ROBOT_FACTS  # vendored in tests/data/robot_facts
+#: Skips with a reason if the JSON is missing; fails instead under CI=true (conftest.py).
+needs_data = pytest.mark.usefixtures("robot_facts")
 
 ZERO_POSE_TORSO_HEIGHT_M = 0.3339
 NAO_TOTAL_MASS_KG = 5.3106
@@ -65,6 +63,16 @@ def test_generator_check_mode_reports_stale_files(tmp_path):
     assert list(tmp_path.iterdir()) == []
     assert _modelgen.main([str(ROBOTS_DATA), str(tmp_path)]) == 0
     assert _modelgen.main([str(ROBOTS_DATA), str(tmp_path), "--check"]) == 0
+
+
+def test_generator_takes_the_robot_facts_folder_as_an_argument(tmp_path, capsys):
+    assert "<robots-dir>" in _modelgen.__doc__ and "/work/" not in _modelgen.__doc__
+    with pytest.raises(SystemExit) as exc:  # an empty folder: no traceback, a usage error
+        _modelgen.main([str(tmp_path), str(tmp_path / "models"), "--check"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "robots-dir output_dir" in err
+    assert f"{tmp_path / 'nao.json'}: not found (robots-dir holds nao.json and ur5e.json)" in err
 
 
 def test_triangle_inequality_correction_is_minimal():
@@ -385,9 +393,19 @@ def test_detect_robot():
     assert detect_robot(nao) == "nao"
     assert detect_robot(["HeadYaw", "RPhalanx3", "LKneePitch"]) == "nao"
     assert detect_robot(load_robot("ur5e").joint_names[:3]) == "ur5e"
-    assert detect_robot(["HeadYaw", "elbow_joint"]) is None
+    assert detect_robot(["HeadYaw", "elbow_joint"]) is None  # a tie: the file does not say
     assert detect_robot(["LHand"]) is None
     assert detect_robot([]) is None
+
+
+def test_detect_robot_survives_a_typo_but_not_a_foreign_file():
+    # One misspelt name must not lose the robot (and with it every robot check).
+    assert detect_robot(["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRol"]) == "nao"
+    assert detect_robot(["HeadYaw", "HeadYw"]) == "nao"  # half is enough
+    assert detect_robot(["HeadYaw", "HeadYw", "Tail"]) is None  # less than half is not
+    assert detect_robot(["shoulder_pan_joint", "elbow_jiont"]) == "ur5e"
+    # A Darwin-OP motion has nothing of the Nao's.
+    assert detect_robot(["ShoulderR", "ArmUpperR", "ArmLowerR", "PelvYR"]) is None
 
 
 # --------------------------------------------------------------------------- collisions, balance

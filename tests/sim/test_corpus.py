@@ -10,14 +10,11 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
-from conftest import CORPUS
+from conftest import CORPUS, missing_data
 
 from motiontool.sim import PlayOptions, PlayReport, play
 
-pytestmark = [
-    pytest.mark.slow,
-    pytest.mark.skipif(not CORPUS.is_dir(), reason=f"Webots corpus not found at {CORPUS}"),
-]
+pytestmark = [pytest.mark.slow, pytest.mark.usefixtures("corpus")]
 
 WALKS = {  # name: (dx band m, dy band m), None = not bounded
     "Forwards50": ((0.35, 0.55), (-0.05, 0.05)),
@@ -39,7 +36,7 @@ ARMS = ("HandWave", "HandWaveLeft", "WipeForehead")
 def corpus_file(name: str) -> Path:
     found = sorted(CORPUS.rglob(f"{name}.motion"))
     if not found:
-        pytest.skip(f"{name}.motion not in the corpus")
+        missing_data(f"{name}.motion not in the Webots corpus at {CORPUS}")
     return found[0]
 
 
