@@ -33,14 +33,17 @@ _CAPTION_IN = 0.4  # room below the grid for a two-line caption
 _TITLE_IN = 0.35  # room above it for the title
 _NEAR_LIMIT_RAD = 0.2  # a limit this close to the plotted values (or one span) is drawn in view
 
-_NAO_GROUPS = (
-    ("head", re.compile(r"Head(Yaw|Pitch)$")),
-    ("left arm", re.compile(r"L(Shoulder|Elbow|Wrist)\w+$")),
-    ("right arm", re.compile(r"R(Shoulder|Elbow|Wrist)\w+$")),
-    ("left leg", re.compile(r"L(Hip|Knee|Ankle)\w+$")),
-    ("right leg", re.compile(r"R(Hip|Knee|Ankle)\w+$")),
-    ("hands", re.compile(r"[LR](Hand|Phalanx\d*)$")),
-)
+_NAO_TITLES = {
+    "Head": "head",
+    "LArm": "left arm",
+    "RArm": "right arm",
+    "LLeg": "left leg",
+    "RLeg": "right leg",
+    "LHand": "hands",
+    "RHand": "hands",
+}
+"""Plot titles of the Nao's limbs (:data:`motiontool.kinematics.limbs.NAO_LIMBS`, in order;
+both hands share a row)."""
 
 
 @dataclass(frozen=True)
@@ -64,28 +67,31 @@ class Panel:
 def limb_groups(
     joints: Sequence[str], robot: str | None, order: Sequence[str] = ()
 ) -> list[tuple[str, list[str]]]:
-    """Joints grouped by limb for the Nao (head, left arm, right arm, left leg, right leg,
-    hands, then anything else); one group ``joints`` for other robots. Within a group, joints
-    come in the robot's ``order`` (its model order, shoulder to wrist, hip to ankle), then in
-    file order.
+    """Joints grouped by limb (:func:`motiontool.kinematics.limbs.limb_of`, the grouping of
+    recordings and ``play`` reports too): for the Nao head, left arm, right arm, left leg, right
+    leg, hands; for a serial arm such as the UR5e arm, wrist; then ``other`` (``joints`` when
+    no name says its limb). Without a robot, one group ``joints``. Within a group, joints come
+    in the robot's ``order`` (its model order, shoulder to wrist, hip to ankle), then in file
+    order.
     """
+    from motiontool.kinematics.limbs import NAO_LIMBS, limb_of
+
     rank = {name: k for k, name in enumerate(order)}
     names = list(dict.fromkeys(joints))
     names.sort(key=lambda n: rank.get(n, len(rank)))  # stable: file order among the unranked
-    if robot is None or not robot.startswith("nao"):
+    if robot is None:
         return [("joints", names)]
-    groups: dict[str, list[str]] = {title: [] for title, _ in _NAO_GROUPS}
+    groups: dict[str, list[str]] = {_NAO_TITLES[limb]: [] for limb in NAO_LIMBS}
     other: list[str] = []
     for name in names:
-        for title, pattern in _NAO_GROUPS:
-            if pattern.match(name):
-                groups[title].append(name)
-                break
+        limb = limb_of(name, "")
+        if limb:
+            groups.setdefault(_NAO_TITLES.get(limb, limb), []).append(name)
         else:
             other.append(name)
     out = [(title, js) for title, js in groups.items() if js]
     if other:
-        out.append(("other", other))
+        out.append(("other" if out else "joints", other))
     return out
 
 

@@ -7,9 +7,10 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.output import emit
+from motiontool.cli.color import rich_no_color
+from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import collect_motion_files
+from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
 
 __all__ = ["batch_command"]
 
@@ -58,7 +59,7 @@ def batch_command(
     timestep: Annotated[
         int | None,
         typer.Option(
-            "--timestep", min=1, help="Controller time step in ms (default: the robot's)."
+            "--timestep", "-t", min=1, help="Controller time step in ms (default: the robot's)."
         ),
     ] = None,
     junit: Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")] = None,
@@ -88,33 +89,49 @@ def batch_command(
     )
     from motiontool.kinematics.robots import detect_robot, load_robot
     from motiontool.motionfmt import read_bytes, read_file
-    from motiontool.sim.batch import default_cache_dir, parse_perturbation, plan, run_batch
+    from motiontool.sim.batch import (
+        default_cache_dir,
+        parse_perturbation,
+        plan,
+        recording_stems,
+        run_batch,
+    )
     from motiontool.sim.runs import run_spec
 
     if executor not in ("local", "ray"):
         raise typer.BadParameter(f"{executor!r}: choose local or ray", param_hint="--executor")
+    if any(is_stdin(p) for p in paths):
+        raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
     files = collect_motion_files(paths)
+    for option, out in [
+        ("--json", json_out),
+        ("--markdown", markdown),
+        ("--junit", junit),
+        ("--rrd-dir", rrd_dir),
+    ]:
+        refuse_overwrite(out, files, option)
     perturbations = [parse_perturbation(p) for p in perturb or []]
     robots = robot or ["auto"]
+    for r in dict.fromkeys(robots):
+        if r != "auto":
+            load_robot(r)  # a clear error for a bad name, before anything runs
+    rrd_names = recording_stems(files)
     specs = []
     for f in files:
         file_robots = []
         for r in robots:
             if r == "auto":
+                # No robot found: the run stays "auto" and fails alone, saying why (the others
+                # still run and are reported).
                 joints = read_bytes(read_file(f), str(f)).joints
-                found = detect_robot(joints)
-                if found is None:
-                    raise MotionToolError(
-                        f"{f}: no built-in robot has all of its joints; pass --robot"
-                    )
-                file_robots.append(found)
+                file_robots.append(detect_robot(joints) or "auto")
             else:
-                load_robot(r)  # a clear error for a bad name, before anything runs
                 file_robots.append(r)
         options: dict[str, object] = {"timestep_ms": timestep}
         if rrd_dir is not None:
             rrd_dir.mkdir(parents=True, exist_ok=True)
             options["rrd_dir"] = str(rrd_dir)
+            options["rrd_name"] = rrd_names[str(f)]
         specs += plan(
             [f],
             file_robots,
@@ -125,7 +142,7 @@ def batch_command(
         )
 
     def model_hash(name: str) -> str:
-        return load_robot(name).model_hash
+        return "" if name == "auto" else load_robot(name).model_hash
 
     from rich.console import Console
     from rich.progress import (
@@ -136,7 +153,8 @@ def batch_command(
         TimeRemainingColumn,
     )
 
-    console = Console(stderr=True)
+    # Colour: rich follows NO_COLOR / FORCE_COLOR itself; --no-color is the root option.
+    console = Console(stderr=True, no_color=rich_no_color())
     failures = 0
     with Progress(
         TextColumn("[progress.description]{task.description}"),

@@ -2,17 +2,25 @@
 
 from __future__ import annotations
 
-import json
+import re
 import tempfile
 from collections import defaultdict
 from pathlib import Path
 from typing import Any
 
+from motiontool.cli.jsontext import dumps
 from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.fileio import atomic_write
 from motiontool.sim.batch import BatchResult, RunResult, result_json
 
-__all__ = ["motion_rows", "render_json", "render_markdown", "render_summary", "write_junit"]
+__all__ = [
+    "md_cell",
+    "motion_rows",
+    "render_json",
+    "render_markdown",
+    "render_summary",
+    "write_junit",
+]
 
 
 def _metric(r: RunResult, key: str) -> float | None:
@@ -96,11 +104,27 @@ def render_json(batch: BatchResult) -> str:
         "motions": motion_rows(batch),
         "runs": [result_json(r) for r in batch.runs],
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return dumps(doc)
+
+
+def md_cell(text: object) -> str:
+    """``text`` as one Markdown table cell: ``|`` escaped, line breaks as spaces, HTML's ``<``
+    and ``&`` escaped (a reason or a file name cannot split the row or open a tag)."""
+    flat = " ".join(str(text).splitlines())
+    return flat.replace("&", "&amp;").replace("<", "&lt;").replace("|", "\\|")
+
+
+def _md_code(text: str) -> str:
+    """``text`` as inline code in a table cell (backticks in it lengthen the fence)."""
+    flat = " ".join(text.splitlines()).replace("|", "\\|")
+    ticks = max((len(run) for run in re.findall(r"`+", flat)), default=0)
+    fence = "`" * (ticks + 1)
+    pad = " " if flat.startswith("`") or flat.endswith("`") else ""
+    return f"{fence}{pad}{flat}{pad}{fence}"
 
 
 def render_markdown(batch: BatchResult) -> str:
-    """A Markdown table for a pull-request comment."""
+    """A Markdown table for a pull-request comment (every cell escaped: :func:`md_cell`)."""
     lines = [
         "### motiontool batch",
         "",
@@ -114,8 +138,8 @@ def render_markdown(batch: BatchResult) -> str:
             else f"{row['worst_status']}: {row['worst_reason']}"
         )
         lines.append(
-            f"| `{row['motion']}` | {row['robot']} | {row['runs']} |"
-            f" {row['clean']} ({100 * row['clean_share']:.0f} %) | {worst} |"
+            f"| {_md_code(row['motion'])} | {md_cell(row['robot'])} | {row['runs']} |"
+            f" {row['clean']} ({100 * row['clean_share']:.0f} %) | {md_cell(worst)} |"
         )
     lines += [
         "",

@@ -27,6 +27,7 @@ from typing import Any, Literal
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
+    "DETECT_MIN_SHARE",
     "JointSpec",
     "RobotSpec",
     "builtin_robots",
@@ -257,19 +258,38 @@ def load_robot(spec: str) -> RobotSpec:
     raise MotionToolError(f"unknown robot '{spec}'; choose {_CHOICES}")
 
 
-def detect_robot(joint_names: Sequence[str]) -> str | None:
-    """The first built-in robot whose motors include every name in ``joint_names``.
+DETECT_MIN_SHARE = 0.5
+"""Share of a file's (distinct) joint names a built-in robot must have to be picked by
+:func:`detect_robot`: at least half, so one misspelt name (``RElbowRol``) does not lose the robot
+checks, while a file of another robot's joints is not forced onto a robot it does not fit."""
 
-    ``nao`` is preferred over ``nao-v5`` (same motors). None if no built-in robot has all of
-    them, or if ``joint_names`` is empty.
+
+def detect_robot(joint_names: Sequence[str]) -> str | None:
+    """The built-in robot whose motors include the most of ``joint_names``.
+
+    A robot is picked when it has at least :data:`DETECT_MIN_SHARE` of the distinct names (the
+    names it lacks are reported by the checks: MT301, with a did-you-mean). Of robots with the
+    same motors, the first is preferred (``nao`` over ``nao-v5``). None if no robot reaches the
+    share, if two robots with different motors tie (the file does not say which it is for), or
+    if ``joint_names`` is empty.
     """
     wanted = set(joint_names)
     if not wanted:
         return None
+    best: list[tuple[str, frozenset[str]]] = []
+    best_count = 0
     for name in _BUILTIN_FILES:
-        if wanted <= set(_builtin(name).joint_names):
-            return name
-    return None
+        motors = frozenset(_builtin(name).joint_names)
+        count = len(wanted & motors)
+        if count > best_count:
+            best, best_count = [(name, motors)], count
+        elif count == best_count and count:
+            best.append((name, motors))
+    if not best or best_count < DETECT_MIN_SHARE * len(wanted):
+        return None
+    if len({motors for _name, motors in best}) > 1:
+        return None  # a tie between different robots
+    return best[0][0]
 
 
 # --------------------------------------------------------------------------- built-in robots

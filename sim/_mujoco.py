@@ -78,24 +78,28 @@ SOLVER_TOLERANCE = 1e-10
 motor forces balance: a Nao standing still jitters and its feet wander 2 mm in 6 s; at 1e-10
 they stay within 0.05 mm, at no extra cost (measured)."""
 
-_WARNINGS = (
-    "inertia",
-    "contact_full",
-    "constraint_full",
-    "bad_qpos",
-    "bad_qvel",
-    "bad_qacc",
-    "bad_ctrl",
-)
-"""Names of MuJoCo's warnings (``mjtWarning`` order) in reports."""
 
-_NAO_LIMBS = (
-    (re.compile(r"^Head"), "Head"),
-    (re.compile(r"^([LR])Phalanx"), r"\1Hand"),
-    (re.compile(r"^([LR])(Shoulder|Elbow|Wrist)"), r"\1Arm"),
-    (re.compile(r"^([LR])(Hip|Knee|Ankle)"), r"\1Leg"),
-)
-"""Limb names for the Webots Nao's motors (others: the name of the root's child body)."""
+def warning_label(enum_name: str) -> str:
+    """The report key of a MuJoCo warning, from its ``mjtWarning`` name: ``mjWARN_BADQACC``
+    -> ``bad_qacc``, ``mjWARN_CONTACTFULL`` -> ``contact_full``, ``mjWARN_CNSTRFULL`` ->
+    ``constraint_full`` (a name this does not know comes out lower-cased)."""
+    word = enum_name.removeprefix("mjWARN_").lower().replace("cnstr", "constraint")
+    word = re.sub(r"^bad(?=.)", "bad_", word)
+    return re.sub(r"(?<=[a-z])full$", "_full", word)
+
+
+def warning_labels() -> dict[int, str]:
+    """Index in ``MjData.warning`` -> report key, for every warning of the installed MuJoCo
+    (read from ``mujoco.mjtWarning``, so that a version that adds or reorders warnings is
+    labelled right)."""
+    import mujoco
+
+    members = mujoco.mjtWarning.__members__
+    return {
+        int(value): warning_label(name)
+        for name, value in sorted(members.items(), key=lambda item: int(item[1]))
+        if name.startswith("mjWARN_")
+    }
 
 
 def mujoco_version() -> str:
@@ -465,7 +469,10 @@ def _lowest_point(model: Any, data: Any, geoms: Sequence[int]) -> float:
 def _limbs(
     model: Any, motors: Sequence[str], root: int, bodies: npt.NDArray[np.intp]
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
-    """(limb of each motor, limb of each robot body)."""
+    """(limb of each motor, limb of each robot body): :func:`motiontool.kinematics.limbs.limb_of`
+    by name; a motor whose name does not say takes the branch of the tree it hangs on (the
+    root's child body), or ``arm`` when every motor hangs on one branch (a serial arm)."""
+    from motiontool.kinematics.limbs import limb_of
 
     def top(body: int) -> int:
         while body != 0 and int(model.body_parentid[body]) != root and body != root:
@@ -477,12 +484,12 @@ def _limbs(
             return str(model.body(root).name)
         return str(model.body(top(body)).name).removesuffix("_virtual")
 
+    branches = {top(int(model.jnt_bodyid[model.joint(n).id])) for n in motors}
+
     def limb_of_joint(name: str) -> str:
-        for pattern, replacement in _NAO_LIMBS:
-            found = pattern.match(name)
-            if found:
-                return found.expand(replacement)
-        return generic(int(model.jnt_bodyid[model.joint(name).id]))
+        if len(branches) == 1:
+            return limb_of(name, "arm")
+        return limb_of(name, generic(int(model.jnt_bodyid[model.joint(name).id])))
 
     joint_limbs = tuple(limb_of_joint(n) for n in motors)
     body_limb: dict[int, str] = {}
@@ -652,7 +659,7 @@ def run(
             trace.steps_done = k + 1
     except Exception as exc:  # keep what was simulated; the report says why it stopped
         trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
-    trace.warnings = {name: int(data.warning[i].number) for i, name in enumerate(_WARNINGS)}
+    trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
     return trace if trace.steps_done == steps else trace.truncated()
 
 

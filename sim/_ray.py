@@ -17,10 +17,12 @@ __all__ = ["run_ray"]
 
 
 def _call(runner: Callable[[Any], Any], task: Any) -> tuple[str, Any, str]:
+    from motiontool.sim.pool import error_reason
+
     try:
         return "done", runner(task), ""
     except Exception as exc:  # sent back as a result, like the local pool does
-        return "error", None, f"{type(exc).__name__}: {exc}"
+        return "error", None, error_reason(exc)
 
 
 def run_ray(
@@ -67,11 +69,11 @@ def run_ray(
                 i, t0 = in_flight.pop(ref)
                 try:
                     status, value, reason = ray.get(ref)
-                except ray.exceptions.RayError as exc:
+                except ray.exceptions.RayError:
                     status, value, reason = (
                         "crashed",
                         None,
-                        f"Ray task failed: {type(exc).__name__}",
+                        "the Ray task failed: its worker died or its result was lost",
                     )
                 yield i, status, value, reason, now - t0
             if timeout_s is not None:

@@ -32,6 +32,7 @@ __all__ = [
     "RunSpec",
     "parse_perturbation",
     "plan",
+    "recording_stems",
     "run_batch",
 ]
 
@@ -190,6 +191,38 @@ def plan(
                 )
                 specs.append(RunSpec(str(raw), digest, robot, k, params, opts))
     return specs
+
+
+def recording_stems(files: Sequence[str | Path]) -> dict[str, str]:
+    """A name per motion file for its recordings (``<name>.<robot>.<sample>.rrd``), unique
+    among ``files``: the file's stem (``wave``) where no other file has it, else its path below
+    the common folder of the files that share it, folders joined with ``-`` (``a-wave`` and
+    ``b-wave`` for ``a/wave.motion`` and ``b/wave.motion``). Names are compared without case
+    (a case-insensitive file system would merge ``Wave`` and ``wave``); a name still taken gets
+    a short hash of the file's absolute path. Keys are the paths as given (``str(path)``).
+    """
+    paths = list(dict.fromkeys(str(f) for f in files))
+    by_stem: dict[str, list[str]] = {}
+    for p in paths:
+        by_stem.setdefault(Path(p).stem.casefold(), []).append(p)
+    names: dict[str, str] = {}
+    for group in by_stem.values():
+        if len(group) == 1:
+            names[group[0]] = Path(group[0]).stem
+            continue
+        absolute = [os.path.abspath(p) for p in group]
+        root = os.path.commonpath([os.path.dirname(a) for a in absolute])
+        for p, a in zip(group, absolute, strict=True):
+            parts = Path(os.path.relpath(a, root)).with_suffix("").parts
+            names[p] = "-".join(parts)
+    taken: dict[str, int] = {}
+    for name in names.values():
+        taken[name.casefold()] = taken.get(name.casefold(), 0) + 1
+    for p, name in names.items():
+        if taken[name.casefold()] > 1:
+            digest = hashlib.sha256(os.path.abspath(p).encode()).hexdigest()[:8]
+            names[p] = f"{name}-{digest}"
+    return names
 
 
 def _classify(spec: RunSpec, status: str, value: Any, reason: str, wall_s: float) -> RunResult:

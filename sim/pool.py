@@ -13,14 +13,13 @@ import contextlib
 import multiprocessing as mp
 import sys
 import time
-import traceback
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any, Generic, TypeVar
 
-__all__ = ["Outcome", "run_pool"]
+__all__ = ["Outcome", "error_reason", "run_pool"]
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -58,9 +57,14 @@ def _worker(runner: Callable[[Any], Any], conn: Connection) -> None:
         try:
             conn.send((index, "done", runner(task), ""))
         except Exception as exc:  # reported to the parent, never lost
-            last = traceback.extract_tb(exc.__traceback__)[-1:]
-            where = f" ({last[0].filename}:{last[0].lineno})" if last else ""
-            conn.send((index, "error", None, f"{type(exc).__name__}: {exc}{where}"))
+            conn.send((index, "error", None, error_reason(exc)))
+
+
+def error_reason(exc: BaseException) -> str:
+    """One line for a report: the message the runner raised (a diagnostic such as
+    ``wave.motion:3:14: expected ...``), never the exception class or a source location."""
+    lines = str(exc).strip().splitlines()
+    return lines[0] if lines else "the run stopped on an unexpected error (no message)"
 
 
 @dataclass

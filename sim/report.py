@@ -34,8 +34,9 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "scene_contacts": [...same...],   # the robot touching anything but the floor
       "ground_contacts": [...same...],  # robot bodies other than the feet touching the floor
       "warnings": {"bad_qacc": 0, ...}, # MuJoCo warning counters over the run
-      "ignored_joints": ["..."]         # motion columns that are not motors of the robot
-    }
+      "ignored_joints": ["..."],        # motion columns that are not motors of the robot
+      "unplayed_files": ["..."]         # motions none of whose columns is a motor of the robot
+    }                                   #   (nothing of them was played: the run is not clean)
 
 Times are simulated seconds from the start of the run. No wall-clock time is reported: the same
 inputs give the same report, bit for bit.
@@ -45,6 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, field
+from pathlib import PurePath
 from typing import Any
 
 __all__ = [
@@ -147,6 +149,7 @@ class PlayReport:
     warnings: dict[str, int]
     ignored_joints: list[str] = field(default_factory=list)
     error: str | None = None
+    unplayed_files: list[str] = field(default_factory=list)
 
     @property
     def problems(self) -> list[str]:
@@ -154,6 +157,9 @@ class PlayReport:
         out = []
         if self.error:
             out.append(self.error)
+        for path in self.unplayed_files:  # every column ignored: the run tested nothing
+            what = "this motion" if len(self.files) <= 1 else f"{PurePath(path).name}"
+            out.append(f"no joint of {what} is a motor of {self.robot}: nothing was played")
         raised = {k: v for k, v in self.warnings.items() if v}
         if raised:
             out.append(
@@ -205,6 +211,7 @@ class PlayReport:
             "ground_contacts": [asdict(c) for c in self.ground_contacts],
             "warnings": dict(self.warnings),
             "ignored_joints": list(self.ignored_joints),
+            "unplayed_files": list(self.unplayed_files),
         }
         out: dict[str, Any] = _finite(doc)
         return out

@@ -25,16 +25,13 @@ _OPTION_OF = {
 
 
 def _retimed_copy(path: str, speed: float, directory: str) -> str:
-    """The motion played ``speed`` times faster (pose times divided by ``speed``, in ms)."""
+    """The motion played ``speed`` times faster: pose times as ``retime --speed`` writes them
+    (:func:`motiontool.motionfmt.transform.scale_times`, whole ms)."""
     from motiontool.motionfmt import load
+    from motiontool.motionfmt.transform import scale_times
 
     doc = load(path)
-    times = [int(t) for t in doc.motion.times_ms]
-    new: list[int] = []
-    for t in times:
-        ms = round(t / speed)
-        new.append(max(ms, new[-1] + 1) if new else ms)
-    doc.set_times(new)
+    doc.set_times(list(scale_times(doc.motion.times_ms.tolist(), speed).times_ms))
     out = Path(directory) / Path(path).name
     out.write_bytes(doc.to_bytes())
     return str(out)
@@ -52,10 +49,17 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
     if options.get("timestep_ms"):
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     kwargs["seed"] = spec.sample
-    robot = load_robot(spec.robot)
+    if spec.robot == "auto":  # no built-in robot fits: resolve_robot says why, as one line
+        from motiontool.motionfmt import read_motion
+        from motiontool.sim.play import resolve_robot
+
+        robot = resolve_robot("auto", [read_motion(spec.path)])
+    else:
+        robot = load_robot(spec.robot)
     rrd = None
     if options.get("rrd_dir"):
-        rrd = Path(options["rrd_dir"]) / f"{Path(spec.path).stem}.{robot.name}.{spec.sample}.rrd"
+        stem = options.get("rrd_name") or Path(spec.path).stem
+        rrd = Path(options["rrd_dir"]) / f"{stem}.{robot.name}.{spec.sample}.rrd"
     with tempfile.TemporaryDirectory() as tmp:
         path = spec.path
         if "speed" in params and params["speed"] != 1.0:

@@ -9,10 +9,12 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from typer.testing import CliRunner
 
+from motiontool.cli.app import app
 from motiontool.cli.batch_reports import render_json, render_markdown, render_summary, write_junit
 from motiontool.motionfmt import MotionToolError, read_motion
-from motiontool.sim.batch import RunSpec, parse_perturbation, plan, run_batch
+from motiontool.sim.batch import RunSpec, parse_perturbation, plan, recording_stems, run_batch
 
 CALLS: list[str] = []
 
@@ -100,3 +102,115 @@ def test_reports(motions: list[Path], tmp_path: Path) -> None:
     assert suite is not None and suite.get("tests") == "2" and suite.get("failures") == "1"
     failure = suite.find("testcase/failure")
     assert failure is not None and failure.get("message") == "fell at 0.5 s"
+
+
+def test_markdown_cells_escape_pipes_and_line_breaks(tmp_path: Path) -> None:
+    odd = tmp_path / "a|b.motion"
+    odd.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n2000,B,0.5\n")
+    batch = run_batch(plan([odd], ["nao"]), odd_runner, model_hash=lambda r: "h", jobs=1)
+    row = render_markdown(batch).splitlines()[4]
+    assert row.startswith("| `") and "a\\|b.motion" in row
+    assert row.endswith("| failed: fell \\| badly then &lt;b>crashed&lt;/b> |")
+    assert row.count("|") - row.count("\\|") == 6  # five cells, one row
+
+
+def odd_runner(spec: RunSpec) -> dict[str, Any]:
+    return {"clean": False, "reason": "fell | badly\nthen <b>crashed</b>"}
+
+
+def test_recording_names_are_unique_and_keep_the_stem_when_they_can(tmp_path: Path) -> None:
+    names = recording_stems(
+        ["x/a/wave.motion", "x/b/wave.motion", "x/c/Wave.motion", "y/bow.motion"]
+    )
+    assert names == {
+        "x/a/wave.motion": "a-wave",
+        "x/b/wave.motion": "b-wave",
+        "x/c/Wave.motion": "c-Wave",
+        "y/bow.motion": "bow",
+    }
+    # A name that the folder-joined form still shares gets a hash of its path.
+    clash = recording_stems(["x/a/wave.motion", "x/b/wave.motion", "x/a-wave.motion"])
+    assert len(set(clash.values())) == 3 and clash["x/b/wave.motion"] == "b-wave"
+    assert clash["x/a/wave.motion"].startswith("a-wave-")
+    assert clash["x/a-wave.motion"].startswith("a-wave-")
+
+
+def test_batch_keeps_one_recording_per_motion_when_names_collide(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    for folder, value in (("a", b"0.2"), ("b", b"-0.2")):
+        (tmp_path / folder).mkdir()
+        (tmp_path / folder / "wave.motion").write_bytes(
+            b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B," + value + b"\n"
+        )
+    (tmp_path / "bow.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch\n0,A,0\n200,B,0.2\n")
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(
+        app, ["batch", ".", "--no-cache", "--jobs", "1", "--rrd-dir", "rrd"]
+    )
+    assert result.exit_code == 0, result.output
+    # Before: both wave.motion runs wrote rrd/wave.nao.0.rrd, the second over the first.
+    assert sorted(p.name for p in (tmp_path / "rrd").iterdir()) == [
+        "a-wave.nao.0.rrd",
+        "b-wave.nao.0.rrd",
+        "bow.nao.0.rrd",
+    ]
+
+
+def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "good.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B,0.2\n")
+    (tmp_path / "typos.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYw,Foo,Bar\n0,A,0,0,0\n")
+    (tmp_path / "syntax.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,abc\n")
+    report = tmp_path / "report.json"
+    junit = tmp_path / "report.xml"
+    result = CliRunner().invoke(
+        app,
+        [
+            "batch",
+            str(tmp_path),
+            "--no-cache",
+            "-j",
+            "1",
+            "--json",
+            str(report),
+            "--junit",
+            str(junit),
+        ],
+    )
+    assert result.exit_code == 1, result.output  # was 2, before anything ran, and no report
+    doc = json.loads(report.read_text())
+    runs = {Path(r["spec"]["path"]).name: r for r in doc["runs"]}
+    assert runs["good.motion"]["status"] == "clean"
+    assert runs["typos.motion"]["status"] == "error"
+    assert runs["typos.motion"]["reason"].startswith(
+        "no built-in robot has half of the joints of the motion(s) or more; pass --robot"
+    )
+    assert runs["syntax.motion"]["status"] == "error"
+    assert runs["syntax.motion"]["reason"] == (
+        f"{tmp_path / 'syntax.motion'}:2:5: expected a number or '*' for HeadYaw, found 'abc'"
+        " [MT108]"
+    )
+    for r in doc["runs"]:  # the diagnostic only: no exception class, no source path
+        assert "Error:" not in r["reason"] and ".py" not in r["reason"]
+    suite = ET.parse(junit).getroot().find("testsuite")
+    assert suite is not None and suite.get("tests") == "3" and suite.get("errors") == "2"
+
+
+def test_speed_perturbation_retimes_as_retime_speed_does(tmp_path: Path) -> None:
+    from motiontool.motionfmt.transform import scale_times
+    from motiontool.sim.runs import _retimed_copy
+
+    src = tmp_path / "m.motion"
+    src.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n5,B,0.1\n16,C,0.2\n")
+    out = tmp_path / "out"
+    out.mkdir()
+    batch_times = read_motion(_retimed_copy(str(src), 2.0, str(out))).times_ms.tolist()
+    result = CliRunner().invoke(
+        app, ["retime", str(src), "--speed", "2", "-o", str(tmp_path / "r.motion")]
+    )
+    assert result.exit_code == 0, result.output
+    retime_times = read_motion(str(tmp_path / "r.motion")).times_ms.tolist()
+    # 5 / 2 = 2.5 ms: batch rounded it to even (2), retime half up (3).
+    assert batch_times == retime_times == list(scale_times([0, 5, 16], 2.0).times_ms) == [0, 3, 8]

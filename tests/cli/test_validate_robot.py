@@ -32,7 +32,8 @@ def invoke(*args: str) -> tuple[int, str, str]:
 def test_salute_with_twelve_values_is_rejected() -> None:
     code, out, _ = invoke("validate", str(SALUTE))
     assert code == 1
-    assert not out.startswith("robot:")  # Webots rejects it: no robot check ran
+    # Webots rejects it: no robot check ran, and the robot line says so.
+    assert out.splitlines()[0] == "robot: not checked against a robot: 1 file Webots rejects"
     assert f"{SALUTE}:2:47: error MT110: expected 11 values (one per joint), found 12" in out
     assert out.endswith("checked 1 file: 1 error, 0 warnings, 0 notes\n")
 
@@ -84,6 +85,41 @@ def test_auto_is_the_default_and_says_which_robot_per_file(tmp_path: Path) -> No
     )
     assert "info MT901: robot checks skipped" in out
     assert "hint: name the robot with --robot" in out
+
+
+def test_a_typo_in_a_joint_name_keeps_the_robot_checks(tmp_path: Path) -> None:
+    typo = tmp_path / "typo.motion"
+    typo.write_bytes(
+        b"#WEBOTS_MOTION,V1.0,RShoulderPitch,RShoulderRoll,RElbowYaw,RElbowRol\n"
+        b"00:00:000,A,0,0,0,0\n00:00:500,B,-3,-0.3,1,2\n"
+    )
+    code, out, _ = invoke("validate", "--strict", str(typo))
+    assert code == 1  # was 0: no robot detected, every robot check skipped
+    assert out.startswith("robot: nao (20 ms controller step")
+    assert (
+        f"{typo}:1:60: warning MT301: unknown joint 'RElbowRol' for robot nao; did you mean"
+        " 'RElbowRoll'?" in out
+    )
+    assert f"{typo}:3:13: error MT302: RShoulderPitch = -3 rad" in out  # the joints it has
+
+
+def test_files_webots_rejects_are_listed_as_unchecked(tmp_path: Path) -> None:
+    (tmp_path / "a.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n")
+    (tmp_path / "b.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,abc\n")
+    (tmp_path / "c.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,wheel\n0,P,0\n")
+    code, out, _ = invoke("validate", "--checks", "limits", str(tmp_path))
+    assert code == 1
+    assert out.splitlines()[0] == (
+        f"robot: nao (1 file, 20 ms controller step, model sha256 {NAO_HASH[:12]}); none for 1"
+        " file (MT901); checks: limits; not checked against a robot: 1 file Webots rejects"
+    )
+    code, out, _ = invoke("validate", "--checks", "limits", "-f", "json", str(tmp_path))
+    doc = json.loads(out)
+    assert doc["robot"]["unchecked_files"] == [
+        str(tmp_path / "b.motion"),
+        str(tmp_path / "c.motion"),
+    ]
+    assert doc["robot"]["robots"][0]["files"] == [str(tmp_path / "a.motion")]
 
 
 def test_json_report_stamps_the_robot_and_its_model_hash() -> None:
@@ -262,3 +298,15 @@ def test_installed_script_lists_robots_and_validates_with_one() -> None:
     assert "error MT302: RElbowRoll = 0 rad at 2000 ms" in proc.stdout
     proc = subprocess.run([script, "robots"], capture_output=True, text=True, check=False)
     assert proc.returncode == 0 and proc.stdout.startswith("nao ")
+
+
+def test_self_collision_hint_names_the_robot_in_use(tmp_path: Path) -> None:
+    fold = tmp_path / "fold.motion"
+    fold.write_bytes(b"#WEBOTS_MOTION,V1.0,elbow_joint\n0,A,0\n1000,B,3.0\n")
+    code, out, _ = invoke("validate", "--robot", "ur5e", "--checks", "collision", str(fold))
+    assert code == 0 and "warning MT307: forearm_link and shoulder_link overlap" in out
+    hints = {line for line in out.splitlines() if "hint:" in line}
+    assert len(hints) == 1  # the same hint under each of the overlapping pairs
+    (hint,) = hints
+    assert "Nao" not in hint  # was "(Webots' Nao has selfCollision off)" on every robot
+    assert hint.endswith("the real ur5e does not")
