@@ -103,6 +103,10 @@ def test_built_wheel_contains_every_subpackage(tmp_path: Path) -> None:
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())
     for package in config["tool"]["setuptools"]["packages"]:
         assert package.replace(".", "/") + "/__init__.py" in names
+    schema_files = sorted((ROOT / "cli" / "schemas").glob("*.schema.json"))
+    assert schema_files
+    for schema in schema_files:  # package data: the JSON Schemas of the reports
+        assert f"motiontool/cli/schemas/{schema.name}" in names
     assert not any(
         n.startswith(("motiontool/tests/", "motiontool/benchmarks/", "tests/")) for n in names
     )

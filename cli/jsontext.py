@@ -1,0 +1,82 @@
+"""JSON text of a report, always valid UTF-8, with the file's undecodable bytes made visible.
+
+Names read from a file (joints, poses) and paths from the file system keep bytes that are not
+UTF-8 as lone surrogates (Python's ``surrogateescape``), so that a command writing a motion
+gives the bytes back unchanged. JSON must be UTF-8 text: here each such byte becomes the four
+characters ``\\xNN`` (``b"Head\\xffYaw"`` reads ``"Head\\\\xffYaw"`` in the JSON source), and
+the document says how many bytes were escaped in a top-level ``escaped_bytes`` field (present
+only when there were any).
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from typing import Any
+
+__all__ = ["ESCAPED_BYTES", "dumps", "escape_undecodable"]
+
+ESCAPED_BYTES = "escaped_bytes"
+"""The top-level field that counts the bytes written as ``\\xNN`` (absent when none were)."""
+
+_SURROGATE = re.compile("[\udc80-\udcff]")
+_LONE = re.compile("[\ud800-\udfff]")
+
+
+def _escape(text: str) -> tuple[str, int]:
+    if not _LONE.search(text):
+        return text, 0
+    count = 0
+
+    def byte(m: re.Match[str]) -> str:
+        nonlocal count
+        count += 1
+        return f"\\x{ord(m.group()) - 0xDC00:02x}"
+
+    text = _SURROGATE.sub(byte, text)
+    # Any other lone surrogate cannot come from a byte: replace it (U+FFFD) so the text encodes.
+    text, other = _LONE.subn("\ufffd", text)
+    return text, count + other
+
+
+def escape_undecodable(value: Any) -> tuple[Any, int]:
+    """``value`` (JSON types) with every undecodable byte in its strings written as ``\\xNN``,
+    and how many were."""
+    if isinstance(value, str):
+        return _escape(value)
+    if isinstance(value, dict):
+        out: dict[str, Any] = {}
+        total = 0
+        for k, v in value.items():
+            key, n = _escape(k) if isinstance(k, str) else (k, 0)
+            out[key], m = escape_undecodable(v)
+            total += n + m
+        return out, total
+    if isinstance(value, list | tuple):
+        items = []
+        total = 0
+        for v in value:
+            item, n = escape_undecodable(v)
+            items.append(item)
+            total += n
+        return items, total
+    return value, 0
+
+
+def dumps(
+    doc: dict[str, Any],
+    *,
+    indent: int | None = 2,
+    count_field: bool = True,
+    allow_nan: bool = True,
+) -> str:
+    """``doc`` as JSON text (one trailing newline) that always encodes as strict UTF-8.
+
+    With ``count_field``, a document where bytes had to be escaped gets ``escaped_bytes``
+    (their number) as its last top-level field. ``allow_nan=False`` raises ``ValueError`` on a
+    non-finite float (JSON has none), as :func:`json.dumps` does.
+    """
+    clean, count = escape_undecodable(doc)
+    if count and count_field:
+        clean[ESCAPED_BYTES] = count
+    return json.dumps(clean, indent=indent, ensure_ascii=False, allow_nan=allow_nan) + "\n"

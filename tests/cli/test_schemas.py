@@ -1,0 +1,168 @@
+"""The JSON Schemas shipped in the package, checked against REAL output of every command."""
+
+from __future__ import annotations
+
+import copy
+import json
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import pytest
+from conftest import DATA, golden
+from typer.testing import CliRunner
+
+from motiontool.cli import schemas
+from motiontool.cli.app import app
+
+runner = CliRunner()
+
+NOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:040,B,0.1,-0.1\n"
+NOD2 = b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYaw\n00:00:000,A,0,0\n00:00:040,B,-0.1,*\n00:00:080,C,0,0.2\n"
+BAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:040,Pose2,-1.5,abc\n"
+WARN = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:01:000,Pose1,0.5\n"
+OUT_OF_LIMITS = b"#WEBOTS_MOTION,V1.0,HeadYaw,NotAJoint\n0,A,0,0\n500,B,3,1\n"
+
+
+def errors(doc: Any, name: str) -> list[str]:
+    """Every way ``doc`` breaks schema ``name`` (empty when it conforms)."""
+    schema = schemas.load(name)
+    validator = jsonschema.Draft202012Validator(schema)
+    return [f"{list(e.absolute_path)}: {e.message}" for e in validator.iter_errors(doc)]
+
+
+def run_json(*args: str, exit_codes: tuple[int, ...] = (0, 1)) -> Any:
+    result = runner.invoke(app, list(args))
+    assert result.exit_code in exit_codes, result.output
+    return json.loads(result.stdout)
+
+
+@pytest.fixture
+def files(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    for name, data in {
+        "nod.motion": NOD,
+        "nod2.motion": NOD2,
+        "bad.motion": BAD,
+        "warn.motion": WARN,
+        "limits.motion": OUT_OF_LIMITS,
+    }.items():
+        (tmp_path / name).write_bytes(data)
+    return tmp_path
+
+
+@pytest.mark.parametrize("name", schemas.NAMES)
+def test_every_schema_is_a_valid_draft_2020_12_schema(name: str) -> None:
+    schema = schemas.load(name)
+    jsonschema.Draft202012Validator.check_schema(schema)
+    assert schema["$schema"] == "https://json-schema.org/draft/2020-12/schema"
+    assert schema["properties"]["schema"] == {"const": f"motiontool.{name}"}
+    assert "escaped_bytes" in schema["properties"]
+
+
+def test_load_names_the_schemas_on_a_typo() -> None:
+    with pytest.raises(ValueError, match="schemas: validate, info, sample, diff, play, batch"):
+        schemas.load("valdate")
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["."],
+        ["--robot", "none", "."],
+        ["--checks", "limits,velocity", "--timestep", "20", "limits.motion", "bad.motion"],
+    ],
+    ids=["auto", "robot-none", "limits"],
+)
+def test_validate_json_conforms(files: Path, args: list[str]) -> None:
+    doc = run_json("validate", "--format", "json", *args)
+    assert doc["summary"]["errors"] >= 1
+    assert errors(doc, "validate") == []
+
+
+def test_validate_json_of_every_golden_invalid_file_conforms(tmp_path: Path) -> None:
+    invalid = golden("invalid")
+    assert invalid
+    doc = run_json("validate", "--robot", "none", "--format", "json", *map(str, invalid))
+    assert len(doc["files"]) == len(invalid)
+    assert errors(doc, "validate") == []
+
+
+def test_the_schema_catches_a_wrong_type_and_a_missing_key(files: Path) -> None:
+    doc = run_json("validate", "--format", "json", "bad.motion")
+    broken = copy.deepcopy(doc)
+    broken["summary"]["errors"] = "1"
+    assert any("summary" in e for e in errors(broken, "validate"))
+    broken = copy.deepcopy(doc)
+    del broken["files"][0]["diagnostics"][0]["severity"]
+    assert any("'severity' is a required property" in e for e in errors(broken, "validate"))
+    broken = copy.deepcopy(doc)
+    broken["files"][0]["diagnostics"][0]["severity"] = "fatal"
+    assert errors(broken, "validate")
+    # Objects meant to grow admit new fields; a closed one does not.
+    grown = copy.deepcopy(doc)
+    grown["files"][0]["diagnostics"][0]["fix"] = {"text": "0"}
+    assert errors(grown, "validate") == []
+    grown["summary"]["skipped"] = 0
+    assert errors(grown, "validate")
+
+
+def test_info_json_conforms(files: Path) -> None:
+    for name in ("nod.motion", "nod2.motion", "warn.motion"):
+        assert errors(run_json("info", "--format", "json", name), "info") == []
+
+
+def test_sample_json_conforms(files: Path) -> None:
+    doc = run_json("sample", "--format", "json", "-t", "20", "nod2.motion")
+    assert None in doc["targets"][1]  # '*': no command
+    assert errors(doc, "sample") == []
+    doc = run_json(
+        "sample", "--format", "json", "-t", "20", "--reverse", "--loop", "2", "nod.motion"
+    )
+    assert errors(doc, "sample") == []
+
+
+def test_diff_json_conforms(files: Path) -> None:
+    doc = run_json("diff", "--format", "json", "nod.motion", "nod2.motion")
+    assert doc["same"] is False
+    assert errors(doc, "diff") == []
+    doc = run_json("diff", "--format", "json", "nod.motion", "nod.motion")
+    assert doc["same"] is True
+    assert errors(doc, "diff") == []
+
+
+def test_play_json_conforms(files: Path) -> None:
+    result = runner.invoke(
+        app,
+        ["play", "--headless", "--hold", "0", "--json", "run.json", "nod.motion", "nod2.motion"],
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(Path("run.json").read_text())
+    assert doc["control_steps"] > 0 and doc["base"] is not None
+    assert errors(doc, "play") == []
+    # A run that could not start has a short report of its own.
+    result = runner.invoke(app, ["play", "--headless", "--json", "bad.json", "bad.motion"])
+    assert result.exit_code == 2
+    doc = json.loads(Path("bad.json").read_text())
+    assert doc["exit_code"] == 2
+    assert errors(doc, "play") == []
+    del doc["error"]
+    assert errors(doc, "play")
+
+
+def test_batch_json_conforms(files: Path) -> None:
+    result = runner.invoke(
+        app, ["batch", "nod.motion", "--jobs", "1", "--no-cache", "--json", "batch.json"]
+    )
+    assert result.exit_code == 0, result.output
+    doc = json.loads(Path("batch.json").read_text())
+    assert errors(doc, "batch") == []
+    (run,) = doc["runs"]
+    assert run["status"] == "clean"
+    assert errors(run["report"], "play") == []  # each report is a play report
+
+
+def test_the_docs_point_at_every_schema() -> None:
+    doc = (DATA.parent.parent / "docs" / "json-report.md").read_text()
+    for name in schemas.NAMES:
+        assert f"`{name}.schema.json`" in doc
