@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextvars
 import functools
 import sys
+import traceback
 from collections.abc import Callable
 from typing import Annotated, Any, TypeVar
 
@@ -25,6 +26,7 @@ from motiontool.cli import (
     sample,
     validate,
 )
+from motiontool.cli.color import set_no_color
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["app", "main"]
@@ -40,7 +42,7 @@ app = typer.Typer(
         "Exit codes: 0 clean, 1 findings (or a failed run), 2 usage or I/O error."
     ),
     no_args_is_help=True,
-    add_completion=False,
+    add_completion=True,
     pretty_exceptions_enable=False,
     rich_markup_mode=None,
     context_settings={"help_option_names": ["-h", "--help"]},
@@ -48,7 +50,8 @@ app = typer.Typer(
 
 
 def _guard(func: F) -> F:
-    """Turn a :class:`MotionToolError` into one line on stderr and exit code 2."""
+    """Turn a :class:`MotionToolError` into one line on stderr and exit code 2 (with
+    ``--debug``, the traceback first, then the same line and exit code)."""
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -56,7 +59,7 @@ def _guard(func: F) -> F:
             return func(*args, **kwargs)
         except MotionToolError as exc:
             if _debug.get():
-                raise
+                traceback.print_exc(file=sys.stderr)
             typer.echo(f"motiontool: error: {exc}", err=True)
             raise typer.Exit(2) from None
 
@@ -71,17 +74,34 @@ def _version(value: bool) -> None:
 
 @app.callback()
 def _root(
+    ctx: typer.Context,
     debug: Annotated[
-        bool, typer.Option("--debug", help="Show a traceback instead of a one-line error.")
+        bool,
+        typer.Option("--debug", help="Print an error's traceback before its one-line message."),
     ] = False,
     version: Annotated[
         bool,
         typer.Option(
-            "--version", callback=_version, is_eager=True, help="Print the version and exit."
+            "--version",
+            "-V",
+            callback=_version,
+            is_eager=True,
+            help="Print the version and exit.",
+        ),
+    ] = False,
+    no_color: Annotated[
+        bool,
+        typer.Option(
+            "--no-color",
+            help="No ANSI colours, even on a terminal (also: the NO_COLOR environment variable). "
+            "Files and pipes never get colours.",
         ),
     ] = False,
 ) -> None:
     _debug.set(debug)
+    set_no_color(no_color)  # see motiontool.cli.color
+    if no_color:
+        ctx.color = False  # and typer.echo strips colour in the sub-command's context too
 
 
 _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
@@ -106,6 +126,8 @@ def main() -> None:
     """Console entry point."""
     try:
         app(prog_name="motiontool")
-    except MotionToolError as exc:  # raised outside a command (only with --debug it escapes)
+    except MotionToolError as exc:  # raised outside a command (commands go through _guard)
+        if _debug.get():
+            traceback.print_exc(file=sys.stderr)
         typer.echo(f"motiontool: error: {exc}", err=True)
         sys.exit(2)

@@ -8,6 +8,8 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli.jsontext import dumps
+from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.resample import Format, FormatOption
 from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.compare import (
@@ -17,8 +19,7 @@ from motiontool.motionfmt.compare import (
     compare_motions,
     held_targets,
 )
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.reader import read_bytes
 
@@ -27,6 +28,11 @@ __all__ = ["diff_command"]
 
 def _num(x: float) -> str:
     return f"{x:.6g}"
+
+
+def _short(path: Path) -> str:
+    """A file's name for a plot title (``<stdin>`` for ``-``)."""
+    return source_name(path) if str(path) == "-" else path.name
 
 
 def _ordered(diff: MotionDiff) -> list[JointDiff]:
@@ -54,11 +60,12 @@ def _text(diff: MotionDiff, old: Path, new: Path) -> str:
     how = f"every joint within {_num(diff.tolerance)} rad, compared every {diff.timestep_ms} ms"
     lines = []
     if diff.same:
-        lines.append(f"same: {old} and {new} command the same motion ({how})")
-    else:
         lines.append(
-            f"different: {old} -> {new} ({how.replace('every joint within', 'tolerance')})"
+            f"same: {source_name(old)} and {source_name(new)} command the same motion ({how})"
         )
+    else:
+        tolerance = how.replace("every joint within", "tolerance")
+        lines.append(f"different: {source_name(old)} -> {source_name(new)} ({tolerance})")
     if diff.added:
         lines.append(f"joints added: {', '.join(diff.added)}")
     if diff.removed:
@@ -88,8 +95,8 @@ def _json(diff: MotionDiff, old: Path, new: Path) -> str:
         "schema": "motiontool.diff",
         "schema_version": 1,
         "stamps": stamps(),
-        "old": str(old),
-        "new": str(new),
+        "old": source_name(old),
+        "new": source_name(new),
         "same": diff.same,
         "units": {
             "tolerance": "rad (m for linear joints)",
@@ -109,7 +116,7 @@ def _json(diff: MotionDiff, old: Path, new: Path) -> str:
         "changed": [j.joint for j in _ordered(diff)],
         "joints": [j.to_json() for j in diff.joints],
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return dumps(doc)
 
 
 def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Path) -> None:
@@ -128,7 +135,7 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
         {n: held_a[:, k] for k, n in enumerate(joints)},
         {n: held_b[:, k] for k, n in enumerate(joints)},
         joints,
-        title=f"{old.name} -> {new.name}: {verdict} (tolerance {_num(diff.tolerance)} rad)",
+        title=f"{_short(old)} -> {_short(new)}: {verdict} (tolerance {_num(diff.tolerance)} rad)",
         caption=f"motiontool {stamps()['motiontool']}\nheld targets every {diff.timestep_ms} ms:"
         " old grey, new blue, difference shaded red",
         comment=json.dumps(stamps(), sort_keys=True),
@@ -137,8 +144,12 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
 
 
 def diff_command(
-    old: Annotated[Path, typer.Argument(help="The old motion file.", show_default=False)],
-    new: Annotated[Path, typer.Argument(help="The new motion file.", show_default=False)],
+    old: Annotated[
+        Path, typer.Argument(help="The old motion file ('-': stdin).", show_default=False)
+    ],
+    new: Annotated[
+        Path, typer.Argument(help="The new motion file ('-': stdin).", show_default=False)
+    ],
     tolerance: Annotated[
         float,
         typer.Option(
@@ -168,10 +179,9 @@ def diff_command(
     Re-spelt numbers, re-spaced keyframes on the same lines and re-ordered columns are the same
     motion. Exit code 0 same within --tolerance, 1 different, 2 error.
     """
-    if plot is not None and plot.exists() and plot.resolve() in (old.resolve(), new.resolve()):
-        raise MotionToolError(f"--plot '{plot}' is an input file; write the PNG to another file")
-    a = read_bytes(read_file(old), str(old)).motion
-    b = read_bytes(read_file(new), str(new)).motion
+    refuse_overwrite(plot, [old, new], "--plot", "write the PNG to another file")
+    a = read_bytes(read_file(old), source_name(old)).motion
+    b = read_bytes(read_file(new), source_name(new)).motion
     diff = compare_motions(a, b, timestep_ms=timestep, tolerance=tolerance)
     text = _json(diff, old, new) if format is Format.json else _text(diff, old, new)
     typer.echo(text, nl=False)

@@ -3,21 +3,36 @@
 from __future__ import annotations
 
 import dataclasses
-import json
+import shlex
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import TableFormat
 from motiontool.cli.stamps import stamps
-from motiontool.motionfmt.fileio import read_file
+from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.summary import MotionSummary, summarize
 
 __all__ = ["info_command"]
 
 
-def _text(s: MotionSummary) -> str:
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}{'' if n == 1 else 's'}"
+
+
+def _findings(s: MotionSummary, arg: str) -> str:
+    """The counts ``validate --robot none`` gives, by severity, and how to list them."""
+    counts = ", ".join(
+        [_plural(s.errors, "error"), _plural(s.warnings, "warning"), _plural(s.notes, "note")]
+    )
+    return (
+        f"{counts} (syntax only; 'motiontool validate --robot none {shlex.quote(arg)}' lists them)"
+    )
+
+
+def _text(s: MotionSummary, arg: str) -> str:
     rows = [
         (
             "file",
@@ -47,25 +62,28 @@ def _text(s: MotionSummary) -> str:
     )
     if s.ignored_after_line is not None:
         rows.append(("ignored", f"everything after the blank line {s.ignored_after_line}"))
-    rows.append(("findings", f"{s.warnings} (run 'motiontool validate {s.path}')"))
+    rows.append(("findings", _findings(s, arg)))
     width = max(len(k) for k, _ in rows)
     return "\n".join(f"{k:<{width}}  {v}" for k, v in rows) + "\n"
 
 
 def info_command(
-    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
     format: Annotated[
         TableFormat, typer.Option("--format", "-f", help="text or json (csv is not offered).")
     ] = TableFormat.text,
 ) -> None:
-    """Joints, poses, duration, pose spacing and undefined cells of a motion file."""
-    s = summarize(read_file(path), str(path))
+    """Joints, poses, duration, pose spacing and undefined cells of a motion file, and the
+    count of what 'validate --robot none' finds in it (errors, warnings, notes)."""
+    s = summarize(read_file(path), source_name(path))
     if format is TableFormat.json:
-        doc = {"schema": "motiontool.info", "schema_version": 1, "stamps": stamps()}
+        # schema 2: "warnings" counts warnings only (1 counted every finding), with "errors"
+        # and "notes" beside it.
+        doc = {"schema": "motiontool.info", "schema_version": 2, "stamps": stamps()}
         doc.update(dataclasses.asdict(s))
         doc["units"] = {"first_ms": "ms", "duration_ms": "ms", "spacing_ms": "ms"}
-        typer.echo(json.dumps(doc, indent=2, ensure_ascii=False))
+        typer.echo(dumps(doc), nl=False)
     elif format is TableFormat.csv:
         raise typer.BadParameter("info prints text or json", param_hint="--format")
     else:
-        typer.echo(_text(s), nl=False)
+        typer.echo(_text(s, str(path)), nl=False)

@@ -3,16 +3,17 @@
 from __future__ import annotations
 
 import enum
-import json
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from motiontool.cli.output import emit
+from motiontool.cli.jsontext import dumps
+from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import source_name
 
 if TYPE_CHECKING:
     from motiontool.sim.report import ContactSummary, PlayReport
@@ -49,7 +50,9 @@ def render_text(report: PlayReport) -> str:
     """The summary for people: the outcome, the robot, the feet, contacts, then one row per
     commanded joint."""
     stamps_ = report.stamps
-    names = " + ".join(Path(f.path).name for f in report.files)
+    names = " + ".join(
+        source_name(f.path) if f.path == "-" else Path(f.path).name for f in report.files
+    )
     lines = [
         f"{names} on {report.robot}: {report.simulated_s:.2f} s simulated "
         f"({report.control_steps} control steps of {stamps_.get('control_step_ms')} ms, "
@@ -106,19 +109,21 @@ def _error_json(message: str, files: list[Path], doc_stamps: dict[str, Any]) -> 
         "schema": "motiontool.play",
         "schema_version": 1,
         "stamps": doc_stamps,
-        "files": [{"path": str(f)} for f in files],
+        "files": [{"path": source_name(f)} for f in files],
         "clean": False,
         "exit_code": 2,
         "reason": message,
         "error": message,
     }
-    return json.dumps(doc, ensure_ascii=False, indent=1) + "\n"
+    return dumps(doc, indent=1)
 
 
 def play_command(
     files: Annotated[
         list[Path],
-        typer.Argument(help="Motion files, played one after another.", show_default=False),
+        typer.Argument(
+            help="Motion files, played one after another ('-': stdin).", show_default=False
+        ),
     ],
     headless: Annotated[
         bool, typer.Option("--headless", help="Run without a viewer (the only mode there is).")
@@ -143,7 +148,9 @@ def play_command(
     ] = None,
     robot: Annotated[
         str,
-        typer.Option("--robot", help="auto, nao, nao-v5, ur5e, a .urdf/.xml model or erd:<name>."),
+        typer.Option(
+            "--robot", "-r", help="auto, nao, nao-v5, ur5e, a .urdf/.xml model or erd:<name>."
+        ),
     ] = "auto",
     start: Annotated[
         Start, typer.Option("--start", help="Start standing, or lying face down.")
@@ -166,6 +173,8 @@ def play_command(
             "only headless playback exists (there is no viewer); pass --headless, and --rrd "
             "to look at the run in Rerun"
         )
+    refuse_overwrite(json_path, files, "--json")
+    refuse_overwrite(rrd, files, "--rrd")
     from motiontool.motionfmt import read_motion
     from motiontool.sim.play import PlayOptions, play, resolve_robot
 
@@ -198,6 +207,6 @@ def play_command(
             err=True,
         )
     if json_path is not None:
-        emit(json.dumps(report.to_json(), ensure_ascii=False, indent=1) + "\n", json_path)
-    typer.echo(render_text(report), nl=False)
+        emit(dumps(report.to_json(), indent=1), json_path)
+    emit(render_text(report), None)  # names keep the file's bytes (no UnicodeEncodeError)
     raise typer.Exit(report.exit_code)

@@ -8,11 +8,11 @@ from typing import Annotated
 
 import typer
 
+from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.stamps import stamps
 from motiontool.kinematics.robots import RobotSpec, detect_robot, load_robot
 from motiontool.motionfmt.compare import held_targets
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
 
 __all__ = ["plot_command"]
@@ -30,7 +30,7 @@ def _robot(name: str, joints: tuple[str, ...]) -> RobotSpec | None:
 
 
 def plot_command(
-    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
     output: Annotated[
         Path, typer.Option("--output", "-o", help="The PNG file to write.", show_default=False)
     ],
@@ -54,16 +54,16 @@ def plot_command(
         ),
     ] = None,
 ) -> None:
-    """Draw every joint over time into a PNG: grouped by limb for the Nao, the robot's limits as
-    dashed lines with the out-of-range bands shaded, values outside them marked x and segments
-    faster than maxVelocity drawn thick red; dotted where a joint gets no command ('*') and
-    holds its previous target. Deterministic (same input, same bytes), no display needed.
+    """Draw every joint over time into a PNG: grouped by limb (head, arms, legs, hands for the
+    Nao; arm, wrist for the UR5e), the robot's limits as dashed lines with the out-of-range
+    bands shaded, values outside them marked x and segments faster than maxVelocity drawn thick
+    red; dotted where a joint gets no command ('*') and holds its previous target.
+    Deterministic (same input, same bytes), no display needed.
     """
     from motiontool.cli._plotting import JointLimits, limb_groups, plot_motion
 
-    if output.exists() and output.resolve() == path.resolve():
-        raise MotionToolError(f"-o '{output}' is the input file; write the PNG to another file")
-    motion = read_bytes(read_file(path), str(path)).motion
+    refuse_overwrite(output, [path], "-o", "write the PNG to another file")
+    motion = read_bytes(read_file(path), source_name(path)).motion
     spec = _robot(robot, motion.joints)
     limits = {}
     if spec is not None:
@@ -78,13 +78,14 @@ def plot_command(
     groups = limb_groups(
         motion.joints, spec.name if spec else None, spec.joint_names if spec else ()
     )
+    name = source_name(path) if str(path) == "-" else path.name
     who = f"robot {spec.name} (model {spec.model_hash[:12]})" if spec else "no robot: no limits"
     png, n_limit, n_fast = plot_motion(
         motion,
         groups=groups,
         limits=limits,
         held=(elapsed, {n: held[:, k] for k, n in enumerate(names)}),
-        title=f"{path.name}: {len(names)} joints, {motion.n_poses} poses, {motion.duration_ms} ms",
+        title=f"{name}: {len(names)} joints, {motion.n_poses} poses, {motion.duration_ms} ms",
         caption=f"{who} | motiontool {stamps()['motiontool']}\n"
         "dashed: joint range, shaded beyond · x: outside the range · thick red: above "
         f"maxVelocity · dotted: target held over '*' ({step} ms step)",
@@ -94,7 +95,7 @@ def plot_command(
     if spec is None:
         findings = "no robot limits drawn"
         if robot == "auto":
-            findings += " (no built-in robot has every joint; name one with --robot)"
+            findings += " (no built-in robot has half of the joints or more; name one with --robot)"
     else:
         findings = (
             f"{n_limit} keyframe value{'' if n_limit == 1 else 's'} outside the limits, "

@@ -8,18 +8,18 @@ from __future__ import annotations
 
 import enum
 import json
-import os
 import sys
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli.output import refuse_overwrite, same_file
 from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.compare import MotionDiff
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file, source_name
 from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
 
 __all__ = [
@@ -58,25 +58,23 @@ Output = Annotated[
 InPlace = Annotated[bool, typer.Option("--in-place", help="Replace the input file (atomically).")]
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        return os.path.samefile(a, b)
-    except OSError:
-        return a.resolve() == b.resolve()
-
-
 def output_target(path: Path, output: Path | None, in_place: bool) -> Path | None:
     """Where to write the result of transforming ``path``: a file, or None for stdout.
 
     Raises :class:`MotionToolError` when neither ``-o`` nor ``--in-place`` is given, when ``-o``
-    names the input without ``--in-place``, or when both name different files.
+    names the input (or a symlink or hard link to it) without ``--in-place``, when both name
+    different files, or for ``--in-place`` on standard input (``-``).
     """
+    if in_place and is_stdin(path):
+        raise MotionToolError(
+            "--in-place cannot replace standard input ('-'); give -o FILE, or -o - for stdout"
+        )
     if output is not None and str(output) == "-":
         if in_place:
             raise MotionToolError("--in-place writes the input file; do not give -o - with it")
         return None
     if in_place:
-        if output is not None and not _same_file(output, path):
+        if output is not None and not same_file(output, path):
             raise MotionToolError(
                 f"--in-place writes '{path}'; -o names another file '{output}': give one of them"
             )
@@ -86,17 +84,16 @@ def output_target(path: Path, output: Path | None, in_place: bool) -> Path | Non
             f"say where to write the result: -o FILE, -o - for stdout, or --in-place to "
             f"replace '{path}'"
         )
-    if output.exists() and _same_file(output, path):
-        raise MotionToolError(
-            f"-o '{output}' is the input file; add --in-place to overwrite it, "
-            "or write to another file"
-        )
+    refuse_overwrite(
+        output, [path], "-o", "add --in-place to overwrite it, or write to another file"
+    )
     return output
 
 
 def load_input(path: Path) -> MotionDocument:
-    """The input as a lossless document (:class:`MotionSyntaxError` where Webots rejects it)."""
-    return loads(read_file(path), str(path))
+    """The input as a lossless document (:class:`MotionSyntaxError` where Webots rejects it);
+    ``-`` reads standard input."""
+    return loads(read_file(path), source_name(path))
 
 
 def write_result(doc: MotionDocument, target: Path | None) -> None:
@@ -162,7 +159,8 @@ def _plural(n: int, word: str) -> str:
 def _text(r: Resampled, source: Path, target: Path | None, max_error: float | None) -> str:
     dest = "stdout" if target is None else str(target)
     old_poses = r.deviation.old_poses
-    lines = [f"resampled {source} -> {dest}: {old_poses} -> {r.deviation.new_poses} poses"]
+    poses = f"{old_poses} -> {r.deviation.new_poses} poses"
+    lines = [f"resampled {source_name(source)} -> {dest}: {poses}"]
     if r.step_ms is not None:
         if r.grid_has_keyframes:
             lines.append(
@@ -187,7 +185,7 @@ def _json(r: Resampled, source: Path, target: Path | None, max_error: float | No
         "schema": "motiontool.resample",
         "schema_version": 1,
         "stamps": stamps(),
-        "input": str(source),
+        "input": source_name(source),
         "output": None if target is None else str(target),
         "units": {"step_ms": "ms", "max_error": "rad (m for linear joints)", "max_delta": "rad"},
         "step_ms": r.step_ms,
@@ -204,7 +202,7 @@ def _json(r: Resampled, source: Path, target: Path | None, max_error: float | No
 
 
 def resample_command(
-    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
     step: Annotated[
         int | None,
         typer.Option(

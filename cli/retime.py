@@ -24,6 +24,7 @@ from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import (
     DEFAULT_MARGIN,
@@ -49,7 +50,7 @@ def _robot(name: str | None, joints: tuple[str, ...]) -> RobotSpec:
             raise MotionToolError(
                 "no built-in robot ("
                 + ", ".join(builtin_robots())
-                + ") has every joint of this motion; name one with --robot"
+                + ") has half of the joints of this motion or more; name one with --robot"
             )
         name = found
     return load_robot(name)
@@ -82,7 +83,7 @@ def _stretch_lines(r: Retimed) -> list[str]:
 
 
 def retime_command(
-    path: Annotated[Path, typer.Argument(help="A motion file.", show_default=False)],
+    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
     speed: Annotated[
         float | None,
         typer.Option(
@@ -130,6 +131,7 @@ def retime_command(
         int | None,
         typer.Option(
             "--timestep",
+            "-t",
             min=1,
             help="Controller step (ms) of the velocity check run on the result "
             "(default: the robot's, Nao 20 ms).",
@@ -205,7 +207,7 @@ def _text(
     timestep: int | None,
 ) -> str:
     dest = "stdout" if target is None else str(target)
-    lines = [f"retimed {source} -> {dest}: {how}"]
+    lines = [f"retimed {source_name(source)} -> {dest}: {how}"]
     if spec is not None:
         limit = f"velocity within {_num(margin * 100)}% of maxVelocity"
         if accel is not None:
@@ -251,7 +253,7 @@ def _json(
         "schema": "motiontool.retime",
         "schema_version": 1,
         "stamps": stamps(None if spec is None else spec.model_hash),
-        "input": str(source),
+        "input": source_name(source),
         "output": None if target is None else str(target),
         "units": {
             "times_ms": "ms",

@@ -11,6 +11,7 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli.options import TableFormat
+from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.stamps import stamps
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot
 from motiontool.motionfmt.errors import MotionToolError
@@ -211,6 +212,9 @@ def export_command(
 
     if mjcf is None and urdf is None:
         raise MotionToolError("robots export: name an output with --mjcf FILE and/or --urdf FILE")
+    source = [Path(robot)] if Path(robot).suffix.lower() in (".urdf", ".xml") else []
+    refuse_overwrite(mjcf, source, "--mjcf")
+    refuse_overwrite(urdf, source, "--urdf")
     spec = load_robot(robot)
     outputs = [(mjcf, mjcf_bytes), (urdf, urdf_bytes)]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]

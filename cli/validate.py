@@ -2,15 +2,16 @@
 
 from __future__ import annotations
 
-import json
+import sys
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli.formats import render, render_json
+from motiontool.cli.color import color_enabled
+from motiontool.cli.formats import Order, render, render_json, render_sarif
 from motiontool.cli.options import ReportFormat
-from motiontool.cli.output import emit
+from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
@@ -20,6 +21,7 @@ from motiontool.kinematics.checks import (
     parse_checks,
 )
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.fileio import collect_motion_files
 from motiontool.motionfmt.validate import ValidationReport, validate_paths
 
 __all__ = ["validate_command"]
@@ -41,10 +43,26 @@ def _robots_used(checker: RobotChecks) -> tuple[dict[str, tuple[RobotSpec, list[
     return used, skipped
 
 
-def _robot_line(checker: RobotChecks | None) -> str:
-    """One line for people: which robot checked what (nothing if no file got that far)."""
+def _unchecked(report: ValidationReport, checker: RobotChecks) -> tuple[list[str], list[str]]:
+    """The files checked at syntax level only, in report order: all of them (Webots rejects
+    them, or no robot was found: MT901), and those Webots rejects (no robot check reached them)."""
+    skipped = {p for p, spec in checker.used.items() if spec is None}
+    rejected = [f.path for f in report.files if f.path not in checker.used]
+    every = [f.path for f in report.files if f.path not in checker.used or f.path in skipped]
+    return every, rejected
+
+
+def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
+    """One line for people: which robot checked what, and how many files Webots rejects (they
+    are not checked against a robot)."""
     if checker is None:
         return "robot: none (--robot none): Webots syntax checks only\n"
+    rejected = _unchecked(report, checker)[1]
+    unchecked = (
+        f"not checked against a robot: {_plural(len(rejected), 'file')} Webots rejects"
+        if rejected
+        else ""
+    )
     used, skipped = _robots_used(checker)
     parts = []
     for name, (spec, files) in used.items():
@@ -55,19 +73,23 @@ def _robot_line(checker: RobotChecks | None) -> str:
         )
     if skipped:
         parts.append(f"none for {_plural(len(skipped), 'file')} (MT901)")
-    if not parts:
-        return ""  # no file reached the robot checks (Webots rejects them all)
+    if not parts:  # no file reached the robot checks (Webots rejects them all)
+        return f"robot: {unchecked}\n" if unchecked else ""
     checks = ", ".join(checker.checks)
     if "collision" in checker.checks:
         checks += f" (overlaps under {checker.penetration_tolerance_mm:g} mm ignored)"
+    if unchecked:
+        checks += f"; {unchecked}"
     return f"robot: {'; '.join(parts)}; checks: {checks}\n"
 
 
-def _robot_json(checker: RobotChecks | None, requested: str) -> dict[str, Any]:
+def _robot_json(
+    checker: RobotChecks | None, requested: str, report: ValidationReport
+) -> dict[str, Any]:
     """The JSON report's ``robot`` section and the stamps with the model hash."""
     if checker is None:
         return {"stamps": stamps(), "robot": {"requested": requested, "checks": []}}
-    used, skipped = _robots_used(checker)
+    used, _skipped = _robots_used(checker)
     robots = [
         {
             "name": name,
@@ -86,31 +108,35 @@ def _robot_json(checker: RobotChecks | None, requested: str) -> dict[str, Any]:
             "checks": list(checker.checks),
             "collision_tolerance_mm": checker.penetration_tolerance_mm,
             "robots": robots,
-            "unchecked_files": skipped,
+            "unchecked_files": _unchecked(report, checker)[0],
         },
     }
 
 
 def _render(
-    report: ValidationReport, fmt: ReportFormat, checker: RobotChecks | None, requested: str
+    report: ValidationReport,
+    fmt: ReportFormat,
+    checker: RobotChecks | None,
+    requested: str,
+    *,
+    color: bool,
+    order: Order,
 ) -> str:
-    extra = _robot_json(checker, requested)
+    extra = _robot_json(checker, requested, report)
     if fmt is ReportFormat.json:
         return render_json(report, extra)
     if fmt is ReportFormat.sarif:
-        doc = json.loads(render(report, fmt.value))
-        doc["runs"][0]["properties"].update(extra)
-        return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+        return render_sarif(report, extra, order=order)
     if fmt is ReportFormat.text:
-        return _robot_line(checker) + render(report, fmt.value)
-    return render(report, fmt.value)
+        return _robot_line(checker, report) + render(report, fmt.value, color=color, order=order)
+    return render(report, fmt.value, order=order)
 
 
 def validate_command(
     paths: Annotated[
         list[Path],
         typer.Argument(
-            help="Motion files, or directories searched recursively for *.motion.",
+            help="Motion files, or directories searched recursively for *.motion ('-': stdin).",
             show_default=False,
         ),
     ],
@@ -120,12 +146,17 @@ def validate_command(
     ] = ReportFormat.text,
     output: Annotated[
         Path | None,
-        typer.Option("--output", "-o", help="Write the report to this file instead of stdout."),
+        typer.Option(
+            "--output",
+            "-o",
+            help="Write the report to this file instead of stdout (never over an input file).",
+        ),
     ] = None,
     timestep: Annotated[
         int | None,
         typer.Option(
             "--timestep",
+            "-t",
             min=1,
             help="Controller time step in ms: report pose times that are not a multiple of it, "
             "and check the command stream at that step (default: the robot's, Nao 20 ms).",
@@ -137,7 +168,8 @@ def validate_command(
             "--robot",
             "-r",
             help=f"Robot to check against: {ROBOT_CHOICES}. auto picks, per file, the built-in "
-            "robot that has all its joints ('motiontool robots' lists them).",
+            "robot that has the most of its joints, at least half ('motiontool robots' lists "
+            "them).",
         ),
     ] = "auto",
     checks: Annotated[
@@ -163,6 +195,15 @@ def validate_command(
         list[str] | None,
         typer.Option("--ignore", help="Diagnostic code to leave out (repeat, or comma-separate)."),
     ] = None,
+    sort: Annotated[
+        Order,
+        typer.Option(
+            "--sort",
+            help="file: file by file, by position; severity: errors first, then warnings, then "
+            "notes (text, github and sarif; GitHub shows only the first 10 annotations of a kind "
+            "per step).",
+        ),
+    ] = Order.file,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col.
@@ -171,6 +212,8 @@ def validate_command(
     2 on a usage or I/O error.
     """
     codes = [c for item in ignore or [] for c in item.split(",")]
+    files = collect_motion_files(paths)
+    refuse_overwrite(output, files, "-o")
     checker = None
     if robot != "none":
         checker = RobotChecks(
@@ -180,11 +223,13 @@ def validate_command(
             penetration_tolerance_mm=collision_tolerance,
         )
     report = validate_paths(
-        paths, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes
+        files, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes
     )
-    text = _render(report, format, checker, robot)
+    to_stdout = output is None or str(output) == "-"
+    color = format is ReportFormat.text and color_enabled(sys.stdout, to_file=not to_stdout)
+    text = _render(report, format, checker, robot, color=color, order=sort)
     if format is ReportFormat.text and output is None:
-        typer.echo(text, nl=False)
+        typer.echo(text, nl=False, color=color)
     else:
         emit(text, output)
     if report.failed(strict=strict):

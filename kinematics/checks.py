@@ -67,7 +67,7 @@ DEFAULT_PENETRATION_TOLERANCE_MM = 15.0
 
 The Webots robots' collision shapes are bounding primitives, larger than the bodies they stand
 for: the Nao's forearm is a capsule, its foot force sensor a 147 x 89 mm box with sharp corners.
-In the motions that ship with Webots (``../shared/corpus/webots``), played as Webots plays them
+In the motions that ship with Webots (``tests/data/corpus/webots``), played as Webots plays them
 (targets clamped to the motor limits), such shapes overlap by at most 10.0 mm: the two foot boxes
 in the turns (TurnLeft40, TurnRight40, TurnLeft180), the head capsule and an arm raised within
 its limits by 7.2 mm (HandWaveLeft, HandsUp) and 6.3 mm (HandHighLeft, HandWave). Those motions
@@ -169,7 +169,7 @@ class _Table:
         if self._commanded is None:
             import numpy as np
 
-            defined = ~np.isnan(self.values)
+            defined = self.result.commanded  # a 'nan' cell is a command, unlike '*'
             near = np.zeros_like(defined)
             near[[0, -1]] = True
             near[1:] |= defined[:-1]
@@ -534,14 +534,14 @@ class Velocity(_RobotCheck):
         elapsed = stream.elapsed_ms
         times = table.times
         last_seg = times.shape[0] - 2
-        defined = ~np.isnan(table.values[:, cols])
+        defined = table.result.commanded[:, cols]
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
         fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int64)
         np.cumsum(fast, axis=0, out=fast_before[1:])
         worst: dict[tuple[int, int], tuple[float, int, int, int]] = {}
         for i, col in enumerate(cols):
             vmax = joints[limited[i]].max_velocity
-            steps = np.flatnonzero(~np.isnan(stream.targets[:, col]))
+            steps = np.flatnonzero(stream.commanded[:, col])
             if steps.shape[0] < 2:
                 continue
             per_step = np.abs(np.diff(stream.targets[steps, col])) / (step / 1000.0)
@@ -688,8 +688,8 @@ class Collision(_RobotCheck):
                         None,
                         f"{a} and {b} overlap by {depth_mm:.1f} mm at {at}{span}",
                         f"overlaps under {self.tolerance_mm:g} mm are ignored as artefacts of the "
-                        "coarse collision shapes; a simulation may let the bodies pass through "
-                        "each other (Webots' Nao has selfCollision off), a real robot does not",
+                        "coarse collision shapes; a simulator with self-collision off lets the "
+                        f"bodies pass through each other, the real {self.spec.name} does not",
                         time_ms=math.floor(times[deepest]),
                     )
                 )
@@ -797,11 +797,13 @@ def robot_checks(
 class RobotChecks:
     """The robot checks of one ``validate`` run, as one :data:`Check`.
 
-    ``robot='auto'`` picks, per file, the built-in robot whose motors cover the header's
-    joints (:func:`~motiontool.kinematics.detect_robot`); a file no built-in robot covers is
-    checked at syntax level only and gets an MT901 note naming ``--robot``. ``'none'`` checks
-    nothing. Any other ``robot`` is loaded once (:func:`~motiontool.kinematics.load_robot`) and
-    checks every file. Robots and their models are loaded once per process.
+    ``robot='auto'`` picks, per file, the built-in robot that has the most of the header's
+    joints, at least half of them (:func:`~motiontool.kinematics.detect_robot`; the others get
+    MT301 with a did-you-mean, and the joints it has are checked); a file no built-in robot
+    fits is checked at syntax level only and gets an MT901 note naming ``--robot``.
+    ``'none'`` checks nothing. Any other ``robot`` is loaded once
+    (:func:`~motiontool.kinematics.load_robot`) and checks every file. Robots and their models
+    are loaded once per process.
 
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).
@@ -883,15 +885,24 @@ class RobotChecks:
 
 
 def _skipped(result: ReadResult) -> Diagnostic:
-    """MT901 for a file whose joints no built-in robot has all of."""
+    """MT901 for a file :func:`~motiontool.kinematics.detect_robot` finds no robot for: no
+    built-in robot has half of its joints, or two robots with different motors have as many."""
     spans = result.header_spans()
     joints = result.joints
     best: tuple[int, str, list[int]] | None = None
+    tied: list[str] = []
     for name in builtin_robots():
         spec = load_robot(name)
         missing = [j for j, joint in enumerate(joints) if joint not in spec]
         if len(missing) < len(joints) and (best is None or len(missing) < len(best[2])):
             best = (len(joints) - len(missing), name, missing)
+            tied = []
+        elif (
+            best is not None
+            and len(missing) == len(best[2])
+            and set(spec.joint_names) != set(load_robot(best[1]).joint_names)
+        ):
+            tied.append(name)
     choices = "nao, nao-v5, ur5e, a .urdf or .xml (MJCF) file, or erd:<name>"
     if best is None:
         where = 0
@@ -903,10 +914,16 @@ def _skipped(result: ReadResult) -> Diagnostic:
         more = f" and {len(missing) - 3} more" if len(missing) > 3 else ""
         close = difflib.get_close_matches(joints[where], load_robot(name).joint_names, n=1)
         guess = f" (did you mean '{close[0]}'?)" if close else ""
-        detail = (
-            f"no built-in robot has all its joints: {name} has {covered} of {len(joints)}, "
-            f"not {lacked}{more}{guess}"
-        )
+        if tied:
+            detail = (
+                f"{' and '.join([name, *tied])} have {covered} of its {len(joints)} joints each,"
+                " so the joints do not say which robot it is for"
+            )
+        else:
+            detail = (
+                f"no built-in robot has half of its joints or more: {name} has {covered} of "
+                f"{len(joints)}, not {lacked}{more}{guess}"
+            )
     column, end = spans[where] if where < len(spans) else (1, None)
     return Diagnostic(
         code="MT901",

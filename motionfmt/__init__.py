@@ -6,9 +6,20 @@ Depends on the standard library and numpy only.
 from motiontool.motionfmt.diagnostics import CODES, Code, Diagnostic, Severity
 from motiontool.motionfmt.document import MotionDocument, dumps, loads
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, collect_motion_files, read_file
+from motiontool.motionfmt.fileio import (
+    atomic_write,
+    collect_motion_files,
+    read_file,
+    source_name,
+)
 from motiontool.motionfmt.motion import Motion
-from motiontool.motionfmt.player import CommandStream, elapsed_steps, sample, targets_at
+from motiontool.motionfmt.player import (
+    CommandStream,
+    commands_at,
+    elapsed_steps,
+    sample,
+    targets_at,
+)
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes
 from motiontool.motionfmt.validate import (
     Check,
@@ -37,6 +48,7 @@ __all__ = [
     "ValidationReport",
     "atomic_write",
     "collect_motion_files",
+    "commands_at",
     "dumps",
     "elapsed_steps",
     "format_motion",
@@ -48,6 +60,7 @@ __all__ = [
     "read_file",
     "read_motion",
     "sample",
+    "source_name",
     "targets_at",
     "validate_bytes",
     "validate_paths",
@@ -55,10 +68,14 @@ __all__ = [
 
 
 def load(path: str) -> MotionDocument:
-    """Load a file Webots accepts as an editable document (raises :class:`MotionSyntaxError`)."""
-    return loads(read_file(path), path)
+    """Load a file Webots accepts as an editable document (raises :class:`MotionSyntaxError`).
+
+    ``-`` reads standard input, named ``<stdin>``."""
+    return loads(read_file(path), source_name(path))
 
 
 def read_motion(path: str) -> Motion:
-    """Read a file as the :class:`Motion` Webots plays (raises :class:`MotionSyntaxError`)."""
-    return read_bytes(read_file(path), path).motion
+    """Read a file as the :class:`Motion` Webots plays (raises :class:`MotionSyntaxError`).
+
+    ``-`` reads standard input, named ``<stdin>``."""
+    return read_bytes(read_file(path), source_name(path)).motion

@@ -2,7 +2,8 @@
 
 It only ever answers for files where every pose line is plain ``time,name,number,...``: no
 ``*``, no empty cell, no blank line, no lone CR, no long line, no nan/inf/marker value, valid
-times in strictly increasing order. For such lines pyarrow's parser (correctly rounded, whole-cell)
+times in strictly increasing order and none beyond the 2**31 - 1 ms a C ``int`` holds (Webots'
+time arithmetic wraps there). For such lines pyarrow's parser (correctly rounded, whole-cell)
 and glibc's ``sscanf`` read the same doubles; anything else makes this module answer ``None`` and
 the reader takes its exact line-by-line path. A test checks that both paths agree.
 """
@@ -10,6 +11,8 @@ the reader takes its exact line-by-line path. A test checks that both paths agre
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.cscan import INT_MAX
 
 if TYPE_CHECKING:
     import numpy as np
@@ -38,6 +41,8 @@ def _times(column: pa.ChunkedArray) -> list[int] | None:
         return None
     parts = pc.cast(pc.list_flatten(fields), pa.int64()).to_numpy().reshape(-1, k)
     times = parts @ np.array([60000, 1000, 1][-k:], dtype=np.int64)
+    if int(times.max()) > INT_MAX:
+        return None  # Webots' int arithmetic wraps: the exact path wraps it too
     if bool((np.diff(times) <= 0).any()):
         return None
     return [int(t) for t in times.tolist()]

@@ -25,7 +25,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.player import targets_at
+from motiontool.motionfmt.player import commands_at
 
 if TYPE_CHECKING:
     import numpy as np
@@ -58,33 +58,39 @@ def joint_names(motion: Motion) -> tuple[str, ...]:
 
 def _named_targets(
     motion: Motion, names: Sequence[str], elapsed_ms: npt.NDArray[np.int64]
-) -> npt.NDArray[np.float64]:
-    """(S, len(names)) targets per joint name (NaN: no command); a later column wins."""
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """(S, len(names)) targets per joint name and whether each is sent (a sent target may be
+    NaN: Webots sends a ``nan`` cell); a later column wins."""
     import numpy as np
 
-    raw = targets_at(motion, elapsed_ms)
+    raw, sent = commands_at(motion, elapsed_ms)
     index = {name: k for k, name in enumerate(names)}
     out = np.full((raw.shape[0], len(names)), np.nan)
+    out_sent = np.zeros(out.shape, dtype=np.bool_)
     for j, name in enumerate(motion.joints):
         k = index.get(name)
         if k is None:
             continue
-        column = raw[:, j]
-        out[:, k] = np.where(np.isnan(column), out[:, k], column)
-    return out
+        out[:, k] = np.where(sent[:, j], raw[:, j], out[:, k])
+        out_sent[:, k] |= sent[:, j]
+    return out, out_sent
 
 
 def _hold(
-    targets: npt.NDArray[np.float64], carry: npt.NDArray[np.float64]
-) -> npt.NDArray[np.float64]:
-    """Forward-fill NaN rows with the last commanded value, starting from ``carry`` (N,)."""
+    named: tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]],
+    carry: tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """Forward-fill the steps that send nothing with the last sent value, starting from
+    ``carry`` (N,) values and whether each joint was commanded yet; (held, commanded yet)."""
     import numpy as np
 
+    targets, sent = named
     steps = targets.shape[0]
-    index = np.where(np.isnan(targets), -1, np.arange(steps)[:, None])
+    index = np.where(sent, np.arange(steps)[:, None], -1)
     np.maximum.accumulate(index, axis=0, out=index)
     held = np.take_along_axis(targets, np.maximum(index, 0), axis=0)
-    return np.where(index < 0, carry[None, :], held)
+    before = index < 0
+    return np.where(before, carry[0][None, :], held), np.where(before, carry[1][None, :], True)
 
 
 def held_targets(
@@ -105,15 +111,16 @@ def held_targets(
 
     Returns:
         ``elapsed_ms`` int64 (S,) and ``held`` float64 (S, N): the commanded target, or the
-        previous one where the step sends none, NaN before the joint is first commanded.
+        previous one where the step sends none, NaN before the joint is first commanded (and
+        where the command is a ``nan`` cell's NaN).
     """
     import numpy as np
 
     names = joint_names(motion) if names is None else names
     end = motion.duration_ms if until_ms is None else until_ms
     elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
-    carry = np.full(len(names), np.nan)
-    return elapsed, _hold(_named_targets(motion, names, elapsed), carry)
+    carry = (np.full(len(names), np.nan), np.zeros(len(names), dtype=np.bool_))
+    return elapsed, _hold(_named_targets(motion, names, elapsed), carry)[0]
 
 
 @dataclass(frozen=True)
@@ -244,18 +251,19 @@ def compare_motions(
     old_only = np.zeros(n, dtype=np.int64)
     new_only = np.zeros(n, dtype=np.int64)
     presence_first = np.full(n, -1, dtype=np.int64)
-    carry_old = np.full(n, np.nan)
-    carry_new = np.full(n, np.nan)
+    carry_old = (np.full(n, np.nan), np.zeros(n, dtype=np.bool_))
+    carry_new = (np.full(n, np.nan), np.zeros(n, dtype=np.bool_))
     for start in range(0, n_steps, _CHUNK_STEPS):
         steps = np.arange(start, min(start + _CHUNK_STEPS, n_steps), dtype=np.int64)
         elapsed = steps * timestep_ms
-        a = _hold(_named_targets(old, common, elapsed), carry_old)
-        b = _hold(_named_targets(new, common, elapsed), carry_new)
-        carry_old, carry_new = a[-1], b[-1]
-        only_one = np.isnan(a) != np.isnan(b)
-        both = ~np.isnan(a) & ~np.isnan(b)
+        a, has_a = _hold(_named_targets(old, common, elapsed), carry_old)
+        b, has_b = _hold(_named_targets(new, common, elapsed), carry_new)
+        carry_old, carry_new = (a[-1], has_a[-1]), (b[-1], has_b[-1])
+        only_one = has_a != has_b
+        both = has_a & has_b
         with np.errstate(invalid="ignore"):
-            delta = np.where(a == b, 0.0, np.abs(a - b))  # equal infinities are equal
+            same = (a == b) | (np.isnan(a) & np.isnan(b))  # equal infinities, two NaN commands
+            delta = np.where(same, 0.0, np.abs(a - b))
         delta = np.where(both, delta, -1.0)
         delta = np.where(np.isnan(delta), np.inf, delta)
         if delta.shape[1]:
@@ -269,8 +277,8 @@ def compare_motions(
             counts = only_one.sum(axis=0)
             first = np.where(counts > 0, steps[np.argmax(only_one, axis=0)], -1)
             presence_first = np.where((presence_first < 0) & (counts > 0), first, presence_first)
-            old_only += (~np.isnan(a) & np.isnan(b)).sum(axis=0)
-            new_only += (np.isnan(a) & ~np.isnan(b)).sum(axis=0)
+            old_only += (has_a & ~has_b).sum(axis=0)
+            new_only += (~has_a & has_b).sum(axis=0)
     joints = []
     for i, name in enumerate(common):
         compared = best_step[i] >= 0

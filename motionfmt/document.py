@@ -112,12 +112,15 @@ class MotionDocument:
         self._result = None
 
     def set_value(self, pose: int, joint: int | str, value: float) -> None:
-        """Set one cell; NaN writes ``*``. Cells equal to ``value`` keep their spelling."""
+        """Set one cell; NaN writes ``*`` (no command). Cells equal to ``value`` keep their
+        spelling (a literal ``nan`` cell is a command, so NaN replaces it with ``*``)."""
         j = self._column(joint)
         token = self._cell(pose, 2 + j)
         scanned = None if token == b"*" else scan_double(token)
-        current = math.nan if scanned is None or scanned.value == NO_VALUE_MARKER else scanned.value
-        if current == value or (math.isnan(current) and math.isnan(value)):
+        if scanned is None or scanned.value == NO_VALUE_MARKER:
+            if math.isnan(value):
+                return  # already no command
+        elif scanned.value == value:
             return
         self._set_cell(pose, 2 + j, format_value(value))
 

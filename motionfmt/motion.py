@@ -22,26 +22,43 @@ class Motion:
         pose_names: P pose names.
         times_ms: int64 array, shape (P,), strictly increasing pose times in milliseconds.
         values: float64 array, shape (P, J): joint targets in radians (metres for linear
-            joints); NaN where the cell is ``*`` (no command), including Webots' -9999999.9
-            marker and a literal ``nan``.
+            joints); NaN where the cell is ``*`` (no command) or Webots' -9999999.9 marker, and
+            also where the cell is a literal ``nan`` (a command: Webots sends NaN to the motor).
+            ``commanded`` tells the two apart.
+        commanded: bool array, shape (P, J): True where the cell is a command (a number,
+            ``nan`` and ``inf`` included), False for ``*`` and the -9999999.9 marker. When a
+            Motion is built without it, it is derived as ``~isnan(values)`` (every NaN is then
+            ``*``), as before this mask existed. ``values`` is NaN wherever ``commanded`` is
+            False.
 
-    Both arrays are read-only.
+    The arrays are read-only.
     """
 
     joints: tuple[str, ...]
     pose_names: tuple[str, ...]
     times_ms: npt.NDArray[np.int64]
     values: npt.NDArray[np.float64]
+    commanded: npt.NDArray[np.bool_] = None  # type: ignore[assignment]  # derived when None
 
     def __post_init__(self) -> None:
         import numpy as np
 
         times = np.array(self.times_ms, dtype=np.int64)
         values = np.array(self.values, dtype=np.float64).reshape(len(times), len(self.joints))
+        if self.commanded is None:
+            commanded = ~np.isnan(values)
+        else:
+            commanded = np.array(self.commanded, dtype=np.bool_)
+            if commanded.shape != values.shape:
+                raise ValueError(f"commanded has shape {commanded.shape}, values {values.shape}")
+            if not bool(commanded.all()):
+                values[~commanded] = np.nan
         times.flags.writeable = False
         values.flags.writeable = False
+        commanded.flags.writeable = False
         object.__setattr__(self, "times_ms", times)
         object.__setattr__(self, "values", values)
+        object.__setattr__(self, "commanded", commanded)
         object.__setattr__(self, "joints", tuple(self.joints))
         object.__setattr__(self, "pose_names", tuple(self.pose_names))
         if len(self.pose_names) != len(times):
@@ -83,6 +100,7 @@ class Motion:
             and self.pose_names == other.pose_names
             and np.array_equal(self.times_ms, other.times_ms)
             and np.array_equal(self.values, other.values, equal_nan=True)
+            and np.array_equal(self.commanded, other.commanded)
         )
 
     __hash__ = None  # type: ignore[assignment]

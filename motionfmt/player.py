@@ -8,7 +8,10 @@ operations as Webots' C code, so the targets are bit-identical::
     v[a] + (double)(elapsed - t[a]) * (v[b] - v[a]) / (double)(t[b] - t[a])
 
 with ``a, b = a + 1`` the first segment such that ``t[a] <= elapsed <= t[b]``. A segment touching a
-``*`` cell gives that joint no command (NaN here).
+``*`` cell gives that joint no command, and so does a target that comes out exactly equal to
+Webots' -9999999.9 marker (``motion_actuate`` skips it). A ``nan`` or ``inf`` cell IS a command:
+Webots sends the NaN or infinity (``inf - inf`` interpolates to NaN) to the motor. So "no
+command" is a separate mask (``commanded``), never NaN in the targets alone.
 """
 
 from __future__ import annotations
@@ -16,13 +19,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.reader import NO_VALUE_MARKER
+
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["CommandStream", "elapsed_steps", "sample", "targets_at"]
+__all__ = ["CommandStream", "commands_at", "elapsed_steps", "sample", "targets_at"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -34,13 +39,24 @@ class CommandStream:
         timestep_ms: the controller time step in milliseconds.
         elapsed_ms: int64 array (S,): the playback time of each step, in milliseconds.
         targets: float64 array (S, J): the position sent to each motor at each step (radians,
-            metres for linear joints); NaN where the joint gets no command at that step.
+            metres for linear joints); NaN where the joint gets no command at that step, and
+            also where the command itself is NaN (see ``commanded``).
+        commanded: bool array (S, J): True where Webots' player sends a target to the joint at
+            that step (the target may be NaN or infinite). When built without it, it is derived
+            as ``~isnan(targets)``.
     """
 
     joints: tuple[str, ...]
     timestep_ms: int
     elapsed_ms: npt.NDArray[np.int64]
     targets: npt.NDArray[np.float64]
+    commanded: npt.NDArray[np.bool_] = None  # type: ignore[assignment]  # derived when None
+
+    def __post_init__(self) -> None:
+        import numpy as np
+
+        if self.commanded is None:
+            object.__setattr__(self, "commanded", ~np.isnan(self.targets))
 
 
 def elapsed_steps(
@@ -65,28 +81,50 @@ def elapsed_steps(
     return np.tile(steps, loops)
 
 
-def targets_at(motion: Motion, elapsed_ms: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
-    """Targets (S, J) at the given playback times, NaN where no command is sent."""
+def commands_at(
+    motion: Motion, elapsed_ms: npt.NDArray[np.int64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """What Webots' player sends at the given playback times (ms).
+
+    Returns:
+        ``targets`` float64 (S, J), rad (m for linear joints), NaN where no command is sent (and
+        where the command is NaN), and ``commanded`` bool (S, J): whether a target is sent.
+    """
     import numpy as np
 
     t = motion.times_ms
     v = motion.values
+    c = motion.commanded
     e = np.asarray(elapsed_ms, dtype=np.int64)
     out = np.empty((e.shape[0], v.shape[1]), dtype=np.float64)
+    sent = np.empty(out.shape, dtype=np.bool_)
     first = e <= t[0]
     last = ~first & (e >= t[-1])
     mid = ~(first | last)
     out[first] = v[0]
     out[last] = v[-1]
+    sent[first] = c[0]
+    sent[last] = c[-1]
     if np.any(mid):
         em = e[mid]
         a = np.searchsorted(t, em, side="left") - 1
         va = v[a]
         vb = v[a + 1]
+        sent[mid] = c[a] & c[a + 1]
         with np.errstate(invalid="ignore", over="ignore"):  # nan/inf cells give NaN, as in C
             num = (em - t[a]).astype(np.float64)[:, None] * (vb - va)
             out[mid] = va + num / (t[a + 1] - t[a]).astype(np.float64)[:, None]
-    return out
+    sent &= out != NO_VALUE_MARKER  # Webots skips a target equal to its 'no value' marker
+    out[~sent] = np.nan
+    return out, sent
+
+
+def targets_at(motion: Motion, elapsed_ms: npt.NDArray[np.int64]) -> npt.NDArray[np.float64]:
+    """Targets (S, J) at the given playback times, NaN where no command is sent.
+
+    NaN also where the command itself is NaN: use :func:`commands_at` to tell them apart.
+    """
+    return commands_at(motion, elapsed_ms)[0]
 
 
 def sample(
@@ -94,4 +132,5 @@ def sample(
 ) -> CommandStream:
     """The command stream of ``motion`` played by a controller stepping every ``timestep_ms``."""
     elapsed = elapsed_steps(motion.duration_ms, timestep_ms, reverse=reverse, loops=loops)
-    return CommandStream(motion.joints, timestep_ms, elapsed, targets_at(motion, elapsed))
+    targets, commanded = commands_at(motion, elapsed)
+    return CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)

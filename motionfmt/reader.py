@@ -23,6 +23,9 @@ from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionSyntaxError
 
 if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["FGETS_PIECE", "HEADER", "NO_VALUE_MARKER", "VERSION", "ReadResult", "read_bytes"]
@@ -91,7 +94,10 @@ class ReadResult:
             file (it may still mis-read it: see the warnings).
         joints: header joint names (undecodable bytes kept as surrogates).
         pose_names, times_ms, rows: the poses Webots reads, in file order; ``rows[p][j]`` is NaN
-            for ``*`` and the -9999999.9 marker.
+            for ``*`` and the -9999999.9 marker (no command), and for a literal ``nan`` (a
+            command: see ``nan_commands``).
+        nan_commands: (pose, column) of every cell that holds a literal ``nan``: NaN in
+            ``rows``, but a value Webots sends to the motor, unlike ``*``.
         pose_lines: 1-based physical line of each pose.
         end_line: the blank line that ends the motion early, or ``None``.
     """
@@ -104,6 +110,7 @@ class ReadResult:
     times_ms: list[int] = field(default_factory=list)
     rows: list[list[float]] = field(default_factory=list)
     pose_lines: list[int] = field(default_factory=list)
+    nan_commands: list[tuple[int, int]] = field(default_factory=list)
     end_line: int | None = None
     _motion: Motion | None = field(default=None, repr=False)
     _data: bytes = field(default=b"", repr=False)
@@ -140,6 +147,18 @@ class ReadResult:
         return line, col0 + a + 1, col0 + b + 1
 
     @property
+    def commanded(self) -> npt.NDArray[np.bool_]:
+        """(P, J) bool: True where the cell is a command (a number, ``nan`` and ``inf``
+        included), False for ``*`` and the -9999999.9 marker."""
+        import numpy as np
+
+        rows = np.asarray(self.rows, dtype=np.float64).reshape(len(self.times_ms), len(self.joints))
+        mask = ~np.isnan(rows)
+        for p, j in self.nan_commands:
+            mask[p, j] = True
+        return mask
+
+    @property
     def accepted(self) -> bool:
         """Whether Webots' ``wbu_motion_new`` loads this file."""
         return self.rejected_at is None
@@ -162,18 +181,30 @@ class ReadResult:
                 pose_names=tuple(self.pose_names),
                 times_ms=self.times_ms,  # type: ignore[arg-type]
                 values=self.rows,  # type: ignore[arg-type]
+                commanded=self.commanded,
             )
         return self._motion
 
 
 class _Reader:
-    """One pass over one file; see :func:`read_bytes`."""
+    """One pass over one file; see :func:`read_bytes`.
+
+    ``exact=True`` reads every pose line on the exact (slow) path, skipping the fast line path
+    and the bulk path: the reference the faster paths are tested against.
+    """
 
     def __init__(
-        self, data: bytes, path: str, timestep_ms: int | None, bulk_min_bytes: int = BULK_MIN_BYTES
+        self,
+        data: bytes,
+        path: str,
+        timestep_ms: int | None,
+        bulk_min_bytes: int = BULK_MIN_BYTES,
+        *,
+        exact: bool = False,
     ) -> None:
         self.data = data
         self.bulk_min_bytes = bulk_min_bytes
+        self.exact = exact
         self.path = path
         self.timestep_ms = timestep_ms
         self.result = ReadResult(path=path, _data=data)
@@ -367,6 +398,8 @@ class _Reader:
             t = int(parts[-1]) + 1000 * int(parts[-2])
             if len(parts) == 3:
                 t += 60000 * int(parts[0])
+            if t > INT_MAX:
+                return None  # Webots' int arithmetic wraps: the exact path wraps it too
         if t <= prev_time:
             return None
         try:
@@ -475,6 +508,7 @@ class _Reader:
         n = self.n_joints
         values_toks = tokens[2:]
         values: list[float] = []
+        nan_columns: list[int] = []
         for j, tok in enumerate(values_toks[:n]):
             a, b = spans[2 + j]
             joint = self.result.joints[j]
@@ -529,7 +563,9 @@ class _Reader:
                     time_ms=time_ms,
                     end_column=c0 + b,
                 )
-                value = _NAN if math.isnan(value) else value
+                if math.isnan(value):
+                    value = _NAN
+                    nan_columns.append(j)
             elif value == NO_VALUE_MARKER:
                 self.report(
                     "MT204",
@@ -572,6 +608,7 @@ class _Reader:
             ok = False
         if ok and time_ms is not None:
             res = self.result
+            res.nan_commands.extend((len(res.times_ms), j) for j in nan_columns)
             res.times_ms.append(time_ms)
             res.pose_names.append(_decode(tokens[1]))
             res.rows.append(values)
@@ -596,13 +633,16 @@ class _Reader:
         header_piece = next(pieces)
         if not self.read_header(header_piece):
             return res
-        if len(self.data) >= self.bulk_min_bytes and header_piece.col0 == 0 and self.read_bulk():
+        # The bulk path reads clean files only: not one whose header Webots already rejects.
+        bulk = not self.exact and res.accepted and len(self.data) >= self.bulk_min_bytes
+        if bulk and header_piece.col0 == 0 and self.read_bulk():
             return res
         prev = (-1, header_piece.line)
         last_line = header_piece.line
         pose_lines_seen = 0
+        fast = not self.exact
         for piece in pieces:
-            t = self.read_pose_fast(piece, prev[0])
+            t = self.read_pose_fast(piece, prev[0]) if fast else None
             if t is None:
                 spans = _spans(piece.data)
                 if not spans:
@@ -753,9 +793,10 @@ class _Reader:
         times = res.times_ms
         n_poses = len(times)
         header_spans = _spans(self.lines[0])[2:]
+        nan_cells = set(res.nan_commands)  # a literal 'nan' is a command, not a '*'
         for j, joint in enumerate(res.joints):
             column = [row[j] for row in res.rows]
-            undefined = [v != v for v in column]
+            undefined = [v != v and (p, j) not in nan_cells for p, v in enumerate(column)]
             if all(undefined):
                 a, b = header_spans[j]
                 self.report(

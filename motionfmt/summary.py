@@ -6,6 +6,7 @@ import itertools
 import statistics
 from dataclasses import dataclass
 
+from motiontool.motionfmt.diagnostics import Severity
 from motiontool.motionfmt.reader import read_bytes
 
 __all__ = ["MotionSummary", "summarize"]
@@ -19,6 +20,8 @@ class MotionSummary:
         undefined: per joint, the number of ``*`` cells (no command).
         spacing_ms: (min, median, max) time between consecutive poses, or None for one pose.
         line_ends: ``LF``, ``CRLF`` or ``mixed``.
+        errors, warnings, notes: the findings of Webots' reading, by severity: what
+            ``motiontool validate --robot none`` reports (no robot checks, no time step).
     """
 
     path: str
@@ -32,7 +35,9 @@ class MotionSummary:
     line_ends: str
     final_newline: bool
     ignored_after_line: int | None
+    errors: int
     warnings: int
+    notes: int
 
     @property
     def uniform(self) -> bool:
@@ -69,5 +74,7 @@ def summarize(data: bytes, path: str) -> MotionSummary:
         ignored_after_line=read.end_line
         if any(d.code == "MT201" for d in read.diagnostics)
         else None,
-        warnings=len(read.diagnostics),
+        errors=sum(d.severity is Severity.ERROR for d in read.diagnostics),
+        warnings=sum(d.severity is Severity.WARNING for d in read.diagnostics),
+        notes=sum(d.severity is Severity.INFO for d in read.diagnostics),
     )

@@ -25,6 +25,7 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
+from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.player import targets_at
@@ -37,10 +38,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_MARGIN",
+    "MAX_TIME_MS",
     "ROUNDING_RAD",
     "Resampled",
     "Retimed",
     "Stretch",
+    "TimeOverflowError",
     "fit_duration",
     "fit_limits",
     "grid_times",
@@ -59,6 +62,10 @@ exactly collinear keyframes."""
 
 DEFAULT_MARGIN = 0.9
 """Fraction of a joint's maximum velocity that :func:`fit_limits` allows by default."""
+
+MAX_TIME_MS = INT_MAX
+"""The longest pose time a ``.motion`` file can hold, 2³¹−1 ms: Webots keeps times in a C
+``int``, and ``validate`` rejects a later one (MT112)."""
 
 _ACCEL_ROUNDS = 400  # rounds of _fit_acceleration; the second half slows down uniformly
 
@@ -190,6 +197,22 @@ def _simplify(current: Motion, original: Motion, bound: float) -> tuple[list[int
     return removed, collinear
 
 
+def _refuse_non_finite(doc: MotionDocument, motion: Motion) -> None:
+    """Raise at the first ``nan`` / ``inf`` cell: Webots sends it to the motor (MT113), and a
+    new keyframe could not spell what it commands there."""
+    import numpy as np
+
+    bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
+    if bad.shape[0]:
+        p, j = (int(x) for x in bad[0])
+        line, column, _ = doc.result.cell_span(p, j)
+        value = float(motion.values[p, j])
+        raise MotionToolError(
+            f"{doc.path}:{line}:{column}: {motion.joints[j]} = {value!r} is not a finite number"
+            " (MT113): write a number, or '*' for no command, before resampling"
+        )
+
+
 def resample(
     doc: MotionDocument, *, step_ms: int | None = None, max_error: float | None = None
 ) -> Resampled:
@@ -213,6 +236,7 @@ def resample(
     if max_error is not None and not max_error >= 0:
         raise MotionToolError(f"the maximum error must be >= 0 rad, got {max_error}")
     original = doc.motion
+    _refuse_non_finite(doc, original)
     out = loads(doc.to_bytes(), doc.path)
     inserted = dropped = 0
     grid_has_keyframes = True
@@ -300,6 +324,26 @@ class Retimed:
         return 100.0 * self.added_ms / self.old_duration_ms
 
 
+class TimeOverflowError(MotionToolError):
+    """A retiming would put a pose past :data:`MAX_TIME_MS`, which Webots cannot read.
+
+    Attributes:
+        last_ms: the time of the last pose it would produce, ms.
+    """
+
+    def __init__(self, last_ms: int, how: str):
+        self.last_ms = last_ms
+        super().__init__(
+            f"{how} would put the last pose at {last_ms} ms, past the longest time a .motion file "
+            f"can hold, {MAX_TIME_MS} ms (2^31-1, Webots' int)"
+        )
+
+
+def _in_range(new: Sequence[int], how: str) -> None:
+    if new and new[-1] > MAX_TIME_MS:
+        raise TimeOverflowError(int(new[-1]), how)
+
+
 def _round_half_up(x: Fraction) -> int:
     return math.floor(x + Fraction(1, 2))
 
@@ -323,11 +367,15 @@ def scale_times(times_ms: Sequence[int], speed: float) -> Retimed:
     Times are scaled from 0 (a first pose at 200 ms moves to 400 ms at speed 0.5), rounded half
     up to whole ms; where rounding makes two poses meet (only when speeding up), the later one
     moves on by 1 ms.
+
+    Raises:
+        TimeOverflowError: a new time would be past :data:`MAX_TIME_MS`.
     """
     if not (math.isfinite(speed) and speed > 0):
         raise MotionToolError(f"the speed factor must be a positive number, got {speed}")
     exact = [Fraction(int(t)) / Fraction(speed) for t in times_ms]
     new = _strictly_increasing([_round_half_up(x) for x in exact])
+    _in_range(new, f"retiming at speed x{speed:g}")
     return Retimed(tuple(int(t) for t in times_ms), tuple(new), rounding_ms=_off(new, exact))
 
 
@@ -336,9 +384,14 @@ def _off(new: Sequence[int], exact: Sequence[Fraction]) -> float:
 
 
 def fit_duration(times_ms: Sequence[int], duration_ms: int) -> Retimed:
-    """Scale every pose time (from 0) so that the last pose is at ``duration_ms`` ms exactly."""
+    """Scale every pose time (from 0) so that the last pose is at ``duration_ms`` ms exactly.
+
+    Raises:
+        TimeOverflowError: ``duration_ms`` is past :data:`MAX_TIME_MS`.
+    """
     old = [int(t) for t in times_ms]
     last = old[-1]
+    _in_range([duration_ms], f"retiming to a duration of {duration_ms} ms")
     if duration_ms < len(old) - 1 or duration_ms < 0:
         raise MotionToolError(
             f"a duration of {duration_ms} ms cannot hold {len(old)} poses at distinct whole ms; "
@@ -383,6 +436,9 @@ def fit_limits(
         a :class:`Retimed`: a segment already within the limits keeps its duration; the first
         pose keeps its time; durations are whole ms, rounded up so that no limit is exceeded.
         Applying it again changes nothing.
+
+    Raises:
+        TimeOverflowError: the stretched motion would end past :data:`MAX_TIME_MS`.
     """
     import numpy as np
 
@@ -427,6 +483,7 @@ def fit_limits(
     new = [old[0]]
     for d in dur:
         new.append(new[-1] + int(d))
+    _in_range(new, "fitting the velocity limits")
     old_dur = np.diff(np.asarray(old)).tolist()
     stretches = tuple(
         Stretch(s, int(old_dur[s]), int(dur[s]), *reason[s])

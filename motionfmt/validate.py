@@ -9,7 +9,7 @@ from pathlib import Path
 
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import collect_motion_files, read_file
+from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 __all__ = ["Check", "FileReport", "ValidationReport", "validate_bytes", "validate_paths"]
@@ -95,7 +95,8 @@ def validate_paths(
     checks: Sequence[Check] = (),
     ignore: Iterable[str] = (),
 ) -> ValidationReport:
-    """Validate files and directories (every ``*.motion`` below a directory, recursively).
+    """Validate files and directories (every ``*.motion`` below a directory, recursively);
+    ``-`` reads standard input, named ``<stdin>``.
 
     Raises:
         MotionToolError: a path is missing or unreadable, or a directory has no motion file.
@@ -104,7 +105,8 @@ def validate_paths(
     report = ValidationReport()
     for p in collect_motion_files(paths):
         data = read_file(p)
+        name = source_name(p)
         report.files.append(
-            validate_bytes(data, str(p), timestep_ms=timestep_ms, checks=checks, ignore=ignore)
+            validate_bytes(data, name, timestep_ms=timestep_ms, checks=checks, ignore=ignore)
         )
     return report

@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
-from motiontool.motionfmt import Motion, read_motion, sample
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt import Motion, read_bytes, read_file, sample
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.sim.report import (
     BaseStats,
     ContactSummary,
@@ -143,18 +143,41 @@ class Marker:
 
 
 def resolve_robot(robot: str, motions: Sequence[Motion]) -> RobotSpec:
-    """The robot to play ``motions`` on: ``auto`` picks the built-in robot that has every joint
-    of every motion (:func:`motiontool.kinematics.detect_robot`)."""
+    """The robot to play ``motions`` on: ``auto`` picks the built-in robot that has the most
+    joints of the motions, at least half (:func:`motiontool.kinematics.detect_robot`)."""
     if robot != "auto":
         return load_robot(robot)
     joints = sorted({j for m in motions for j in m.joints})
     found = detect_robot(joints)
     if found is None:
         raise MotionToolError(
-            "no built-in robot has every joint of the motion(s); pass --robot "
+            "no built-in robot has half of the joints of the motion(s) or more; pass --robot "
             f"({', '.join(builtin_robots())}, a model file or erd:<name>)"
         )
     return load_robot(found)
+
+
+def _read_playable(path: str) -> Motion:
+    """The motion Webots plays from ``path``, refused at its first ``nan`` / ``inf`` cell:
+    Webots would send that to the motor (MT113), and the physics must not be fed it."""
+    import numpy as np
+
+    result = read_bytes(read_file(path), path)
+    motion = result.motion
+    bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
+    if bad.shape[0]:
+        p, j = (int(x) for x in bad[0])
+        line, column, _ = result.cell_span(p, j)
+        value = float(motion.values[p, j])
+        raise MotionSyntaxError(
+            f"{motion.joints[j]} = {value!r} is not a finite number; Webots would send it to the"
+            " motor, so it is not played (write a number, or '*' for no command)"
+            " [MT113]",
+            path,
+            line,
+            column,
+        )
+    return motion
 
 
 def command_matrix(
@@ -190,6 +213,7 @@ def command_matrix(
     lengths = [len(s.elapsed_ms) for s in streams]
     total = sum(lengths) + hold_steps
     raw = np.full((total, len(joints)), np.nan)
+    commanded = np.zeros(raw.shape, dtype=np.bool_)
     ignored: list[str] = []
     offset = 0
     for stream, n in zip(streams, lengths, strict=True):
@@ -199,12 +223,14 @@ def command_matrix(
                     ignored.append(name)
                 continue
             values = stream.targets[:, column]
-            sent = ~np.isnan(values)
+            sent = stream.commanded[:, column]
             # Webots calls set_position once per column: a later column of the same motor
             # wins where it has a value, an earlier one stands where it has none.
             raw[offset : offset + n, index[name]][sent] = values[sent]
+            commanded[offset : offset + n, index[name]] |= sent
         offset += n
-    commanded = ~np.isnan(raw)
+    if not bool(np.isfinite(raw[commanded]).all()):  # the files are checked first: see play()
+        raise MotionToolError("a motion commands a non-finite target (nan or inf): not played")
     last = np.where(commanded, np.arange(total)[:, None], -1)
     np.maximum.accumulate(last, axis=0, out=last)
     cols = np.arange(len(joints))
@@ -243,15 +269,17 @@ def play(
     opts.check()
     if not paths:
         raise MotionToolError("no motion file to play")
-    motions = [read_motion(str(p)) for p in paths]
+    motions = [_read_playable(str(p)) for p in paths]
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, motions)
     timestep = opts.timestep_ms or spec.default_timestep_ms
 
     start_joints = {j: 0.0 for j in spec.joint_names}
     if opts.start == "lying-front":
         first = sample(motions[0], timestep, reverse=opts.reverse)
-        for name, value in zip(first.joints, first.targets[0].tolist(), strict=True):
-            if name in start_joints and not math.isnan(value):
+        for name, value, sent in zip(
+            first.joints, first.targets[0].tolist(), first.commanded[0].tolist(), strict=True
+        ):
+            if name in start_joints and sent:
                 start_joints[name] = value
     if opts.start_noise_rad > 0:
         rng = np.random.default_rng(opts.seed)
@@ -286,6 +314,9 @@ def play(
         log.warning(
             "joint %r is not a motor of robot %s: ignored (as Webots does)", name, spec.name
         )
+    unplayed = [
+        str(p) for p, m in zip(paths, motions, strict=True) if not any(j in spec for j in m.joints)
+    ]
     trace = _mujoco.run(scene, targets, commanded, record_bodies=rrd is not None)
 
     files = []
@@ -306,6 +337,7 @@ def play(
     }
     options_doc["p_gain_per_s"] = options_doc.pop("p_gain")
     report = _measure(scene, trace, opts, spec, files, options_doc, all_stamps, ignored)
+    report.unplayed_files = unplayed
     if rrd is not None:
         from motiontool.sim import recording
 

@@ -80,3 +80,11 @@ def corpus_params() -> list[object]:
 
 def golden(kind: str) -> list[Path]:
     return sorted((DATA / kind).glob("*.motion"))
+
+
+@pytest.fixture(autouse=True)
+def _no_colour_settings_from_the_environment(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Outputs are compared as plain text: a NO_COLOR or FORCE_COLOR of the machine running the
+    tests must not change them (the colour tests set them where they need them)."""
+    monkeypatch.delenv("NO_COLOR", raising=False)
+    monkeypatch.delenv("FORCE_COLOR", raising=False)

@@ -11,7 +11,7 @@ from collections import Counter
 from pathlib import Path
 
 import pytest
-from conftest import CORPUS, DATA, ROOT, SHARED, corpus_files
+from conftest import CORPUS, DATA, ROBOT_FACTS, ROOT, require
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from oracle import UNDEFINED, webots_load, webots_play
@@ -27,7 +27,7 @@ from motiontool.kinematics.checks import (
 from motiontool.motionfmt import CODES, Severity, ValidationReport, validate_bytes, validate_paths
 from motiontool.motionfmt.errors import MotionToolError
 
-NAO_JSON = SHARED / "robots" / "nao.json"
+NAO_JSON = ROBOT_FACTS / "nao.json"
 
 
 def findings(
@@ -402,22 +402,35 @@ def test_fixed_salute_passes_nao_and_breaks_the_real_robots_elbow_limit() -> Non
 def test_auto_picks_the_robot_per_file_and_notes_when_none_fits(tmp_path: Path) -> None:
     (tmp_path / "nao.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,3\n")
     (tmp_path / "arm.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,shoulder_pan_joint\n0,P,7\n")
-    (tmp_path / "typo.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw\n0,P,0,0\n")
+    (tmp_path / "typo.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw\n0,P,3,0\n")
+    (tmp_path / "stray.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw,Tail\n0,P,0,0,0\n")
+    (tmp_path / "mixed.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,elbow_joint\n0,P,0,0\n")
     (tmp_path / "hexapod.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,hip_l0,knee_l0\n0,P,0,0\n")
     checker = RobotChecks("auto")
     report = validate_paths([tmp_path], checks=[checker])
     robots = {Path(p).name: (s.name if s else None) for p, s in checker.used.items()}
-    assert robots == {"nao.motion": "nao", "arm.motion": "ur5e", "typo.motion": None,
+    assert robots == {"nao.motion": "nao", "arm.motion": "ur5e", "typo.motion": "nao",
+                      "stray.motion": None, "mixed.motion": None,
                       "hexapod.motion": None}  # fmt: skip
     by_file = {Path(f.path).name: f.diagnostics for f in report.files}
     assert [d.code for d in by_file["nao.motion"]] == ["MT302"]
     assert [d.code for d in by_file["arm.motion"]] == ["MT302"]
-    (typo,) = by_file["typo.motion"]
-    assert typo.format().endswith(
-        "1:31: info MT901: robot checks skipped: no built-in robot has all its joints: nao has 1 of"
-        " 2, not 'HeadYw' (did you mean 'HeadYaw'?); checked at syntax level only"
+    # Half of the joints are the Nao's: checked on the Nao, the typo named (MT301), the joint
+    # it has checked (HeadPitch 3 rad is past its limit: MT302).
+    assert [d.code for d in by_file["typo.motion"]] == ["MT301", "MT302"]
+    assert "did you mean 'HeadYaw'?" in by_file["typo.motion"][0].message
+    (stray,) = by_file["stray.motion"]
+    assert stray.format().endswith(
+        "1:31: info MT901: robot checks skipped: no built-in robot has half of its joints or"
+        " more: nao has 1 of 3, not 'HeadYw', 'Tail' (did you mean 'HeadYaw'?); checked at"
+        " syntax level only"
     )
-    assert typo.hint is not None and "--robot" in typo.hint
+    assert stray.hint is not None and "--robot" in stray.hint
+    (mixed,) = by_file["mixed.motion"]
+    assert mixed.message == (
+        "robot checks skipped: nao and ur5e have 1 of its 2 joints each, so the joints do not"
+        " say which robot it is for; checked at syntax level only"
+    )
     (hexapod,) = by_file["hexapod.motion"]
     assert hexapod.message == (
         "robot checks skipped: no built-in robot (nao, nao-v5, ur5e) has any of its joints;"
@@ -546,14 +559,12 @@ CORPUS_FINDINGS: dict[str, tuple[dict[tuple[str, str], int], str]] = {
 
 
 @pytest.fixture(scope="module")
-def corpus_report() -> ValidationReport:
-    if not CORPUS.is_dir():
-        pytest.skip(f"Webots corpus not found at {CORPUS}")
-    return validate_paths([CORPUS], checks=[RobotChecks("nao")])
+def corpus_report(corpus: Path) -> ValidationReport:
+    return validate_paths([corpus], checks=[RobotChecks("nao")])
 
 
 def _proto_joints() -> dict[str, dict[str, float]]:
-    doc = json.loads(NAO_JSON.read_text(encoding="utf-8"))
+    doc = json.loads(require(NAO_JSON, "robot facts JSON").read_text(encoding="utf-8"))
     return {j["name"]: j for j in doc["joints"]}
 
 
@@ -612,10 +623,8 @@ def test_corpus_taichi_limit_errors_were_fixed_upstream(corpus_report: Validatio
         assert proto[d.joint]["minPosition"] <= value <= proto[d.joint]["maxPosition"]
 
 
-def test_corpus_hand_wave_left_is_the_right_arm_unmirrored() -> None:
-    if not CORPUS.is_dir():
-        pytest.skip(f"Webots corpus not found at {CORPUS}")
-    nao = CORPUS / "projects/robots/softbank"
+def test_corpus_hand_wave_left_is_the_right_arm_unmirrored(corpus: Path) -> None:
+    nao = corpus / "projects/robots/softbank"
     right = webots_load((nao / "nao/controllers/nao_wave_hand/HandWave.motion").read_bytes())
     left = webots_load((nao / "dancing_nao/motions/HandWaveLeft.motion").read_bytes())
     assert [r[1] for r in right.values] == [r[1] for r in left.values]  # ShoulderRoll column
@@ -623,13 +632,12 @@ def test_corpus_hand_wave_left_is_the_right_arm_unmirrored() -> None:
     assert all(lo <= r[1] <= hi for r in right.values)
 
 
-@pytest.mark.skipif(not corpus_files(), reason=f"Webots corpus not found at {CORPUS}")
-def test_auto_detection_on_the_corpus_follows_the_manifest() -> None:
-    manifest = [line.split("\t") for line in (CORPUS / "MANIFEST.tsv").read_text().splitlines()[1:]]
+def test_auto_detection_on_the_corpus_follows_the_manifest(corpus: Path) -> None:
+    manifest = [line.split("\t") for line in (corpus / "MANIFEST.tsv").read_text().splitlines()[1:]]
     checker = RobotChecks("auto")
-    validate_paths([CORPUS], checks=[checker])
+    validate_paths([corpus], checks=[checker])
     for path, *_rest, robot, _verdict in manifest:
-        spec = checker.used[str(CORPUS / path)]
+        spec = checker.used[str(corpus / path)]
         # robotbenchmark's humanoid sprint is a Nao ("other" in the manifest)
         expected = "nao" if robot == "nao" or "humanoid_sprint" in path else None
         assert (spec.name if spec else None) == expected, path

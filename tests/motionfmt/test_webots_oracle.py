@@ -21,8 +21,10 @@ TIMESTEPS = (1, 8, 16, 20, 32, 40, 64, 100)
 
 
 def _bits(x: float | None) -> bytes | None:
-    if x is None or math.isnan(x):
+    if x is None:
         return None  # no command
+    if math.isnan(x):
+        return b"nan"  # a NaN command (any payload): Webots sends it
     return struct.pack("<d", x)
 
 
@@ -38,7 +40,10 @@ def check_against_oracle(data: bytes, timesteps: tuple[int, ...] = TIMESTEPS) ->
     motion = result.motion
     assert list(motion.times_ms) == oracle.times
     expected_values = [[None if v == UNDEFINED else v for v in row] for row in oracle.values]
-    got_values = [[None if math.isnan(v) else v for v in row] for row in motion.values.tolist()]
+    got_values = [
+        [v if sent else None for v, sent in zip(row, mask, strict=True)]
+        for row, mask in zip(motion.values.tolist(), motion.commanded.tolist(), strict=True)
+    ]
     assert [[_bits(v) for v in r] for r in got_values] == [
         [_bits(v) for v in r] for r in expected_values
     ]
@@ -46,7 +51,10 @@ def check_against_oracle(data: bytes, timesteps: tuple[int, ...] = TIMESTEPS) ->
         stream = sample(motion, step)
         rows = webots_play(oracle.times, oracle.values, step)
         assert stream.elapsed_ms.tolist() == [e for e, _ in rows]
-        got = [[_bits(v) for v in row] for row in stream.targets.tolist()]
+        got = [
+            [_bits(v if sent else None) for v, sent in zip(row, mask, strict=True)]
+            for row, mask in zip(stream.targets.tolist(), stream.commanded.tolist(), strict=True)
+        ]
         want = [[_bits(v) for v in row] for _, row in rows]
         assert got == want, f"time step {step} ms"
 

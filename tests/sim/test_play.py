@@ -241,3 +241,74 @@ def test_cli_unknown_robot_lists_choices(nod: Path) -> None:
     result = runner.invoke(app, ["play", str(nod), "--headless", "--robot", "nao7"])
     assert result.exit_code == 2
     assert "choose" in result.stderr
+
+
+# Joint names of the Robotis Darwin-OP: none is a motor of the Nao.
+DARWIN = b"#WEBOTS_MOTION,V1.0,ShoulderR,ArmUpperR\n0,A,0,0\n200,B,0.3,0.2\n"
+
+
+def test_a_motion_with_no_motor_of_the_robot_is_not_a_clean_run(tmp_path: Path) -> None:
+    path = tmp_path / "darwin.motion"
+    path.write_bytes(DARWIN)
+    json_path = tmp_path / "run.json"
+    result = runner.invoke(
+        app,
+        ["play", str(path), "--headless", "--robot", "nao", "--hold", "0.1", "--json",
+         str(json_path)],
+    )  # fmt: skip
+    assert result.exit_code == 1, result.output  # was 0: every column ignored, "clean"
+    reason = "no joint of this motion is a motor of nao: nothing was played"
+    assert f"result: {reason}" in result.stdout
+    doc = json.loads(json_path.read_text())
+    assert (doc["clean"], doc["exit_code"], doc["reason"]) == (False, 1, reason)
+    assert doc["unplayed_files"] == [str(path)]
+    # A motion that has one motor of the robot still plays (the other column is ignored).
+    nod = tmp_path / "half.motion"
+    nod.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,ArmUpperR\n0,A,0,0\n200,B,0.3,0.2\n")
+    report = play([nod], robot="nao", options=PlayOptions(hold_s=0.1))
+    assert report.clean and report.unplayed_files == [] and report.ignored_joints == ["ArmUpperR"]
+
+
+def test_warning_names_come_from_mujoco_itself() -> None:
+    import mujoco
+
+    from motiontool.sim._mujoco import warning_label, warning_labels
+
+    members = {
+        int(v): n for n, v in mujoco.mjtWarning.__members__.items() if n.startswith("mjWARN_")
+    }
+    labels = warning_labels()
+    assert sorted(labels) == sorted(members) == list(range(len(members)))
+    assert labels[int(mujoco.mjtWarning.mjWARN_BADQACC)] == "bad_qacc"
+    assert labels[int(mujoco.mjtWarning.mjWARN_CONTACTFULL)] == "contact_full"
+    assert labels[int(mujoco.mjtWarning.mjWARN_CNSTRFULL)] == "constraint_full"
+    assert labels[int(mujoco.mjtWarning.mjWARN_INERTIA)] == "inertia"
+    assert warning_label("mjWARN_SOMETHINGNEW") == "somethingnew"  # a later MuJoCo's warning
+    report = play([UR5E_MOTION], robot="ur5e", options=PlayOptions(hold_s=0.0))
+    assert list(report.warnings) == list(labels.values())
+
+
+def test_ur5e_joints_are_grouped_as_arm_and_wrist(tmp_path: Path) -> None:
+    from motiontool.cli._plotting import limb_groups
+    from motiontool.kinematics import load_robot
+
+    rrd = tmp_path / "jog.rrd"
+    report = play([UR5E_MOTION], robot="ur5e", options=PlayOptions(hold_s=0.0), rrd=rrd)
+    limbs = {j.name: j.limb for j in report.joints}
+    # Before: every joint under "shoulder_link", the one child of the base.
+    assert limbs == {
+        "shoulder_pan_joint": "arm",
+        "shoulder_lift_joint": "arm",
+        "elbow_joint": "arm",
+        "wrist_1_joint": "wrist",
+        "wrist_2_joint": "wrist",
+        "wrist_3_joint": "wrist",
+    }
+    paths = set(rrd_contents(rrd))
+    assert "/joints/arm/elbow_joint/commanded" in paths
+    assert "/joints/wrist/wrist_3_joint/measured" in paths
+    ur5e = load_robot("ur5e")
+    groups = limb_groups(ur5e.joint_names[::-1], "ur5e", ur5e.joint_names)
+    assert groups == [
+        (limb, [j for j in ur5e.joint_names if limbs[j] == limb]) for limb in ("arm", "wrist")
+    ]

@@ -128,7 +128,7 @@ def test_diff_plot(here: Path) -> None:
     png = (here / "d.png").read_bytes()
     assert png.startswith(b"\x89PNG\r\n\x1a\n")
     code, _, err = invoke("diff", "head.motion", "changed.motion", "--plot", "head.motion")
-    assert code == 2 and "is an input file" in err
+    assert code == 2 and "--plot 'head.motion' is the input file; write the PNG" in err
     assert (here / "head.motion").read_bytes() == HEAD
 
 
@@ -224,6 +224,45 @@ def test_retime_speed_and_duration_golden(here: Path) -> None:
     assert read_motion("d.motion").times_ms.tolist() == [0, 25, 50, 100]
 
 
+@pytest.mark.parametrize(
+    ("option", "value", "last_ms"),
+    [("--speed", "1e-9", 160_000_000_000), ("--duration", "99999999999", 99_999_999_999)],
+)
+def test_retime_refuses_times_past_int_max(
+    here: Path, option: str, value: str, last_ms: int
+) -> None:
+    code, out, err = invoke("retime", "head.motion", option, value, "-o", "x.motion")
+    assert (code, out) == (2, "")
+    assert err.startswith("motiontool: error: retiming ") and err.count("\n") == 1
+    assert f"the last pose at {last_ms} ms, past the longest time" in err
+    assert "2147483647 ms" in err
+    assert not (here / "x.motion").exists() and (here / "head.motion").read_bytes() == HEAD
+    # The limit itself is a time Webots reads: written, and it validates.
+    assert invoke("retime", "head.motion", "--duration", "2147483647", "-o", "x.motion")[0] == 0
+    assert invoke("validate", "--robot", "none", "x.motion")[0] == 0
+
+
+def test_retime_library_raises_time_overflow_for_every_caller() -> None:
+    from motiontool.motionfmt.errors import MotionToolError
+    from motiontool.motionfmt.transform import (
+        MAX_TIME_MS,
+        TimeOverflowError,
+        fit_duration,
+        fit_limits,
+        scale_times,
+    )
+
+    assert MAX_TIME_MS == 2**31 - 1 and issubclass(TimeOverflowError, MotionToolError)
+    with pytest.raises(TimeOverflowError) as caught:
+        scale_times([0, 160], 1e-9)
+    assert caught.value.last_ms == 160_000_000_000
+    with pytest.raises(TimeOverflowError):
+        fit_duration([0, 160], MAX_TIME_MS + 1)
+    assert fit_duration([0, 160], MAX_TIME_MS).times_ms == (0, MAX_TIME_MS)
+    with pytest.raises(TimeOverflowError, match="fitting the velocity limits"):
+        fit_limits([0, 40], ["HeadYaw"], [[0.0], [1.0]], {"HeadYaw": 1e-9})
+
+
 def test_retime_fit_limits_golden_and_idempotent(here: Path) -> None:
     code, out, _ = invoke("retime", "fast.motion", "--fit-limits", "-o", "safe.motion")
     assert code == 0
@@ -308,7 +347,7 @@ def test_input_is_never_modified_without_in_place(here: Path, command: list[str]
     assert code == 2 and "-o FILE, -o - for stdout, or --in-place" in err
     for same in ("head.motion", "./head.motion", str(source), str(here / "." / "head.motion")):
         code, _, err = invoke(*command, "-o", same)
-        assert code == 2 and "is the input file; add --in-place" in err
+        assert code == 2 and "is the input file" in err and "; add --in-place" in err
     code, _, err = invoke(*command, "-o", "other.motion", "--in-place")
     assert code == 2 and "give one of them" in err
     assert invoke(*command, "-o", "out.motion")[0] == 0

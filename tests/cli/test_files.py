@@ -1,0 +1,288 @@
+"""Input and output files across every command: never over an input (same path, symlink, hard
+link), unreadable files read like missing ones, '-' for stdin, --debug, short options, completion.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import click
+import pytest
+import typer.main
+from typer.testing import CliRunner
+
+from motiontool import __version__
+from motiontool.cli.app import app
+from motiontool.kinematics.robots import load_robot
+
+runner = CliRunner()
+
+HEAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:160,Pose2,0.2,0.1\n"
+# Webots accepts it; the syntax level finds 1 error (nan), 5 warnings (a joint named twice,
+# '2rad', a '*' over a segment, -9999999.9, the blank line) and 1 note (a '*' to the end).
+MANY = (
+    b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw,HeadPitch\n"
+    b"00:00:000,P1,0,2rad,*\n00:00:080,P2,1,0,0.1\n00:00:120,P3,nan,0,0\n"
+    b"00:00:150,P4,1,0,-9999999.9\n\n00:00:200,P5,0,0,0\n"
+)
+
+
+def invoke(*args: str, stdin: bytes | None = None) -> tuple[int, str, str]:
+    result = runner.invoke(app, list(args), input=stdin)
+    return result.exit_code, result.stdout, result.stderr
+
+
+@pytest.fixture
+def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    (tmp_path / "in.motion").write_bytes(HEAD)
+    (tmp_path / "other.motion").write_bytes(HEAD)
+    shutil.copy(load_robot("ur5e").model_path, tmp_path / "model.xml")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+# --------------------------------------------------------------------------- never over an input
+
+# (command line, its input file, the option that names the output); OUT is the output's place.
+WRITERS = [
+    (["validate", "in.motion", "-o", "OUT"], "in.motion", "-o"),
+    (["validate", ".", "--robot", "none", "-o", "OUT"], "in.motion", "-o"),  # found in a folder
+    (["sample", "in.motion", "-o", "OUT"], "in.motion", "-o"),
+    (["play", "in.motion", "--headless", "--json", "OUT"], "in.motion", "--json"),
+    (["play", "other.motion", "in.motion", "--headless", "--rrd", "OUT"], "in.motion", "--rrd"),
+    (["batch", "in.motion", "--json", "OUT"], "in.motion", "--json"),
+    (["batch", "in.motion", "--junit", "OUT"], "in.motion", "--junit"),
+    (["batch", "in.motion", "--markdown", "OUT"], "in.motion", "--markdown"),
+    (["batch", "in.motion", "--rrd-dir", "OUT"], "in.motion", "--rrd-dir"),
+    (["diff", "other.motion", "in.motion", "--plot", "OUT"], "in.motion", "--plot"),
+    (["plot", "in.motion", "-o", "OUT"], "in.motion", "-o"),
+    (["resample", "in.motion", "--step", "20", "-o", "OUT"], "in.motion", "-o"),
+    (["retime", "in.motion", "--speed", "2", "-o", "OUT"], "in.motion", "-o"),
+    (["robots", "export", "model.xml", "--mjcf", "OUT"], "model.xml", "--mjcf"),
+    (["robots", "export", "model.xml", "--urdf", "OUT"], "model.xml", "--urdf"),
+]
+
+
+@pytest.mark.parametrize("link", ["same path", "symlink", "hard link"])
+@pytest.mark.parametrize(("command", "source", "option"), WRITERS)
+def test_no_command_writes_over_its_input(
+    here: Path, command: list[str], source: str, option: str, link: str
+) -> None:
+    before = (here / source).read_bytes()
+    inode = (here / source).stat().st_ino
+    if link == "same path":
+        out = source
+    elif link == "symlink":
+        out = "link.out"
+        (here / out).symlink_to(source)
+    else:
+        out = "hard.out"
+        os.link(here / source, here / out)
+    code, stdout, err = invoke(*[out if a == "OUT" else a for a in command])
+    assert (code, stdout) == (2, ""), err
+    assert err.startswith(f"motiontool: error: {option} '{out}' is the input file")
+    assert err.count("\n") == 1 and err.endswith("\n")
+    assert (here / source).read_bytes() == before and (here / source).stat().st_ino == inode
+    if link == "symlink":
+        assert (here / out).is_symlink()
+
+
+def test_a_new_or_unrelated_output_is_written(here: Path) -> None:
+    (here / "old.csv").write_bytes(b"stale")
+    for out in ("new.csv", "old.csv"):
+        assert invoke("sample", "in.motion", "-o", out)[0] == 0
+        assert (here / out).read_text().startswith("time_ms,HeadYaw,HeadPitch\n")
+    assert (here / "in.motion").read_bytes() == HEAD
+
+
+# --------------------------------------------------------------------------- unreadable input
+
+READERS = [
+    ["validate", "PATH"],
+    ["info", "PATH"],
+    ["sample", "PATH"],
+    ["diff", "in.motion", "PATH"],
+    ["plot", "PATH", "-o", "p.png"],
+    ["resample", "PATH", "--step", "20", "-o", "r.motion"],
+    ["retime", "PATH", "--speed", "2", "-o", "r.motion"],
+    ["play", "PATH", "--headless"],
+]
+
+
+UNREADABLE = [
+    ("missing.motion", "No such file or directory"),
+    ("in.motion/x.motion", "Not a directory"),  # a parent that is a file: ENOTDIR
+    ("folder.motion", "Is a directory, expected a .motion file"),
+]
+
+
+@pytest.mark.parametrize(
+    ("command", "path", "reason"),
+    [
+        (command, path, reason)
+        for command in READERS
+        for path, reason in UNREADABLE
+        if not (command[0] == "validate" and path == "folder.motion")  # validate searches it
+    ],
+    ids=lambda x: x[0] if isinstance(x, list) else None,
+)
+def test_an_unreadable_file_reads_like_a_missing_one(
+    here: Path, command: list[str], path: str, reason: str
+) -> None:
+    (here / "folder.motion").mkdir()
+    code, out, err = invoke(*[path if a == "PATH" else a for a in command])
+    assert (code, out, err) == (2, "", f"motiontool: error: cannot read '{path}': {reason}\n")
+    assert not (here / "r.motion").exists() and not (here / "p.png").exists()
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root reads a file whatever its mode")
+def test_a_file_without_read_permission(here: Path) -> None:
+    locked = here / "locked.motion"
+    locked.write_bytes(HEAD)
+    locked.chmod(0)
+    for command in (["validate", "locked.motion"], ["info", "locked.motion"]):
+        assert invoke(*command) == (
+            2,
+            "",
+            "motiontool: error: cannot read 'locked.motion': Permission denied\n",
+        )
+
+
+# --------------------------------------------------------------------------- --debug
+
+
+def test_debug_prints_a_traceback_and_keeps_exit_2(here: Path) -> None:
+    code, out, err = invoke("--debug", "retime", "in.motion", "--speed", "1e-9", "-o", "x.motion")
+    assert (code, out) == (2, "")
+    assert err.startswith("Traceback (most recent call last):")
+    assert "TimeOverflowError" in err
+    assert err.splitlines()[-1].startswith("motiontool: error: retiming at speed x1e-09")
+    code, _, err = invoke("retime", "in.motion", "--speed", "1e-9", "-o", "x.motion")
+    assert code == 2 and "Traceback" not in err and err.count("\n") == 1
+
+
+def _script() -> str:
+    script = shutil.which("motiontool", path=str(Path(sys.executable).parent))
+    assert script, "the console script 'motiontool' is not installed next to this Python"
+    return script
+
+
+def test_debug_traceback_from_the_installed_script(here: Path) -> None:
+    proc = subprocess.run(
+        [_script(), "--debug", "validate", "missing.motion"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 2
+    assert "Traceback (most recent call last):" in proc.stderr
+    assert proc.stderr.endswith(
+        "motiontool: error: cannot read 'missing.motion': No such file or directory\n"
+    )
+
+
+# --------------------------------------------------------------------------- '-': stdin
+
+
+def test_dash_reads_stdin_and_diagnostics_name_it(here: Path) -> None:
+    bad = b"#WEBOTS_MOTION,V1.0,A\n0,a,abc\n"
+    code, out, _ = invoke("validate", "--robot", "none", "-", stdin=bad)
+    assert code == 1
+    assert (
+        out.splitlines()[1]
+        == "<stdin>:2:5: error MT108: expected a number or '*' for A, found 'abc'"
+    )
+    code, out, _ = invoke("validate", "--robot", "none", "-f", "json", "-", "in.motion", stdin=HEAD)
+    assert code == 0 and [f["path"] for f in json.loads(out)["files"]] == ["<stdin>", "in.motion"]
+    code, out, _ = invoke("info", "-", stdin=HEAD)
+    assert code == 0 and out.startswith("file        <stdin> (")
+    code, out, _ = invoke("sample", "-", "-t", "80", stdin=HEAD)
+    assert (code, out) == (0, "time_ms,HeadYaw,HeadPitch\n0,0.0,0.0\n80,0.1,0.05\n160,0.2,0.1\n")
+    code, out, _ = invoke("diff", "-", "in.motion", stdin=HEAD)
+    assert code == 0 and out.startswith("same: <stdin> and in.motion command the same motion")
+    code, out, err = invoke("retime", "-", "--speed", "2", "-o", "-", stdin=HEAD)
+    assert code == 0 and out.endswith("00:00:080,Pose2,0.2,0.1\n")
+    assert err.startswith("retimed <stdin> -> stdout: speed x2")
+    code, out, err = invoke("play", "-", "--headless", "--hold", "0", stdin=HEAD)
+    assert code == 0 and out.startswith("<stdin> on nao: ")
+
+
+def test_in_place_refuses_stdin(here: Path) -> None:
+    for command in (["resample", "-", "--step", "20"], ["retime", "-", "--speed", "2"]):
+        code, out, err = invoke(*command, "--in-place", stdin=HEAD)
+        assert (code, out) == (2, "")
+        assert err == (
+            "motiontool: error: --in-place cannot replace standard input ('-'); "
+            "give -o FILE, or -o - for stdout\n"
+        )
+    assert not (here / "-").exists()
+
+
+# --------------------------------------------------------------------------- conventions
+
+SHORT = {"--robot": "-r", "--timestep": "-t", "--output": "-o", "--format": "-f"}
+
+
+def _commands() -> list[tuple[str, click.Command]]:
+    root = typer.main.get_command(app)
+    found = []
+
+    def walk(command: click.Command, name: str) -> None:
+        for sub_name, sub in getattr(command, "commands", {}).items():
+            walk(sub, f"{name} {sub_name}".strip())
+        if name:
+            found.append((name, command))
+
+    walk(root, "")
+    return found
+
+
+def test_short_options_mean_the_same_on_every_command() -> None:
+    seen = set()
+    for name, command in _commands():
+        for param in command.params:
+            opts = set(param.opts)
+            for long, short in SHORT.items():
+                if long in opts or short in opts:
+                    assert {long, short} <= opts, f"{name}: {sorted(opts)} should be {long}/{short}"
+                    seen.add((name, long))
+    assert {("validate", "--timestep"), ("play", "--robot"), ("batch", "--timestep")} <= seen
+
+
+def test_version_short_option() -> None:
+    assert invoke("-V") == (0, f"motiontool {__version__}\n", "")
+    assert invoke("--version") == (0, f"motiontool {__version__}\n", "")
+
+
+def test_shell_completion(here: Path) -> None:
+    code, out, _ = invoke("--show-completion", "bash")
+    assert code == 0 and "_MOTIONTOOL_COMPLETE=complete_bash" in out
+    env = dict(
+        os.environ,
+        _MOTIONTOOL_COMPLETE="complete_bash",
+        COMP_WORDS="motiontool val",
+        COMP_CWORD="1",
+    )
+    proc = subprocess.run([_script()], env=env, capture_output=True, text=True, check=False)
+    assert (proc.returncode, proc.stdout.split()) == (0, ["validate"])
+
+
+def test_info_counts_what_validate_robot_none_finds(here: Path) -> None:
+    (here / "many.motion").write_bytes(MANY)
+    code, out, _ = invoke("validate", "--robot", "none", "-f", "json", "many.motion")
+    summary = json.loads(out)["summary"]
+    assert code == 1 and (summary["errors"], summary["warnings"], summary["notes"]) == (1, 5, 1)
+    code, out, _ = invoke("info", "-f", "json", "many.motion")
+    info = json.loads(out)
+    assert code == 0 and info["schema_version"] == 2
+    assert (info["errors"], info["warnings"], info["notes"]) == (1, 5, 1)
+    code, out, _ = invoke("info", "many.motion")
+    assert out.splitlines()[-1] == (
+        "findings    1 error, 5 warnings, 1 note "
+        "(syntax only; 'motiontool validate --robot none many.motion' lists them)"
+    )
