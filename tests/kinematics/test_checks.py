@@ -403,7 +403,9 @@ def test_auto_picks_the_robot_per_file_and_notes_when_none_fits(tmp_path: Path) 
     (tmp_path / "nao.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,3\n")
     (tmp_path / "arm.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,shoulder_pan_joint\n0,P,7\n")
     (tmp_path / "typo.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw\n0,P,3,0\n")
-    (tmp_path / "stray.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw,Tail\n0,P,0,0,0\n")
+    (tmp_path / "stray.motion").write_bytes(
+        b"#WEBOTS_MOTION,V1.0,HeadPitch,HeadYw,Tail\n0,P,0,0,0\n"
+    )
     (tmp_path / "mixed.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,elbow_joint\n0,P,0,0\n")
     (tmp_path / "hexapod.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,hip_l0,knee_l0\n0,P,0,0\n")
     checker = RobotChecks("auto")
