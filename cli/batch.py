@@ -9,7 +9,9 @@ import typer
 
 from motiontool.cli.color import rich_no_color
 from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.play import Start
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
 
 __all__ = ["batch_command"]
@@ -73,6 +75,27 @@ def batch_command(
         Path | None,
         typer.Option("--rrd-dir", help="Keep a Rerun recording of every run in this folder."),
     ] = None,
+    start: Annotated[
+        Start | None,
+        typer.Option(
+            "--start",
+            help="Start standing, lying face down or lying face up (default: each motion's"
+            " sidecar start, else standing).",
+            show_default=False,
+        ),
+    ] = None,
+    expect: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--expect",
+            help="What every run must do, e.g. 'dx>=0.3', 'yaw=60±10', upright (repeatable;"
+            " in addition to each motion's motions.toml sidecar).",
+            show_default=False,
+        ),
+    ] = None,
+    no_sidecar: Annotated[
+        bool, typer.Option("--no-sidecar", help="Ignore motions.toml sidecars.")
+    ] = False,
     no_cache: Annotated[bool, typer.Option("--no-cache", help="Run everything again.")] = False,
     cache_dir: Annotated[
         Path | None,
@@ -80,7 +103,8 @@ def batch_command(
     ] = None,
 ) -> None:
     """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
-    clean (fell, collided, simulator warning, error, crash or timeout)."""
+    clean (fell, collided, simulator warning, an expectation not met, error, crash or
+    timeout)."""
     from motiontool.cli.batch_reports import (
         render_json,
         render_markdown,
@@ -96,7 +120,9 @@ def batch_command(
         recording_stems,
         run_batch,
     )
+    from motiontool.sim.expect import parse_expectations
     from motiontool.sim.runs import run_spec
+    from motiontool.sim.sidecar import Sidecar, expectations_for
 
     if executor not in ("local", "ray"):
         raise typer.BadParameter(f"{executor!r}: choose local or ray", param_hint="--executor")
@@ -110,14 +136,28 @@ def batch_command(
         ("--rrd-dir", rrd_dir),
     ]:
         refuse_overwrite(out, files, option)
+    require("mujoco", "sim", "motiontool batch")
+    if junit is not None:
+        require("junitparser", "sim", "motiontool batch --junit")
+    if rrd_dir is not None:
+        require("rerun", "rerun", "motiontool batch --rrd-dir")
+    if executor == "ray":
+        require("ray", "ray", "motiontool batch --executor ray")
     perturbations = [parse_perturbation(p) for p in perturb or []]
     robots = robot or ["auto"]
     for r in dict.fromkeys(robots):
         if r != "auto":
             load_robot(r)  # a clear error for a bad name, before anything runs
     rrd_names = recording_stems(files)
+    parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
+    roots = [p for p in paths if p.is_dir()]
+    sidecars: dict[Path, Sidecar] = {}
     specs = []
     for f in files:
+        expected, sidecar_start = expectations_for(
+            f, expect or [], sidecar=not no_sidecar, roots=roots, cache=sidecars
+        )
+        start_state = start.value if start is not None else sidecar_start
         file_robots = []
         for r in robots:
             if r == "auto":
@@ -128,6 +168,8 @@ def batch_command(
             else:
                 file_robots.append(r)
         options: dict[str, object] = {"timestep_ms": timestep}
+        if start_state not in (None, "standing"):
+            options["start"] = start_state
         if rrd_dir is not None:
             rrd_dir.mkdir(parents=True, exist_ok=True)
             options["rrd_dir"] = str(rrd_dir)
@@ -139,6 +181,7 @@ def batch_command(
             samples=samples,
             seed=seed,
             options=options,
+            expect=expected,
         )
 
     def model_hash(name: str) -> str:

@@ -13,6 +13,7 @@ from motiontool.cli.jsontext import dumps
 from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import source_name
 
 if TYPE_CHECKING:
@@ -26,6 +27,7 @@ class Start(enum.StrEnum):
 
     standing = "standing"
     lying_front = "lying-front"
+    lying_back = "lying-back"
 
 
 def _num(value: float | None, fmt: str, unit: str) -> str:
@@ -59,6 +61,10 @@ def render_text(report: PlayReport) -> str:
         f"physics step {stamps_.get('physics_step_ms'):g} ms)",
         "result: " + ("clean" if report.clean else "; ".join(report.problems)),
     ]
+    if report.expectations:
+        lines.append(f"expectations: {sum(r.passed for r in report.expectations)} of "
+                     f"{len(report.expectations)} met")  # fmt: skip
+        lines += [f"  {r.summary()}" for r in report.expectations]
     base = report.base
     if base is not None:
         lines.append(
@@ -153,8 +159,26 @@ def play_command(
         ),
     ] = "auto",
     start: Annotated[
-        Start, typer.Option("--start", help="Start standing, or lying face down.")
-    ] = Start.standing,
+        Start | None,
+        typer.Option(
+            "--start",
+            help="Start standing, lying face down or lying face up (default: the sidecar's"
+            " start, else standing).",
+            show_default=False,
+        ),
+    ] = None,
+    expect: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--expect",
+            help="What the run must do, e.g. 'dx>=0.3', 'yaw=60±10', upright (repeatable; in"
+            " addition to the motions.toml sidecar's, for a single file).",
+            show_default=False,
+        ),
+    ] = None,
+    no_sidecar: Annotated[
+        bool, typer.Option("--no-sidecar", help="Ignore motions.toml sidecars.")
+    ] = False,
     hold: Annotated[
         float,
         typer.Option("--hold", min=0.0, help="Seconds to keep simulating after the last motion."),
@@ -165,8 +189,9 @@ def play_command(
 
     Motors follow Webots' law: the target is clipped to the motor limits, a P controller
     (P = 10) makes a velocity command capped at maxVelocity, a velocity servo limited to
-    maxTorque realises it. Exit code 0 when the run is clean, 1 when the robot fell, collided
-    or MuJoCo raised a warning, 2 on error. --json and --rrd are written in every case.
+    maxTorque realises it. Exit code 0 when the run is clean, 1 when the robot fell, collided,
+    MuJoCo raised a warning or an expectation (--expect, motions.toml) is not met, 2 on error.
+    --json and --rrd are written in every case.
     """
     if not headless:
         raise MotionToolError(
@@ -175,9 +200,20 @@ def play_command(
         )
     refuse_overwrite(json_path, files, "--json")
     refuse_overwrite(rrd, files, "--rrd")
+    require("mujoco", "sim", "motiontool play")
+    if rrd is not None:
+        require("rerun", "rerun", "motiontool play --rrd")
     from motiontool.motionfmt import read_motion
+    from motiontool.motionfmt.fileio import is_stdin
+    from motiontool.sim.expect import evaluate, parse_expectations
     from motiontool.sim.play import PlayOptions, play, resolve_robot
+    from motiontool.sim.sidecar import expectations_for
 
+    # A sidecar describes one motion: it applies when one file is played (not stdin).
+    use_sidecar = not no_sidecar and len(files) == 1 and not is_stdin(files[0])
+    expected, sidecar_start = expectations_for(files[0], expect or [], sidecar=use_sidecar)
+    expectations = parse_expectations(expected)  # a bad one: exit 2 before anything runs
+    start_state = start.value if start is not None else (sidecar_start or "standing")
     doc_stamps: dict[str, Any] = dict(stamps())
     try:
         motions = [read_motion(str(f)) for f in files]
@@ -187,11 +223,12 @@ def play_command(
             timestep_ms=timestep,
             loops=loop,
             reverse=reverse,
-            start=start.value,
+            start=start_state,  # type: ignore[arg-type]  # checked by PlayOptions.check
             hold_s=hold,
             seed=seed,
         )
         report = play(files, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
+        report.expectations = evaluate(expectations, report)
     except MotionToolError as exc:
         if json_path is not None:
             emit(_error_json(str(exc), files, doc_stamps), json_path)

@@ -4,6 +4,13 @@ Importing this package is cheap: MuJoCo (:mod:`motiontool.sim._mujoco`) and Reru
 (:mod:`motiontool.sim.recording`) are imported only when a run or a recording needs them.
 """
 
+from motiontool.sim.expect import (
+    Expectation,
+    ExpectationError,
+    ExpectationResult,
+    evaluate,
+    parse_expectation,
+)
 from motiontool.sim.motor import DEFAULT_P_GAIN, MotorLimits, velocity_command
 from motiontool.sim.play import (
     LIMIT_TOLERANCE,
@@ -38,6 +45,9 @@ __all__ = [
     "BodyShapes",
     "ContactEvent",
     "ContactSummary",
+    "Expectation",
+    "ExpectationError",
+    "ExpectationResult",
     "FileRun",
     "FootStats",
     "JointStats",
@@ -48,6 +58,8 @@ __all__ = [
     "Shape",
     "Trace",
     "command_matrix",
+    "evaluate",
+    "parse_expectation",
     "play",
     "resolve_robot",
     "velocity_command",

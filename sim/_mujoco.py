@@ -5,8 +5,9 @@ The only module that imports :mod:`mujoco` (lazily, inside functions).
 Scene (built with :class:`mujoco.MjSpec` from the robot's model file): a floor plane, a light and
 the robot. A free-flying robot (the Nao) stands in its zero pose with its lowest point
 :data:`SPAWN_CLEARANCE_M` above the floor (the Nao's torso then sits at 0.334 m, the Webots PROTO
-spawn height); ``lying-front`` lays it face down instead. A fixed-base robot (the UR5e) stands on
-a 0.6 m wooden box, its base on the top face, as in Webots' ``ure.wbt``.
+spawn height); ``lying-front`` lays it face down instead, ``lying-back`` face up. A fixed-base
+robot (the UR5e) stands on a 0.6 m wooden box, its base on the top face, as in Webots'
+``ure.wbt``.
 
 Motors (see :mod:`motiontool.sim.motor` for the control law): Webots hands the P controller's
 velocity command to an ODE joint motor, i.e. a velocity constraint whose force is bounded by
@@ -30,6 +31,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 from motiontool.sim.motor import MotorLimits
 from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
 
@@ -49,7 +51,7 @@ __all__ = [
     "scene_shapes",
 ]
 
-Start = Literal["standing", "lying-front"]
+Start = Literal["standing", "lying-front", "lying-back"]
 
 SPAWN_CLEARANCE_M = 1e-4
 """Gap between a free-flying robot's lowest point and the floor at spawn, m (the Webots Nao PROTO
@@ -88,11 +90,16 @@ def warning_label(enum_name: str) -> str:
     return re.sub(r"(?<=[a-z])full$", "_full", word)
 
 
+def _mj() -> Any:
+    """The mujoco module, or a one-line error naming ``motiontool[sim]``."""
+    return require("mujoco", "sim", "simulation (motiontool play, batch)")
+
+
 def warning_labels() -> dict[int, str]:
     """Index in ``MjData.warning`` -> report key, for every warning of the installed MuJoCo
     (read from ``mujoco.mjtWarning``, so that a version that adds or reorders warnings is
     labelled right)."""
-    import mujoco
+    mujoco = _mj()
 
     members = mujoco.mjtWarning.__members__
     return {
@@ -104,7 +111,7 @@ def warning_labels() -> dict[int, str]:
 
 def mujoco_version() -> str:
     """The MuJoCo version string."""
-    import mujoco
+    mujoco = _mj()
 
     return str(mujoco.__version__)
 
@@ -189,8 +196,8 @@ def build_scene(
         robot: the robot (its ``model_path`` is read with :meth:`mujoco.MjSpec.from_file`).
         control_step_ms: the control period (Webots' basicTimeStep), ms.
         physics_step_ms: the largest MuJoCo step, ms; the step used divides the control step.
-        start: ``standing`` (zero pose, upright) or ``lying-front`` (face down; free-flying
-            robots only).
+        start: ``standing`` (zero pose, upright), ``lying-front`` (face down) or
+            ``lying-back`` (face up; lying: free-flying robots only).
         start_joints: initial motor positions, rad (m), overriding the zero pose.
         floor_friction: Coulomb friction coefficient between the robot and the floor (pyramidal
             cone); 1.0 walks as reported in SIM-NOTES (Webots' coulombFriction 7 makes MuJoCo's
@@ -200,7 +207,7 @@ def build_scene(
         start_yaw_deg: heading of the robot at start, degrees about +z.
         p_gain: P gain of the position controller, 1/s.
     """
-    import mujoco
+    mujoco = _mj()
     import numpy as np
 
     if control_step_ms <= 0:
@@ -343,6 +350,8 @@ def build_scene(
         quat = _quat_about_z(math.radians(start_yaw_deg))
         if start == "lying-front":  # face down: the torso's x axis points to the floor
             quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
+        elif start == "lying-back":  # face up: the torso's x axis points to the sky
+            quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, -math.sin(math.pi / 4), 0.0))
         data.qpos[free_adr + 3 : free_adr + 7] = quat
         mujoco.mj_kinematics(model, data)
         robot_geoms = [
@@ -444,7 +453,7 @@ def _in_subtree(model: Any, body: int, roots: set[int]) -> bool:
 
 def _lowest_point(model: Any, data: Any, geoms: Sequence[int]) -> float:
     """Lowest z (m) of the given geoms (exact for primitives, bounding box otherwise)."""
-    import mujoco
+    mujoco = _mj()
 
     lowest = math.inf
     for g in geoms:
@@ -511,7 +520,7 @@ def _self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any
     bodies that are not adjacent (a body and its parent, skipping bodies without geometry such
     as the Nao's Hinge2Joint helper frames) and do not already touch at the zero pose.
     """
-    import mujoco
+    mujoco = _mj()
 
     robot_geoms = [g for g in range(model.ngeom) if scene.geom_class[g] in (1, 2)]
     if len({int(model.geom_bodyid[g]) for g in robot_geoms}) < 2:
@@ -596,7 +605,7 @@ def run(
 
     A failure inside the loop stops the run: the trace keeps what was simulated and says why.
     """
-    import mujoco
+    mujoco = _mj()
     import numpy as np
 
     model, data = scene.model, scene.data
@@ -696,7 +705,7 @@ def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
 
 
 def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
-    import mujoco
+    mujoco = _mj()
 
     assert scene.probe is not None
     probe, probe_data = scene.probe
@@ -722,7 +731,7 @@ def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
 
 def scene_shapes(scene: Scene) -> list[BodyShapes]:
     """Every body with collision geometry: the robot's (posed every frame) and the scene's."""
-    import mujoco
+    mujoco = _mj()
 
     model = scene.model
     kinds = {

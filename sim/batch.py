@@ -4,7 +4,9 @@ The plan is a list of :class:`RunSpec` (pure data, picklable). A *runner* turns 
 JSON-able report (``motiontool.sim.runs.run_spec`` plays it in MuJoCo); the executors only move
 specs and reports around, so the local pool and Ray give identical results for the same seed.
 Results are cached on disk by (file content, model hash, options, perturbation, tool version):
-an interrupted or repeated batch only runs what is missing.
+an interrupted or repeated batch only runs what is missing. A run's expectations
+(:mod:`motiontool.sim.expect`) are not part of the key: the raw report is cached and judged
+after the cache, so changing an expectation re-judges without re-running.
 """
 
 from __future__ import annotations
@@ -86,6 +88,8 @@ class RunSpec:
         sample: sample index (0 = nominal when no perturbation is given).
         params: perturbation values of this sample, name -> value (units in PERTURBATIONS).
         options: play options (time step in ms, loops, reverse, start pose, ...).
+        expect: expectations the run must meet (``dx>=0.3``, ``upright``; not in the cache
+            key: judged on the report after the cache).
     """
 
     path: str
@@ -94,6 +98,7 @@ class RunSpec:
     sample: int = 0
     params: tuple[tuple[str, float], ...] = ()
     options: tuple[tuple[str, Any], ...] = ()
+    expect: tuple[str, ...] = ()
 
     @property
     def label(self) -> str:
@@ -167,6 +172,7 @@ def plan(
     samples: int = 1,
     seed: int = 0,
     options: dict[str, Any] | None = None,
+    expect: Sequence[str] = (),
 ) -> list[RunSpec]:
     """Every (file, robot, sample) run, with seeded perturbation draws.
 
@@ -189,7 +195,7 @@ def plan(
                     (p.name, rng.uniform(p.low, p.high))
                     for p in sorted(perturbations, key=lambda p: p.name)
                 )
-                specs.append(RunSpec(str(raw), digest, robot, k, params, opts))
+                specs.append(RunSpec(str(raw), digest, robot, k, params, opts, tuple(expect)))
     return specs
 
 
@@ -232,6 +238,20 @@ def _classify(spec: RunSpec, status: str, value: Any, reason: str, wall_s: float
     clean = bool(report.get("clean"))
     why = "" if clean else str(report.get("reason") or "not clean")
     return RunResult(spec, "clean" if clean else "failed", why, report, wall_s)
+
+
+def _judged(result: RunResult) -> RunResult:
+    """``result`` with its spec's expectations judged on its report (runs without a report,
+    or without expectations, are returned as they are)."""
+    if not result.spec.expect or result.report is None or result.status not in ("clean", "failed"):
+        return result
+    from motiontool.sim.expect import apply_expectations
+
+    report = apply_expectations(result.report, result.spec.expect)
+    clean = bool(report.get("clean"))
+    why = "" if clean else str(report.get("reason") or "not clean")
+    status = "clean" if clean else "failed"
+    return RunResult(result.spec, status, why, report, result.wall_s, result.cached)
 
 
 def _cache_path(cache_dir: Path, key: str) -> Path:
@@ -277,7 +297,8 @@ def run_batch(
     for i, spec in enumerate(specs):
         hit = _load_cached(cache_dir, keys[i]) if cache_dir is not None else None
         if hit is not None:
-            results[i] = RunResult(spec, hit["status"], hit["reason"], hit["report"], 0.0, True)
+            cached = RunResult(spec, hit["status"], hit["reason"], hit["report"], 0.0, True)
+            results[i] = _judged(cached)
             done += 1
             if progress:
                 progress(results[i], done, len(specs))  # type: ignore[arg-type]
@@ -314,6 +335,7 @@ def run_batch(
             path = _cache_path(cache_dir, keys[i])
             path.parent.mkdir(parents=True, exist_ok=True)
             atomic_write(path, json.dumps(payload, sort_keys=True).encode())
+        result = results[i] = _judged(result)
         done += 1
         if progress:
             progress(result, done, len(specs))

@@ -22,6 +22,7 @@ from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
 from motiontool.motionfmt import Motion, read_bytes, read_file, sample
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.player import Held, hold_targets
 from motiontool.sim.report import (
     BaseStats,
     ContactSummary,
@@ -51,9 +52,9 @@ __all__ = [
 
 log = logging.getLogger("motiontool")
 
-STARTS = ("standing", "lying-front")
-"""Start states: ``standing`` (zero pose, upright) and ``lying-front`` (face down, the joints at
-the first motion's first pose)."""
+STARTS = ("standing", "lying-front", "lying-back")
+"""Start states: ``standing`` (zero pose, upright), ``lying-front`` (face down) and
+``lying-back`` (face up), lying with the joints at the first motion's first pose."""
 
 TORQUE_CAP_FRACTION = 0.999
 """A motor counts as torque-limited when its torque reaches this fraction of maxTorque."""
@@ -71,7 +72,7 @@ class PlayOptions:
             UR5e 8).
         loops: cycles of each motion (Webots' loop mode).
         reverse: play each motion backwards.
-        start: ``standing`` or ``lying-front``.
+        start: ``standing``, ``lying-front`` (face down) or ``lying-back`` (face up).
         physics_step_ms: largest MuJoCo step, ms (the step used divides the control step).
         p_gain: P gain of the motors' position controllers, 1/s (Webots' controlPID P).
         hold_s: time to keep simulating after the last motion, the last targets held, s.
@@ -92,7 +93,7 @@ class PlayOptions:
     timestep_ms: int | None = None
     loops: int = 1
     reverse: bool = False
-    start: Literal["standing", "lying-front"] = "standing"
+    start: Literal["standing", "lying-front", "lying-back"] = "standing"
     physics_step_ms: float = 2.0
     p_gain: float = 10.0
     hold_s: float = 1.0
@@ -208,33 +209,21 @@ def command_matrix(
     """
     import numpy as np
 
-    index = {name: i for i, name in enumerate(joints)}
     streams = [sample(m, timestep_ms, reverse=reverse, loops=loops) for m in motions]
-    lengths = [len(s.elapsed_ms) for s in streams]
-    total = sum(lengths) + hold_steps
-    raw = np.full((total, len(joints)), np.nan)
-    commanded = np.zeros(raw.shape, dtype=np.bool_)
-    ignored: list[str] = []
-    offset = 0
-    for stream, n in zip(streams, lengths, strict=True):
-        for column, name in enumerate(stream.joints):
-            if name not in index:
-                if name not in ignored:
-                    ignored.append(name)
-                continue
-            values = stream.targets[:, column]
-            sent = stream.commanded[:, column]
-            # Webots calls set_position once per column: a later column of the same motor
-            # wins where it has a value, an earlier one stands where it has none.
-            raw[offset : offset + n, index[name]][sent] = values[sent]
-            commanded[offset : offset + n, index[name]] |= sent
-        offset += n
-    if not bool(np.isfinite(raw[commanded]).all()):  # the files are checked first: see play()
+    motors = set(joints)
+    ignored = list(dict.fromkeys(n for s in streams for n in s.joints if n not in motors))
+    idle = np.zeros((hold_steps, len(joints)), dtype=np.bool_)  # the hold steps send nothing
+    chunks = [(s.targets, s.commanded, s.joints) for s in streams]
+    chunks.append((np.full(idle.shape, np.nan), idle, tuple(joints)))
+    held: list[Held] = []
+    for targets, sent, names in chunks:  # each goes on from what the one before left held
+        start = held[-1].targets[-1] if held else initial
+        held.append(hold_targets(targets, sent, names, joints, initial=start))
+    targets = np.concatenate([h.targets for h in held])
+    commanded = np.concatenate([h.sent for h in held])
+    if not bool(np.isfinite(targets[commanded]).all()):  # the files are checked first: see play()
         raise MotionToolError("a motion commands a non-finite target (nan or inf): not played")
-    last = np.where(commanded, np.arange(total)[:, None], -1)
-    np.maximum.accumulate(last, axis=0, out=last)
-    cols = np.arange(len(joints))
-    targets = np.where(last >= 0, raw[np.maximum(last, 0), cols], initial[None, :])
+    lengths = [len(s.elapsed_ms) for s in streams]
     return targets, commanded, lengths, ignored
 
 
@@ -274,7 +263,7 @@ def play(
     timestep = opts.timestep_ms or spec.default_timestep_ms
 
     start_joints = {j: 0.0 for j in spec.joint_names}
-    if opts.start == "lying-front":
+    if opts.start in ("lying-front", "lying-back"):
         first = sample(motions[0], timestep, reverse=opts.reverse)
         for name, value, sent in zip(
             first.joints, first.targets[0].tolist(), first.commanded[0].tolist(), strict=True

@@ -35,8 +35,14 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "ground_contacts": [...same...],  # robot bodies other than the feet touching the floor
       "warnings": {"bad_qacc": 0, ...}, # MuJoCo warning counters over the run
       "ignored_joints": ["..."],        # motion columns that are not motors of the robot
-      "unplayed_files": ["..."]         # motions none of whose columns is a motor of the robot
-    }                                   #   (nothing of them was played: the run is not clean)
+      "unplayed_files": ["..."],        # motions none of whose columns is a motor of the robot
+                                        #   (nothing of them was played: the run is not clean)
+      "expectations": [{"text", "quantity", "joint", "expected", "passed",   # motiontool.sim.expect
+                        "measured": {"value", "unit"}, "reason"}]         # (reason: '' if passed)
+    }
+
+A failed expectation makes the run not clean (its reason joins ``reason``); an expectation that
+names the fall (``fell``, ``no-fall``, ``fell_at``) replaces the fall verdict.
 
 Times are simulated seconds from the start of the run. No wall-clock time is reported: the same
 inputs give the same report, bit for bit.
@@ -45,9 +51,12 @@ inputs give the same report, bit for bit.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
+
+if TYPE_CHECKING:
+    from motiontool.sim.expect import ExpectationResult
 
 __all__ = [
     "SCHEMA",
@@ -62,6 +71,8 @@ __all__ = [
 
 SCHEMA = "motiontool.play"
 SCHEMA_VERSION = 1
+
+_T = TypeVar("_T")
 
 
 @dataclass(frozen=True)
@@ -150,6 +161,7 @@ class PlayReport:
     ignored_joints: list[str] = field(default_factory=list)
     error: str | None = None
     unplayed_files: list[str] = field(default_factory=list)
+    expectations: list[ExpectationResult] = field(default_factory=list)
 
     @property
     def problems(self) -> list[str]:
@@ -165,8 +177,11 @@ class PlayReport:
             out.append(
                 "MuJoCo warning " + ", ".join(f"{k} x{v}" for k, v in sorted(raised.items()))
             )
+        fall_decided = any(r.expectation.decides_fall for r in self.expectations)
         if self.base is not None:
-            if self.base.fell:
+            if self.base.fell and fall_decided:
+                pass  # an expectation says whether it should fall
+            elif self.base.fell:
                 out.append(f"fell at {self.base.fell_at_s:.2f} s")
             elif self.base.started_down and not self.base.upright_at_end:
                 out.append("started down and did not get up")
@@ -174,11 +189,12 @@ class PlayReport:
             out.append(f"self-collision {c.body_a}/{c.body_b} at {c.first_s:.2f} s")
         for c in self.scene_contacts:
             out.append(f"{c.body_a} touched {c.body_b} at {c.first_s:.2f} s")
+        out += [r.reason for r in self.expectations if not r.passed]
         return out
 
     @property
     def clean(self) -> bool:
-        """No error, no warning, no fall, no collision."""
+        """No error, no warning, no fall, no collision, every expectation met."""
         return not self.problems
 
     @property
@@ -212,9 +228,40 @@ class PlayReport:
             "warnings": dict(self.warnings),
             "ignored_joints": list(self.ignored_joints),
             "unplayed_files": list(self.unplayed_files),
+            "expectations": [r.to_json() for r in self.expectations],
         }
         out: dict[str, Any] = _finite(doc)
         return out
+
+    @classmethod
+    def from_json(cls, doc: dict[str, Any]) -> PlayReport:
+        """The report of a JSON document written by :meth:`to_json` (its ``expectations`` are
+        not read back: judge them again with :func:`motiontool.sim.expect.evaluate`)."""
+        base = doc.get("base")
+        return cls(
+            robot=doc["robot"],
+            files=[_make(FileRun, f) for f in doc["files"]],
+            options=dict(doc.get("options") or {}),
+            stamps=dict(doc.get("stamps") or {}),
+            simulated_s=doc["simulated_s"],
+            control_steps=doc["control_steps"],
+            joints=[_make(JointStats, j) for j in doc["joints"]],
+            base=_make(BaseStats, base) if base is not None else None,
+            feet=[_make(FootStats, f) for f in doc["feet"]],
+            self_collisions=[_make(ContactSummary, c) for c in doc["self_collisions"]],
+            scene_contacts=[_make(ContactSummary, c) for c in doc["scene_contacts"]],
+            ground_contacts=[_make(ContactSummary, c) for c in doc["ground_contacts"]],
+            warnings=dict(doc.get("warnings") or {}),
+            ignored_joints=list(doc.get("ignored_joints") or []),
+            error=doc.get("error"),
+            unplayed_files=list(doc.get("unplayed_files") or []),
+        )
+
+
+def _make(cls: type[_T], values: dict[str, Any]) -> _T:
+    """``cls(**values)`` with the keys ``cls`` has (a newer report may carry more)."""
+    names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
+    return cls(**{k: v for k, v in values.items() if k in names})
 
 
 def _finite(value: Any) -> Any:

@@ -48,6 +48,8 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
     kwargs: dict[str, Any] = {_OPTION_OF[k]: v for k, v in params.items() if k in _OPTION_OF}
     if options.get("timestep_ms"):
         kwargs["timestep_ms"] = int(options["timestep_ms"])
+    if options.get("start"):
+        kwargs["start"] = str(options["start"])
     kwargs["seed"] = spec.sample
     if spec.robot == "auto":  # no built-in robot fits: resolve_robot says why, as one line
         from motiontool.motionfmt import read_motion

@@ -1,0 +1,76 @@
+"""``motiontool expect --infer``: propose a ``motions.toml`` from motion names, for review."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = ["expect_command"]
+
+
+def _floating(path: Path) -> bool | None:
+    """Whether the robot ``path``'s joints belong to is free-flying (None: no robot fits)."""
+    from motiontool.kinematics.robots import detect_robot, load_robot
+    from motiontool.motionfmt import read_bytes, read_file
+
+    found = detect_robot(read_bytes(read_file(path), str(path)).joints)
+    return None if found is None else load_robot(found).floating_base
+
+
+def expect_command(
+    names: Annotated[
+        list[str],
+        typer.Argument(
+            help="Motion names (TurnLeft60), motion files or folders of them.",
+            show_default=False,
+        ),
+    ],
+    infer: Annotated[
+        bool,
+        typer.Option("--infer", help="Propose expectations from the names (the only mode)."),
+    ] = False,
+    output: Annotated[
+        Path | None,
+        typer.Option("--output", "-o", help="Write the motions.toml here (default: stdout)."),
+    ] = None,
+) -> None:
+    """Propose expectations (a motions.toml sidecar) from motion names, for people to review:
+    Forwards -> dx>0, TurnLeft60 -> yaw=60±9, SideStepRight -> dy<0, StandUpFromFront ->
+    upright from lying-front, Fall -> fell, HandWave -> feet-planted, else upright. For a file,
+    its robot counts too (an arm gets no-self-collision). Nothing is measured: review it."""
+    if not infer:
+        raise MotionToolError("expect needs --infer (propose expectations from the names)")
+    from motiontool.motionfmt.fileio import collect_motion_files
+    from motiontool.sim.infer import infer as infer_name
+    from motiontool.sim.infer import render_toml
+
+    inputs: list[Path] = []
+    entries: list[tuple[str, Path | None]] = []
+    for raw in names:
+        path = Path(raw)
+        if path.exists():
+            for f in collect_motion_files([path]):
+                inputs.append(f)
+                entries.append((f.stem, f))
+        elif raw.endswith(".motion") or "/" in raw:
+            raise MotionToolError(f"cannot read '{raw}': No such file or directory")
+        else:
+            entries.append((raw, None))
+    refuse_overwrite(output, inputs, "--output")
+    seen: dict[str, object] = {}
+    inferences = []
+    for name, file in entries:
+        if name in seen:
+            continue
+        seen[name] = file
+        floating = _floating(file) if file is not None else None
+        inference = infer_name(name, floating_base=floating)
+        if file is not None and floating is None:
+            inference.notes.append("no built-in robot fits its joints: batch it with --robot")
+        inferences.append(inference)
+    emit(render_toml(inferences), output)
