@@ -15,15 +15,20 @@ from motiontool import __version__
 from motiontool.cli import (
     batch,
     codes,
+    concat,
     diff,
+    expect,
     generate,
     info,
+    mirror,
     play,
     plot,
     resample,
     retime,
     robots,
     sample,
+    scale,
+    trim,
     validate,
 )
 from motiontool.cli.color import set_no_color
@@ -112,9 +117,14 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("generate", generate.generate_command),
     ("play", play.play_command),
     ("batch", batch.batch_command),
+    ("expect", expect.expect_command),
     ("diff", diff.diff_command),
     ("resample", resample.resample_command),
     ("retime", retime.retime_command),
+    ("mirror", mirror.mirror_command),
+    ("concat", concat.concat_command),
+    ("trim", trim.trim_command),
+    ("scale", scale.scale_command),
     ("plot", plot.plot_command),
 ]
 for _name, _command in _COMMANDS:

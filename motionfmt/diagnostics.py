@@ -33,11 +33,20 @@ class Severity(enum.IntEnum):
 
 @dataclass(frozen=True)
 class Code:
-    """A diagnostic code: its identifier, default severity and a one-line title."""
+    """A diagnostic code: its identifier, default severity and a one-line title.
+
+    ``rejects``: a file with this finding is one Webots' loader rejects (``wbu_motion_new``
+    returns NULL); the first such finding is :attr:`ReadResult.rejected_at
+    <motiontool.motionfmt.reader.ReadResult.rejected_at>`. One code is decided per finding
+    instead: MT112 (a pose time that overflows a C int) rejects the file only when the wrapped
+    time is invalid to Webots; otherwise Webots reads the wrapped time. Its entry says False and
+    the reader says which of its findings reject.
+    """
 
     id: str
     severity: Severity
     title: str
+    rejects: bool = False
 
 
 def _codes(*codes: Code) -> dict[str, Code]:
@@ -47,19 +56,20 @@ def _codes(*codes: Code) -> dict[str, Code]:
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO  # noqa: E741
 
 CODES: dict[str, Code] = _codes(
-    # Webots rejects the file.
-    Code("MT100", E, "file is empty"),
-    Code("MT101", E, "invalid header: the first token must be '#WEBOTS_MOTION'"),
-    Code("MT102", E, "unsupported version: the second header token must be 'V1.0'"),
-    Code("MT103", E, "the header names no joint"),
-    Code("MT104", E, "the file has no pose"),
-    Code("MT105", E, "invalid pose time"),
-    Code("MT106", E, "pose times do not strictly increase"),
-    Code("MT107", E, "pose name missing"),
-    Code("MT108", E, "invalid value: expected a number or '*'"),
-    Code("MT109", E, "too few values on a pose line"),
-    Code("MT110", E, "too many values on a pose line"),
+    # Webots rejects the file, or reads it otherwise than it is written.
+    Code("MT100", E, "file is empty", rejects=True),
+    Code("MT101", E, "invalid header: the first token must be '#WEBOTS_MOTION'", rejects=True),
+    Code("MT102", E, "unsupported version: the second header token must be 'V1.0'", rejects=True),
+    Code("MT103", E, "the header names no joint", rejects=True),
+    Code("MT104", E, "the file has no pose", rejects=True),
+    Code("MT105", E, "invalid pose time", rejects=True),
+    Code("MT106", E, "pose times do not strictly increase", rejects=True),
+    Code("MT107", E, "pose name missing", rejects=True),
+    Code("MT108", E, "invalid value: expected a number or '*'", rejects=True),
+    Code("MT109", E, "too few values on a pose line", rejects=True),
+    Code("MT110", E, "too many values on a pose line", rejects=True),
     Code("MT111", E, "line of 4095 bytes or more: Webots cuts it into pieces"),
+    # MT112 rejects only where the wrapped time is invalid: the reader decides per finding.
     Code("MT112", E, "pose time out of range: Webots' int milliseconds overflow"),
     Code("MT113", E, "value is nan or infinite"),
     Code("MT114", E, "NUL byte: Webots stops reading the line there"),
@@ -84,8 +94,10 @@ CODES: dict[str, Code] = _codes(
     Code("MT306", E, "joints one motor drives on the real robot differ"),
     Code("MT307", W, "self-collision: two bodies of the robot overlap"),
     Code("MT308", W, "static balance: centre of mass outside the support polygon"),
+    Code("MT309", I, "a Left/Right file looks like an unmirrored copy of its sibling"),
     # Notes about the validation itself.
     Code("MT901", I, "robot checks skipped"),
+    Code("MT902", I, "check skipped: a library it needs is not installed"),
 )
 
 

@@ -493,12 +493,14 @@ CORPUS_FINDINGS: dict[str, tuple[dict[tuple[str, str], int], str]] = {
         " -0.349 (fine for the right arm) drives LShoulderRoll below -0.314159",
     ),
     "projects/robots/softbank/dancing_nao/motions/HandHighLeft.motion": (
-        {("MT207", "info"): 1},
-        "RShoulderPitch '*' after the first pose: it holds its target (note)",
+        {("MT207", "info"): 1, ("MT309", "info"): 1},
+        "RShoulderPitch '*' after the first pose: it holds its target (note); its LShoulderRoll"
+        " is HandHighRight's RShoulderRoll unnegated, an unmirrored copy (note, within limits)",
     ),
     "projects/robots/softbank/dancing_nao/motions/HandHighRight.motion": (
-        {("MT207", "info"): 1},
-        "LShoulderPitch '*' after the first pose: it holds its target (note)",
+        {("MT207", "info"): 1, ("MT309", "info"): 1},
+        "LShoulderPitch '*' after the first pose: it holds its target (note); the sibling of"
+        " HandHighLeft: the two are unmirrored copies of each other (note)",
     ),
     "projects/robots/softbank/dancing_nao/motions/HandWaveLeft.motion": (
         {("MT207", "info"): 1, ("MT302", "error"): 7},

@@ -1,0 +1,86 @@
+"""Benchmark: ``mirror``, ``concat`` and ``trim`` on the 100 000-pose, 26-joint file of
+``bench_validate.py`` (about 26 MB).
+
+Run: ``python benchmarks/bench_authoring.py``. Each time covers reading the file into a lossless
+document, the operation, and the result read back as a document (as Webots reads it); it is
+printed with its ratio to a baseline measured in the same run: the plain read (``loads`` of the
+file). Target (issue 12): < 2 s each. concat joins the file and a 2-pose motion (26 MB out);
+the file joined with itself (52 MB out, two reads of twice the data) is printed too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+from _timing import best_of  # benchmarks/_timing.py (run as a script)
+from bench_validate import JOINTS, make_file
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--poses", type=int, default=100_000)
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+
+    from motiontool.kinematics.mirror import mirror_map
+    from motiontool.kinematics.robots import load_robot
+    from motiontool.motionfmt import loads, read_file
+    from motiontool.motionfmt.authoring import concat, mirror, trim
+
+    nao = load_robot("nao")
+    mapping = mirror_map(nao).as_dict()
+    vmax = {j.name: j.max_velocity for j in nao.joints}
+    with tempfile.TemporaryDirectory() as tmp:
+        big = Path(tmp) / "big.motion"
+        make_file(big, args.poses)
+        size_mb = big.stat().st_size / 1e6
+        end = 40 * (args.poses - 1)
+
+        def read() -> None:
+            assert loads(read_file(big), "big.motion").n_poses == args.poses
+
+        def do_mirror() -> None:
+            doc = loads(read_file(big), "big.motion")
+            assert len(mirror(doc, mapping).document.to_bytes()) > 0
+
+        # A short motion of the same joints, in another column order, to join after the file.
+        tail = "#WEBOTS_MOTION,V1.0," + ",".join(JOINTS[::-1]) + "\n"
+        tail += "".join(f"{t},T{t},{','.join(['0.1'] * len(JOINTS))}\n" for t in (0, 500))
+        small = loads(tail.encode(), "tail.motion")
+
+        def do_concat() -> None:
+            doc = loads(read_file(big), "big.motion")
+            out = concat([doc, small], max_velocity=vmax).document
+            assert out.n_poses == args.poses + 2
+
+        def do_concat_twice() -> None:
+            doc = loads(read_file(big), "big.motion")
+            out = concat([doc, doc], max_velocity=vmax).document
+            assert out.n_poses == 2 * args.poses
+
+        def do_trim() -> None:
+            doc = loads(read_file(big), "big.motion")
+            out = trim(doc, end // 10 + 7, end - end // 10 + 13).document  # off the pose times
+            assert out.n_poses > args.poses // 2
+
+        t_base = best_of(args.repeat, read)
+        print(f"file: {args.poses} poses x {len(JOINTS)} joints, {size_mb:.1f} MB")
+        print(f"baseline (read into a lossless document): {t_base:.3f} s")
+        for label, fn in (
+            ("mirror (read, mirror, bytes)", do_mirror),
+            ("concat (read, file + a 2-pose motion)", do_concat),
+            ("trim (read, keep 80 %, 2 new poses)", do_trim),
+        ):
+            t = best_of(args.repeat, fn)
+            print(f"{label:<41} {t:.3f} s  ratio {t / t_base:.2f}x baseline  (target < 2 s)")
+        t = best_of(args.repeat, do_concat_twice)
+        print(
+            f"{'concat (read, file + itself: 52 MB out)':<41} {t:.3f} s  ratio "
+            f"{t / t_base:.2f}x baseline  (twice the data: for information)"
+        )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,199 @@
+"""``motiontool concat``: motions one after another, with transitions within maxVelocity."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from motiontool.cli._authoring import RobotOption, check_result, num, pick_robot
+from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.resample import (
+    Format,
+    FormatOption,
+    InPlace,
+    Output,
+    load_input,
+    output_target,
+    say,
+    write_result,
+)
+from motiontool.cli.stamps import stamps
+from motiontool.kinematics.checks import Velocity
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.authoring import Concatenated, Transition, concat
+from motiontool.motionfmt.diagnostics import Diagnostic
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.transform import DEFAULT_MARGIN
+
+__all__ = ["concat_command"]
+
+
+def _in_transition(d: Diagnostic, transitions: tuple[Transition, ...], step_ms: int) -> bool:
+    """Whether a velocity finding lies in a transition (its time within one controller step
+    after it)."""
+    if d.time_ms is None:
+        return False
+    return any(t.start_ms < d.time_ms <= t.start_ms + t.duration_ms + step_ms for t in transitions)
+
+
+def concat_command(
+    paths: Annotated[
+        list[Path], typer.Argument(help="Two or more motion files, in playing order.")
+    ],
+    robot: RobotOption = "auto",
+    margin: Annotated[
+        float,
+        typer.Option("--margin", help="Fraction of maxVelocity a transition may use, in (0, 1]."),
+    ] = DEFAULT_MARGIN,
+    transition: Annotated[
+        int | None,
+        typer.Option(
+            "--transition",
+            min=1,
+            help="Transition time in ms, instead of fitting the shortest one within the "
+            "robot's maxVelocity x margin.",
+        ),
+    ] = None,
+    timestep: Annotated[
+        int | None,
+        typer.Option(
+            "--timestep",
+            "-t",
+            min=1,
+            help="Controller step (ms) of the velocity check run on the result "
+            "(default: the robot's, Nao 20 ms).",
+        ),
+    ] = None,
+    output: Output = None,
+    in_place: InPlace = False,
+    format: FormatOption = Format.text,
+) -> None:
+    """Join motions one after another, each transition as short as the robot's limits allow.
+
+    Every motion needs the same joints (any column order: later files are put in the first
+    one's order, cell by cell). Between two motions, the first's last pose moves to the next
+    one's first pose in the shortest whole-ms time within maxVelocity x margin for every joint
+    both command (retime --fit-limits' logic), or in --transition ms; the next one's times are
+    shifted to follow. The first file's lines keep their spelling, the others' too but for
+    their times. --in-place replaces the first file. Exits 1 if validate's velocity check
+    finds a transition too fast (only possible with --transition, or after a '*').
+    """
+    if len(paths) < 2:
+        raise MotionToolError("concat needs two motion files or more")
+    target = output_target(paths[0], output, in_place)
+    if not in_place:
+        refuse_overwrite(target, paths[1:], "-o", "write to a file that is not an input")
+    docs = [load_input(p) for p in paths]
+    spec: RobotSpec | None
+    if transition is None:
+        spec = pick_robot(robot, docs[0].joints)
+        if spec is None:
+            raise MotionToolError(
+                "fitting the transitions needs a robot's velocity limits: give --robot "
+                "(none detected), or a fixed --transition MS"
+            )
+    else:
+        spec = pick_robot(robot, docs[0].joints)
+    limits = None if spec is None else {j.name: j.max_velocity for j in spec.joints}
+    result = concat(docs, transition_ms=transition, max_velocity=limits, margin=margin)
+    findings: list[Diagnostic] = []
+    step = 0
+    if spec is not None:
+        step = timestep or spec.default_timestep_ms
+        every = check_result(result.document, Velocity(spec, timestep))
+        findings = [d for d in every if _in_transition(d, result.transitions, step)]
+    write_result(result.document, target)
+    if format is Format.json:
+        say(_json(result, paths, target, spec, margin, findings), target)
+    else:
+        say(_text(result, paths, target, spec, margin, findings, step), target)
+    if findings:
+        raise typer.Exit(1)
+
+
+def _text(
+    r: Concatenated,
+    paths: list[Path],
+    target: Path | None,
+    spec: RobotSpec | None,
+    margin: float,
+    findings: list[Diagnostic],
+    step: int,
+) -> str:
+    dest = "stdout" if target is None else str(target)
+    names = " + ".join(source_name(p) for p in paths)
+    motion = r.document.motion
+    lines = [f"joined {names} -> {dest}: {motion.n_poses} poses, {motion.duration_ms} ms"]
+    if spec is not None:
+        lines.append(
+            f"robot: {spec.name} (model {spec.model_hash[:12]}); transitions within "
+            f"{num(margin * 100)}% of maxVelocity"
+        )
+    for t in r.transitions:
+        why = (
+            f"fitted, limited by {t.joint}"
+            if t.fitted and t.joint
+            else ("fitted: no joint moves, 1 ms" if t.fitted else "given")
+        )
+        lines.append(f"transition into {t.into}: {t.duration_ms} ms from {t.start_ms} ms ({why})")
+    if r.reordered:
+        lines.append("columns put in the first file's order: " + ", ".join(r.reordered))
+    if r.dropped_lines:
+        lines.append(f"left out {r.dropped_lines} lines after a blank line (Webots ignores them)")
+    if r.unconstrained and spec is not None:
+        lines.append(f"not motors of {spec.name}, not constrained: " + ", ".join(r.unconstrained))
+    if spec is not None:
+        if findings:
+            lines.append(
+                f"velocity check ({step} ms controller step): {len(findings)} warnings in the "
+                "transitions:"
+            )
+            lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)
+        else:
+            lines.append(
+                f"velocity check ({step} ms controller step): no warning in the transitions"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def _json(
+    r: Concatenated,
+    paths: list[Path],
+    target: Path | None,
+    spec: RobotSpec | None,
+    margin: float,
+    findings: list[Diagnostic],
+) -> str:
+    doc = {
+        "schema": "motiontool.concat",
+        "schema_version": 1,
+        "stamps": stamps(None if spec is None else spec.model_hash),
+        "inputs": [source_name(p) for p in paths],
+        "output": None if target is None else str(target),
+        "units": {"start_ms": "ms", "duration_ms": "ms"},
+        "robot": None if spec is None else spec.name,
+        "margin": margin if spec is not None else None,
+        "duration_ms": r.document.motion.duration_ms,
+        "transitions": [
+            {
+                "into": t.into,
+                "start_ms": t.start_ms,
+                "duration_ms": t.duration_ms,
+                "joint": t.joint or None,
+                "fitted": t.fitted,
+            }
+            for t in r.transitions
+        ],
+        "reordered": list(r.reordered),
+        "dropped_lines": r.dropped_lines,
+        "unconstrained": list(r.unconstrained),
+        "transition_velocity_findings": [
+            {"code": d.code, "line": d.line, "column": d.column, "message": d.message}
+            for d in findings
+        ],
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

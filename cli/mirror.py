@@ -1,0 +1,181 @@
+"""``motiontool mirror``: the left/right mirror image of a motion, signs from the model's axes."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from motiontool.cli._authoring import RobotOption, need_robot
+from motiontool.cli.resample import (
+    Format,
+    FormatOption,
+    InPlace,
+    Output,
+    load_input,
+    output_target,
+    say,
+)
+from motiontool.cli.stamps import stamps
+from motiontool.kinematics.checks import Limits
+from motiontool.kinematics.mirror import MirrorMap, mirror_map
+from motiontool.motionfmt.authoring import Mirrored, mirror
+from motiontool.motionfmt.diagnostics import Diagnostic
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import atomic_write, source_name
+from motiontool.motionfmt.reader import read_bytes
+
+__all__ = ["mirror_command"]
+
+
+def _write(data: bytes, target: Path | None) -> None:
+    """Write ``data`` atomically to ``target``, or to stdout when None."""
+    if target is None:
+        sys.stdout.flush()
+        sys.stdout.buffer.write(data)
+        sys.stdout.buffer.flush()
+    else:
+        atomic_write(target, data)
+
+
+def _map_lines(m: MirrorMap) -> list[str]:
+    lines = [f"mirror map of {m.robot} (model {m.model_hash[:12]}), reflection y -> -y:"]
+    for p in m.pairs:
+        sign = "keeps its sign" if p.sign > 0 else "negated"
+        lines.append(f"  {p.joint} -> {p.partner}: {sign} ((M a).b = {p.dot:+.6g})")
+    lines.append(
+        f"largest anchor asymmetry: {m.largest_offset_m * 1000:.1f} mm (0 for a symmetric model)"
+    )
+    return lines
+
+
+def _map_json(m: MirrorMap) -> list[dict[str, Any]]:
+    return [
+        {
+            "joint": p.joint,
+            "partner": p.partner,
+            "sign": p.sign,
+            "dot": p.dot,
+            "offset_m": p.offset_m,
+        }
+        for p in m.pairs
+    ]
+
+
+def _text(
+    r: Mirrored,
+    m: MirrorMap,
+    source: Path,
+    target: Path | None,
+    show_map: bool,
+    new: list[Diagnostic],
+) -> str:
+    dest = "stdout" if target is None else str(target)
+    lines = [
+        f"mirrored {source_name(source)} -> {dest}: robot {m.robot} (model {m.model_hash[:12]})"
+    ]
+    if r.swapped:
+        lines.append("swapped: " + ", ".join(f"{a} <-> {b}" for a, b in r.swapped))
+    if r.renamed:
+        lines.append(
+            "renamed (partner not in the file): " + ", ".join(f"{a} -> {b}" for a, b in r.renamed)
+        )
+    lines.append(
+        "negated (roll/yaw axes: their mirror turns the other way): "
+        + (", ".join(r.negated) if r.negated else "none")
+    )
+    if r.unmapped:
+        lines.append(f"not motors of {m.robot}, unchanged: " + ", ".join(r.unmapped))
+    if show_map:
+        lines.extend(_map_lines(m))
+    if new:
+        lines.append(
+            f"limits: {len(new)} mirrored values fall outside the partner's limits (the model's "
+            "left and right ranges differ):"
+        )
+        lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in new)
+    else:
+        lines.append("limits: every mirrored value within the partner's limits")
+    return "\n".join(lines) + "\n"
+
+
+def _json(
+    r: Mirrored, m: MirrorMap, source: Path, target: Path | None, new: list[Diagnostic]
+) -> str:
+    doc = {
+        "schema": "motiontool.mirror",
+        "schema_version": 1,
+        "stamps": stamps(m.model_hash),
+        "input": source_name(source),
+        "output": None if target is None else str(target),
+        "units": {"dot": "1", "offset_m": "m"},
+        "robot": m.robot,
+        "swapped": [list(p) for p in r.swapped],
+        "renamed": [list(p) for p in r.renamed],
+        "negated": list(r.negated),
+        "unmapped": list(r.unmapped),
+        "map": _map_json(m),
+        "limit_findings": [
+            {"code": d.code, "line": d.line, "column": d.column, "message": d.message} for d in new
+        ],
+    }
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def mirror_command(
+    path: Annotated[
+        Path | None,
+        typer.Argument(
+            help="A motion file ('-': stdin); none with --show-map.", show_default=False
+        ),
+    ] = None,
+    robot: RobotOption = "auto",
+    show_map: Annotated[
+        bool,
+        typer.Option(
+            "--show-map", help="Print every joint's partner and sign (alone: the map only)."
+        ),
+    ] = False,
+    output: Output = None,
+    in_place: InPlace = False,
+    format: FormatOption = Format.text,
+) -> None:
+    """Mirror a motion left/right: swap each L/R pair, negate the joints whose mirror image
+    turns the other way.
+
+    Signs come from the robot model's joint axes reflected through its x-z plane (on the Nao:
+    pitch joints and HipYawPitch keep their sign; roll and yaw joints, HeadYaw included, are
+    negated). A column whose partner is missing is renamed to it. Lines keep their spelling;
+    a negated number keeps its digits. Mirroring twice gives back the same command stream.
+    Exits 1 if a mirrored value falls outside the partner's limits (and the input's did not).
+    """
+    if path is None:
+        if not show_map:
+            raise MotionToolError("give a motion file to mirror, or --show-map --robot NAME")
+        if robot in ("auto", "none"):
+            raise MotionToolError("--show-map without a motion file needs --robot NAME (e.g. nao)")
+        m = mirror_map(need_robot(robot, ()))
+        if format is Format.json:
+            typer.echo(json.dumps({"robot": m.robot, "map": _map_json(m)}, indent=2))
+        else:
+            typer.echo("\n".join(_map_lines(m)))
+        return
+    target = output_target(path, output, in_place)
+    doc = load_input(path)
+    spec = need_robot(robot, doc.joints)
+    m = mirror_map(spec)
+    result = mirror(doc, m.as_dict())
+    limits = Limits(spec)
+    before = limits(doc.result)
+    after = limits(read_bytes(result.data, result.path))  # the one read of the result
+    new = after if len(after) > len(before) else []
+    _write(result.data, target)
+    if format is Format.json:
+        say(_json(result, m, path, target, new), target)
+    else:
+        say(_text(result, m, path, target, show_map, new), target)
+    if new:
+        raise typer.Exit(1)
