@@ -16,6 +16,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from motiontool.motionfmt.extras import require
+
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
@@ -111,15 +113,18 @@ def panels_for(joints: Sequence[str]) -> list[Panel]:
     return list(panels.values())
 
 
+def _mpl(module: str) -> Any:
+    """A matplotlib module, or a one-line error naming ``motiontool[plot]``."""
+    return require(module, "plot", "plotting (motiontool plot, diff --plot)")
+
+
 def _style() -> Any:
     """matplotlib's default style, whatever the user's matplotlibrc says (no backend change)."""
-    import matplotlib.style
-
-    return matplotlib.style.context("default")
+    return _mpl("matplotlib.style").context("default")
 
 
 def _figure(rows: int, cols: int) -> Any:
-    from matplotlib.figure import Figure
+    Figure = _mpl("matplotlib.figure").Figure
 
     width = max(_PANEL_W_IN * cols, _MIN_WIDTH_IN)
     return Figure(figsize=(width, _PANEL_H_IN * rows + _CAPTION_IN + _TITLE_IN), dpi=_DPI)
@@ -134,7 +139,7 @@ def _finish(fig: Any, title: str, caption: str) -> None:
 
 
 def _png(fig: Any, comment: str) -> bytes:
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    FigureCanvasAgg = _mpl("matplotlib.backends.backend_agg").FigureCanvasAgg
 
     FigureCanvasAgg(fig)
     buf = io.BytesIO()
@@ -297,13 +302,14 @@ def _plot_motion(
     return _png(fig, comment), n_limit, n_fast
 
 
-def motion_commanded(motion: Motion, column: int, elapsed: npt.NDArray[np.int64]) -> Any:
-    """(S,) bool: whether ``column`` is commanded at each playback time."""
-    import numpy as np
+def motion_commanded(
+    motion: Motion, column: int, elapsed: npt.NDArray[np.int64]
+) -> npt.NDArray[np.bool_]:
+    """(S,) bool: whether ``column`` sends a target at each playback time (a ``nan`` cell does:
+    Webots sends it; ``*`` does not)."""
+    from motiontool.motionfmt.player import commands_at
 
-    from motiontool.motionfmt.player import targets_at
-
-    return ~np.isnan(targets_at(motion, elapsed)[:, column])
+    return commands_at(motion, elapsed)[1][:, column]
 
 
 def plot_diff(
@@ -347,6 +353,8 @@ def _plot_diff(
         a, b = old[name], new[name]
         ax.plot(t, a, color="#7f7f7f", lw=2.2, label="old", zorder=2)
         ax.plot(t, b, color="#1f77b4", lw=1.0, label="new", zorder=3)
+        # Shaded only where both hold a finite height: NaN is a joint not commanded yet (no
+        # target) or a 'nan' command (a target with no height), and neither can be drawn.
         with np.errstate(invalid="ignore"):
             ax.fill_between(
                 t,

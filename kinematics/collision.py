@@ -68,7 +68,9 @@ class Contact(NamedTuple):
     depth_m: float
 
 
-def _rotations(axis: npt.NDArray[np.float64], angle: npt.NDArray[np.float64]) -> np.ndarray:
+def _rotations(
+    axis: npt.NDArray[np.float64], angle: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]:
     """Rotation matrices (N, 3, 3) about the unit ``axis`` (3,) by ``angle`` (N,) rad."""
     import numpy as np
 
@@ -76,13 +78,13 @@ def _rotations(axis: npt.NDArray[np.float64], angle: npt.NDArray[np.float64]) ->
     k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
     s = np.sin(angle)[:, None, None]
     c = (1.0 - np.cos(angle))[:, None, None]
-    out: np.ndarray = np.eye(3) + s * k + c * (k @ k)
+    out: npt.NDArray[np.float64] = np.eye(3) + s * k + c * (k @ k)
     return out
 
 
 def forward_kinematics(
     tables: KinematicTables, q_motors: npt.NDArray[np.float64]
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """World placement of every model joint frame for N configurations at once.
 
     Args:
@@ -123,8 +125,8 @@ def forward_kinematics(
 def geometry_poses(
     tables: KinematicTables,
     q_motors: npt.NDArray[np.float64],
-    fk: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+    fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]] | None = None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """World orientation (N, G, 3, 3) and bounding-sphere centre (N, G, 3), m, of every
     collision geometry, float64 (the centre is the geometry's origin for primitives).
     ``fk``: the result of :func:`forward_kinematics` for ``q_motors``, if already computed."""
@@ -140,14 +142,19 @@ def geometry_poses(
     return r_joint @ tables.geom_rotation, centers
 
 
-def geometry_centers(tables: KinematicTables, q_motors: npt.NDArray[np.float64]) -> np.ndarray:
+def geometry_centers(
+    tables: KinematicTables, q_motors: npt.NDArray[np.float64]
+) -> npt.NDArray[np.float64]:
     """World centres (N, G, 3) float64, m, of the geometries' bounding spheres."""
     return geometry_poses(tables, q_motors)[1]
 
 
 def _support(
-    tables: KinematicTables, geoms: np.ndarray, axes: np.ndarray, directions: np.ndarray
-) -> np.ndarray:
+    tables: KinematicTables,
+    geoms: npt.NDArray[np.int64],
+    axes: npt.NDArray[np.float64],
+    directions: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]:
     """Half extent (n, D) of each geometry along each unit direction: max over the shape of
     ``x . L`` about its centre. ``geoms`` (n,), ``axes`` (n, 3, 3) (columns = the geometry's
     axes in the world), ``directions`` (n, D, 3)."""
@@ -176,12 +183,12 @@ def _support(
 
 def _overlap_bound(
     tables: KinematicTables,
-    rot: np.ndarray,
-    centers: np.ndarray,
-    rows: np.ndarray,
-    pairs: np.ndarray,
+    rot: npt.NDArray[np.float64],
+    centers: npt.NDArray[np.float64],
+    rows: npt.NDArray[np.int64],
+    pairs: npt.NDArray[np.int64],
     cutoff: float | None = None,
-) -> np.ndarray:
+) -> npt.NDArray[np.float64]:
     """Upper bound (n,) m on the penetration depth of pair ``pairs[i]`` at configuration
     ``rows[i]``: the smallest projected overlap over 16 directions (see the module doc).
 
@@ -215,19 +222,19 @@ def _overlap_bound(
         axis=-1,
     ).reshape(-1, 9, 3)
     edges = _projected_overlap(tables, a, b, axes_a, axes_b, d, [cross])
-    bound: np.ndarray = np.minimum(faces, edges)
+    bound: npt.NDArray[np.float64] = np.minimum(faces, edges)
     return bound
 
 
 def _projected_overlap(
     tables: KinematicTables,
-    a: np.ndarray,
-    b: np.ndarray,
-    axes_a: np.ndarray,
-    axes_b: np.ndarray,
-    d: np.ndarray,
-    directions: list[np.ndarray],
-) -> np.ndarray:
+    a: npt.NDArray[np.int64],
+    b: npt.NDArray[np.int64],
+    axes_a: npt.NDArray[np.float64],
+    axes_b: npt.NDArray[np.float64],
+    d: npt.NDArray[np.float64],
+    directions: list[npt.NDArray[np.float64]],
+) -> npt.NDArray[np.float64]:
     """Smallest overlap (n,) m of the two shapes' projections on the given directions (each
     (n, k, 3), not necessarily unit; near-zero ones are skipped)."""
     import numpy as np
@@ -238,16 +245,16 @@ def _projected_overlap(
     dirs = dirs / np.where(usable[:, :, None], norm, 1.0)
     extent = _support(tables, a, axes_a, dirs) + _support(tables, b, axes_b, dirs)
     overlap = extent - np.abs((dirs @ d[:, :, None])[:, :, 0])
-    smallest: np.ndarray = np.where(usable, overlap, np.inf).min(axis=1)
+    smallest: npt.NDArray[np.float64] = np.where(usable, overlap, np.inf).min(axis=1)
     return smallest
 
 
 def _joint_broad_phase(
     tables: KinematicTables,
-    fk: tuple[np.ndarray, np.ndarray],
-    active: np.ndarray,
+    fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
+    active: npt.NDArray[np.int64],
     tolerance: float,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """(configuration rows, pair indices) of the ``active`` pairs whose two joints' enclosing
     spheres overlap by at least ``tolerance`` (m) at that configuration."""
     import numpy as np
@@ -287,10 +294,10 @@ _BLOCK = 1024
 def _candidates(
     spec: RobotSpec,
     tables: KinematicTables,
-    unique: np.ndarray,
-    active: np.ndarray,
+    unique: npt.NDArray[np.float64],
+    active: npt.NDArray[np.int64],
     tolerance: float,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
     """(rows of ``unique``, pair indices, depth upper bounds in m) of the (configuration,
     pair)s that may penetrate at least ``tolerance`` m deep (see the module doc)."""
     import numpy as np

@@ -5,7 +5,7 @@ Depends on the standard library and numpy only.
 
 from motiontool.motionfmt.diagnostics import CODES, Code, Diagnostic, Severity
 from motiontool.motionfmt.document import MotionDocument, dumps, loads
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.errors import MissingExtraError, MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import (
     atomic_write,
     collect_motion_files,
@@ -15,8 +15,10 @@ from motiontool.motionfmt.fileio import (
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.player import (
     CommandStream,
+    Held,
     commands_at,
     elapsed_steps,
+    hold_targets,
     sample,
     targets_at,
 )
@@ -38,6 +40,8 @@ __all__ = [
     "CommandStream",
     "Diagnostic",
     "FileReport",
+    "Held",
+    "MissingExtraError",
     "Motion",
     "MotionDocument",
     "MotionSyntaxError",
@@ -54,6 +58,7 @@ __all__ = [
     "format_motion",
     "format_time",
     "format_value",
+    "hold_targets",
     "load",
     "loads",
     "read_bytes",

@@ -1,7 +1,7 @@
 """Semantic comparison of two motions: what a robot is commanded, not how the file is spelt.
 
 Two motions are compared through the targets a Webots controller sends while playing them
-(:func:`motiontool.motionfmt.player.targets_at`, bit-identical to Webots' player), on one common
+(:func:`motiontool.motionfmt.player.commands_at`, bit-identical to Webots' player), on one common
 grid of playback times ``0, T, 2T, ...`` up to the first multiple of ``T`` at or after the longer
 motion's end. Joints are matched by name:
 
@@ -15,6 +15,9 @@ motion's end. Joints are matched by name:
 * After a motion ends, its motors hold their last targets: a shorter motion is compared, up to
   the longer one's end, with the targets it leaves behind.
 
+Both rules are :func:`motiontool.motionfmt.player.hold_targets`, the forward-fill that the
+simulator and the robot checks use too.
+
 So a file that only re-spells numbers, re-spaces keyframes along the same lines, or re-orders its
 columns is the *same* motion; added or removed joints and a changed duration are differences.
 """
@@ -25,7 +28,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.player import commands_at
+from motiontool.motionfmt.player import Held, commands_at, hold_targets
 
 if TYPE_CHECKING:
     import numpy as np
@@ -56,41 +59,16 @@ def joint_names(motion: Motion) -> tuple[str, ...]:
     return tuple(dict.fromkeys(motion.joints))
 
 
-def _named_targets(
-    motion: Motion, names: Sequence[str], elapsed_ms: npt.NDArray[np.int64]
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-    """(S, len(names)) targets per joint name and whether each is sent (a sent target may be
-    NaN: Webots sends a ``nan`` cell); a later column wins."""
-    import numpy as np
-
-    raw, sent = commands_at(motion, elapsed_ms)
-    index = {name: k for k, name in enumerate(names)}
-    out = np.full((raw.shape[0], len(names)), np.nan)
-    out_sent = np.zeros(out.shape, dtype=np.bool_)
-    for j, name in enumerate(motion.joints):
-        k = index.get(name)
-        if k is None:
-            continue
-        out[:, k] = np.where(sent[:, j], raw[:, j], out[:, k])
-        out_sent[:, k] |= sent[:, j]
-    return out, out_sent
-
-
-def _hold(
-    named: tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]],
-    carry: tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]],
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
-    """Forward-fill the steps that send nothing with the last sent value, starting from
-    ``carry`` (N,) values and whether each joint was commanded yet; (held, commanded yet)."""
-    import numpy as np
-
-    targets, sent = named
-    steps = targets.shape[0]
-    index = np.where(sent, np.arange(steps)[:, None], -1)
-    np.maximum.accumulate(index, axis=0, out=index)
-    held = np.take_along_axis(targets, np.maximum(index, 0), axis=0)
-    before = index < 0
-    return np.where(before, carry[0][None, :], held), np.where(before, carry[1][None, :], True)
+def _held(
+    motion: Motion, names: Sequence[str], elapsed_ms: npt.NDArray[np.int64], after: Held | None
+) -> Held:
+    """What the motors ``names`` hold at the playback times ``elapsed_ms`` (S,): from nothing,
+    or going on from the last row of ``after`` (the previous chunk of steps)."""
+    targets, sent = commands_at(motion, elapsed_ms)
+    if after is None:
+        return hold_targets(targets, sent, motion.joints, names)
+    initial, holding = after.targets[-1], after.holding[-1]
+    return hold_targets(targets, sent, motion.joints, names, initial=initial, holding=holding)
 
 
 def held_targets(
@@ -119,8 +97,7 @@ def held_targets(
     names = joint_names(motion) if names is None else names
     end = motion.duration_ms if until_ms is None else until_ms
     elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
-    carry = (np.full(len(names), np.nan), np.zeros(len(names), dtype=np.bool_))
-    return elapsed, _hold(_named_targets(motion, names, elapsed), carry)[0]
+    return elapsed, _held(motion, names, elapsed, None).targets
 
 
 @dataclass(frozen=True)
@@ -251,14 +228,14 @@ def compare_motions(
     old_only = np.zeros(n, dtype=np.int64)
     new_only = np.zeros(n, dtype=np.int64)
     presence_first = np.full(n, -1, dtype=np.int64)
-    carry_old = (np.full(n, np.nan), np.zeros(n, dtype=np.bool_))
-    carry_new = (np.full(n, np.nan), np.zeros(n, dtype=np.bool_))
+    held_old: Held | None = None
+    held_new: Held | None = None
     for start in range(0, n_steps, _CHUNK_STEPS):
         steps = np.arange(start, min(start + _CHUNK_STEPS, n_steps), dtype=np.int64)
         elapsed = steps * timestep_ms
-        a, has_a = _hold(_named_targets(old, common, elapsed), carry_old)
-        b, has_b = _hold(_named_targets(new, common, elapsed), carry_new)
-        carry_old, carry_new = (a[-1], has_a[-1]), (b[-1], has_b[-1])
+        held_old = _held(old, common, elapsed, held_old)
+        held_new = _held(new, common, elapsed, held_new)
+        (a, _, has_a), (b, _, has_b) = held_old, held_new
         only_one = has_a != has_b
         both = has_a & has_b
         with np.errstate(invalid="ignore"):

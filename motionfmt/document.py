@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, overload
 
 from motiontool.motionfmt.cscan import scan_double
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
-from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, _spans, read_bytes
+from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes, token_spans
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
 
 if TYPE_CHECKING:
@@ -100,12 +100,12 @@ class MotionDocument:
 
     def _cell(self, pose: int, cell: int) -> bytes:
         line = self._poses[pose]
-        a, b = _spans(line)[cell]
+        a, b = token_spans(line)[cell]
         return line[a:b]
 
     def _set_cell(self, pose: int, cell: int, text: str) -> None:
         line = self._poses[pose]
-        a, b = _spans(line)[cell]
+        a, b = token_spans(line)[cell]
         token = line[a:b]
         lead = len(token) - len(token.lstrip(b" \t"))
         self._poses[pose] = line[: a + lead] + text.encode("utf-8") + line[b:]
@@ -125,15 +125,19 @@ class MotionDocument:
         self._set_cell(pose, 2 + j, format_value(value))
 
     def set_time(self, pose: int, time_ms: int) -> None:
-        """Set a pose time in milliseconds, spelt in the file's own time style."""
-        self._set_cell(pose, 0, format_time(time_ms, self.time_style))
+        """Set a pose time in milliseconds, spelt in the file's own time style; it must stay
+        after the previous pose's time and before the next one's (as :meth:`set_times`)."""
+        p = range(self.n_poses)[pose]  # IndexError out of range; -1 is the last pose
+        times = list(self.result.times_ms)
+        times[p] = time_ms
+        _check_increasing(times)
+        self._set_cell(p, 0, format_time(time_ms, self.time_style))
 
     def set_times(self, times_ms: Sequence[int]) -> None:
         """Set every pose time at once (P values, milliseconds, strictly increasing)."""
         if len(times_ms) != self.n_poses:
             raise MotionToolError(f"expected {self.n_poses} times, got {len(times_ms)}")
-        if any(b <= a for a, b in itertools.pairwise(times_ms)):
-            raise MotionToolError("pose times must strictly increase")
+        _check_increasing(times_ms)
         old = self.result.times_ms
         for p, t in enumerate(times_ms):
             if old[p] != t:
@@ -159,6 +163,17 @@ class MotionDocument:
             line += eol
         self._poses.insert(index, line)
         self._result = None
+
+
+def _check_increasing(times_ms: Sequence[int]) -> None:
+    """Raise :class:`MotionToolError` naming the first two poses (0-based) whose times (ms) do
+    not strictly increase."""
+    for p, (a, b) in enumerate(itertools.pairwise(times_ms)):
+        if b <= a:
+            raise MotionToolError(
+                f"pose times must strictly increase: pose {p + 1} at {b} ms is not after"
+                f" pose {p} at {a} ms"
+            )
 
 
 @overload

@@ -16,8 +16,9 @@ command" is a separate mask (``commanded``), never NaN in the targets alone.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
@@ -27,7 +28,15 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["CommandStream", "commands_at", "elapsed_steps", "sample", "targets_at"]
+__all__ = [
+    "CommandStream",
+    "Held",
+    "commands_at",
+    "elapsed_steps",
+    "hold_targets",
+    "sample",
+    "targets_at",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,3 +143,79 @@ def sample(
     elapsed = elapsed_steps(motion.duration_ms, timestep_ms, reverse=reverse, loops=loops)
     targets, commanded = commands_at(motion, elapsed)
     return CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
+
+
+class Held(NamedTuple):
+    """The targets the motors hold, step by step (see :func:`hold_targets`).
+
+    Attributes:
+        targets: float64 (S, N): the target each motor holds at each step, rad (m for linear
+            joints): the one sent at that step, else the previous one, else the initial one.
+        sent: bool (S, N): whether a target is sent to the motor at that step.
+        holding: bool (S, N): whether the motor holds a target sent at or before that step (or
+            one it held before the first step: ``holding`` of :func:`hold_targets`).
+    """
+
+    targets: npt.NDArray[np.float64]
+    sent: npt.NDArray[np.bool_]
+    holding: npt.NDArray[np.bool_]
+
+
+def hold_targets(
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    joints: Sequence[str] | None = None,
+    names: Sequence[str] | None = None,
+    *,
+    initial: npt.NDArray[np.float64] | None = None,
+    holding: npt.NDArray[np.bool_] | None = None,
+) -> Held:
+    """What each motor holds while a command stream plays: the one forward-fill of motiontool.
+
+    Webots' player calls ``wb_motor_set_position`` once per column that sends a target, in
+    column order, and a motor keeps its last target until it gets another. So, of two columns
+    with one name, the later one's target wins at a step where it sends one, and the earlier
+    one's reaches the motor where the later sends none; a step where no column sends a target
+    holds the previous one.
+
+    Args:
+        targets: float64 (S, C): the targets of C columns at S steps (or poses), rad.
+        commanded: bool (S, C): whether each target is sent (a sent target may be NaN or
+            infinite: Webots sends a ``nan`` or ``inf`` cell).
+        joints: the C column names; with ``names``, columns are merged by name.
+        names: the N motors to report, in order; a name no column has is never sent, a column
+            whose name is not here is dropped. None: the C columns as they are (N = C).
+        initial: float64 (N,): the target each motor holds before its first command, rad;
+            NaN (none) when None.
+        holding: bool (N,): whether each motor holds ``initial`` as a target (for ``holding``
+            of the result); False when None.
+
+    Returns:
+        :class:`Held`, every array (S, N). To go on with a later stream, pass the last row of
+        ``targets`` and ``holding`` as ``initial`` and ``holding``.
+    """
+    import numpy as np
+
+    if names is None:
+        out, sent = targets, commanded
+    else:
+        if joints is None:
+            raise ValueError("names needs joints: the column names to merge by")
+        index = {name: k for k, name in enumerate(names)}
+        out = np.full((targets.shape[0], len(names)), np.nan)
+        sent = np.zeros(out.shape, dtype=np.bool_)
+        for j, name in enumerate(joints):
+            k = index.get(name)
+            if k is None:
+                continue
+            column = commanded[:, j]
+            out[column, k] = targets[column, j]  # a later column overwrites where it sends
+            sent[:, k] |= column
+    steps, n = out.shape
+    start = np.full(n, np.nan) if initial is None else np.asarray(initial, dtype=np.float64)
+    held_before = np.zeros(n, dtype=np.bool_) if holding is None else holding
+    last = np.where(sent, np.arange(steps)[:, None], -1)  # the last step that sent a target
+    np.maximum.accumulate(last, axis=0, out=last)
+    before = last < 0
+    held = np.where(before, start[None, :], out[np.maximum(last, 0), np.arange(n)])
+    return Held(held, sent, np.where(before, held_before[None, :], True))

@@ -28,7 +28,15 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["FGETS_PIECE", "HEADER", "NO_VALUE_MARKER", "VERSION", "ReadResult", "read_bytes"]
+__all__ = [
+    "FGETS_PIECE",
+    "HEADER",
+    "NO_VALUE_MARKER",
+    "VERSION",
+    "ReadResult",
+    "read_bytes",
+    "token_spans",
+]
 
 HEADER = b"#WEBOTS_MOTION"
 VERSION = b"V1.0"
@@ -46,12 +54,6 @@ _UNIT_SUFFIX = re.compile(rb"\s*(rad|deg|degrees?|m|mm|cm|\xc2\xb0)\s*$", re.IGN
 _INT_TOKEN = re.compile(rb"-?\d+")
 _DIGITS_TOKEN = re.compile(rb"\d+")
 
-# Diagnostics whose condition makes Webots' loader return NULL.
-_REJECTING = frozenset(
-    {"MT100", "MT101", "MT102", "MT103", "MT104", "MT105", "MT106", "MT107", "MT108", "MT109",
-     "MT110"}
-)  # fmt: skip
-
 
 def show(token: bytes, limit: int = 40) -> str:
     """A token as a quoted, printable string for messages (non-UTF-8 bytes escaped)."""
@@ -66,12 +68,16 @@ def _decode(raw: bytes) -> str:
     return raw.decode("utf-8", "surrogateescape")
 
 
-def _spans(piece: bytes) -> list[tuple[int, int]]:
-    """(start, end) byte offsets of the tokens ``strtok`` finds in ``piece``."""
+def token_spans(piece: bytes) -> list[tuple[int, int]]:
+    """(start, end) 0-based byte offsets of the tokens ``strtok(piece, ",\\n\\r")`` finds:
+    the one cell tokeniser of motiontool (a C string ends at a NUL byte)."""
     nul = piece.find(b"\0")
     if nul >= 0:
         piece = piece[:nul]
     return [m.span() for m in _TOKEN.finditer(piece)]
+
+
+_spans = token_spans  # the former private name, still imported by motionfmt/authoring.py
 
 
 @dataclass(frozen=True)
@@ -81,6 +87,25 @@ class _Piece:
     line: int  # 1-based physical line
     col0: int  # byte offset of the piece in its physical line
     data: bytes  # without the newline
+
+
+class _PoseLine:
+    """A pose line's piece cut into its tokens, for the exact path.
+
+    Attributes:
+        raw: the piece's bytes; line: its 1-based physical line.
+        spans, tokens: the tokens (:func:`token_spans`) and their bytes.
+        c0: add to a 0-based offset in the piece to get a 1-based column in the line.
+    """
+
+    __slots__ = ("c0", "line", "raw", "spans", "tokens")
+
+    def __init__(self, piece: _Piece, spans: list[tuple[int, int]]) -> None:
+        self.raw = piece.data
+        self.line = piece.line
+        self.c0 = piece.col0 + 1
+        self.spans = spans
+        self.tokens = [piece.data[a:b] for a, b in spans]
 
 
 @dataclass
@@ -122,7 +147,7 @@ class ReadResult:
         """1-based (column, end column) of each joint name in the header (line 1)."""
         end = self._data.find(b"\n")
         line = self._data[: end if end >= 0 else len(self._data)][:FGETS_PIECE]
-        return [(a + 1, b + 1) for a, b in _spans(line)[2:]]
+        return [(a + 1, b + 1) for a, b in token_spans(line)[2:]]
 
     def cell_span(self, pose: int, joint: int | None = None) -> tuple[int, int, int]:
         """(line, column, end column), 1-based, of a pose's value cell for column ``joint``
@@ -142,7 +167,7 @@ class ReadResult:
             start = self._line_starts[line - 1]
             end = self._data.find(b"\n", start)
             content = self._data[start : end if end >= 0 else len(self._data)]
-            spans = self._span_cache[pose] = _spans(content[col0 : col0 + FGETS_PIECE])
+            spans = self._span_cache[pose] = token_spans(content[col0 : col0 + FGETS_PIECE])
         a, b = spans[0 if joint is None else 2 + joint]
         return line, col0 + a + 1, col0 + b + 1
 
@@ -232,7 +257,11 @@ class _Reader:
         time_ms: int | None = None,
         end_column: int | None = None,
         severity: Severity | None = None,
+        rejects: bool | None = None,
     ) -> None:
+        """Record a finding; ``severity`` and ``rejects`` default to the code's (see
+        :class:`~motiontool.motionfmt.diagnostics.Code`), the first rejecting one is where
+        Webots stops."""
         spec = CODES[code]
         diag = Diagnostic(
             code=code,
@@ -247,7 +276,7 @@ class _Reader:
             end_column=end_column,
         )
         self.result.diagnostics.append(diag)
-        if code in _REJECTING and self.result.rejected_at is None:
+        if (spec.rejects if rejects is None else rejects) and self.result.rejected_at is None:
             self.result.rejected_at = diag
 
     # -- pieces -----------------------------------------------------------------------------------
@@ -278,7 +307,7 @@ class _Reader:
     def read_header(self, piece: _Piece) -> bool:
         """Check the header; return whether the pose lines can be read against it."""
         raw = piece.data
-        spans = _spans(raw)
+        spans = token_spans(raw)
         tokens = [raw[a:b] for a, b in spans]
         nul = raw.find(b"\0")
         if nul >= 0:
@@ -420,37 +449,59 @@ class _Reader:
         self, piece: _Piece, spans: list[tuple[int, int]], prev: tuple[int, int]
     ) -> int | None:
         """Check one pose line fully; return its time as Webots reads it, or ``None``."""
-        raw = piece.data
-        line = piece.line
-        c0 = piece.col0 + 1  # add to a 0-based offset in the piece to get a 1-based column
-        tokens = [raw[a:b] for a, b in spans]
-        nul = raw.find(b"\0")
+        pose = _PoseLine(piece, spans)
+        self.pose_nul(pose)
+        self.empty_cells(pose)
+        time_ms, ok = self.pose_time(pose, prev)
+        if len(pose.tokens) < 2:
+            self.missing_pose_name(pose, time_ms)
+            return time_ms
+        values, nan_columns, values_ok = self.pose_values(pose, time_ms)
+        count_ok = self.value_count(pose, time_ms)
+        if ok and values_ok and count_ok and time_ms is not None:
+            res = self.result
+            res.nan_commands.extend((len(res.times_ms), j) for j in nan_columns)
+            res.times_ms.append(time_ms)
+            res.pose_names.append(_decode(pose.tokens[1]))
+            res.rows.append(values)
+            res.pose_lines.append(pose.line)
+            self.pose_cols0.append(piece.col0)
+        return time_ms
+
+    def pose_nul(self, pose: _PoseLine) -> None:
+        """A NUL byte: Webots' C string ends there (the tokens stop before it)."""
+        nul = pose.raw.find(b"\0")
         if nul >= 0:
             self.report(
                 "MT114",
-                line,
-                c0 + nul,
+                pose.line,
+                pose.c0 + nul,
                 "NUL byte: Webots' C strings end there, so the rest of the line is lost",
                 "remove the NUL byte",
             )
-        ok = True
-        # Empty cells that strtok collapses.
-        content_end = spans[-1][1]
+
+    def empty_cells(self, pose: _PoseLine) -> None:
+        """Empty cells (``,,``), which ``strtok`` collapses."""
+        spans, c0 = pose.spans, pose.c0
         for k in range(1, len(spans)):
-            gap = raw[spans[k - 1][1] : spans[k][0]]
+            gap = pose.raw[spans[k - 1][1] : spans[k][0]]
             if gap.count(b",") > 1:
                 where = spans[k - 1][1] + gap.index(b",") + 1
                 self.report(
                     "MT202",
-                    line,
+                    pose.line,
                     c0 + where,
                     "empty cell: Webots skips ',,' so every value after it moves one joint left",
                     "write '*' for a joint that gets no command in this pose",
                     end_column=c0 + where + 1,
                 )
-        # Time.
-        t_tok = tokens[0]
-        a0, b0 = spans[0]
+
+    def pose_time(self, pose: _PoseLine, prev: tuple[int, int]) -> tuple[int | None, bool]:
+        """The pose time as Webots reads it (None if it cannot), and whether it is valid and
+        after the previous pose's; ``prev`` is (time in ms, line) of that pose."""
+        t_tok = pose.tokens[0]
+        a0, b0 = pose.spans[0]
+        line, c0 = pose.line, pose.c0
         scanned = scan_time(t_tok)
         time_ms: int | None = None if scanned is None else scanned.ms
         if _well_formed_time(t_tok) and (scanned is None or scanned.exact_ms > INT_MAX):
@@ -464,9 +515,8 @@ class _Reader:
                 f" a C int holds; Webots {outcome}",
                 "motions longer than 24 days are not supported",
                 end_column=c0 + b0,
+                rejects=scanned is None,  # a wrapped time Webots reads does not reject
             )
-            if scanned is None and self.result.rejected_at is None:
-                self.result.rejected_at = self.result.diagnostics[-1]
         elif scanned is None:
             self.report(
                 "MT105",
@@ -476,8 +526,10 @@ class _Reader:
                 _time_hint(t_tok),
                 end_column=c0 + b0,
             )
+        if time_ms is None:
+            return None, False
         prev_time, prev_line = prev
-        if time_ms is not None and time_ms <= prev_time:
+        if time_ms <= prev_time:
             self.report(
                 "MT106",
                 line,
@@ -488,133 +540,143 @@ class _Reader:
                 time_ms=time_ms,
                 end_column=c0 + b0,
             )
-            ok = False
-        if time_ms is None:
-            ok = False
-        # Pose name.
-        if len(tokens) < 2 and time_ms is not None:
+            return time_ms, False
+        return time_ms, True
+
+    def missing_pose_name(self, pose: _PoseLine, time_ms: int | None) -> None:
+        """A line of one token: no pose name (not reported after a time Webots cannot read)."""
+        if time_ms is not None:
             self.report(
                 "MT107",
-                line,
-                c0 + b0,
+                pose.line,
+                pose.c0 + pose.spans[0][1],
                 "expected a pose name after the time, found end of line",
                 "a pose line is 'time,name,value,...'",
                 time_ms=time_ms,
             )
-            return time_ms
-        if len(tokens) < 2:
-            return None
-        # Values.
-        n = self.n_joints
-        values_toks = tokens[2:]
+
+    def pose_values(
+        self, pose: _PoseLine, time_ms: int | None
+    ) -> tuple[list[float], list[int], bool]:
+        """The first J value cells: (values, columns of the ``nan`` commands, all readable)."""
         values: list[float] = []
         nan_columns: list[int] = []
-        for j, tok in enumerate(values_toks[:n]):
-            a, b = spans[2 + j]
-            joint = self.result.joints[j]
-            if tok == b"*":
-                values.append(_NAN)
-                self.star_seen = True
-                continue
-            scanned_v = scan_double(tok)
-            if scanned_v is None:
-                hint = None
-                if tok.strip(b" \t") == b"*":
-                    hint = "'*' must stand alone: remove the white space around it"
-                elif tok.strip() == b"":
-                    hint = "a cell of white space is not empty to Webots: write a number or '*'"
-                self.report(
-                    "MT108",
-                    line,
-                    c0 + a,
-                    f"expected a number or '*' for {joint}, found {show(tok)}",
-                    hint,
-                    joint=joint,
-                    time_ms=time_ms,
-                    end_column=c0 + b,
-                )
+        ok = True
+        for j in range(min(self.n_joints, len(pose.tokens) - 2)):
+            cell = self.cell_value(pose, j, time_ms)
+            if cell is None:
                 ok = False
                 values.append(_NAN)
                 continue
-            value, end = scanned_v
-            rest = tok[end:]
-            if rest.strip(b" \t\v\f"):
-                unit = _UNIT_SUFFIX.match(rest)
-                self.report(
-                    "MT203",
-                    line,
-                    c0 + a + end,
-                    f"{joint} = {show(tok)} reads as {value!r}: Webots ignores {show(rest)}",
-                    "values are plain numbers in radians (metres for linear joints)"
-                    if unit
-                    else f"write {show(tok[:end].strip())}",
-                    joint=joint,
-                    time_ms=time_ms,
-                    end_column=c0 + b,
-                )
-            if not math.isfinite(value):
-                self.report(
-                    "MT113",
-                    line,
-                    c0 + a,
-                    f"{joint} = {show(tok)} is not a finite number; Webots sends it to the motor",
-                    "write a number, or '*' for no command",
-                    joint=joint,
-                    time_ms=time_ms,
-                    end_column=c0 + b,
-                )
-                if math.isnan(value):
-                    value = _NAN
-                    nan_columns.append(j)
-            elif value == NO_VALUE_MARKER:
-                self.report(
-                    "MT204",
-                    line,
-                    c0 + a,
-                    f"{joint} = {show(tok)} is Webots' 'no value' marker: the cell reads as '*'",
-                    "write '*' if no command is meant",
-                    joint=joint,
-                    time_ms=time_ms,
-                    end_column=c0 + b,
-                )
-                value = _NAN
-                self.star_seen = True
+            value, command = cell
+            if command and math.isnan(value):
+                nan_columns.append(j)
             values.append(value)
+        return values, nan_columns, ok
+
+    def cell_value(self, pose: _PoseLine, j: int, time_ms: int | None) -> tuple[float, bool] | None:
+        """Value cell ``j`` (0-based joint) as ``sscanf("%lf")`` reads it: (value, whether it is a
+        command), NaN for no command (``*``, the -9999999.9 marker); None if Webots cannot read
+        it."""
+        tok = pose.tokens[2 + j]
+        a, b = pose.spans[2 + j]
+        line, c0 = pose.line, pose.c0
+        joint = self.result.joints[j]
+        if tok == b"*":
+            self.star_seen = True
+            return _NAN, False
+        scanned = scan_double(tok)
+        if scanned is None:
+            hint = None
+            if tok.strip(b" \t") == b"*":
+                hint = "'*' must stand alone: remove the white space around it"
+            elif tok.strip() == b"":
+                hint = "a cell of white space is not empty to Webots: write a number or '*'"
+            self.report(
+                "MT108",
+                line,
+                c0 + a,
+                f"expected a number or '*' for {joint}, found {show(tok)}",
+                hint,
+                joint=joint,
+                time_ms=time_ms,
+                end_column=c0 + b,
+            )
+            return None
+        value, end = scanned
+        rest = tok[end:]
+        if rest.strip(b" \t\v\f"):
+            unit = _UNIT_SUFFIX.match(rest)
+            self.report(
+                "MT203",
+                line,
+                c0 + a + end,
+                f"{joint} = {show(tok)} reads as {value!r}: Webots ignores {show(rest)}",
+                "values are plain numbers in radians (metres for linear joints)"
+                if unit
+                else f"write {show(tok[:end].strip())}",
+                joint=joint,
+                time_ms=time_ms,
+                end_column=c0 + b,
+            )
+        if not math.isfinite(value):
+            self.report(
+                "MT113",
+                line,
+                c0 + a,
+                f"{joint} = {show(tok)} is not a finite number; Webots sends it to the motor",
+                "write a number, or '*' for no command",
+                joint=joint,
+                time_ms=time_ms,
+                end_column=c0 + b,
+            )
+            return (_NAN if math.isnan(value) else value), True
+        if value == NO_VALUE_MARKER:
+            self.report(
+                "MT204",
+                line,
+                c0 + a,
+                f"{joint} = {show(tok)} is Webots' 'no value' marker: the cell reads as '*'",
+                "write '*' if no command is meant",
+                joint=joint,
+                time_ms=time_ms,
+                end_column=c0 + b,
+            )
+            self.star_seen = True
+            return _NAN, False
+        return value, True
+
+    def value_count(self, pose: _PoseLine, time_ms: int | None) -> bool:
+        """Whether the line has exactly J values, one per joint (MT109, MT110 if not)."""
+        n = self.n_joints
+        values_toks = pose.tokens[2:]
         if len(values_toks) < n:
             missing = self.result.joints[len(values_toks) :]
             names = ", ".join(missing[:3]) + (", ..." if len(missing) > 3 else "")
             self.report(
                 "MT109",
-                line,
-                c0 + content_end,
+                pose.line,
+                pose.c0 + pose.spans[-1][1],
                 f"expected {n} values (one per joint), found {len(values_toks)}; no value for"
                 f" {names}",
                 "write '*' for a joint that gets no command in this pose",
                 time_ms=time_ms,
             )
-            ok = False
-        elif len(values_toks) > n:
-            a, b = spans[2 + n]
+            return False
+        if len(values_toks) > n:
+            a, b = pose.spans[2 + n]
             self.report(
                 "MT110",
-                line,
-                c0 + a,
+                pose.line,
+                pose.c0 + a,
                 f"expected {n} values (one per joint), found {len(values_toks)}; extra"
                 f" {show(values_toks[n])}",
                 _decimal_comma_hint(values_toks),
                 time_ms=time_ms,
-                end_column=c0 + b,
+                end_column=pose.c0 + b,
             )
-            ok = False
-        if ok and time_ms is not None:
-            res = self.result
-            res.nan_commands.extend((len(res.times_ms), j) for j in nan_columns)
-            res.times_ms.append(time_ms)
-            res.pose_names.append(_decode(tokens[1]))
-            res.rows.append(values)
-            res.pose_lines.append(line)
-            self.pose_cols0.append(piece.col0)
-        return time_ms
+            return False
+        return True
 
     # -- whole file -----------------------------------------------------------------------------
 
@@ -644,7 +706,7 @@ class _Reader:
         for piece in pieces:
             t = self.read_pose_fast(piece, prev[0]) if fast else None
             if t is None:
-                spans = _spans(piece.data)
+                spans = token_spans(piece.data)
                 if not spans:
                     self.blank_line(piece)
                     break
@@ -700,7 +762,7 @@ class _Reader:
         """A line with no token ends the motion; warn if anything follows it."""
         res = self.result
         res.end_line = piece.line
-        later = [i + 1 for i in range(piece.line, len(self.lines)) if _spans(self.lines[i])]
+        later = [i + 1 for i in range(piece.line, len(self.lines)) if token_spans(self.lines[i])]
         if not later:
             return
         where = f"line {later[0]}" if len(later) == 1 else f"lines {later[0]}-{later[-1]}"
@@ -748,7 +810,7 @@ class _Reader:
         line = self.result.pose_lines[pose]
         col0 = self.pose_cols0[pose]
         content = self.lines[line - 1][col0 : col0 + FGETS_PIECE]
-        a, b = _spans(content)[cell]
+        a, b = token_spans(content)[cell]
         return col0 + a + 1, col0 + b + 1
 
     def check_motion(self) -> None:
@@ -792,7 +854,7 @@ class _Reader:
         res = self.result
         times = res.times_ms
         n_poses = len(times)
-        header_spans = _spans(self.lines[0])[2:]
+        header_spans = token_spans(self.lines[0])[2:]
         nan_cells = set(res.nan_commands)  # a literal 'nan' is a command, not a '*'
         for j, joint in enumerate(res.joints):
             column = [row[j] for row in res.rows]

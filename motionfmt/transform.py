@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.player import targets_at
 
 if TYPE_CHECKING:
@@ -207,9 +207,12 @@ def _refuse_non_finite(doc: MotionDocument, motion: Motion) -> None:
         p, j = (int(x) for x in bad[0])
         line, column, _ = doc.result.cell_span(p, j)
         value = float(motion.values[p, j])
-        raise MotionToolError(
-            f"{doc.path}:{line}:{column}: {motion.joints[j]} = {value!r} is not a finite number"
-            " (MT113): write a number, or '*' for no command, before resampling"
+        raise MotionSyntaxError(
+            f"{motion.joints[j]} = {value!r} is not a finite number (MT113): write a number, or"
+            " '*' for no command, before resampling",
+            doc.path,
+            line,
+            column,
         )
 
 

@@ -14,6 +14,7 @@ from strategies import motion_files
 
 from motiontool.motionfmt import (
     Motion,
+    MotionSyntaxError,
     MotionToolError,
     commands_at,
     dumps,
@@ -117,7 +118,7 @@ def test_compare_tells_a_nan_command_from_no_command() -> None:
 
 def test_resample_refuses_a_non_finite_cell_with_its_location() -> None:
     doc = loads(b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n100,P2,inf\n", "f.motion")
-    with pytest.raises(MotionToolError, match=r"^f\.motion:3:8: A = inf is not a finite number"):
+    with pytest.raises(MotionSyntaxError, match=r"^f\.motion:3:8: A = inf is not a finite number"):
         resample(doc, step_ms=20)
 
 

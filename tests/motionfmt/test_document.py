@@ -61,6 +61,22 @@ def test_edit_rerenders_only_the_touched_cells() -> None:
     assert doc.motion.times_ms.tolist() == [0, 61040]
 
 
+def test_set_time_keeps_pose_times_increasing_like_set_times() -> None:
+    src = b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n100,P2,1\n200,P3,2\n"
+    doc = loads(src)
+    for pose, time_ms in [(1, 200), (1, 0), (-1, 100), (0, 100)]:
+        with pytest.raises(MotionToolError, match=r"^pose times must strictly increase: pose"):
+            doc.set_time(pose, time_ms)
+        assert doc.to_bytes() == src  # refused before any change
+    with pytest.raises(MotionToolError, match="pose 2 at 100 ms is not after pose 1 at 100 ms"):
+        doc.set_time(2, 100)
+    doc.set_time(1, 199)
+    doc.set_time(-1, 250)
+    assert doc.motion.times_ms.tolist() == [0, 199, 250]
+    with pytest.raises(MotionToolError, match="pose 2 at 10 ms is not after pose 1 at 199 ms"):
+        doc.set_times([0, 199, 10])
+
+
 def test_insert_and_delete_keep_line_ends() -> None:
     doc = loads(b"#WEBOTS_MOTION,V1.0,A\r\n0,P1,0\r\n100,P2,1")
     doc.insert_pose(2, 250, "P3", [float("nan")])

@@ -11,7 +11,7 @@ from conftest import golden
 from data.regen import expected_text  # the golden files' wording, shared with regen.py
 from oracle import webots_load
 
-from motiontool.motionfmt import MotionSyntaxError, Severity, read_bytes
+from motiontool.motionfmt import CODES, MotionSyntaxError, Severity, read_bytes
 
 
 @pytest.mark.parametrize("path", golden("valid") + golden("invalid"), ids=lambda p: p.stem)
@@ -46,6 +46,29 @@ def test_invalid_files_are_rejected_where_webots_stops(path: Path) -> None:
     with pytest.raises(MotionSyntaxError) as info:
         _ = result.motion
     assert str(info.value).startswith(f"{path.name}:{result.rejected_at.line}:")
+
+
+def test_the_code_table_says_which_codes_reject() -> None:
+    assert {c.id for c in CODES.values() if c.rejects} == {f"MT{n}" for n in range(100, 111)}
+    # MT112 is decided per finding: a time that wraps to a valid one is read, else rejected.
+    head = b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n"
+    wraps = read_bytes(head + b"4294967396,P2,1\n")  # 2^32 + 100: Webots reads 100 ms
+    assert [d.code for d in wraps.diagnostics] == ["MT112"] and wraps.accepted
+    assert wraps.times_ms == [0, 100]
+    invalid = read_bytes(head + b"4294967295,P2,1\n")  # wraps to -1: not a time
+    assert [d.code for d in invalid.diagnostics] == ["MT112"]
+    assert invalid.rejected_at is invalid.diagnostics[0]
+
+
+@pytest.mark.parametrize("path", golden("valid") + golden("invalid"), ids=lambda p: p.stem)
+def test_webots_stops_at_the_first_finding_that_rejects(path: Path) -> None:
+    result = read_bytes(path.read_bytes(), path.name)
+    rejecting = [
+        d
+        for d in result.diagnostics
+        if CODES[d.code].rejects or (d.code == "MT112" and d.message.endswith("Webots rejects it"))
+    ]
+    assert result.rejected_at is (rejecting[0] if rejecting else None)
 
 
 @pytest.mark.parametrize("path", golden("valid"), ids=lambda p: p.stem)

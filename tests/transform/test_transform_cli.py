@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.kinematics import detect_robot, load_robot
-from motiontool.motionfmt import read_file, read_motion
+from motiontool.motionfmt import read_bytes, read_file, read_motion
 
 runner = CliRunner()
 
@@ -409,6 +409,15 @@ def test_limb_groups_for_the_nao() -> None:
     assert limb_groups(joints, None) == [("joints", list(joints))]
     (hand,) = panels_for(["LPhalanx1", "LPhalanx2"])
     assert (hand.title, hand.joints) == ("LPhalanx1 to LPhalanx2", ["LPhalanx1", "LPhalanx2"])
+
+
+def test_plot_draws_a_held_span_over_star_but_not_over_a_nan_command() -> None:
+    from motiontool.cli._plotting import motion_commanded
+
+    motion = read_bytes(b"#WEBOTS_MOTION,V1.0,A,B\n0,P1,0,0\n100,P2,nan,*\n").motion
+    elapsed = np.array([0, 50, 100], dtype=np.int64)
+    assert motion_commanded(motion, 0, elapsed).tolist() == [True, True, True]  # sends NaN
+    assert motion_commanded(motion, 1, elapsed).tolist() == [True, False, False]  # holds 0
 
 
 def test_help_and_non_plot_commands_do_not_import_matplotlib(here: Path) -> None:
