@@ -9,9 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.stamps import stamps
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 from motiontool.sim.batch import BatchResult, RunResult, result_json
+from motiontool.stamps import stamps
 
 __all__ = [
     "md_cell",
@@ -152,6 +153,7 @@ def render_markdown(batch: BatchResult) -> str:
 
 def write_junit(batch: BatchResult, path: Path) -> None:
     """JUnit XML: one test case per run; failures and errors carry the reason."""
+    require("junitparser", "sim", "motiontool batch --junit")
     from junitparser import Error, Failure, JUnitXml, TestCase, TestSuite
 
     suite = TestSuite("motiontool batch")

@@ -20,9 +20,11 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 from motiontool.kinematics.robots import JointSpec, RobotSpec, unknown_joint_message
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 
 if TYPE_CHECKING:
     import numpy as np
+    import numpy.typing as npt
     import pinocchio as pin
 
 __all__ = [
@@ -56,8 +58,8 @@ class Balance(NamedTuple):
             inside (statically stable), negative outside.
     """
 
-    com_xy: np.ndarray
-    support_polygon: np.ndarray
+    com_xy: npt.NDArray[np.float64]
+    support_polygon: npt.NDArray[np.float64]
     margin_mm: float
 
 
@@ -65,9 +67,7 @@ class Balance(NamedTuple):
 
 
 def _pin() -> Any:
-    import pinocchio
-
-    return pinocchio
+    return require("pinocchio", "kinematics", "collision, balance and URDF/MJCF robot models")
 
 
 def _load_error(path: Path, exc: Exception) -> MotionToolError:
@@ -266,7 +266,9 @@ def _configuration(model: pin.Model, spec: RobotSpec, q_by_joint: Mapping[str, f
     return q
 
 
-def body_positions(spec: RobotSpec, q_by_joint: Mapping[str, float]) -> dict[str, np.ndarray]:
+def body_positions(
+    spec: RobotSpec, q_by_joint: Mapping[str, float]
+) -> dict[str, npt.NDArray[np.float64]]:
     """World position (m, shape (3,) float64) of every body frame at the given pose."""
     pin = _pin()
     built = _built(spec)
@@ -514,29 +516,29 @@ class KinematicTables(NamedTuple):
         joint_radius: (nj,) float64, m, its radius (0 for a joint without geometry).
     """
 
-    joint_parent: np.ndarray
-    joint_rotation: np.ndarray
-    joint_translation: np.ndarray
-    joint_axis: np.ndarray
-    joint_kind: np.ndarray
-    joint_motor: np.ndarray
+    joint_parent: npt.NDArray[np.int64]
+    joint_rotation: npt.NDArray[np.float64]
+    joint_translation: npt.NDArray[np.float64]
+    joint_axis: npt.NDArray[np.float64]
+    joint_kind: npt.NDArray[np.int64]
+    joint_motor: npt.NDArray[np.int64]
     exact: bool
-    geom_joint: np.ndarray
-    geom_rotation: np.ndarray
-    geom_translation: np.ndarray
-    geom_radius: np.ndarray
-    geom_center: np.ndarray
-    geom_shape: np.ndarray
-    geom_size: np.ndarray
+    geom_joint: npt.NDArray[np.int64]
+    geom_rotation: npt.NDArray[np.float64]
+    geom_translation: npt.NDArray[np.float64]
+    geom_radius: npt.NDArray[np.float64]
+    geom_center: npt.NDArray[np.float64]
+    geom_shape: npt.NDArray[np.int64]
+    geom_size: npt.NDArray[np.float64]
     geom_body: tuple[str, ...]
     geom_limb: tuple[str, ...]
-    pair_first: np.ndarray
-    pair_second: np.ndarray
-    pair_motors: np.ndarray
-    pair_group: np.ndarray
-    group_joints: np.ndarray
-    joint_center: np.ndarray
-    joint_radius: np.ndarray
+    pair_first: npt.NDArray[np.int64]
+    pair_second: npt.NDArray[np.int64]
+    pair_motors: npt.NDArray[np.bool_]
+    pair_group: npt.NDArray[np.int64]
+    group_joints: npt.NDArray[np.int64]
+    joint_center: npt.NDArray[np.float64]
+    joint_radius: npt.NDArray[np.float64]
 
 
 def kinematic_tables(spec: RobotSpec) -> KinematicTables:
@@ -728,7 +730,7 @@ def _bounding_sphere(geometry: Any) -> tuple[tuple[float, float, float], float]:
     return (float(c[0]), float(c[1]), float(c[2])), float(geometry.aabb_radius)
 
 
-def configurations(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
+def configurations(spec: RobotSpec, q_motors: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """Pinocchio configuration vectors, shape (N, nq) float64, for motor positions
     ``q_motors`` (N, M) float64 in ``spec.joints`` order (rad or m, finite)."""
     import numpy as np
@@ -749,7 +751,7 @@ def configurations(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
     return q
 
 
-def geometry_centers(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
+def geometry_centers(spec: RobotSpec, q_motors: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     """World centres (N, G, 3) float64, m, of the geometries' bounding spheres, computed by
     Pinocchio one configuration at a time (for models :class:`KinematicTables` cannot move)."""
     import numpy as np
@@ -768,8 +770,11 @@ def geometry_centers(spec: RobotSpec, q_motors: np.ndarray) -> np.ndarray:
 
 
 def pair_signed_distances(
-    spec: RobotSpec, q_motors: np.ndarray, rows: np.ndarray, pairs: np.ndarray
-) -> np.ndarray:
+    spec: RobotSpec,
+    q_motors: npt.NDArray[np.float64],
+    rows: npt.NDArray[np.int64],
+    pairs: npt.NDArray[np.int64],
+) -> npt.NDArray[np.float64]:
     """Signed distance (m; negative = penetration depth) of collision pair ``pairs[c]`` at
     configuration ``q_motors[rows[c]]``, shape (C,) float64.
 

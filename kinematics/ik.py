@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 
 if TYPE_CHECKING:
     import numpy as np
@@ -125,9 +126,7 @@ class IKSolution:
 
 
 def _pin() -> Any:
-    import pinocchio
-
-    return pinocchio
+    return require("pinocchio", "kinematics", "inverse kinematics (motiontool generate)")
 
 
 class _Chain:

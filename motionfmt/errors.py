@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["MotionSyntaxError", "MotionToolError"]
+__all__ = ["MissingExtraError", "MotionSyntaxError", "MotionToolError"]
 
 
 class MotionToolError(Exception):
@@ -24,3 +24,22 @@ class MotionSyntaxError(MotionToolError):
         self.line = line
         self.column = column
         super().__init__(f"{path}:{line}:{column}: {message}")
+
+
+class MissingExtraError(MotionToolError):
+    """A feature needs a library of an extra that is not installed; the message says which
+    ``pip install`` brings it: ``motiontool play needs MuJoCo: pip install 'motiontool[sim]'``.
+
+    Attributes:
+        module: the module that could not be imported (``mujoco``).
+        extra: the extra of the motiontool package that installs it (``sim``).
+        what: the command or feature that needs it (``motiontool play``).
+        library: the library as people call it (``MuJoCo``).
+    """
+
+    def __init__(self, module: str, extra: str, what: str, library: str | None = None):
+        self.module = module
+        self.extra = extra
+        self.what = what
+        self.library = library or module
+        super().__init__(f"{what} needs {self.library}: pip install 'motiontool[{extra}]'")

@@ -12,6 +12,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 
 __all__ = ["run_ray"]
 
@@ -38,10 +39,7 @@ def run_ray(
     Connects to ``address`` (``auto`` finds a running cluster) or, when None, starts a local
     Ray instance for the duration of the call.
     """
-    try:
-        import ray
-    except ImportError:
-        raise MotionToolError("the Ray executor needs Ray: pip install 'motiontool[ray]'") from None
+    ray = require("ray", "ray", "the Ray executor (batch --executor ray)")
     started_here = not ray.is_initialized()
     if started_here:
         try:

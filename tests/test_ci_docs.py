@@ -80,6 +80,16 @@ def test_github_annotations_step_sorts_errors_first() -> None:
     assert "10 error and 10 warning annotations per step" in CI_DOC.read_text()
 
 
+def test_the_workflow_installs_the_extras_its_commands_need() -> None:
+    # The core has no MuJoCo: a workflow that runs batch must install the [sim] extra.
+    runs = [s.get("run", "") for s in workflow()["jobs"]["motions"]["steps"]]
+    installs = " ".join(r for r in runs if r.startswith("pip install"))
+    extras = set(re.findall(r"motiontool\[([a-z,]+)\]", installs))
+    names = {name for group in extras for name in group.split(",")}
+    assert any("motiontool batch" in r for r in runs)
+    assert names & {"sim", "all"}, installs
+
+
 def test_the_pre_commit_config_example_is_valid(tmp_path: Path) -> None:
     config = tmp_path / ".pre-commit-config.yaml"
     config.write_text(block("repos"))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import re
 import subprocess
 import sys
 import tomllib
@@ -13,6 +14,36 @@ import pytest
 from conftest import ROOT
 
 HEAVY = ("mujoco", "pinocchio", "rerun", "coal", "example_robot_data", "ray")
+#: The distributions behind the heavy parts: each belongs to an extra, never to the core.
+HEAVY_DISTS = {
+    "pin": "kinematics",
+    "mujoco": "sim",
+    "junitparser": "sim",
+    "rerun-sdk": "rerun",
+    "matplotlib": "plot",
+    "example-robot-data": "erd",
+    "ray": "ray",
+    "pyarrow": "fast",
+}
+
+
+def _dist_name(requirement: str) -> str:
+    return re.split(r"[\s\[<>=!~;(]", requirement.strip(), maxsplit=1)[0].lower()
+
+
+def test_core_is_light_and_each_heavy_library_is_an_extra() -> None:
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert {_dist_name(r) for r in project["dependencies"]} == {"numpy", "typer"}
+    extras = project["optional-dependencies"]
+    for dist, extra in HEAVY_DISTS.items():
+        assert dist in {_dist_name(r) for r in extras[extra]}, (dist, extra)
+    # [all] is every extra but test; [test] is [all] plus the test tools.
+    (everything,) = extras["all"]
+    assert everything.startswith("motiontool[")
+    assert set(everything.removeprefix("motiontool[").rstrip("]").split(",")) == (
+        set(extras) - {"all", "test"}
+    )
+    assert "motiontool[all]" in extras["test"]
 
 
 def test_explicit_package_list_covers_every_code_folder() -> None:
@@ -110,6 +141,23 @@ def test_built_wheel_contains_every_subpackage(tmp_path: Path) -> None:
     assert not any(
         n.startswith(("motiontool/tests/", "motiontool/benchmarks/", "tests/")) for n in names
     )
+    # The core's metadata: numpy and typer; every heavy library only behind an extra.
+    (meta_name,) = [n for n in names if n.endswith(".dist-info/METADATA")]
+    meta = zipfile.ZipFile(wheel).read(meta_name).decode()
+    requires = [
+        line.split(":", 1)[1].strip()
+        for line in meta.splitlines()
+        if line.startswith("Requires-Dist:")
+    ]
+    core = {_dist_name(r) for r in requires if "extra ==" not in r}
+    assert core == {"numpy", "typer"}, core
+    assert not core & set(HEAVY_DISTS)
+    provided = {
+        line.split(":", 1)[1].strip()
+        for line in meta.splitlines()
+        if line.startswith("Provides-Extra:")
+    }
+    assert provided == {"kinematics", "sim", "rerun", "plot", "erd", "ray", "fast", "all", "test"}
     # The wheel alone, first on the path, imports and runs.
     target = tmp_path / "site"
     with zipfile.ZipFile(wheel) as zf:
@@ -127,3 +175,36 @@ def test_built_wheel_contains_every_subpackage(tmp_path: Path) -> None:
     )
     assert proc.stdout.splitlines()[0].startswith(str(target)), proc.stderr
     assert proc.stdout.splitlines()[1].startswith("motiontool ")
+
+
+#: What each library package must not import (STYLE.md: motionfmt <- kinematics, sim <- cli;
+#: nothing imports cli), counting imports inside functions too.
+_FORBIDDEN = {
+    "motionfmt": ("motiontool.cli", "motiontool.kinematics", "motiontool.sim"),
+    "kinematics": ("motiontool.cli", "motiontool.sim"),
+    "sim": ("motiontool.cli",),
+}
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    import ast
+
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            found.append((node.lineno, node.module))
+            found += [(node.lineno, f"{node.module}.{alias.name}") for alias in node.names]
+    return found
+
+
+def test_imports_follow_the_layers() -> None:
+    wrong = [
+        f"{path.relative_to(ROOT)}:{line}: {name}"
+        for package, banned in _FORBIDDEN.items()
+        for path in sorted((ROOT / package).rglob("*.py"))
+        for line, name in _imports(path)
+        if any(name == b or name.startswith(b + ".") for b in banned)
+    ]
+    assert not wrong, "\n".join(wrong)
