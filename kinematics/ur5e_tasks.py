@@ -36,6 +36,12 @@ The scene (world frame: z up, floor at z = 0, x in front of the robot, y to its 
 The sequence (``ITEMS``: rusty, galvanized, rusty): home, then per item: above the pick-up
 point, down, grasp (a pause), up, over the item's bin, down, release (a pause), up; then home.
 
+Where each pick and place is reached (:func:`sorting_expectations`, the ``[sorting]``
+expectations of ``motions/motions.toml``, checked by ``motiontool batch motions/``): the tool
+comes within 1 mm of the pick before the grasp pause ends (``ee_lag[pick_N]<480ms``), and at the
+end of each grasp and release pause it is within ``REACH_TOLERANCE_MM`` of both the forward
+kinematics of the keyframe (``ee_error``) and the stated Cartesian target (``ee[...]=[x,y,z]``).
+
 Timing: each segment gets the shortest duration, a multiple of the UR5e world's 8 ms time step,
 with every joint at most ``SPEED_MARGIN`` (0.5) × its maxVelocity, and at least
 ``MIN_SEGMENT_MS``; pauses last ``GRASP_MS`` and ``RELEASE_MS``. Joint values are rounded to
@@ -70,6 +76,7 @@ __all__ = [
     "ITEMS",
     "PICK_XY_M",
     "PLACE_Z_M",
+    "REACH_TOLERANCE_MM",
     "TABLE_TOP_Z_M",
     "TRAVEL_Z_M",
     "Task",
@@ -79,6 +86,7 @@ __all__ = [
     "jog_motion",
     "peak_speeds",
     "segment_ms",
+    "sorting_expectations",
     "sorting_motion",
     "sorting_plan",
     "sorting_spots",
@@ -111,6 +119,9 @@ GRASP_MS = 480
 RELEASE_MS = 320
 #: Decimals kept of each joint value (rad).
 VALUE_DECIMALS = 6
+#: How close the tool must be to a pick or place target at the end of its pause, mm: the
+#: gripper's fingers close around a can 66 mm across; a few mm off is still a grasp.
+REACH_TOLERANCE_MM = 5.0
 
 #: The IK branch of the first waypoint: shoulder raised, elbow up, wrist down, tool facing
 #: down in front of the robot. Only a starting point: the first waypoint is solved from it, every
@@ -193,6 +204,25 @@ def sorting_plan(items: Sequence[str] = ITEMS) -> list[Waypoint]:
         ]
     plan.append(Waypoint("home", "home"))
     return plan
+
+
+def sorting_expectations(items: Sequence[str] = ITEMS) -> list[str]:
+    """Where the sorting task must reach each pick and place, as expectations of its play
+    report (README, "Expectations"): the pick within 1 mm (the default reach tolerance) before
+    the grasp pause ends, and at the end of each pause the tool within
+    :data:`REACH_TOLERANCE_MM` of the keyframe's forward kinematics and of the stated target
+    (:func:`sorting_spots`, world frame, m)."""
+    spots = sorting_spots()
+    tol = f"{REACH_TOLERANCE_MM:g}mm"
+    out = []
+    for waypoint in sorting_plan(items):
+        if waypoint.name.startswith("pick_"):
+            out.append(f"ee_lag[{waypoint.name}]<{GRASP_MS}ms")
+        if waypoint.pause_ms is not None:  # grasp_N, release_N: the pause at the spot
+            x, y, z = (round(float(v), 6) + 0.0 for v in spots[waypoint.spot].position)
+            out.append(f"ee_error[{waypoint.name}]<{tol}")
+            out.append(f"ee[{waypoint.name}]=[{x:g},{y:g},{z:g}]±{tol}")
+    return out
 
 
 def _base_frame(pose: Pose) -> Pose:

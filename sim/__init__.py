@@ -20,16 +20,17 @@ from motiontool.sim.play import (
     PlayOptions,
     command_matrix,
     play,
-    resolve_robot,
 )
 from motiontool.sim.report import (
     SCHEMA,
     SCHEMA_VERSION,
     BaseStats,
     ContactSummary,
+    EndEffectorStats,
     FileRun,
     FootStats,
     JointStats,
+    KeyframePose,
     PlayReport,
 )
 from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
@@ -45,12 +46,14 @@ __all__ = [
     "BodyShapes",
     "ContactEvent",
     "ContactSummary",
+    "EndEffectorStats",
     "Expectation",
     "ExpectationError",
     "ExpectationResult",
     "FileRun",
     "FootStats",
     "JointStats",
+    "KeyframePose",
     "Marker",
     "MotorLimits",
     "PlayOptions",
@@ -61,6 +64,5 @@ __all__ = [
     "evaluate",
     "parse_expectation",
     "play",
-    "resolve_robot",
     "velocity_command",
 ]

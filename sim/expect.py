@@ -9,6 +9,12 @@ warning; an expectation says what the motion must also *do*. Two forms:
   ``dx>=0.3``, ``yaw=60±10``, ``final_tilt<10``, ``torso_height>30cm``,
   ``tracking_error[HeadYaw]<0.2``. A value without a unit is in the quantity's unit
   (:data:`QUANTITIES`); units: ``m`` ``cm`` ``mm``, ``deg`` ``°`` ``rad``, ``s`` ``ms``.
+- an arm's end effector (the report's ``end_effector``): ``ee_error[KEYFRAME]<5mm``,
+  ``ee_lag[KEYFRAME]<400ms`` (no keyframe: the worst one), ``ee_deviation<50mm``, and its
+  position at a keyframe or a time, a point ``[x, y, z]`` (world frame, m unless a unit
+  follows) with a tolerance on the distance: ``ee[place_1]=[0.55,0,0.70]±5mm``,
+  ``ee@2.5s=[0.40,0.10,0.30]±0.02``. A keyframe name that several keyframes share (a
+  repeated name, ``--loop``) takes the worst of them.
 - a flag (:data:`FLAGS`): ``upright``, ``fell``, ``no-fall``, ``no-self-collision``,
   ``feet-planted``.
 
@@ -20,6 +26,7 @@ Stdlib only: no simulator is imported here.
 
 from __future__ import annotations
 
+import bisect
 import difflib
 import math
 import re
@@ -58,8 +65,9 @@ class ExpectationError(MotionToolError):
     """An expectation that cannot be parsed (one line: what was written, what is expected)."""
 
 
-# A value of the report, in the quantity's unit, or None with the reason it was not measured.
-Measure = Callable[["PlayReport", "str | None"], tuple["float | None", str]]
+# A value of the report, in the quantity's unit, and a note ('' or where it was measured:
+# 'at pick_1 (2.07 s)'); or None with the reason it was not measured.
+Measure = Callable[["PlayReport", "Expectation | None"], tuple["float | None", str]]
 
 
 @dataclass(frozen=True)
@@ -70,9 +78,13 @@ class Quantity:
         name: as written in an expectation.
         unit: its unit (``m``, ``deg``, ``s``, ``mm``, ``rad``; ``""`` for a count).
         help: what it is, one line.
-        measure: report, joint -> (value in ``unit``, or None and why not measured).
+        measure: report, expectation -> (value in ``unit`` and a note, or None and why not
+            measured).
         per_joint: whether it takes a joint, ``QUANTITY[JOINT]`` (default: the worst joint).
         decides_fall: an expectation on it replaces the "fell" verdict of the run.
+        per_keyframe: whether it takes a keyframe, ``QUANTITY[KEYFRAME]`` (an arm's tool).
+        point: whether it is a position, compared with ``=[x, y, z]±TOL`` (the distance is
+            measured), at a keyframe ``[KEYFRAME]`` or a time ``@T``.
     """
 
     name: str
@@ -81,9 +93,19 @@ class Quantity:
     measure: Measure
     per_joint: bool = False
     decides_fall: bool = False
+    per_keyframe: bool = False
+    point: bool = False
 
 
-_KIND = {"m": "length", "deg": "angle", "rad": "angle", "s": "time", "mm": "length", "": "count"}
+_KIND = {
+    "m": "length",
+    "deg": "angle",
+    "rad": "angle",
+    "s": "time",
+    "mm": "length",
+    "ms": "time",
+    "": "count",
+}
 _UNITS: dict[str, tuple[str, float]] = {  # unit -> (kind, value in SI)
     "m": ("length", 1.0),
     "cm": ("length", 0.01),
@@ -94,7 +116,7 @@ _UNITS: dict[str, tuple[str, float]] = {  # unit -> (kind, value in SI)
     "s": ("time", 1.0),
     "ms": ("time", 0.001),
 }
-_DIGITS = {"m": 3, "mm": 1, "deg": 1, "rad": 3, "s": 2, "": 0}
+_DIGITS = {"m": 3, "mm": 1, "deg": 1, "rad": 3, "s": 2, "ms": 0, "": 0}
 
 
 def _fmt(value: float, unit: str) -> str:
@@ -110,7 +132,7 @@ def _g(value: float, unit: str) -> str:
 
 
 def _base_value(key: str) -> Measure:
-    def measure(report: PlayReport, joint: str | None) -> tuple[float | None, str]:
+    def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
         if report.base is None:
             return None, f"{report.robot} has a fixed base: no base motion"
         value = getattr(report.base, key)
@@ -126,7 +148,7 @@ def _base_value(key: str) -> Measure:
 
 
 def _heading(axis: int) -> Measure:
-    def measure(report: PlayReport, joint: str | None) -> tuple[float | None, str]:
+    def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
         if report.base is None:
             return None, f"{report.robot} has a fixed base: no base motion"
         yaw = math.radians(float(report.options.get("start_yaw_deg") or 0.0))
@@ -139,7 +161,7 @@ def _heading(axis: int) -> Measure:
 
 
 def _feet(key: str) -> Measure:
-    def measure(report: PlayReport, joint: str | None) -> tuple[float | None, str]:
+    def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
         if not report.feet:
             return None, f"{report.robot} has no feet"
         return max(float(getattr(f, key)) for f in report.feet) * 1000.0, ""
@@ -148,7 +170,8 @@ def _feet(key: str) -> Measure:
 
 
 def _joint_value(key: str) -> Measure:
-    def measure(report: PlayReport, joint: str | None) -> tuple[float | None, str]:
+    def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+        joint = e.joint if e is not None else None
         if joint is not None:
             names = [j.name for j in report.joints]
             for j in report.joints:
@@ -169,10 +192,99 @@ def _joint_value(key: str) -> Measure:
 
 
 def _count(key: str) -> Measure:
-    def measure(report: PlayReport, joint: str | None) -> tuple[float | None, str]:
+    def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
         return float(len(getattr(report, key))), ""
 
     return measure
+
+
+def _no_tool(report: PlayReport) -> str:
+    if report.base is not None:
+        return f"{report.robot} has a free-flying base: no end effector is measured"
+    return f"{report.robot}: no end effector was measured"
+
+
+def _keyframes(report: PlayReport, e: Expectation | None) -> tuple[list[Any], str]:
+    """The keyframes an expectation names (all of them when it names none), or [] and why."""
+    ee = report.end_effector
+    if ee is None:
+        return [], _no_tool(report)
+    name = e.keyframe if e is not None else None
+    if name is None:
+        return (list(ee.keyframes), "") if ee.keyframes else ([], "no keyframe was reached")
+    found = ee.at(name)
+    if found:
+        return found, ""
+    names = list(dict.fromkeys(k.name for k in ee.keyframes))
+    close = difflib.get_close_matches(name, names, n=1)
+    hint = f"; did you mean '{close[0]}'?" if close else ""
+    return [], f"no keyframe named '{name}' was reached{hint}"
+
+
+def _where(k: Any) -> str:
+    return f"at {k.name} ({k.time_s:.2f} s)"
+
+
+def _ee_error(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+    found, why = _keyframes(report, e)
+    if not found:
+        return None, why
+    worst = max(found, key=lambda k: k.position_error_mm)
+    return float(worst.position_error_mm), _where(worst)
+
+
+def _ee_lag(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+    found, why = _keyframes(report, e)
+    if not found:
+        return None, why
+    assert report.end_effector is not None
+    never = [k for k in found if k.lag_ms is None]
+    if never:
+        k = never[0]
+        tol = report.end_effector.reach_tolerance_mm
+        return None, (
+            f"the tool never came within {tol:g} mm of {k.name} ({k.time_s:.2f} s) before the "
+            f"motion moved on (closest at the keyframe time: {k.position_error_mm:.1f} mm)"
+        )
+    worst = max(found, key=lambda k: float(k.lag_ms))
+    return float(worst.lag_ms), _where(worst)
+
+
+def _ee_deviation(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+    ee = report.end_effector
+    if ee is None:
+        return None, _no_tool(report)
+    return float(ee.max_deviation_mm), f"at {ee.max_deviation_at_s:.2f} s"
+
+
+def _ee_position(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+    """Distance (m) from the expectation's point to the tool at its keyframe or time."""
+    if e is None or e.point is None:
+        return None, "no point given"
+    ee = report.end_effector
+    if ee is None:
+        return None, _no_tool(report)
+    points: list[tuple[tuple[float, float, float], str]] = []
+    if e.at_s is not None:
+        times, trail = ee.trail_time_s, ee.trail_position_m
+        if not times or not times[0] <= e.at_s <= times[-1]:
+            end = times[-1] if times else 0.0
+            return None, f"{e.at_s:g} s is outside the run (0 to {end:.2f} s)"
+        i = max(1, bisect.bisect_left(times, e.at_s))
+        i = min(i, len(times) - 1)
+        t0, t1 = times[i - 1], times[i]
+        w = 0.0 if t1 == t0 else (e.at_s - t0) / (t1 - t0)
+        p = tuple(a + w * (b - a) for a, b in zip(trail[i - 1], trail[i], strict=True))
+        points.append(((p[0], p[1], p[2]), f"at {e.at_s:g} s"))
+    else:
+        found, why = _keyframes(report, e)
+        if not found:
+            return None, why
+        points += [(k.measured_position_m, _where(k)) for k in found]
+    distances = [(math.dist(p, e.point), p, where) for p, where in points]
+    distance, p, where = max(distances)
+    shown = ", ".join(f"{v:.4f}" for v in p)
+    return distance, f"[{shown}] m {where}, {distance * 1000.0:.1f} mm away"
 
 
 QUANTITIES: dict[str, Quantity] = {
@@ -244,6 +356,34 @@ QUANTITIES: dict[str, Quantity] = {
             "self_collisions", "", "pairs of robot bodies that collided", _count("self_collisions")
         ),
         Quantity(
+            "ee_error",
+            "mm",
+            "an arm's tool: distance from the keyframe's forward kinematics at its time",
+            _ee_error,
+            per_keyframe=True,
+        ),
+        Quantity(
+            "ee_lag",
+            "ms",
+            "an arm's tool: time after the keyframe until within the reach tolerance",
+            _ee_lag,
+            per_keyframe=True,
+        ),
+        Quantity(
+            "ee_deviation",
+            "mm",
+            "an arm's tool: largest distance from the forward kinematics of the commands",
+            _ee_deviation,
+        ),
+        Quantity(
+            "ee",
+            "m",
+            "an arm's tool position at [KEYFRAME] or @TIME: distance from a point [x,y,z]",
+            _ee_position,
+            per_keyframe=True,
+            point=True,
+        ),
+        Quantity(
             "scene_contacts",
             "",
             "pairs robot / scene (not the floor) that touched",
@@ -280,6 +420,9 @@ class Expectation:
         value: the bound, in the quantity's unit.
         tolerance: for ``=``, the allowed deviation, in the quantity's unit (>= 0).
         joint: the joint of a per-joint quantity, or None for the worst one.
+        keyframe: the keyframe (pose name) of an end-effector quantity, or None.
+        at_s: the time of an ``ee@T`` position, s, or None.
+        point: the point of an ``ee`` position, world frame, m, or None.
     """
 
     text: str
@@ -288,6 +431,9 @@ class Expectation:
     value: float = 0.0
     tolerance: float = 0.0
     joint: str | None = None
+    keyframe: str | None = None
+    at_s: float | None = None
+    point: tuple[float, float, float] | None = None
 
     @property
     def unit(self) -> str:
@@ -305,6 +451,13 @@ class Expectation:
         if self.op is None:
             return f"{self.quantity} ({FLAGS[self.quantity]})"
         name = self.quantity + (f"[{self.joint}]" if self.joint else "")
+        if self.keyframe is not None:
+            name += f"[{self.keyframe}]"
+        if self.at_s is not None:
+            name += f"@{self.at_s:g}s"
+        if self.point is not None:
+            point = "[" + ", ".join(f"{v:g}" for v in self.point) + "]"
+            return f"{name} {self.op} {point} ± {_g(self.tolerance, self.unit)}"
         if self.op == "=":
             value = f"{self.value:g} ± {_g(self.tolerance, self.unit)}"
         else:
@@ -315,8 +468,9 @@ class Expectation:
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _PATTERN = re.compile(
     rf"""^\s*(?P<name>[A-Za-z][\w-]*)\s*(?:\[\s*(?P<joint>[^\]]*?)\s*\])?\s*
+    (?:@\s*(?P<at>{_NUMBER})\s*(?P<at_unit>[A-Za-z]*)\s*)?
     (?P<op><=|>=|==|=|<|>|≤|≥)\s*
-    (?P<value>{_NUMBER})\s*(?P<unit>[A-Za-z°%]*)\s*
+    (?:(?P<value>{_NUMBER})|\[(?P<point>[^\]]*)\])\s*(?P<unit>[A-Za-z°%]*)\s*
     (?:(?:±|\+/-|\+-)\s*(?P<tol>{_NUMBER})\s*(?P<tol_unit>[A-Za-z°%]*))?\s*$""",
     re.VERBOSE,
 )
@@ -376,9 +530,18 @@ def parse_expectation(text: str) -> Expectation:
     if quantity is None:
         raise _unknown(name, text)
     joint = m.group("joint")
-    if joint is not None and not quantity.per_joint:
+    keyframe: str | None = None
+    if joint is not None and quantity.per_keyframe:
+        keyframe, joint = joint, None
+        if keyframe == "":
+            raise ExpectationError(f"expectation {text!r}: empty keyframe name in []")
+    elif joint is not None and not quantity.per_joint:
         per_joint = ", ".join(q.name for q in QUANTITIES.values() if q.per_joint)
-        raise ExpectationError(f"expectation {text!r}: {name} takes no joint (only {per_joint} do)")
+        per_keyframe = ", ".join(q.name for q in QUANTITIES.values() if q.per_keyframe)
+        raise ExpectationError(
+            f"expectation {text!r}: {name} takes no joint (only {per_joint} do) and no keyframe"
+            f" (only {per_keyframe} do)"
+        )
     if joint == "":
         raise ExpectationError(f"expectation {text!r}: empty joint name in []")
     op = _OPS.get(m.group("op"), m.group("op"))
@@ -387,12 +550,22 @@ def parse_expectation(text: str) -> Expectation:
     unit = m.group("unit")
     if not unit and m.group("tol_unit") not in (None, "", "%"):
         unit = m.group("tol_unit")  # 'yaw=60±10deg': the unit is the value's too
-    value = _convert(float(m.group("value")), unit, quantity, text)
+    at_s, point = _where_and_point(m, quantity, keyframe, op, text)
+    if point is not None:  # in m, or in the unit right after it: '±5mm' is the tolerance's
+        unit = m.group("unit")
+        point = (
+            _convert(point[0], unit, quantity, text),
+            _convert(point[1], unit, quantity, text),
+            _convert(point[2], unit, quantity, text),
+        )
+    value = 0.0 if point is not None else _convert(float(m.group("value")), unit, quantity, text)
     tolerance = 0.0
     if m.group("tol") is not None:
         if op != "=":
             raise ExpectationError(f"expectation {text!r}: ±TOL goes with '=' only")
         tol = float(m.group("tol"))
+        if m.group("tol_unit") == "%" and point is not None:
+            raise ExpectationError(f"expectation {text!r}: a point's tolerance is a distance")
         if m.group("tol_unit") == "%":
             tolerance = abs(value) * tol / 100.0
         else:
@@ -400,12 +573,56 @@ def parse_expectation(text: str) -> Expectation:
         if not (math.isfinite(tolerance) and tolerance >= 0):
             raise ExpectationError(f"expectation {text!r}: the tolerance must be >= 0")
     elif op == "=" and quantity.unit:
+        example = m.group("value") or f"[{m.group('point')}]"
         raise ExpectationError(
-            f"expectation {text!r}: '=' needs a tolerance, e.g. '{name}={m.group('value')}±1'"
+            f"expectation {text!r}: '=' needs a tolerance, e.g. '{name}={example}±1'"
         )
-    if not math.isfinite(value):
+    if not math.isfinite(value) or (point is not None and not all(map(math.isfinite, point))):
         raise ExpectationError(f"expectation {text!r}: the value must be a finite number")
-    return Expectation(text, name, op, value, tolerance, joint)
+    if point is not None:
+        value = tolerance  # the distance from the point must be at most the tolerance
+    return Expectation(text, name, op, value, tolerance, joint, keyframe, at_s, point)
+
+
+def _where_and_point(
+    m: re.Match[str], quantity: Quantity, keyframe: str | None, op: str, text: str
+) -> tuple[float | None, tuple[float, float, float] | None]:
+    """The ``@T`` time (s) and the ``[x, y, z]`` point of an expectation, checked."""
+    name = quantity.name
+    at_s: float | None = None
+    if m.group("at") is not None:
+        if not quantity.point:
+            raise ExpectationError(
+                f"expectation {text!r}: {name} takes no time (only ee@T=[x,y,z]±TOL does)"
+            )
+        at_unit = m.group("at_unit") or "s"
+        if at_unit not in ("s", "ms"):
+            raise ExpectationError(f"expectation {text!r}: the time after '@' is in s or ms")
+        at_s = float(m.group("at")) * _UNITS[at_unit][1]
+        if not (math.isfinite(at_s) and at_s >= 0):
+            raise ExpectationError(f"expectation {text!r}: the time after '@' must be >= 0")
+    raw = m.group("point")
+    if not quantity.point:
+        if raw is not None:
+            raise ExpectationError(f"expectation {text!r}: {name} takes a number, not [x, y, z]")
+        return at_s, None
+    example = "'ee[place_1]=[0.55,0,0.70]±5mm' or 'ee@2.5s=[0.4,0.1,0.3]±0.02'"
+    if raw is None or op != "=":
+        raise ExpectationError(
+            f"expectation {text!r}: {name} is a position: write {name}[KEYFRAME] or {name}@T,"
+            f" '=', a point [x, y, z] and ±TOL, e.g. {example}"
+        )
+    if (keyframe is None) == (at_s is None):
+        raise ExpectationError(
+            f"expectation {text!r}: {name} needs one keyframe [KEYFRAME] or one time @T,"
+            f" e.g. {example}"
+        )
+    parts = [v.strip() for v in raw.split(",")]
+    if len(parts) != 3 or not all(re.fullmatch(_NUMBER, v) for v in parts):
+        raise ExpectationError(
+            f"expectation {text!r}: expected a point of 3 numbers [x, y, z], found [{raw}]"
+        )
+    return at_s, (float(parts[0]), float(parts[1]), float(parts[2]))
 
 
 def parse_expectations(texts: Iterable[str]) -> list[Expectation]:
@@ -438,7 +655,7 @@ class ExpectationResult:
         """``{"text", "quantity", "joint", "expected", "passed", "measured": {"value",
         "unit"}, "reason"}`` (a value that is not finite, or not measured, is null)."""
         value = self.measured
-        return {
+        doc: dict[str, Any] = {
             "text": self.expectation.text,
             "quantity": self.expectation.quantity,
             "joint": self.expectation.joint,
@@ -450,12 +667,22 @@ class ExpectationResult:
             },
             "reason": self.reason,
         }
+        e = self.expectation
+        if e.keyframe is not None:
+            doc["keyframe"] = e.keyframe
+        if e.at_s is not None:
+            doc["at_s"] = e.at_s
+        if e.point is not None:
+            doc["point_m"] = list(e.point)
+        return doc
 
     def summary(self) -> str:
         """One line for people: ``ok   dx >= 0.3 m: 0.470 m`` or ``FAIL <reason>``."""
         if not self.passed:
             return f"FAIL {self.reason}"
         shown = "" if self.measured is None else f": {_fmt(self.measured, self.unit)}"
+        if self.expectation.point is not None and self.measured is not None:
+            shown = f": {self.measured * 1000.0:.1f} mm away"
         return f"ok   {self.expectation.describe()}{shown}"
 
 
@@ -529,13 +756,18 @@ def evaluate(
             out.append(_flag(e, report))
             continue
         quantity = QUANTITIES[e.quantity]
-        measured, why = quantity.measure(report, e.joint)
+        measured, note = quantity.measure(report, e)
         if measured is None:
-            reason = f"expected {e.describe()}, not measured: {why}"
+            reason = f"expected {e.describe()}, not measured: {note}"
             out.append(ExpectationResult(e, False, None, quantity.unit, reason))
             continue
-        ok = math.isfinite(measured) and _compare(e.op, measured, e.value, e.tolerance)
-        reason = "" if ok else f"expected {e.describe()}, measured {_fmt(measured, quantity.unit)}"
+        if e.point is not None:  # a position: the distance from the point, within the tolerance
+            ok = math.isfinite(measured) and measured <= e.tolerance
+            reason = "" if ok else f"expected {e.describe()}, measured {note}"
+        else:
+            ok = math.isfinite(measured) and _compare(e.op, measured, e.value, e.tolerance)
+            shown = _fmt(measured, quantity.unit) + (f" ({note})" if note else "")
+            reason = "" if ok else f"expected {e.describe()}, measured {shown}"
         out.append(ExpectationResult(e, ok, measured, quantity.unit, reason))
     return out
 

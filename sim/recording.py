@@ -14,6 +14,11 @@ the file atomically at the end. Layout of a recording:
   ``Ellipsoids3D`` children; ``/world/scene/<body>``: the floor, the box;
 - ``/world/base_trail``: the root body's path (``LineStrips3D``), ``/world/base``: its position
   at every frame (``Points3D``);
+- an arm's end effector (the report's ``end_effector``): ``/world/tool`` its position at every
+  frame (``Points3D``), ``/world/tool/trail`` its path so far, a growing ``LineStrips3D`` logged
+  at the report's trail samples (the last one is the report's ``trail_position_m``),
+  ``/world/tool/keyframes`` the commanded position of every keyframe, labelled with its name
+  (static ``Points3D``);
 - ``/events``: falls, collisions, limit hits, motion starts and simulator warnings
   (``TextLog``, level INFO / WARN / ERROR);
 - a blueprint: the 3D view, the event log and one tab of joint plots per limb;
@@ -30,11 +35,13 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 
 if TYPE_CHECKING:
     from motiontool.sim.motor import MotorLimits
     from motiontool.sim.play import Marker
+    from motiontool.sim.report import EndEffectorStats
     from motiontool.sim.trace import BodyShapes, Trace
 
 __all__ = ["APPLICATION_ID", "TIMELINE", "write_failure", "write_recording"]
@@ -55,10 +62,21 @@ _LIMB_COLORS = (
 _COMMANDED = (230, 80, 60)
 _MEASURED = (40, 120, 230)
 _LIMIT = (150, 150, 150)
+_TOOL = (0, 200, 255)
+_KEYFRAME = (230, 80, 60)
+
+TOOL_TRAIL_ROWS = 400
+"""At most this many rows of the growing tool trail (a longer run logs every n-th sample; the
+last row is always the whole path)."""
+
+
+def _rerun(module: str) -> Any:
+    """``rerun`` (or a submodule), or a one-line error naming ``motiontool[rerun]``."""
+    return require(module, "rerun", "a Rerun recording (--rrd, --rrd-dir)")
 
 
 def _stream(name: str, properties: Mapping[str, str]) -> tuple[Any, Any]:
-    import rerun as rr
+    rr = _rerun("rerun")
 
     recording_id = uuid.uuid5(uuid.NAMESPACE_URL, name + repr(sorted(properties.items())))
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
@@ -80,7 +98,7 @@ def _finish(rec: Any, memory: Any, path: Path) -> None:
 def write_failure(path: Path, message: str, properties: Mapping[str, str], name: str) -> None:
     """A recording holding only the stamps and ``message`` as an ERROR event (at 0 s): written
     when a run could not even start, so that ``--rrd`` always leaves a file."""
-    import rerun as rr
+    rr = _rerun("rerun")
 
     rec, memory = _stream(name, properties)
     rec.send_columns(
@@ -101,11 +119,13 @@ def write_recording(
     markers: Sequence[Marker],
     properties: Mapping[str, str],
     name: str,
+    end_effector: EndEffectorStats | None = None,
 ) -> None:
     """Write the recording of one run to ``path`` (atomically)."""
     import numpy as np
-    import rerun as rr
-    import rerun.blueprint as rrb
+
+    rr = _rerun("rerun")
+    rrb = _rerun("rerun.blueprint")
 
     rec, memory = _stream(name, properties)
     esc = rr.escape_entity_path_part
@@ -184,6 +204,9 @@ def write_recording(
         columns=rr.Points3D.columns(positions=trace.base_pos, radii=np.full(len(times), 0.01)),
     )
 
+    if end_effector is not None and trace.tool_pos is not None:
+        _log_tool(rec, trace, end_effector)
+
     if markers:
         rec.send_columns(
             "/events",
@@ -217,10 +240,55 @@ def write_recording(
     _finish(rec, memory, path)
 
 
+def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
+    """The tool: its position every frame, its growing path, the keyframes' targets."""
+    import numpy as np
+
+    rr = _rerun("rerun")
+
+    assert trace.tool_pos is not None
+    rec.send_columns(
+        "/world/tool",
+        indexes=[rr.TimeColumn(TIMELINE, duration=trace.time_s)],
+        columns=rr.Points3D.columns(
+            positions=trace.tool_pos, radii=np.full(len(trace.time_s), 0.01)
+        ),
+    )
+    trail = np.array(ee.trail_position_m, dtype=np.float64).reshape(-1, 3)
+    n = len(trail)
+    if n:
+        every = max(1, math.ceil(n / TOOL_TRAIL_ROWS))
+        rows = list(range(every - 1, n, every))
+        if rows[-1] != n - 1:
+            rows.append(n - 1)
+        rec.send_columns(
+            "/world/tool/trail",
+            indexes=[rr.TimeColumn(TIMELINE, duration=[ee.trail_time_s[r] for r in rows])],
+            columns=rr.LineStrips3D.columns(strips=[trail[: r + 1] for r in rows]),
+        )
+        rec.log(
+            "/world/tool/trail",
+            rr.LineStrips3D.from_fields(colors=[_TOOL], radii=[0.002]),
+            static=True,
+        )
+    if ee.keyframes:
+        rec.log(
+            "/world/tool/keyframes",
+            rr.Points3D(
+                [k.commanded_position_m for k in ee.keyframes],
+                labels=[k.name for k in ee.keyframes],
+                colors=[_KEYFRAME],
+                radii=[0.006],
+            ),
+            static=True,
+        )
+
+
 def _log_shapes(rec: Any, root: str, body: BodyShapes, color: tuple[int, int, int]) -> None:
     """Log ``body``'s primitives under ``root``, in the body frame, one entity per kind."""
     import numpy as np
-    import rerun as rr
+
+    rr = _rerun("rerun")
 
     by_kind: dict[str, list[Any]] = {}
     for shape in body.shapes:

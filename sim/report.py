@@ -11,6 +11,10 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "options": {"loops", "reverse", "start", "p_gain_per_s", "hold_s", "floor_friction",
                   "mass_scale", "torque_scale", "start_yaw_deg", "start_noise_rad",
                   "fall_height_m", "fall_tilt_deg", "collision_tolerance_mm"},
+      "physics": {"timestep_ms", "friction",                     # as the compiled model has them
+                  "profile" ("default"|"webots"),
+                  "profile_note"},                               # webots only: not what makes
+                                                                 #   walks match (README)
       "simulated_s": 7.78, "control_steps": 389,
       "clean": true, "exit_code": 0, "reason": "",               # reason: '; '-joined, '' if clean
       "error": null,                                             # why the run stopped early
@@ -20,6 +24,21 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
         "max_tilt_deg", "final_tilt_deg",    # angle between the root's z axis and the vertical
         "min_height_m", "final_height_m",    # root height above the floor
         "started_down", "fell", "fell_at_s", "upright_at_end"},
+      "end_effector": null | {                                   # fixed-base robots only
+        "frame", "kind" ("site"|"body"),     # the tool: a site named tool/tcp/ee/flange/...,
+                                             #   else the last body of the chain
+        "reach_tolerance_mm",                # what "reached" means for lag_ms
+        "keyframes": [{"file_index", "name", "time_s",   # every keyframe the run reached, in
+                                                         #   the order played (loops repeat)
+                       "commanded_position_m", "commanded_quat_wxyz",  # FK of its targets
+                       "measured_position_m", "measured_quat_wxyz",    # at time_s
+                       "position_error_mm", "orientation_error_deg",
+                       "lag_ms"}],           # after time_s, when the tool first came within
+                                             #   the tolerance (null: not before the motion
+                                             #   went on to another position, or the end)
+        "max_deviation_mm", "max_deviation_at_s",  # tool vs FK of the command stream
+        "trail_time_s": [...], "trail_position_m": [[x, y, z], ...]},  # the tool's path,
+                                                                         # about every 50 ms
       "joints": [{"name", "limb", "unit" ("rad"|"m"), "commanded",
                   "rms_error", "max_error",          # target (clipped) - position, in "unit"
                   "velocity_cap_s", "torque_cap_s",  # time with |Vc| at maxVelocity / |torque|
@@ -63,9 +82,11 @@ __all__ = [
     "SCHEMA_VERSION",
     "BaseStats",
     "ContactSummary",
+    "EndEffectorStats",
     "FileRun",
     "FootStats",
     "JointStats",
+    "KeyframePose",
     "PlayReport",
 ]
 
@@ -141,6 +162,79 @@ class BaseStats:
     upright_at_end: bool
 
 
+@dataclass(frozen=True)
+class KeyframePose:
+    """The tool at one keyframe (world frame, m; quaternions (w, x, y, z)).
+
+    Attributes:
+        file_index: which motion of ``files`` the keyframe belongs to.
+        name: its pose name; time_s: when the run reaches it, simulated s.
+        commanded_position_m, commanded_quat_wxyz: forward kinematics of its joint targets
+            (clipped to the motor limits, as the motors see them; a ``*`` cell or a joint the
+            motion does not name: the target in force).
+        measured_position_m, measured_quat_wxyz: the simulated tool at ``time_s`` (the first
+            frame at or after it).
+        position_error_mm: distance between the two positions; orientation_error_deg: angle
+            between the two orientations.
+        lag_ms: how long after ``time_s`` the tool first came within the reach tolerance of
+            the commanded position; None when it did not before the motion went on to another
+            position (the next keyframe whose commanded position is further than the
+            tolerance) or the run ended.
+    """
+
+    file_index: int
+    name: str
+    time_s: float
+    commanded_position_m: tuple[float, float, float]
+    commanded_quat_wxyz: tuple[float, float, float, float]
+    measured_position_m: tuple[float, float, float]
+    measured_quat_wxyz: tuple[float, float, float, float]
+    position_error_mm: float
+    orientation_error_deg: float
+    lag_ms: float | None
+
+
+@dataclass(frozen=True)
+class EndEffectorStats:
+    """What the tool of a fixed-base arm did (see the module docstring).
+
+    Attributes:
+        frame: the tool's site (or body) name; kind: ``site`` or ``body``.
+        reach_tolerance_mm: the distance within which a keyframe counts as reached.
+        keyframes: the tool at every keyframe the run reached, in the order played.
+        max_deviation_mm, max_deviation_at_s: the largest distance between the measured tool
+            and the forward kinematics of the targets in force (the command stream), and when.
+        trail_time_s, trail_position_m: the tool's path, about every 50 ms (and the last
+            frame), m.
+    """
+
+    frame: str
+    kind: str
+    reach_tolerance_mm: float
+    keyframes: tuple[KeyframePose, ...]
+    max_deviation_mm: float
+    max_deviation_at_s: float
+    trail_time_s: tuple[float, ...]
+    trail_position_m: tuple[tuple[float, float, float], ...]
+
+    def to_json(self) -> dict[str, Any]:
+        doc = asdict(self)
+        doc["keyframes"] = [asdict(k) for k in self.keyframes]
+        out: dict[str, Any] = _lists(doc)
+        return out
+
+    @classmethod
+    def from_json(cls, doc: dict[str, Any]) -> EndEffectorStats:
+        keyframes = tuple(_make(KeyframePose, _tuples(k)) for k in doc.get("keyframes") or [])
+        values = _tuples({k: v for k, v in doc.items() if k != "keyframes"})
+        values["keyframes"] = keyframes
+        return _make(cls, values)
+
+    def at(self, name: str) -> list[KeyframePose]:
+        """The keyframes named ``name`` (several when a name repeats or the motion loops)."""
+        return [k for k in self.keyframes if k.name == name]
+
+
 @dataclass
 class PlayReport:
     """Everything ``play`` measured (see the module docstring for the JSON form)."""
@@ -162,6 +256,8 @@ class PlayReport:
     error: str | None = None
     unplayed_files: list[str] = field(default_factory=list)
     expectations: list[ExpectationResult] = field(default_factory=list)
+    end_effector: EndEffectorStats | None = None
+    physics: dict[str, Any] = field(default_factory=dict)
 
     @property
     def problems(self) -> list[str]:
@@ -213,6 +309,7 @@ class PlayReport:
             "robot": self.robot,
             "files": [asdict(f) for f in self.files],
             "options": dict(self.options),
+            "physics": dict(self.physics),
             "simulated_s": self.simulated_s,
             "control_steps": self.control_steps,
             "clean": self.clean,
@@ -220,6 +317,7 @@ class PlayReport:
             "reason": "; ".join(self.problems),
             "error": self.error,
             "base": asdict(self.base) if self.base is not None else None,
+            "end_effector": self.end_effector.to_json() if self.end_effector else None,
             "joints": [asdict(j) for j in self.joints],
             "feet": [asdict(f) for f in self.feet],
             "self_collisions": [asdict(c) for c in self.self_collisions],
@@ -238,10 +336,12 @@ class PlayReport:
         """The report of a JSON document written by :meth:`to_json` (its ``expectations`` are
         not read back: judge them again with :func:`motiontool.sim.expect.evaluate`)."""
         base = doc.get("base")
+        ee = doc.get("end_effector")
         return cls(
             robot=doc["robot"],
             files=[_make(FileRun, f) for f in doc["files"]],
             options=dict(doc.get("options") or {}),
+            physics=dict(doc.get("physics") or {}),
             stamps=dict(doc.get("stamps") or {}),
             simulated_s=doc["simulated_s"],
             control_steps=doc["control_steps"],
@@ -255,6 +355,7 @@ class PlayReport:
             ignored_joints=list(doc.get("ignored_joints") or []),
             error=doc.get("error"),
             unplayed_files=list(doc.get("unplayed_files") or []),
+            end_effector=EndEffectorStats.from_json(ee) if ee else None,
         )
 
 
@@ -262,6 +363,24 @@ def _make(cls: type[_T], values: dict[str, Any]) -> _T:
     """``cls(**values)`` with the keys ``cls`` has (a newer report may carry more)."""
     names = {f.name for f in fields(cls)}  # type: ignore[arg-type]
     return cls(**{k: v for k, v in values.items() if k in names})
+
+
+def _lists(value: Any) -> Any:
+    """Tuples as lists, all the way down (JSON arrays)."""
+    if isinstance(value, dict):
+        return {k: _lists(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_lists(v) for v in value]
+    return value
+
+
+def _tuples(value: Any) -> Any:
+    """Lists as tuples, all the way down (frozen dataclass fields)."""
+    if isinstance(value, dict):
+        return {k: _tuples(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return tuple(_tuples(v) for v in value)
+    return value
 
 
 def _finite(value: Any) -> Any:

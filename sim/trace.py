@@ -106,6 +106,10 @@ class Trace:
         bodies: names of the B robot bodies posed in ``body_pos`` / ``body_quat``.
         body_pos: (S + 1, B, 3) robot body positions, m (only when recording, else (0, B, 3)).
         body_quat: (S + 1, B, 4) robot body orientations (w, x, y, z) (same).
+        tool: the end-effector frame of a fixed-base arm (a site, or the last body of the
+            chain; :func:`motiontool.sim._mujoco.build_scene`), '' when there is none.
+        tool_pos: (S + 1, 3) its position in the world, m (None without a tool).
+        tool_quat: (S + 1, 4) its orientation, unit quaternion (w, x, y, z) (same).
         events: contacts seen, frame by frame.
         warnings: MuJoCo warning name -> count over the run.
         steps_done: control steps actually simulated (< S if the run stopped on an error).
@@ -129,6 +133,9 @@ class Trace:
     bodies: tuple[str, ...]
     body_pos: npt.NDArray[np.float64]
     body_quat: npt.NDArray[np.float64]
+    tool: str = ""
+    tool_pos: npt.NDArray[np.float64] | None = None
+    tool_quat: npt.NDArray[np.float64] | None = None
     events: list[ContactEvent] = field(default_factory=list)
     warnings: dict[str, int] = field(default_factory=dict)
     steps_done: int = 0
@@ -156,6 +163,9 @@ class Trace:
             bodies=self.bodies,
             body_pos=self.body_pos[:body_frames],
             body_quat=self.body_quat[:body_frames],
+            tool=self.tool,
+            tool_pos=None if self.tool_pos is None else self.tool_pos[: s + 1],
+            tool_quat=None if self.tool_quat is None else self.tool_quat[: s + 1],
             events=[e for e in self.events if e.frame <= s],
             warnings=dict(self.warnings),
             steps_done=s,

@@ -150,6 +150,27 @@ def test_play_json_conforms(files: Path) -> None:
     assert errors(doc, "play")
 
 
+def test_play_json_of_an_arm_conforms(files: Path) -> None:
+    # A fixed-base arm's report has an end_effector section (keyframes, lags, the tool trail).
+    Path("arm.motion").write_bytes(
+        b"#WEBOTS_MOTION,V1.0,shoulder_lift_joint,elbow_joint\n0,A,0,0\n240,B,-0.2,0.2\n"
+    )
+    result = runner.invoke(
+        app,
+        [
+            *("play", "--headless", "--hold", "0.1", "--json", "arm.json", "arm.motion"),
+            *("--expect", "ee_lag<1s", "--expect", "ee[B]=[0,0,0]±1mm"),
+        ],
+    )
+    assert result.exit_code == 1, result.output  # the second expectation fails
+    doc = json.loads(Path("arm.json").read_text())
+    assert [k["name"] for k in doc["end_effector"]["keyframes"]] == ["A", "B"]
+    assert errors(doc, "play") == []
+    broken = copy.deepcopy(doc)
+    broken["end_effector"]["keyframes"][0]["commanded_position_m"] = [0.0, 0.0]
+    assert errors(broken, "play")
+
+
 def test_batch_json_conforms(files: Path) -> None:
     result = runner.invoke(
         app, ["batch", "nod.motion", "--jobs", "1", "--no-cache", "--json", "batch.json"]

@@ -1,0 +1,172 @@
+"""The end effector of a fixed-base arm over a run: where each keyframe puts the tool, where the
+simulated tool is, how long it takes to get there.
+
+For every keyframe the run reaches (each motion's poses in the order they are played: reversed
+with ``--reverse``, repeated with ``--loop``), the commanded tool pose is the forward kinematics
+of the keyframe's joint targets, computed by MuJoCo on the scene's own model
+(:func:`motiontool.sim._mujoco.tool_poses`): the commanded and the measured poses come from one
+model in one world frame (the arm on its box), and ``play`` needs no Pinocchio.
+
+The targets are the keyframe's values, clipped to the motor limits as the motors see them; a
+``*`` cell, or a motor the motion does not name, holds the target in force. The measured pose is
+the simulated tool at the first frame at or after the keyframe time.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from motiontool.sim.report import EndEffectorStats, KeyframePose
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt import Motion
+    from motiontool.sim._mujoco import Scene
+    from motiontool.sim.trace import Trace
+
+__all__ = ["DEFAULT_REACH_TOLERANCE_MM", "TRAIL_STEP_S", "measure_end_effector"]
+
+DEFAULT_REACH_TOLERANCE_MM = 1.0
+"""A keyframe counts as reached once the tool is this close (mm) to its commanded position."""
+
+TRAIL_STEP_S = 0.05
+"""About how often the report samples the tool's path, s (a whole number of control steps)."""
+
+
+def _keyframe_steps(
+    motions: Sequence[Motion], lengths: Sequence[int], timestep_ms: int, reverse: bool, loops: int
+) -> list[tuple[int, int, float, int]]:
+    """(file index, pose index, time s, first control step at or after it) of every keyframe,
+    in the order played (:func:`motiontool.motionfmt.player.elapsed_steps`: each cycle of a
+    motion has ceil(D / T) + 1 steps, its playback time ``k T`` at its step ``k``)."""
+    out = []
+    start = 0
+    for f, (motion, length) in enumerate(zip(motions, lengths, strict=True)):
+        duration = int(motion.duration_ms)
+        cycle = -(-duration // timestep_ms) + 1
+        poses = range(motion.n_poses - 1, -1, -1) if reverse else range(motion.n_poses)
+        for loop in range(loops):
+            for p in poses:
+                t_ms = int(motion.times_ms[p])
+                played_ms = duration - t_ms if reverse else t_ms
+                k = -(-played_ms // timestep_ms)
+                step = start + loop * cycle + k
+                time_ms = (start + loop * cycle) * timestep_ms + played_ms
+                out.append((f, p, time_ms / 1000.0, step))
+        start += length
+    return out
+
+
+def _angle_deg(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> float:
+    """Angle between two orientations given as unit quaternions (w, x, y, z), degrees."""
+    import numpy as np
+
+    dot = min(1.0, abs(float(np.dot(a, b))))
+    return math.degrees(2.0 * math.acos(dot))
+
+
+def measure_end_effector(
+    scene: Scene,
+    trace: Trace,
+    motions: Sequence[Motion],
+    lengths: Sequence[int],
+    timestep_ms: int,
+    *,
+    reverse: bool = False,
+    loops: int = 1,
+    reach_tolerance_mm: float = DEFAULT_REACH_TOLERANCE_MM,
+) -> EndEffectorStats | None:
+    """The tool's keyframe poses, lags and deviation over the run; None without a tool.
+
+    Args:
+        scene: the scene that was run (its ``tool``, model and motor limits).
+        trace: the run (``tool_pos`` / ``tool_quat`` every frame).
+        motions: the motions played, in order; lengths: the control steps of each.
+        timestep_ms: the control step, ms; reverse, loops: as played.
+        reach_tolerance_mm: the distance within which a keyframe counts as reached, mm.
+    """
+    import numpy as np
+
+    from motiontool.sim import _mujoco
+
+    if scene.tool is None or trace.tool_pos is None or trace.tool_quat is None:
+        return None
+    tolerance_m = reach_tolerance_mm / 1000.0
+    frames = len(trace.time_s)
+    lim = scene.limits
+    targets = np.clip(trace.targets, lim.lower, lim.upper)  # (S', J), S' = steps simulated
+    column = {name: j for j, name in enumerate(scene.joints)}
+
+    # Joint targets of every keyframe the run reached.
+    reached = [
+        kf
+        for kf in _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
+        if kf[3] < len(targets) and kf[3] < frames
+    ]
+    rows = np.empty((len(reached), len(scene.joints)))
+    for i, (f, p, _t, step) in enumerate(reached):
+        row = targets[step].copy()
+        motion = motions[f]
+        for m, name in enumerate(motion.joints):
+            if name in column and bool(motion.commanded[p, m]):
+                row[column[name]] = motion.values[p, m]
+        rows[i] = np.clip(row, lim.lower, lim.upper)
+    fk_pos, fk_quat = _mujoco.tool_poses(scene, np.concatenate([rows, targets]))
+    kf_pos, kf_quat = fk_pos[: len(rows)], fk_quat[: len(rows)]
+    stream_pos = fk_pos[len(rows) :]
+
+    # Lags: from the keyframe's frame until the motion goes on to another position.
+    keyframes = []
+    for i, (f, p, time_s, step) in enumerate(reached):
+        end = frames - 1
+        for later in range(i + 1, len(reached)):
+            if np.linalg.norm(kf_pos[later] - kf_pos[i]) > tolerance_m:
+                end = max(step, reached[later][3])
+                break
+        dist = np.linalg.norm(trace.tool_pos[step : end + 1] - kf_pos[i], axis=1)
+        within = np.flatnonzero(dist <= tolerance_m)
+        lag = None if not len(within) else (float(trace.time_s[step + within[0]]) - time_s) * 1000.0
+        keyframes.append(
+            KeyframePose(
+                file_index=f,
+                name=motions[f].pose_names[p],
+                time_s=time_s,
+                commanded_position_m=_vec3(kf_pos[i]),
+                commanded_quat_wxyz=_vec4(kf_quat[i]),
+                measured_position_m=_vec3(trace.tool_pos[step]),
+                measured_quat_wxyz=_vec4(trace.tool_quat[step]),
+                position_error_mm=float(np.linalg.norm(trace.tool_pos[step] - kf_pos[i])) * 1000.0,
+                orientation_error_deg=_angle_deg(kf_quat[i], trace.tool_quat[step]),
+                lag_ms=lag,
+            )
+        )
+
+    # The command stream: the target in force over step k against the tool at its end.
+    deviation = np.linalg.norm(trace.tool_pos[1 : len(targets) + 1] - stream_pos, axis=1)
+    worst = int(np.argmax(deviation)) if len(deviation) else -1
+    stride = max(1, round(TRAIL_STEP_S / trace.control_step_s))
+    samples = list(range(0, frames, stride))
+    if samples[-1] != frames - 1:
+        samples.append(frames - 1)
+    return EndEffectorStats(
+        frame=scene.tool[0],
+        kind=scene.tool[1],
+        reach_tolerance_mm=reach_tolerance_mm,
+        keyframes=tuple(keyframes),
+        max_deviation_mm=float(deviation[worst]) * 1000.0 if worst >= 0 else 0.0,
+        max_deviation_at_s=float(trace.time_s[worst + 1]) if worst >= 0 else 0.0,
+        trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
+        trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),
+    )
+
+
+def _vec3(v: npt.NDArray[np.float64]) -> tuple[float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def _vec4(v: npt.NDArray[np.float64]) -> tuple[float, float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]), float(v[3]))
