@@ -1,4 +1,8 @@
-"""Version stamps for every report: the tool and the libraries that produced the numbers."""
+"""Version stamps for every report: the tool and the libraries that produced the numbers.
+
+At the top of the package so that every layer (motionfmt, kinematics, sim, cli) may stamp its
+reports: versions come from package metadata, so no library is imported to read them.
+"""
 
 from __future__ import annotations
 

@@ -32,6 +32,7 @@ from motiontool.cli import (
     validate,
 )
 from motiontool.cli.color import set_no_color
+from motiontool.cli.options import error_line
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["app", "main"]
@@ -65,7 +66,7 @@ def _guard(func: F) -> F:
         except MotionToolError as exc:
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
-            typer.echo(f"motiontool: error: {exc}", err=True)
+            typer.echo(f"motiontool: error: {error_line(exc)}", err=True)
             raise typer.Exit(2) from None
 
     return wrapper  # type: ignore[return-value]
@@ -139,5 +140,5 @@ def main() -> None:
     except MotionToolError as exc:  # raised outside a command (commands go through _guard)
         if _debug.get():
             traceback.print_exc(file=sys.stderr)
-        typer.echo(f"motiontool: error: {exc}", err=True)
+        typer.echo(f"motiontool: error: {error_line(exc)}", err=True)
         sys.exit(2)

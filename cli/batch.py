@@ -8,7 +8,14 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.color import rich_no_color
+from motiontool.cli.options import Timestep, robot_option
 from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.physics_options import (
+    FrictionOption,
+    PhysicsStepOption,
+    Profile,
+    ProfileOption,
+)
 from motiontool.cli.play import Start
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
@@ -26,11 +33,9 @@ def batch_command(
     ],
     robot: Annotated[
         list[str] | None,
-        typer.Option(
-            "--robot",
-            "-r",
-            help="auto (per file, from its joints), nao, nao-v5, ur5e, a .urdf/.xml, erd:<name>;"
-            " repeat to run every file on several robots.",
+        robot_option(
+            "Robot to play on, per file (default: auto)",
+            more="Repeat to run every file on several robots.",
         ),
     ] = None,
     jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")] = 2,
@@ -58,12 +63,10 @@ def batch_command(
         int, typer.Option("--samples", min=1, help="Perturbation samples per file and robot.")
     ] = 1,
     seed: Annotated[int, typer.Option("--seed", help="Seed of the perturbation draws.")] = 0,
-    timestep: Annotated[
-        int | None,
-        typer.Option(
-            "--timestep", "-t", min=1, help="Controller time step in ms (default: the robot's)."
-        ),
-    ] = None,
+    timestep: Timestep = None,
+    physics_step: PhysicsStepOption = None,
+    friction: FrictionOption = None,
+    profile: ProfileOption = Profile.default,
     junit: Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")] = None,
     json_out: Annotated[
         Path | None, typer.Option("--json", help="Write every run's report (JSON) here.")
@@ -111,9 +114,9 @@ def batch_command(
         render_summary,
         write_junit,
     )
-    from motiontool.kinematics.robots import detect_robot, load_robot
-    from motiontool.motionfmt import read_bytes, read_file
+    from motiontool.kinematics.robots import AUTO, load_robot
     from motiontool.sim.batch import (
+        check_robots,
         default_cache_dir,
         parse_perturbation,
         plan,
@@ -121,6 +124,7 @@ def batch_command(
         run_batch,
     )
     from motiontool.sim.expect import parse_expectations
+    from motiontool.sim.physics import physics_run_options, resolve_physics
     from motiontool.sim.runs import run_spec
     from motiontool.sim.sidecar import Sidecar, expectations_for
 
@@ -144,10 +148,9 @@ def batch_command(
     if executor == "ray":
         require("ray", "ray", "motiontool batch --executor ray")
     perturbations = [parse_perturbation(p) for p in perturb or []]
-    robots = robot or ["auto"]
-    for r in dict.fromkeys(robots):
-        if r != "auto":
-            load_robot(r)  # a clear error for a bad name, before anything runs
+    physics_options = physics_run_options(profile.value, physics_step, friction)
+    robots = robot or [AUTO]
+    check_robots(robots)  # an unknown robot: exit 2 before anything runs
     rrd_names = recording_stems(files)
     parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
     roots = [p for p in paths if p.is_dir()]
@@ -158,16 +161,7 @@ def batch_command(
             f, expect or [], sidecar=not no_sidecar, roots=roots, cache=sidecars
         )
         start_state = start.value if start is not None else sidecar_start
-        file_robots = []
-        for r in robots:
-            if r == "auto":
-                # No robot found: the run stays "auto" and fails alone, saying why (the others
-                # still run and are reported).
-                joints = read_bytes(read_file(f), str(f)).joints
-                file_robots.append(detect_robot(joints) or "auto")
-            else:
-                file_robots.append(r)
-        options: dict[str, object] = {"timestep_ms": timestep}
+        options: dict[str, object] = {"timestep_ms": timestep, **physics_options}
         if start_state not in (None, "standing"):
             options["start"] = start_state
         if rrd_dir is not None:
@@ -176,7 +170,7 @@ def batch_command(
             options["rrd_name"] = rrd_names[str(f)]
         specs += plan(
             [f],
-            file_robots,
+            robots,
             perturbations=perturbations,
             samples=samples,
             seed=seed,
@@ -184,8 +178,17 @@ def batch_command(
             expect=expected,
         )
 
+    for name in dict.fromkeys(s.robot for s in specs if s.robot != AUTO):
+        # a physics step that does not divide a robot's control step: exit 2 before anything runs
+        resolve_physics(
+            timestep or load_robot(name).default_timestep_ms,
+            profile=profile.value,
+            physics_step_ms=physics_step,
+            friction=friction,
+        )
+
     def model_hash(name: str) -> str:
-        return "" if name == "auto" else load_robot(name).model_hash
+        return "" if name == AUTO else load_robot(name).model_hash
 
     from rich.console import Console
     from rich.progress import (
@@ -228,6 +231,10 @@ def batch_command(
             ray_address=ray_address,
             progress=progress,
         )
+    if profile is Profile.webots:
+        from motiontool.sim.physics import WEBOTS_PROFILE_NOTE
+
+        typer.echo(f"note: {WEBOTS_PROFILE_NOTE}")
     typer.echo(render_summary(batch), nl=False)
     if json_out is not None:
         emit(render_json(batch), json_out)

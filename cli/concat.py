@@ -8,26 +8,30 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import RobotOption, check_result, num, pick_robot
-from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.resample import (
+from motiontool.cli._authoring import check_result, num
+from motiontool.cli.options import (
     Format,
     FormatOption,
     InPlace,
     Output,
+    ResultTimestep,
+    RobotOption,
+)
+from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.resample import (
     load_input,
     output_target,
     say,
     write_result,
 )
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import Velocity
-from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.authoring import Concatenated, Transition, concat
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.transform import DEFAULT_MARGIN
+from motiontool.stamps import stamps
 
 __all__ = ["concat_command"]
 
@@ -44,7 +48,7 @@ def concat_command(
     paths: Annotated[
         list[Path], typer.Argument(help="Two or more motion files, in playing order.")
     ],
-    robot: RobotOption = "auto",
+    robot: RobotOption = AUTO,
     margin: Annotated[
         float,
         typer.Option("--margin", help="Fraction of maxVelocity a transition may use, in (0, 1]."),
@@ -58,16 +62,7 @@ def concat_command(
             "robot's maxVelocity x margin.",
         ),
     ] = None,
-    timestep: Annotated[
-        int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller step (ms) of the velocity check run on the result "
-            "(default: the robot's, Nao 20 ms).",
-        ),
-    ] = None,
+    timestep: ResultTimestep = None,
     output: Output = None,
     in_place: InPlace = False,
     format: FormatOption = Format.text,

@@ -9,9 +9,8 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli.jsontext import dumps
+from motiontool.cli.options import Format, FormatOption, timestep_option
 from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.resample import Format, FormatOption
-from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.compare import (
     DEFAULT_TOLERANCE_RAD,
     JointDiff,
@@ -19,9 +18,11 @@ from motiontool.motionfmt.compare import (
     compare_motions,
     held_targets,
 )
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.stamps import stamps
 
 __all__ = ["diff_command"]
 
@@ -163,13 +164,7 @@ def diff_command(
     ] = None,
     timestep: Annotated[
         int,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Compare at the steps of a controller with this time step, ms (default 1: every "
-            "time any controller can sample).",
-        ),
+        timestep_option("1: every time any controller can sample", use="compare at its steps"),
     ] = 1,
 ) -> None:
     """Compare what two motion files command, joint by joint (matched by name).
@@ -180,6 +175,8 @@ def diff_command(
     motion. Exit code 0 same within --tolerance, 1 different, 2 error.
     """
     refuse_overwrite(plot, [old, new], "--plot", "write the PNG to another file")
+    if plot is not None:
+        require("matplotlib", "plot", "motiontool diff --plot")
     a = read_bytes(read_file(old), source_name(old)).motion
     b = read_bytes(read_file(new), source_name(new)).motion
     diff = compare_motions(a, b, timestep_ms=timestep, tolerance=tolerance)

@@ -15,11 +15,11 @@ __all__ = ["expect_command"]
 
 def _floating(path: Path) -> bool | None:
     """Whether the robot ``path``'s joints belong to is free-flying (None: no robot fits)."""
-    from motiontool.kinematics.robots import detect_robot, load_robot
+    from motiontool.kinematics.robots import AUTO, pick_robot
     from motiontool.motionfmt import read_bytes, read_file
 
-    found = detect_robot(read_bytes(read_file(path), str(path)).joints)
-    return None if found is None else load_robot(found).floating_base
+    spec = pick_robot(AUTO, read_bytes(read_file(path), str(path)).joints)
+    return None if spec is None else spec.floating_base
 
 
 def expect_command(

@@ -12,9 +12,9 @@ from typing import Any
 import typer
 
 from motiontool.cli.jsontext import ESCAPED_BYTES, dumps, escape_undecodable
-from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.stamps import stamps
 
 __all__ = [
     "FORMATS",
@@ -48,12 +48,18 @@ def _plural(n: int, word: str) -> str:
 
 
 def summary(report: ValidationReport) -> str:
-    """``checked 3 files: 1 error, 2 warnings, 0 notes``."""
+    """``checked 3 files: 1 error, 2 warnings, 0 notes``, then every check skipped for a
+    missing library (MT902): ``; collision check skipped: pip install 'motiontool[kinematics]'``."""
+    skipped = "".join(
+        f"; {d.message.partition(':')[0]}: {d.hint}"
+        for d in report.diagnostics
+        if d.code == "MT902"
+    )
     return (
         f"checked {_plural(len(report.files), 'file')}: "
         f"{_plural(report.count(Severity.ERROR), 'error')}, "
         f"{_plural(report.count(Severity.WARNING), 'warning')}, "
-        f"{_plural(report.count(Severity.INFO), 'note')}"
+        f"{_plural(report.count(Severity.INFO), 'note')}{skipped}"
     )
 
 
@@ -98,7 +104,8 @@ def render_text(report: ValidationReport, *, color: bool = False, order: Order =
     for f, d in _findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
         out.append(f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}")
-        out.extend(_source_excerpt(f, d, color))
+        if d.code != "MT902":  # a note about the run, not about a place in the file
+            out.extend(_source_excerpt(f, d, color))
         if d.hint:
             out.append(f"   = hint: {d.hint}")
     out.append(summary(report))

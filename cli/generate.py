@@ -8,11 +8,11 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.output import emit
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.robots import RobotSpec, load_robot
 from motiontool.kinematics.ur5e_tasks import ROBOT, Task, generate, peak_speeds
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.writer import format_motion
+from motiontool.stamps import stamps
 
 __all__ = ["generate_command"]
 

@@ -10,10 +10,10 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import TableFormat
-from motiontool.cli.stamps import stamps
+from motiontool.cli.options import TableFormat, TextOrJsonOption
 from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.summary import MotionSummary, summarize
+from motiontool.stamps import stamps
 
 __all__ = ["info_command"]
 
@@ -69,9 +69,7 @@ def _text(s: MotionSummary, arg: str) -> str:
 
 def info_command(
     path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
-    format: Annotated[
-        TableFormat, typer.Option("--format", "-f", help="text or json (csv is not offered).")
-    ] = TableFormat.text,
+    format: TextOrJsonOption = TableFormat.text,
 ) -> None:
     """Joints, poses, duration, pose spacing and undefined cells of a motion file, and the
     count of what 'validate --robot none' finds in it (errors, warnings, notes)."""

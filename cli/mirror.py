@@ -9,24 +9,21 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli._authoring import RobotOption, need_robot
+from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
 from motiontool.cli.resample import (
-    Format,
-    FormatOption,
-    InPlace,
-    Output,
     load_input,
     output_target,
     say,
 )
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
+from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
 from motiontool.motionfmt.authoring import Mirrored, mirror
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, source_name
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.stamps import stamps
 
 __all__ = ["mirror_command"]
 
@@ -132,7 +129,7 @@ def mirror_command(
             help="A motion file ('-': stdin); none with --show-map.", show_default=False
         ),
     ] = None,
-    robot: RobotOption = "auto",
+    robot: Annotated[str, robot_option("Robot whose joint axes give the signs")] = AUTO,
     show_map: Annotated[
         bool,
         typer.Option(
@@ -155,9 +152,9 @@ def mirror_command(
     if path is None:
         if not show_map:
             raise MotionToolError("give a motion file to mirror, or --show-map --robot NAME")
-        if robot in ("auto", "none"):
+        if robot in (AUTO, NONE):
             raise MotionToolError("--show-map without a motion file needs --robot NAME (e.g. nao)")
-        m = mirror_map(need_robot(robot, ()))
+        m = mirror_map(resolve_robot(robot))
         if format is Format.json:
             typer.echo(json.dumps({"robot": m.robot, "map": _map_json(m)}, indent=2))
         else:
@@ -165,7 +162,7 @@ def mirror_command(
         return
     target = output_target(path, output, in_place)
     doc = load_input(path)
-    spec = need_robot(robot, doc.joints)
+    spec = resolve_robot(robot, doc.joints)
     m = mirror_map(spec)
     result = mirror(doc, m.as_dict())
     limits = Limits(spec)

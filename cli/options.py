@@ -1,10 +1,50 @@
-"""Option types shared by several commands."""
+"""Options shared by several commands: one spelling, one short form and one help text each.
+
+``-r`` is always ``--robot``, ``-t`` ``--timestep``, ``-o`` ``--output`` and ``-f`` ``--format``
+(``tests/cli/test_files.py`` keeps it so). The robot choices come from
+:func:`motiontool.kinematics.robots.robot_choices`, the one list every help text and message
+uses. :func:`error_line` is where the CLI adds its flags to a library error: the library says
+"name the robot explicitly", the CLI says how (``--robot``).
+"""
 
 from __future__ import annotations
 
 import enum
+from pathlib import Path
+from typing import Annotated, Any
 
-__all__ = ["ReportFormat", "TableFormat"]
+import typer
+
+from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = [
+    "ROBOT_OPTION",
+    "Format",
+    "FormatOption",
+    "InPlace",
+    "Output",
+    "ReportFormat",
+    "ReportOutput",
+    "ResultTimestep",
+    "RobotOption",
+    "TableFormat",
+    "TextOrJsonOption",
+    "Timestep",
+    "error_line",
+    "robot_option",
+    "timestep_option",
+]
+
+ROBOT_OPTION = "--robot"
+"""How a user of the CLI names a robot (library hints get it as ``robot_option``)."""
+
+
+class Format(enum.StrEnum):
+    """Formats of a transform's report."""
+
+    text = "text"
+    json = "json"
 
 
 class ReportFormat(enum.StrEnum):
@@ -22,3 +62,81 @@ class TableFormat(enum.StrEnum):
     text = "text"
     csv = "csv"
     json = "json"
+
+
+FormatOption = Annotated[
+    Format, typer.Option("--format", "-f", help="Report as text for people or json for CI.")
+]
+TextOrJsonOption = Annotated[
+    TableFormat, typer.Option("--format", "-f", help="text or json (csv is not offered).")
+]
+Output = Annotated[
+    Path | None,
+    typer.Option(
+        "--output",
+        "-o",
+        help="Write the result here ('-': stdout). Never the input file, unless --in-place.",
+    ),
+]
+ReportOutput = Annotated[
+    Path | None,
+    typer.Option(
+        "--output",
+        "-o",
+        help="Write the report to this file instead of stdout (never over an input file).",
+    ),
+]
+InPlace = Annotated[bool, typer.Option("--in-place", help="Replace the input file (atomically).")]
+
+_AUTO_HELP = (
+    "auto: the built-in robot that has the most of the file's joints, at least half "
+    "('motiontool robots' lists them)"
+)
+
+
+def robot_option(role: str, *, none: str | None = None, more: str = "") -> Any:
+    """``--robot`` / ``-r``: ``role`` (``Robot to check against``), then the choices.
+
+    Args:
+        role: what the command uses the robot for.
+        none: what ``none`` means to the command (it is offered only then).
+        more: a last sentence of the command's own (``Repeat to ...``).
+    """
+    keywords = (AUTO, NONE) if none is not None else (AUTO,)
+    text = f"{role}: {robot_choices(*keywords)}. {_AUTO_HELP}"
+    if none is not None:
+        text += f"; none: {none}"
+    return typer.Option(ROBOT_OPTION, "-r", help=f"{text}.{' ' + more if more else ''}")
+
+
+def timestep_option(
+    default: str = "the robot's Webots world: Nao 20, UR5e 8", use: str = ""
+) -> Any:
+    """``--timestep`` / ``-t``, whole ms >= 1: ``Controller time step in ms`` and what the
+    command does at that step (``use``), then its ``default``."""
+    return typer.Option(
+        "--timestep",
+        "-t",
+        min=1,
+        help=f"Controller time step in ms{': ' + use if use else ''} (default: {default}).",
+    )
+
+
+RobotOption = Annotated[
+    str, robot_option("Robot whose limits apply", none="no robot: no limits, nothing checked")
+]
+"""``--robot`` of a command that works without a robot too (``none``, or ``auto`` finding none)."""
+Timestep = Annotated[int | None, timestep_option()]
+"""``--timestep`` of a command whose default is the robot's."""
+ResultTimestep = Annotated[
+    int | None, timestep_option(use="the velocity check run on the result's command stream")
+]
+"""``--timestep`` of a command that writes a motion and checks its velocities."""
+
+
+def error_line(exc: MotionToolError) -> str:
+    """How the CLI prints ``exc`` after ``motiontool: error:``: the library's message, with
+    the option that fixes it where the library only says what to do."""
+    if isinstance(exc, NoRobotDetectedError):
+        return f"{exc.reason}; name one with {ROBOT_OPTION} ({robot_choices()})"
+    return str(exc)

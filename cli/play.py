@@ -10,11 +10,19 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from motiontool.cli.jsontext import dumps
+from motiontool.cli.options import Timestep, robot_option
 from motiontool.cli.output import emit, refuse_overwrite
-from motiontool.cli.stamps import stamps
+from motiontool.cli.physics_options import (
+    FrictionOption,
+    PhysicsStepOption,
+    Profile,
+    ProfileOption,
+)
+from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import source_name
+from motiontool.stamps import stamps
 
 if TYPE_CHECKING:
     from motiontool.sim.report import ContactSummary, PlayReport
@@ -48,6 +56,35 @@ def _contacts(title: str, rows: list[ContactSummary], limit: int = 8) -> list[st
     return lines
 
 
+def _end_effector(report: PlayReport, limit: int = 32) -> list[str]:
+    """An arm's tool: the largest deviation, then a table of keyframes (time, position error,
+    lag); past ``limit`` keyframes, the ``limit // 2`` worst, in time order."""
+    ee = report.end_effector
+    if ee is None:
+        return []
+    lines = [
+        f"end effector {ee.frame}: largest deviation from the commanded path "
+        f"{ee.max_deviation_mm:.1f} mm at {ee.max_deviation_at_s:.2f} s; lag: time to come "
+        f"within {ee.reach_tolerance_mm:g} mm of a keyframe (- : not before the next one)"
+    ]
+    rows = list(enumerate(ee.keyframes))
+    if len(rows) > limit:
+        worst = sorted(rows, key=lambda r: -r[1].position_error_mm)[: limit // 2]
+        rows = sorted(worst, key=lambda r: r[0])
+    if not rows:
+        return lines
+    wn = max(8, *(len(k.name) for _i, k in rows))
+    lines.append(f"  {'keyframe':<{wn}} {'time':>9} {'error':>10} {'lag':>8}")
+    for _i, k in rows:
+        lag = "-" if k.lag_ms is None else f"{k.lag_ms:.0f} ms"
+        lines.append(f"  {k.name:<{wn}} {k.time_s:>7.3f} s {k.position_error_mm:>7.1f} mm {lag:>8}")
+    if len(rows) < len(ee.keyframes):
+        lines.append(
+            f"  ... {len(ee.keyframes) - len(rows)} more keyframes with smaller errors (see --json)"
+        )
+    return lines
+
+
 def render_text(report: PlayReport) -> str:
     """The summary for people: the outcome, the robot, the feet, contacts, then one row per
     commanded joint."""
@@ -58,7 +95,10 @@ def render_text(report: PlayReport) -> str:
     lines = [
         f"{names} on {report.robot}: {report.simulated_s:.2f} s simulated "
         f"({report.control_steps} control steps of {stamps_.get('control_step_ms')} ms, "
-        f"physics step {stamps_.get('physics_step_ms'):g} ms)",
+        f"physics step {stamps_.get('physics_step_ms'):g} ms"
+        + (f", floor friction {report.physics['friction']:g}" if report.physics else "")
+        + ")",
+        *([f"note: {report.physics['profile_note']}"] if "profile_note" in report.physics else []),
         "result: " + ("clean" if report.clean else "; ".join(report.problems)),
     ]
     if report.expectations:
@@ -81,6 +121,7 @@ def render_text(report: PlayReport) -> str:
             f"moved {foot.max_displacement_m * 1000:.1f} mm at most, "
             f"{foot.final_displacement_m * 1000:.1f} mm at the end"
         )
+    lines += _end_effector(report)
     lines += _contacts("self-collisions", report.self_collisions)
     lines += _contacts("contacts with anything but the floor", report.scene_contacts)
     if report.ground_contacts:
@@ -143,21 +184,10 @@ def play_command(
     ] = None,
     loop: Annotated[int, typer.Option("--loop", min=1, help="Play each motion N times.")] = 1,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")] = False,
-    timestep: Annotated[
-        int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller time step in ms (default: the robot's Webots world, Nao 20, UR5e 8).",
-        ),
-    ] = None,
+    timestep: Timestep = None,
     robot: Annotated[
-        str,
-        typer.Option(
-            "--robot", "-r", help="auto, nao, nao-v5, ur5e, a .urdf/.xml model or erd:<name>."
-        ),
-    ] = "auto",
+        str, robot_option("Robot to play on (auto: of the joints of all the files)")
+    ] = AUTO,
     start: Annotated[
         Start | None,
         typer.Option(
@@ -184,6 +214,9 @@ def play_command(
         typer.Option("--hold", min=0.0, help="Seconds to keep simulating after the last motion."),
     ] = 1.0,
     seed: Annotated[int, typer.Option("--seed", help="Seed of random draws (stamped).")] = 0,
+    physics_step: PhysicsStepOption = None,
+    friction: FrictionOption = None,
+    profile: ProfileOption = Profile.default,
 ) -> None:
     """Play motion files headlessly in MuJoCo as a Webots controller would, and report the run.
 
@@ -206,7 +239,7 @@ def play_command(
     from motiontool.motionfmt import read_motion
     from motiontool.motionfmt.fileio import is_stdin
     from motiontool.sim.expect import evaluate, parse_expectations
-    from motiontool.sim.play import PlayOptions, play, resolve_robot
+    from motiontool.sim.play import PlayOptions, play
     from motiontool.sim.sidecar import expectations_for
 
     # A sidecar describes one motion: it applies when one file is played (not stdin).
@@ -217,7 +250,7 @@ def play_command(
     doc_stamps: dict[str, Any] = dict(stamps())
     try:
         motions = [read_motion(str(f)) for f in files]
-        spec = resolve_robot(robot, motions)
+        spec = resolve_robot(robot, (j for m in motions for j in m.joints))
         doc_stamps = dict(stamps(spec.model_hash))
         options = PlayOptions(
             timestep_ms=timestep,
@@ -226,6 +259,9 @@ def play_command(
             start=start_state,  # type: ignore[arg-type]  # checked by PlayOptions.check
             hold_s=hold,
             seed=seed,
+            physics_step_ms=physics_step,
+            floor_friction=friction,
+            profile=profile.value,  # type: ignore[arg-type]  # checked by PlayOptions.check
         )
         report = play(files, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
         report.expectations = evaluate(expectations, report)

@@ -8,25 +8,18 @@ from typing import Annotated
 
 import typer
 
+from motiontool.cli.options import ROBOT_OPTION, robot_option, timestep_option
 from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.stamps import stamps
-from motiontool.kinematics.robots import RobotSpec, detect_robot, load_robot
+from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.stamps import stamps
 
 __all__ = ["plot_command"]
 
 _DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
-
-
-def _robot(name: str, joints: tuple[str, ...]) -> RobotSpec | None:
-    if name == "none":
-        return None
-    if name == "auto":
-        found = detect_robot(joints)
-        return None if found is None else load_robot(found)
-    return load_robot(name)
 
 
 def plot_command(
@@ -35,22 +28,12 @@ def plot_command(
         Path, typer.Option("--output", "-o", help="The PNG file to write.", show_default=False)
     ],
     robot: Annotated[
-        str,
-        typer.Option(
-            "--robot",
-            "-r",
-            help="Robot whose limits are drawn: auto (the built-in robot with every joint of the "
-            "file, else none), none, nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>.",
-        ),
-    ] = "auto",
+        str, robot_option("Robot whose limits are drawn", none="no limits (as auto finding none)")
+    ] = AUTO,
     timestep: Annotated[
         int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller step (ms) at which held targets ('*' spans, dotted) are drawn "
-            "(default: the robot's, else 20).",
+        timestep_option(
+            "the robot's, else 20", use="held targets ('*' spans, dotted) are drawn at its steps"
         ),
     ] = None,
 ) -> None:
@@ -63,8 +46,9 @@ def plot_command(
     from motiontool.cli._plotting import JointLimits, limb_groups, plot_motion
 
     refuse_overwrite(output, [path], "-o", "write the PNG to another file")
+    require("matplotlib", "plot", "motiontool plot")
     motion = read_bytes(read_file(path), source_name(path)).motion
-    spec = _robot(robot, motion.joints)
+    spec = pick_robot(robot, motion.joints)
     limits = {}
     if spec is not None:
         limits = {
@@ -94,8 +78,10 @@ def plot_command(
     atomic_write(output, png)
     if spec is None:
         findings = "no robot limits drawn"
-        if robot == "auto":
-            findings += " (no built-in robot has half of the joints or more; name one with --robot)"
+        if robot == AUTO:
+            findings += (
+                f" (no built-in robot has half of the joints or more; name one with {ROBOT_OPTION})"
+            )
     else:
         findings = (
             f"{n_limit} keyframe value{'' if n_limit == 1 else 's'} outside the limits, "

@@ -1,12 +1,12 @@
 """``motiontool resample``: keyframes on a uniform grid, or fewer keyframes, within a bound.
 
 Also holds what the commands that write a motion share: where the result goes (``-o`` or
-``--in-place``, never over the input otherwise) and the deviation line of a report.
+``--in-place``, never over the input otherwise) and the deviation line of a report; their
+options are in :mod:`motiontool.cli.options`.
 """
 
 from __future__ import annotations
 
-import enum
 import json
 import sys
 from pathlib import Path
@@ -14,19 +14,16 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli.options import Format, FormatOption, InPlace, Output
 from motiontool.cli.output import refuse_overwrite, same_file
-from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.compare import MotionDiff
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file, source_name
 from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
+from motiontool.stamps import stamps
 
 __all__ = [
-    "Format",
-    "FormatOption",
-    "InPlace",
-    "Output",
     "deviation_json",
     "deviation_text",
     "load_input",
@@ -35,27 +32,6 @@ __all__ = [
     "say",
     "write_result",
 ]
-
-
-class Format(enum.StrEnum):
-    """Formats of a transform's report."""
-
-    text = "text"
-    json = "json"
-
-
-FormatOption = Annotated[
-    Format, typer.Option("--format", "-f", help="Report as text for people or json for CI.")
-]
-Output = Annotated[
-    Path | None,
-    typer.Option(
-        "--output",
-        "-o",
-        help="Write the result here ('-': stdout). Never the input file, unless --in-place.",
-    ),
-]
-InPlace = Annotated[bool, typer.Option("--in-place", help="Replace the input file (atomically).")]
 
 
 def output_target(path: Path, output: Path | None, in_place: bool) -> Path | None:

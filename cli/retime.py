@@ -8,19 +8,22 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli.resample import (
+from motiontool.cli.options import (
     Format,
     FormatOption,
     InPlace,
     Output,
+    ResultTimestep,
+    robot_option,
+)
+from motiontool.cli.resample import (
     load_input,
     output_target,
     say,
     write_result,
 )
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import Velocity
-from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
+from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.errors import MotionToolError
@@ -33,6 +36,7 @@ from motiontool.motionfmt.transform import (
     fit_limits,
     scale_times,
 )
+from motiontool.stamps import stamps
 
 __all__ = ["retime_command"]
 
@@ -41,19 +45,6 @@ _LISTED = 10  # stretched segments listed in the text report (all of them in JSO
 
 def _num(x: float) -> str:
     return f"{x:.6g}"
-
-
-def _robot(name: str | None, joints: tuple[str, ...]) -> RobotSpec:
-    if name is None or name == "auto":
-        found = detect_robot(joints)
-        if found is None:
-            raise MotionToolError(
-                "no built-in robot ("
-                + ", ".join(builtin_robots())
-                + ") has half of the joints of this motion or more; name one with --robot"
-            )
-        name = found
-    return load_robot(name)
 
 
 def _velocity_findings(
@@ -103,15 +94,7 @@ def retime_command(
             "duration within maxVelocity x margin; other segments keep theirs.",
         ),
     ] = False,
-    robot: Annotated[
-        str,
-        typer.Option(
-            "--robot",
-            "-r",
-            help="Robot whose limits --fit-limits uses: auto (the built-in robot with every "
-            "joint of the file), nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>.",
-        ),
-    ] = "auto",
+    robot: Annotated[str, robot_option("Robot whose limits --fit-limits uses")] = AUTO,
     margin: Annotated[
         float,
         typer.Option(
@@ -127,16 +110,7 @@ def retime_command(
             "(over the half segments around it; the motion starts and ends at rest).",
         ),
     ] = None,
-    timestep: Annotated[
-        int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller step (ms) of the velocity check run on the result "
-            "(default: the robot's, Nao 20 ms).",
-        ),
-    ] = None,
+    timestep: ResultTimestep = None,
     output: Output = None,
     in_place: InPlace = False,
     format: FormatOption = Format.text,
@@ -177,7 +151,7 @@ def retime_command(
         result = fit_duration(times, duration)
         how = f"duration {duration} ms"
     else:
-        spec = _robot(robot, motion.joints)
+        spec = resolve_robot(robot, motion.joints)
         limits = {j.name: j.max_velocity for j in spec.joints}
         result = fit_limits(
             times, motion.joints, motion.values, limits, margin=margin, max_acceleration=accel

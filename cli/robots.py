@@ -10,12 +10,13 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli.options import TableFormat
+from motiontool.cli.options import TableFormat, TextOrJsonOption
 from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.stamps import stamps
-from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot
+from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write
+from motiontool.stamps import stamps
 
 __all__ = ["build_app", "export_command", "list_robots", "show_command"]
 
@@ -29,6 +30,8 @@ _OTHERS = (
     "Other robots: --robot path/to/robot.urdf, --robot path/to/robot.xml (MJCF), or\n"
     "--robot erd:<name> for a robot of example-robot-data (e.g. erd:ur5, erd:panda, erd:talos)."
 )
+
+_RobotArgument = Annotated[str, typer.Argument(help=f"{robot_choices()}.", show_default=False)]
 
 
 def _torque_unit(spec: RobotSpec) -> str:
@@ -171,15 +174,8 @@ def _show_text(spec: RobotSpec) -> str:
 
 
 def show_command(
-    robot: Annotated[
-        str,
-        typer.Argument(
-            help="nao, nao-v5, ur5e, a .urdf/.xml file, or erd:<name>.", show_default=False
-        ),
-    ],
-    format: Annotated[
-        TableFormat, typer.Option("--format", "-f", help="text or json (csv is not offered).")
-    ] = TableFormat.text,
+    robot: _RobotArgument,
+    format: TextOrJsonOption = TableFormat.text,
 ) -> None:
     """A robot's joints: limits, maximum velocities and torques, with their units."""
     spec = load_robot(robot)
@@ -189,12 +185,7 @@ def show_command(
 
 
 def export_command(
-    robot: Annotated[
-        str,
-        typer.Argument(
-            help="nao, nao-v5, ur5e, a .urdf/.xml file, or erd:<name>.", show_default=False
-        ),
-    ],
+    robot: _RobotArgument,
     mjcf: Annotated[
         Path | None, typer.Option("--mjcf", help="Write the model as MJCF to this file.")
     ] = None,
@@ -215,6 +206,8 @@ def export_command(
     source = [Path(robot)] if Path(robot).suffix.lower() in (".urdf", ".xml") else []
     refuse_overwrite(mjcf, source, "--mjcf")
     refuse_overwrite(urdf, source, "--urdf")
+    if urdf is not None:
+        require("pinocchio", "kinematics", "motiontool robots export --urdf")
     spec = load_robot(robot)
     outputs = [(mjcf, mjcf_bytes), (urdf, urdf_bytes)]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]

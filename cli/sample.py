@@ -12,13 +12,14 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.jsontext import dumps
+from motiontool.cli.options import timestep_option
 from motiontool.cli.output import emit, refuse_overwrite
-from motiontool.cli.stamps import stamps
 from motiontool.motionfmt import read_file
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.player import CommandStream, sample
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.stamps import stamps
 
 __all__ = ["MAX_CELLS", "SampleFormat", "sample_command"]
 
@@ -93,13 +94,7 @@ def _json(stream: CommandStream, path: str) -> str:
 def sample_command(
     path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
     timestep: Annotated[
-        int,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller time step in ms (20 in the Webots Nao worlds, 8 for the UR5e).",
-        ),
+        int, timestep_option("20, the Webots Nao worlds'; the UR5e's is 8", use="one row per step")
     ] = 20,
     format: Annotated[
         SampleFormat,

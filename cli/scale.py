@@ -8,23 +8,27 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import RobotOption, check_result, num, pick_robot
-from motiontool.cli.resample import (
+from motiontool.cli._authoring import check_result, num
+from motiontool.cli.options import (
     Format,
     FormatOption,
     InPlace,
     Output,
+    ResultTimestep,
+    RobotOption,
+)
+from motiontool.cli.resample import (
     load_input,
     output_target,
     say,
     write_result,
 )
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import Velocity
-from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.authoring import Scaled, scale
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
+from motiontool.stamps import stamps
 
 __all__ = ["scale_command"]
 
@@ -48,16 +52,8 @@ def scale_command(
             "robot's zero pose) or the name of a pose of the file.",
         ),
     ] = "first",
-    robot: RobotOption = "auto",
-    timestep: Annotated[
-        int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller step (ms) of the velocity check run on the result.",
-        ),
-    ] = None,
+    robot: RobotOption = AUTO,
+    timestep: ResultTimestep = None,
     output: Output = None,
     in_place: InPlace = False,
     format: FormatOption = Format.text,

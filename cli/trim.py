@@ -9,19 +9,16 @@ from typing import Annotated
 import typer
 
 from motiontool.cli._authoring import parse_time_ms
+from motiontool.cli.options import Format, FormatOption, InPlace, Output
 from motiontool.cli.resample import (
-    Format,
-    FormatOption,
-    InPlace,
-    Output,
     load_input,
     output_target,
     say,
     write_result,
 )
-from motiontool.cli.stamps import stamps
 from motiontool.motionfmt.authoring import Trimmed, trim
 from motiontool.motionfmt.fileio import source_name
+from motiontool.stamps import stamps
 
 __all__ = ["trim_command"]
 

@@ -10,19 +10,25 @@ import typer
 
 from motiontool.cli.color import color_enabled
 from motiontool.cli.formats import Order, render, render_json, render_sarif
-from motiontool.cli.options import ReportFormat
+from motiontool.cli.options import (
+    ROBOT_OPTION,
+    ReportFormat,
+    ReportOutput,
+    robot_option,
+    timestep_option,
+)
 from motiontool.cli.output import emit, refuse_overwrite
-from motiontool.cli.stamps import stamps
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
-    ROBOT_CHOICES,
     RobotChecks,
     parse_checks,
 )
-from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.robots import AUTO, NONE, RobotSpec
+from motiontool.motionfmt.extras import install_hint
 from motiontool.motionfmt.fileio import collect_motion_files
 from motiontool.motionfmt.validate import ValidationReport, validate_paths
+from motiontool.stamps import stamps
 
 __all__ = ["validate_command"]
 
@@ -75,9 +81,16 @@ def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
         parts.append(f"none for {_plural(len(skipped), 'file')} (MT901)")
     if not parts:  # no file reached the robot checks (Webots rejects them all)
         return f"robot: {unchecked}\n" if unchecked else ""
-    checks = ", ".join(checker.checks)
-    if "collision" in checker.checks:
-        checks += f" (overlaps under {checker.penetration_tolerance_mm:g} mm ignored)"
+    named = []
+    for name in checker.checks:
+        if name in checker.skipped:
+            missing = checker.skipped[name]
+            named.append(f"{name} (skipped: {missing.library} is not installed)")
+        elif name == "collision":
+            named.append(f"{name} (overlaps under {checker.penetration_tolerance_mm:g} mm ignored)")
+        else:
+            named.append(name)
+    checks = ", ".join(named)
     if unchecked:
         checks += f"; {unchecked}"
     return f"robot: {'; '.join(parts)}; checks: {checks}\n"
@@ -109,6 +122,15 @@ def _robot_json(
             "collision_tolerance_mm": checker.penetration_tolerance_mm,
             "robots": robots,
             "unchecked_files": _unchecked(report, checker)[0],
+            "skipped_checks": [
+                {
+                    "check": name,
+                    "library": exc.library,
+                    "extra": exc.extra,
+                    "install": install_hint(exc.extra),
+                }
+                for name, exc in checker.skipped.items()
+            ],
         },
     }
 
@@ -144,34 +166,19 @@ def validate_command(
         ReportFormat,
         typer.Option("--format", "-f", help="text for people; json, sarif or github for CI."),
     ] = ReportFormat.text,
-    output: Annotated[
-        Path | None,
-        typer.Option(
-            "--output",
-            "-o",
-            help="Write the report to this file instead of stdout (never over an input file).",
-        ),
-    ] = None,
+    output: ReportOutput = None,
     timestep: Annotated[
         int | None,
-        typer.Option(
-            "--timestep",
-            "-t",
-            min=1,
-            help="Controller time step in ms: report pose times that are not a multiple of it, "
-            "and check the command stream at that step (default: the robot's, Nao 20 ms).",
+        timestep_option(
+            "the robot's, Nao 20",
+            use="report pose times that are not a multiple of it, and check the command stream "
+            "at that step",
         ),
     ] = None,
     robot: Annotated[
         str,
-        typer.Option(
-            "--robot",
-            "-r",
-            help=f"Robot to check against: {ROBOT_CHOICES}. auto picks, per file, the built-in "
-            "robot that has the most of its joints, at least half ('motiontool robots' lists "
-            "them).",
-        ),
-    ] = "auto",
+        robot_option("Robot to check against, per file", none="Webots syntax checks only"),
+    ] = AUTO,
     checks: Annotated[
         str,
         typer.Option(
@@ -215,12 +222,13 @@ def validate_command(
     files = collect_motion_files(paths)
     refuse_overwrite(output, files, "-o")
     checker = None
-    if robot != "none":
+    if robot != NONE:
         checker = RobotChecks(
             robot,
             parse_checks(checks),
             timestep_ms=timestep,
             penetration_tolerance_mm=collision_tolerance,
+            robot_option=ROBOT_OPTION,
         )
     report = validate_paths(
         files, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes

@@ -24,32 +24,36 @@ from __future__ import annotations
 
 import difflib
 import math
-import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robots import (
+    AUTO,
+    NONE,
     JointSpec,
+    NoRobotDetectedError,
     RobotSpec,
-    builtin_robots,
-    detect_robot,
-    load_robot,
+    pick_robot,
+    robot_choices,
     unknown_joint_message,
 )
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
+from motiontool.motionfmt.extras import install_hint, require
+from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 
 if TYPE_CHECKING:
     import numpy as np
+    import numpy.typing as npt
 
 __all__ = [
     "CHECKS",
     "COUPLING_TOLERANCE",
     "DEFAULT_CHECKS",
     "DEFAULT_PENETRATION_TOLERANCE_MM",
-    "ROBOT_CHOICES",
     "RobotChecks",
     "parse_checks",
     "robot_checks",
@@ -59,8 +63,6 @@ __all__ = [
 CHECKS = ("limits", "velocity", "collision", "balance")
 #: What ``validate`` runs unless told otherwise (balance is opt-in).
 DEFAULT_CHECKS = ("limits", "velocity", "collision")
-#: What ``--robot`` accepts, for messages.
-ROBOT_CHOICES = "auto, none, nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>"
 
 DEFAULT_PENETRATION_TOLERANCE_MM = 15.0
 """Self-collisions shallower than this (mm) are not reported.
@@ -88,7 +90,6 @@ difference of 1e-4 rad at most over their [0, 1] range; 1e-3 rad also allows val
 3 decimals. Anything larger cannot be played by one motor."""
 
 _EPS = 1e-9  # relative slack on velocity comparisons, for values that sit exactly at a limit
-_TOKEN = re.compile(rb"[^,\r\n]+")
 
 
 def parse_checks(names: str | Iterable[str]) -> tuple[str, ...]:
@@ -154,15 +155,15 @@ class _Table:
     """
 
     result: ReadResult
-    times: np.ndarray  # (P,) int64, ms
-    values: np.ndarray  # (P, J) float64, NaN for '*'
+    times: npt.NDArray[np.int64]  # (P,) ms
+    values: npt.NDArray[np.float64]  # (P, J), NaN for '*'
     cols: list[int]
     motors: list[int]
-    _held: np.ndarray | None = field(default=None, repr=False)
-    _commanded: np.ndarray | None = field(default=None, repr=False)
+    _held: npt.NDArray[np.float64] | None = field(default=None, repr=False)
+    _commanded: npt.NDArray[np.bool_] | None = field(default=None, repr=False)
 
     @property
-    def commanded(self) -> np.ndarray:
+    def commanded(self) -> npt.NDArray[np.bool_]:
         """(P, J) bool: the cell's value is sent to the motor at (or right after) its pose
         time: it is a number and the first or last pose, or a neighbouring pose's cell is a
         number too (Webots sends nothing over a segment that touches a '*')."""
@@ -178,19 +179,11 @@ class _Table:
         return self._commanded
 
     @property
-    def held(self) -> np.ndarray:
+    def held(self) -> npt.NDArray[np.float64]:
         """(P, J) float64: each joint's target at each pose, its last commanded value where the
         cell sends none, NaN before the motion first commands it."""
         if self._held is None:
-            import numpy as np
-
-            commanded = self.commanded
-            n_poses = self.values.shape[0]
-            index = np.where(commanded, np.arange(n_poses)[:, None], -1)
-            np.maximum.accumulate(index, axis=0, out=index)
-            held = np.take_along_axis(self.values, np.maximum(index, 0), axis=0)
-            held[index < 0] = np.nan
-            self._held = held
+            self._held = hold_targets(self.values, self.commanded).targets
         return self._held
 
 
@@ -252,8 +245,20 @@ class _RobotCheck:
         return _table(result, self.spec, self.motor_index)
 
 
+def _name_robot(robot_option: str | None, which: str = "the") -> str:
+    """How a hint tells the user to name a robot: ``name the robot explicitly``, or ``name the
+    robot with --robot`` where the caller says how its user names one (``robot_option``)."""
+    return f"name {which} robot " + (f"with {robot_option}" if robot_option else "explicitly")
+
+
 class UnknownJoints(_RobotCheck):
-    """MT301: header joints that are not motors of the robot (Webots ignores them)."""
+    """MT301: header joints that are not motors of the robot (Webots ignores them); the hint
+    of a name with no close motor says how to name another robot (``robot_option``: what the
+    caller's user gives, e.g. the CLI's ``--robot``)."""
+
+    def __init__(self, spec: RobotSpec, robot_option: str | None = None) -> None:
+        super().__init__(spec)
+        self.robot_option = robot_option
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         spec = self.spec
@@ -274,7 +279,7 @@ class UnknownJoints(_RobotCheck):
                 hint = (
                     f"Webots ignores this column (with a warning); robot {spec.name}'s motors: "
                     + ", ".join(spec.joint_names)
-                    + "; or name another robot with --robot"
+                    + f"; or {_name_robot(self.robot_option, 'another')}"
                 )
             out.append(
                 Diagnostic(
@@ -345,8 +350,8 @@ class Limits(_RobotCheck):
         return out
 
     def _configuration(
-        self, table: _Table, lower: np.ndarray, upper: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
+        self, table: _Table, lower: npt.NDArray[np.float64], upper: npt.NDArray[np.float64]
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
         """(held targets clamped to the limits, 0 before a first command) (P, K), and which
         cells are commanded (P, K), for the robot's columns."""
         import numpy as np
@@ -357,8 +362,8 @@ class Limits(_RobotCheck):
     def _head_envelope(
         self,
         table: _Table,
-        lower: np.ndarray,
-        upper: np.ndarray,
+        lower: npt.NDArray[np.float64],
+        upper: npt.NDArray[np.float64],
         flagged: set[tuple[int, str | None]],
     ) -> list[Diagnostic]:
         import numpy as np
@@ -409,7 +414,9 @@ class Limits(_RobotCheck):
             )
         return out
 
-    def _coupled(self, table: _Table, lower: np.ndarray, upper: np.ndarray) -> list[Diagnostic]:
+    def _coupled(
+        self, table: _Table, lower: npt.NDArray[np.float64], upper: npt.NDArray[np.float64]
+    ) -> list[Diagnostic]:
         import numpy as np
 
         names = [self.spec.joints[m].name for m in table.motors]
@@ -522,7 +529,7 @@ class Velocity(_RobotCheck):
         joints: Sequence[JointSpec],
         limited: list[int],
         cols: list[int],
-        fast: np.ndarray,
+        fast: npt.NDArray[np.bool_],
     ) -> list[Diagnostic]:
         """The sampled command stream, one diagnostic per joint and segment."""
         import numpy as np
@@ -603,7 +610,9 @@ class Velocity(_RobotCheck):
         return out
 
 
-def _configurations(table: _Table, spec: RobotSpec) -> tuple[np.ndarray, np.ndarray]:
+def _configurations(
+    table: _Table, spec: RobotSpec
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Whole-robot configurations at every keyframe and segment midpoint, in that order.
 
     Returns (Q (2P-1, M) float64 in ``spec.joints`` order, times (2P-1,) float64 ms): row 2p is
@@ -655,6 +664,7 @@ class Collision(_RobotCheck):
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         from motiontool.kinematics.collision import scan_self_collisions
 
+        require("pinocchio", "kinematics", "the collision check")
         table = self.table(result)
         if not table.cols:
             return []
@@ -696,7 +706,7 @@ class Collision(_RobotCheck):
         return out
 
     @staticmethod
-    def _instant(table: _Table, times: np.ndarray, index: int) -> str:
+    def _instant(table: _Table, times: npt.NDArray[np.float64], index: int) -> str:
         if index % 2 == 0:
             return f"{_ms(times[index])} (pose '{table.result.pose_names[index // 2]}')"
         p = index // 2
@@ -712,6 +722,7 @@ class Balance(_RobotCheck):
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         from motiontool.kinematics._pinocchio import com_and_support
 
+        require("pinocchio", "kinematics", "the balance check")
         table = self.table(result)
         if not table.cols:
             return []
@@ -754,16 +765,20 @@ def robot_checks(
     *,
     timestep_ms: int | None = None,
     penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
+    robot_option: str | None = None,
 ) -> list[Callable[[ReadResult], list[Diagnostic]]]:
     """The checks of ``spec`` for :func:`motiontool.motionfmt.validate_paths`.
 
     Args:
         spec: the robot.
-        checks: names from :data:`CHECKS`; the unknown-joint check (MT301) always runs, and
-            the real robot's rules (``nao-v5``) run with ``limits``.
+        checks: names from :data:`CHECKS`; the unknown-joint check (MT301) and the
+            unmirrored-copy note (MT309) always run, and the real robot's rules (``nao-v5``)
+            run with ``limits``.
         timestep_ms: controller time step (ms) of the sampled command stream checked by
             ``velocity``; the robot's ``default_timestep_ms`` if None.
         penetration_tolerance_mm: see :data:`DEFAULT_PENETRATION_TOLERANCE_MM` (mm, >= 0).
+        robot_option: how the user names a robot (the CLI: ``--robot``), for hints; None:
+            hints say "name the robot explicitly".
 
     Raises:
         MotionToolError: an unknown check name, a negative tolerance, or ``balance`` for a
@@ -779,7 +794,8 @@ def robot_checks(
             f"robot {spec.name} has no feet: the balance check needs a humanoid model with "
             "sole geometries (nao, nao-v5); leave 'balance' out of --checks"
         )
-    out: list[Callable[[ReadResult], list[Diagnostic]]] = [UnknownJoints(spec)]
+    out: list[Callable[[ReadResult], list[Diagnostic]]] = [UnknownJoints(spec, robot_option)]
+    out.append(UnmirroredCopy(spec))  # MT309, a note; reads a sibling file only if one exists
     if "limits" in names:
         out.append(Limits(spec))
     if "velocity" in names:
@@ -798,15 +814,22 @@ class RobotChecks:
     """The robot checks of one ``validate`` run, as one :data:`Check`.
 
     ``robot='auto'`` picks, per file, the built-in robot that has the most of the header's
-    joints, at least half of them (:func:`~motiontool.kinematics.detect_robot`; the others get
-    MT301 with a did-you-mean, and the joints it has are checked); a file no built-in robot
-    fits is checked at syntax level only and gets an MT901 note naming ``--robot``.
-    ``'none'`` checks nothing. Any other ``robot`` is loaded once
-    (:func:`~motiontool.kinematics.load_robot`) and checks every file. Robots and their models
-    are loaded once per process.
+    joints, at least half of them (:func:`~motiontool.kinematics.robots.pick_robot`; the others
+    get MT301 with a did-you-mean, and the joints it has are checked); a file no built-in robot
+    fits is checked at syntax level only and gets an MT901 note whose hint says how to name a
+    robot (``robot_option``: what the caller's user gives, the CLI's ``--robot``; None: "name
+    the robot explicitly") and the robots to choose from. ``'none'`` checks nothing. Any other
+    ``robot`` is loaded once (:func:`~motiontool.kinematics.load_robot`) and checks every
+    file. Robots and their models are loaded once per process.
+
+    A check whose library is not installed (collision and balance need Pinocchio,
+    ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note on the
+    first file it would have checked; the others still run.
 
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).
+        skipped: the checks skipped for a missing library, by name, with the error that says
+            which extra to install.
     """
 
     def __init__(
@@ -816,25 +839,19 @@ class RobotChecks:
         *,
         timestep_ms: int | None = None,
         penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
+        robot_option: str | None = None,
     ) -> None:
         self.robot = robot
+        self.robot_option = robot_option
         self.checks = parse_checks(list(checks))
         self.timestep_ms = timestep_ms
         self.penetration_tolerance_mm = penetration_tolerance_mm
         self.used: dict[str, RobotSpec | None] = {}
+        self.skipped: dict[str, MissingExtraError] = {}
         self._by_robot: dict[str, list[Callable[[ReadResult], list[Diagnostic]]]] = {}
         self._specs: dict[str, RobotSpec] = {}
-        if robot not in ("auto", "none"):
-            try:
-                spec = load_robot(robot)
-            except MotionToolError as exc:
-                if not str(exc).startswith("unknown robot"):
-                    raise
-                close = difflib.get_close_matches(robot, [*builtin_robots(), "auto"], n=1)
-                hint = f"did you mean '{close[0]}'? " if close else ""
-                raise MotionToolError(
-                    f"unknown robot '{robot}'; {hint}choose {ROBOT_CHOICES}"
-                ) from None
+        spec = None if robot == AUTO else pick_robot(robot)  # UnknownRobotError: exit early
+        if spec is not None:
             self._checks_for(spec, strict=True)
 
     def _checks_for(
@@ -850,26 +867,35 @@ class RobotChecks:
                 names,
                 timestep_ms=self.timestep_ms,
                 penetration_tolerance_mm=self.penetration_tolerance_mm,
+                robot_option=self.robot_option,
             )
         return self._by_robot[spec.name]
 
     def spec_for(self, result: ReadResult) -> RobotSpec | None:
         """The robot ``result`` is checked against, or None (auto, no built-in robot fits)."""
-        if self.robot != "auto":
-            return next(iter(self._specs.values()))
-        name = detect_robot(result.joints)
-        return None if name is None else load_robot(name)
+        if self.robot != AUTO:
+            return next(iter(self._specs.values()), None)
+        return pick_robot(AUTO, result.joints)
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
-        if self.robot == "none":
+        if self.robot == NONE:
             return []
         spec = self.spec_for(result)
         self.used[result.path] = spec
         if spec is None:
-            return [_skipped(result)]
+            return [_skipped(result, self.robot_option)]
         out = []
         for check in self._checks_for(spec):
-            out.extend(check(result))
+            name = _CHECK_NAMES.get(type(check))
+            if name in self.skipped:
+                continue
+            try:
+                out.extend(check(result))
+            except MissingExtraError as exc:
+                if name is None:
+                    raise
+                self.skipped[name] = exc
+                out.append(_skipped_for_extra(result, name, exc))
         if "balance" in self.checks and not spec.feet:
             out.append(
                 Diagnostic(
@@ -884,46 +910,33 @@ class RobotChecks:
         return out
 
 
-def _skipped(result: ReadResult) -> Diagnostic:
+_CHECK_NAMES: dict[type, str] = {Collision: "collision", Balance: "balance"}
+"""The checks that need an extra (Pinocchio), by class: skipped with MT902 when it is missing."""
+
+
+def _skipped_for_extra(result: ReadResult, name: str, exc: MissingExtraError) -> Diagnostic:
+    """MT902, once a run: check ``name`` is skipped because its library is not installed."""
+    return Diagnostic(
+        code="MT902",
+        severity=Severity.INFO,
+        path=result.path,
+        line=1,
+        column=1,
+        message=f"{name} check skipped: {exc.library} is not installed; every file of this run "
+        f"is checked without it",
+        hint=install_hint(exc.extra),
+    )
+
+
+def _skipped(result: ReadResult, robot_option: str | None) -> Diagnostic:
     """MT901 for a file :func:`~motiontool.kinematics.detect_robot` finds no robot for: no
-    built-in robot has half of its joints, or two robots with different motors have as many."""
+    built-in robot has half of its joints, or two robots with different motors have as many
+    (:class:`~motiontool.kinematics.robots.NoRobotDetectedError` says which); the hint says
+    how to name a robot and the robots to choose from."""
     spans = result.header_spans()
     joints = result.joints
-    best: tuple[int, str, list[int]] | None = None
-    tied: list[str] = []
-    for name in builtin_robots():
-        spec = load_robot(name)
-        missing = [j for j, joint in enumerate(joints) if joint not in spec]
-        if len(missing) < len(joints) and (best is None or len(missing) < len(best[2])):
-            best = (len(joints) - len(missing), name, missing)
-            tied = []
-        elif (
-            best is not None
-            and len(missing) == len(best[2])
-            and set(spec.joint_names) != set(load_robot(best[1]).joint_names)
-        ):
-            tied.append(name)
-    choices = "nao, nao-v5, ur5e, a .urdf or .xml (MJCF) file, or erd:<name>"
-    if best is None:
-        where = 0
-        detail = f"no built-in robot ({', '.join(builtin_robots())}) has any of its joints"
-    else:
-        covered, name, missing = best
-        where = missing[0]
-        lacked = ", ".join(f"'{_name(joints[j])}'" for j in missing[:3])
-        more = f" and {len(missing) - 3} more" if len(missing) > 3 else ""
-        close = difflib.get_close_matches(joints[where], load_robot(name).joint_names, n=1)
-        guess = f" (did you mean '{close[0]}'?)" if close else ""
-        if tied:
-            detail = (
-                f"{' and '.join([name, *tied])} have {covered} of its {len(joints)} joints each,"
-                " so the joints do not say which robot it is for"
-            )
-        else:
-            detail = (
-                f"no built-in robot has half of its joints or more: {name} has {covered} of "
-                f"{len(joints)}, not {lacked}{more}{guess}"
-            )
+    why = NoRobotDetectedError(joints)
+    where = why.missing[0] if why.missing else 0
     column, end = spans[where] if where < len(spans) else (1, None)
     return Diagnostic(
         code="MT901",
@@ -931,8 +944,8 @@ def _skipped(result: ReadResult) -> Diagnostic:
         path=result.path,
         line=1,
         column=column,
-        message=f"robot checks skipped: {detail}; checked at syntax level only",
-        hint=f"name the robot with --robot ({choices})",
+        message=f"robot checks skipped: {why.detail}; checked at syntax level only",
+        hint=f"{_name_robot(robot_option)} ({robot_choices()})",
         joint=joints[where] if joints else None,
         end_column=end,
     )

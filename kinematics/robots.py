@@ -19,22 +19,31 @@ import json
 import math
 import sys
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
+from motiontool.motionfmt.extras import require
 
 __all__ = [
+    "AUTO",
     "DETECT_MIN_SHARE",
+    "NONE",
     "JointSpec",
+    "NoRobotDetectedError",
+    "RobotError",
     "RobotSpec",
+    "UnknownRobotError",
     "builtin_robots",
     "detect_robot",
     "erd_robot_names",
     "load_robot",
     "models_dir",
+    "pick_robot",
+    "resolve_robot",
+    "robot_choices",
     "unknown_joint_message",
 ]
 
@@ -47,7 +56,11 @@ _BUILTIN_FILES: dict[str, tuple[str, str | None]] = {
 }
 #: Webots' WorldInfo default basicTimeStep (ms), used for robots without a Webots world.
 _DEFAULT_TIMESTEP_MS = 32
-_CHOICES = "nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>"
+
+AUTO = "auto"
+"""The robot name that means: the built-in robot the motion's joints fit (:func:`detect_robot`)."""
+NONE = "none"
+"""The robot name that means: no robot (where a robot is optional: no robot checks, no limits)."""
 
 #: example-robot-data robots by name (as its Python loaders name them): path of the URDF below
 #: the ``robots`` folder, and whether the robot has a free-flying base.
@@ -242,7 +255,9 @@ def load_robot(spec: str) -> RobotSpec:
             example-robot-data (e.g. ``erd:ur5``); the last two are read through Pinocchio.
 
     Raises:
-        MotionToolError: unknown name, missing file, or a model Pinocchio cannot read.
+        UnknownRobotError: a name that is no robot (no ``.urdf``/``.xml`` suffix, no ``erd:``).
+        MotionToolError: a missing file, an unknown ``erd:`` robot, or a model Pinocchio
+            cannot read.
     """
     if spec in _BUILTIN_FILES:
         return _builtin(spec)
@@ -255,7 +270,7 @@ def load_robot(spec: str) -> RobotSpec:
             raise MotionToolError(f"robot model file '{spec}' not found")
         fmt: Literal["mjcf", "urdf"] = "urdf" if suffix == ".urdf" else "mjcf"
         return _from_pinocchio(path.stem, path, fmt, floating_base=None)
-    raise MotionToolError(f"unknown robot '{spec}'; choose {_CHOICES}")
+    raise UnknownRobotError(spec)
 
 
 DETECT_MIN_SHARE = 0.5
@@ -290,6 +305,155 @@ def detect_robot(joint_names: Sequence[str]) -> str | None:
     if len({motors for _name, motors in best}) > 1:
         return None  # a tie between different robots
     return best[0][0]
+
+
+# --------------------------------------------------------------------------- choosing a robot
+
+
+def robot_choices(*keywords: str) -> str:
+    """What a robot may be named, in words, for help texts and messages.
+
+    ``robot_choices()`` is ``nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>`` (what
+    :func:`load_robot` takes); ``keywords`` (:data:`AUTO`, :data:`NONE`) come first where the
+    caller accepts them.
+    """
+    return ", ".join([*keywords, *_BUILTIN_FILES]) + ", a .urdf/.xml path, or erd:<name>"
+
+
+class RobotError(MotionToolError):
+    """No robot could be chosen; the message says why and what to choose from."""
+
+
+class UnknownRobotError(RobotError):
+    """A robot name that is no built-in robot, keyword, model file or ``erd:`` robot.
+
+    Attributes:
+        requested: the name as given.
+        choices: the names accepted besides a model path and ``erd:<name>``: the keywords the
+            caller accepts (``auto``, ``none``), then the built-in robots.
+        suggestion: the choice closest to ``requested`` (a did-you-mean), or None.
+    """
+
+    def __init__(self, requested: str, keywords: Sequence[str] = ()) -> None:
+        self.requested = requested
+        self.choices = (*keywords, *_BUILTIN_FILES)
+        close = difflib.get_close_matches(requested, self.choices, n=1)
+        self.suggestion = close[0] if close else None
+        hint = f"did you mean '{self.suggestion}'? " if self.suggestion else ""
+        super().__init__(f"unknown robot '{requested}'; {hint}choose {robot_choices(*keywords)}")
+
+
+class NoRobotDetectedError(RobotError):
+    """``auto``, and no built-in robot fits the joints (:func:`detect_robot` finds none).
+
+    Attributes:
+        joint_names: the joints a robot was sought for, in column order.
+        best: the built-in robot that has the most of them (None: none has any).
+        covered: how many of ``joint_names`` ``best`` has.
+        missing: indices in ``joint_names`` of the joints ``best`` lacks (all of them when
+            ``best`` is None).
+        tied: robots with other motors that have as many of the joints as ``best``.
+        suggestion: ``best``'s motor closest to the first joint it lacks (a did-you-mean).
+        detail: why, in words: ``no built-in robot has half of its joints or more: nao has 1
+            of 3, not 'HeadYw', 'Tail' (did you mean 'HeadYaw'?)``.
+        reason: the message without its remedy (``no robot fits the motion: <detail>``), for a
+            caller that says how its user names a robot.
+    """
+
+    def __init__(self, joint_names: Sequence[str]) -> None:
+        joints = tuple(joint_names)
+        self.joint_names = joints
+        best: tuple[str, list[int]] | None = None
+        tied: list[str] = []
+        for name in _BUILTIN_FILES:
+            spec = _builtin(name)
+            missing = [j for j, joint in enumerate(joints) if joint not in spec]
+            if len(missing) < len(joints) and (best is None or len(missing) < len(best[1])):
+                best, tied = (name, missing), []
+            elif (
+                best is not None
+                and len(missing) == len(best[1])
+                and set(spec.joint_names) != set(_builtin(best[0]).joint_names)
+            ):
+                tied.append(name)
+        self.best = None if best is None else best[0]
+        self.missing = tuple(range(len(joints)) if best is None else best[1])
+        self.covered = len(joints) - len(self.missing)
+        self.tied = tuple(tied)
+        self.suggestion: str | None = None
+        if best is None:
+            self.detail = f"no built-in robot ({', '.join(_BUILTIN_FILES)}) has any of its joints"
+        elif tied:
+            self.detail = (
+                f"{' and '.join([best[0], *tied])} have {self.covered} of its {len(joints)} "
+                "joints each, so the joints do not say which robot it is for"
+            )
+        else:
+            first = joints[self.missing[0]]
+            close = difflib.get_close_matches(first, _builtin(best[0]).joint_names, n=1)
+            self.suggestion = close[0] if close else None
+            lacked = ", ".join(f"'{_printable(joints[j])}'" for j in self.missing[:3])
+            more = f" and {len(self.missing) - 3} more" if len(self.missing) > 3 else ""
+            guess = f" (did you mean '{self.suggestion}'?)" if self.suggestion else ""
+            self.detail = (
+                f"no built-in robot has half of its joints or more: {best[0]} has "
+                f"{self.covered} of {len(joints)}, not {lacked}{more}{guess}"
+            )
+        self.reason = f"no robot fits the motion: {self.detail}"
+        super().__init__(f"{self.reason}; name the robot explicitly ({robot_choices()})")
+
+
+def _printable(name: str) -> str:
+    """A joint name for a message (undecodable bytes escaped)."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+
+
+def resolve_robot(requested: str, joint_names: Iterable[str] = ()) -> RobotSpec:
+    """The robot named ``requested``, for joints ``joint_names``, where a robot is needed.
+
+    Args:
+        requested: :data:`AUTO` (the built-in robot :func:`detect_robot` picks for
+            ``joint_names``), or what :func:`load_robot` takes.
+        joint_names: the motion's joint names (header order); for several motions, the joints
+            of all of them (a name given twice counts once). Used by :data:`AUTO` only.
+
+    Raises:
+        NoRobotDetectedError: :data:`AUTO`, and no built-in robot fits ``joint_names``.
+        UnknownRobotError: a name that is no robot (its choices include :data:`AUTO`).
+        MotionToolError: a model file that is missing or that Pinocchio cannot read.
+    """
+    if requested == AUTO:
+        names = list(dict.fromkeys(joint_names))
+        found = detect_robot(names)
+        if found is None:
+            raise NoRobotDetectedError(names)
+        return _builtin(found)
+    return _load(requested, (AUTO,))
+
+
+def pick_robot(requested: str, joint_names: Sequence[str] = ()) -> RobotSpec | None:
+    """:func:`resolve_robot` where a robot is optional: :data:`NONE` gives None, and so does
+    :data:`AUTO` when no built-in robot fits ``joint_names``.
+
+    Raises:
+        UnknownRobotError: a name that is no robot (its choices include :data:`AUTO` and
+            :data:`NONE`).
+        MotionToolError: a model file that is missing or that Pinocchio cannot read.
+    """
+    if requested == NONE:
+        return None
+    if requested == AUTO:
+        found = detect_robot(joint_names)
+        return None if found is None else _builtin(found)
+    return _load(requested, (AUTO, NONE))
+
+
+def _load(requested: str, keywords: tuple[str, ...]) -> RobotSpec:
+    """:func:`load_robot`, its unknown-robot error naming ``keywords`` too."""
+    try:
+        return load_robot(requested)
+    except UnknownRobotError:
+        raise UnknownRobotError(requested, keywords) from None
 
 
 # --------------------------------------------------------------------------- built-in robots
@@ -442,9 +606,8 @@ def _erd_root() -> Path | None:
 def _erd(name: str) -> RobotSpec:
     root = _erd_root()
     if root is None:
-        raise MotionToolError(
-            f"cannot load 'erd:{name}': example-robot-data is not installed "
-            "(pip install example-robot-data)"
+        raise MissingExtraError(
+            "example_robot_data", "erd", f"robot 'erd:{name}'", "example-robot-data"
         )
     available = erd_robot_names()
     if name not in available:
@@ -463,6 +626,7 @@ def _from_pinocchio(
 ) -> RobotSpec:
     from motiontool.kinematics import _pinocchio
 
+    require("pinocchio", "kinematics", f"robot '{name}' (a {fmt.upper()} model)")
     raw = path.read_bytes()
     joints, floating = _pinocchio.joint_table(path, fmt, floating_base)
     if fmt == "mjcf":

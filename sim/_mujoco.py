@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -44,11 +44,13 @@ if TYPE_CHECKING:
 __all__ = [
     "BOX_HEIGHT_M",
     "SPAWN_CLEARANCE_M",
+    "TOOL_SITE_PATTERN",
     "Scene",
     "build_scene",
     "mujoco_version",
     "run",
     "scene_shapes",
+    "tool_poses",
 ]
 
 Start = Literal["standing", "lying-front", "lying-back"]
@@ -79,6 +81,13 @@ SOLVER_TOLERANCE = 1e-10
 """Newton solver tolerance. At MuJoCo's default (1e-8) the solver stops before the contact and
 motor forces balance: a Nao standing still jitters and its feet wander 2 mm in 6 s; at 1e-10
 they stay within 0.05 mm, at no extra cost (measured)."""
+
+
+TOOL_SITE_PATTERN = re.compile(
+    r"tool|tcp|(?:^|[_\W])ee(?:$|[_\W])|end_?effector|flange|attachment", re.IGNORECASE
+)
+"""A site of a fixed-base robot whose name matches this is its end effector (the UR5e's
+``tool_slot``, the Webots ``toolSlot``); without one, the last body of the chain is."""
 
 
 def warning_label(enum_name: str) -> str:
@@ -136,6 +145,10 @@ class Scene:
         foot_geoms: (F,) int, the foot geometries (``RobotSpec.feet``).
         probe: the self-collision probe (a copy of the model where only the candidate pairs of
             robot geometries collide), or None if the robot has fewer than two bodies.
+        tool: the end effector of a fixed-base robot: ``(name, "site" | "body", id)``, or None
+            (a free-flying robot): a site of the robot named like :data:`TOOL_SITE_PATTERN`
+            (the deepest one), else the last body of the chain (going down from the root
+            while a body has exactly one child).
     """
 
     model: Any
@@ -154,6 +167,7 @@ class Scene:
     geom_class: npt.NDArray[np.intp]
     foot_geoms: npt.NDArray[np.intp]
     probe: tuple[Any, Any] | None = None
+    tool: tuple[str, str, int] | None = None
     _names: dict[int, str] = field(default_factory=dict)
 
     @property
@@ -211,7 +225,7 @@ def build_scene(
     import numpy as np
 
     if control_step_ms <= 0:
-        raise MotionToolError(f"--timestep must be a positive number of ms, got {control_step_ms}")
+        raise MotionToolError(f"control step must be positive, got {control_step_ms} ms")
     if not physics_step_ms > 0:
         raise MotionToolError(f"physics step must be positive, got {physics_step_ms} ms")
     substeps = max(1, math.ceil(control_step_ms / physics_step_ms - 1e-9))
@@ -360,7 +374,7 @@ def build_scene(
         lowest = _lowest_point(model, data, robot_geoms)
         data.qpos[free_adr + 2] += SPAWN_CLEARANCE_M - lowest
     elif start != "standing":
-        raise MotionToolError(f"--start {start} needs a free-flying robot; {robot.name} is fixed")
+        raise MotionToolError(f"start {start} needs a free-flying robot; {robot.name} is fixed")
     elif start_yaw_deg:
         raise MotionToolError("a start yaw needs a free-flying robot")
     mujoco.mj_forward(model, data)
@@ -393,7 +407,36 @@ def build_scene(
         foot_geoms=foot_geoms,
     )
     scene.probe = _self_collision_probe(spec, model, scene)
+    scene.tool = None if floating else _tool_frame(model, root_body, robot_bodies)
     return scene
+
+
+def _tool_frame(model: Any, root: int, bodies: npt.NDArray[np.intp]) -> tuple[str, str, int] | None:
+    """The end effector of a fixed-base robot (see :class:`Scene`)."""
+    in_robot = set(bodies.tolist())
+
+    def depth(body: int) -> int:
+        n = 0
+        while body != 0:
+            body, n = int(model.body_parentid[body]), n + 1
+        return n
+
+    sites = [
+        s
+        for s in range(model.nsite)
+        if int(model.site_bodyid[s]) in in_robot and TOOL_SITE_PATTERN.search(model.site(s).name)
+    ]
+    if sites:
+        site = max(sites, key=lambda s: (depth(int(model.site_bodyid[s])), -s))
+        return str(model.site(site).name), "site", site
+    if root not in in_robot:
+        return None
+    body = root
+    while True:
+        children = [b for b in in_robot if int(model.body_parentid[b]) == body]
+        if len(children) != 1:
+            return str(model.body(body).name), "body", body
+        body = children[0]
 
 
 def _compile(spec: Any, robot: RobotSpec) -> Any:
@@ -634,15 +677,21 @@ def run(
         bodies=tuple(scene.body_name(int(b)) for b in bodies),
         body_pos=np.zeros((body_frames, len(bodies), 3)),
         body_quat=np.zeros((body_frames, len(bodies), 4)),
+        tool=scene.tool[0] if scene.tool else "",
+        tool_pos=np.zeros((n_frames, 3)) if scene.tool else None,
+        tool_quat=np.zeros((n_frames, 4)) if scene.tool else None,
     )
     qpos_adr, driver_dof = scene.qpos_adr, scene.driver_dof
     p_gain, vmax = limits.p_gain, limits.max_velocity
     substeps = scene.control_substeps
     root = scene.root_body
     position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+    read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
 
     def observe(frame: int) -> None:
         position[frame] = data.qpos[qpos_adr]
+        if read_tool is not None:
+            read_tool(frame)
         trace.base_pos[frame] = data.xpos[root]
         trace.base_quat[frame] = data.xquat[root]
         if len(feet):
@@ -670,6 +719,68 @@ def run(
         trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
     trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
     return trace if trace.steps_done == steps else trace.truncated()
+
+
+def _tool_reader(
+    scene: Scene,
+    data: Any,
+    pos: npt.NDArray[np.float64] | None,
+    quat: npt.NDArray[np.float64] | None,
+) -> Callable[[int], None] | None:
+    """A function that copies the tool's pose of ``data`` into row ``frame`` of ``pos`` (m)
+    and ``quat`` (w, x, y, z), or None without a tool."""
+    if scene.tool is None or pos is None or quat is None:
+        return None
+    mujoco = _mj()
+    _name, kind, index = scene.tool
+    if kind == "site":
+
+        def read_site(frame: int) -> None:
+            pos[frame] = data.site_xpos[index]
+            mujoco.mju_mat2Quat(quat[frame], data.site_xmat[index])
+
+        return read_site
+
+    def read_body(frame: int) -> None:
+        pos[frame] = data.xpos[index]
+        quat[frame] = data.xquat[index]
+
+    return read_body
+
+
+def tool_poses(
+    scene: Scene, q: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Forward kinematics of the tool: its world pose for each row of motor positions.
+
+    MuJoCo's own ``mj_kinematics`` on a scratch ``MjData`` of the scene's model, so that the
+    commanded and the measured poses come from one model in one world frame (the arm on its
+    box), with no second model to keep in step.
+
+    Args:
+        scene: a scene with a tool (:attr:`Scene.tool`).
+        q: (N, J) motor positions, rad (m), in ``scene.joints`` order.
+
+    Returns:
+        positions (N, 3), m, and orientations (N, 4), unit quaternions (w, x, y, z).
+    """
+    mujoco = _mj()
+    import numpy as np
+
+    if scene.tool is None:
+        raise MotionToolError(f"{scene.robot.name} has no end effector (a free-flying robot)")
+    model = scene.model
+    data = mujoco.MjData(model)
+    rows = np.asarray(q, dtype=np.float64).reshape(-1, len(scene.joints))
+    pos = np.zeros((len(rows), 3))
+    quat = np.zeros((len(rows), 4))
+    read = _tool_reader(scene, data, pos, quat)
+    assert read is not None
+    for i, row in enumerate(rows):
+        data.qpos[scene.qpos_adr] = row
+        mujoco.mj_kinematics(model, data)
+        read(i)
+    return pos, quat
 
 
 def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:

@@ -23,8 +23,10 @@ from pathlib import Path
 from typing import Any
 
 from motiontool import __version__
+from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write
+from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.reader import read_bytes
 
 __all__ = [
     "PERTURBATIONS",
@@ -32,6 +34,7 @@ __all__ = [
     "Perturbation",
     "RunResult",
     "RunSpec",
+    "check_robots",
     "parse_perturbation",
     "plan",
     "recording_stems",
@@ -39,7 +42,7 @@ __all__ = [
 ]
 
 PERTURBATIONS: dict[str, str] = {
-    "friction": "floor friction coefficient scale (1 = nominal)",
+    "friction": "factor on the floor friction coefficient (1 = --friction, else the profile's)",
     "mass": "scale of every body mass (1 = nominal)",
     "motor-strength": "scale of every motor's maxTorque (1 = nominal)",
     "start-yaw": "start heading in degrees",
@@ -64,16 +67,17 @@ def parse_perturbation(text: str) -> Perturbation:
     name = name.strip()
     if not sep or name not in PERTURBATIONS:
         raise MotionToolError(
-            f"--perturb {text!r}: expected NAME=LOW:HIGH, NAME one of {', '.join(PERTURBATIONS)}"
+            f"perturbation {text!r}: expected NAME=LOW:HIGH, NAME one of "
+            + ", ".join(PERTURBATIONS)
         )
     low_s, colon, high_s = bounds.partition(":")
     try:
         low = float(low_s)
         high = float(high_s) if colon else low
     except ValueError:
-        raise MotionToolError(f"--perturb {text!r}: LOW and HIGH must be numbers") from None
+        raise MotionToolError(f"perturbation {text!r}: LOW and HIGH must be numbers") from None
     if not (math.isfinite(low) and math.isfinite(high)) or high < low:
-        raise MotionToolError(f"--perturb {text!r}: need finite LOW <= HIGH")
+        raise MotionToolError(f"perturbation {text!r}: need finite LOW <= HIGH")
     return Perturbation(name, low, high)
 
 
@@ -84,7 +88,8 @@ class RunSpec:
     Attributes:
         path: the motion file as the user named it.
         content_sha256: hash of the file's bytes (the cache key uses content, not the path).
-        robot: robot spec string (``nao``, ``ur5e``, a model path, ``erd:<name>``).
+        robot: robot spec string (``nao``, ``ur5e``, a model path, ``erd:<name>``); ``auto``
+            only for a file no built-in robot fits (the run fails, saying why).
         sample: sample index (0 = nominal when no perturbation is given).
         params: perturbation values of this sample, name -> value (units in PERTURBATIONS).
         options: play options (time step in ms, loops, reverse, start pose, ...).
@@ -157,11 +162,16 @@ class BatchResult:
         return [r for r in self.runs if not r.ok]
 
 
-def _sha256(path: Path) -> str:
-    try:
-        return hashlib.sha256(path.read_bytes()).hexdigest()
-    except OSError as exc:
-        raise MotionToolError(f"cannot read '{path}': {exc.strerror or exc}") from exc
+def check_robots(robots: Sequence[str]) -> None:
+    """Load each robot of ``robots`` but ``auto`` once: a bad name fails before anything runs.
+
+    Raises:
+        UnknownRobotError: a name that is no robot (its choices include ``auto``).
+        MotionToolError: a model file that is missing or that Pinocchio cannot read.
+    """
+    for name in dict.fromkeys(robots):
+        if name != AUTO:
+            resolve_robot(name)
 
 
 def plan(
@@ -176,19 +186,30 @@ def plan(
 ) -> list[RunSpec]:
     """Every (file, robot, sample) run, with seeded perturbation draws.
 
-    Draws depend only on ``seed``, the sample index and the perturbation names, so the same
-    command plans the same runs on any executor. Without perturbations one sample is run.
+    ``robots`` are names for :func:`motiontool.kinematics.resolve_robot` (not loaded here:
+    :func:`check_robots` checks them once): ``auto`` becomes, per file, the built-in robot its
+    joints fit; a file no robot fits keeps ``auto``, and its run
+    fails alone, saying why (the others still run). Draws depend only on ``seed``, the sample
+    index and the perturbation names, so the same command plans the same runs on any executor.
+    Without perturbations one sample is run.
+
+    Raises:
+        MotionToolError: a file that cannot be read, or ``samples`` < 1.
     """
     if samples < 1:
-        raise MotionToolError(f"--samples must be >= 1, got {samples}")
+        raise MotionToolError(f"samples must be >= 1, got {samples}")
     if not perturbations:
         samples = 1
     opts = tuple(sorted((options or {}).items()))
     specs = []
     for raw in files:
-        path = Path(raw)
-        digest = _sha256(path)
-        for robot in robots:
+        data = read_file(raw)
+        digest = hashlib.sha256(data).hexdigest()
+        detected = AUTO
+        if AUTO in robots:
+            found = pick_robot(AUTO, read_bytes(data, str(raw)).joints)
+            detected = AUTO if found is None else found.name
+        for robot in (detected if r == AUTO else r for r in robots):
             for k in range(samples):
                 rng = random.Random(f"{seed}:{k}")
                 params = tuple(

@@ -19,10 +19,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
-from motiontool.kinematics.robots import RobotSpec, builtin_robots, detect_robot, load_robot
+from motiontool.kinematics.robots import RobotSpec, resolve_robot
 from motiontool.motionfmt import Motion, read_bytes, read_file, sample
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.player import Held, hold_targets
+from motiontool.sim.arm import measure_end_effector
+from motiontool.sim.physics import check_physics, read_back, resolve_physics
 from motiontool.sim.report import (
     BaseStats,
     ContactSummary,
@@ -47,7 +49,6 @@ __all__ = [
     "PlayOptions",
     "command_matrix",
     "play",
-    "resolve_robot",
 ]
 
 log = logging.getLogger("motiontool")
@@ -73,10 +74,16 @@ class PlayOptions:
         loops: cycles of each motion (Webots' loop mode).
         reverse: play each motion backwards.
         start: ``standing``, ``lying-front`` (face down) or ``lying-back`` (face up).
-        physics_step_ms: largest MuJoCo step, ms (the step used divides the control step).
+        physics_step_ms: MuJoCo's step, ms; it must divide the control step. None: the
+            profile's (2 ms; ``webots``: the control step). See :mod:`motiontool.sim.physics`.
         p_gain: P gain of the motors' position controllers, 1/s (Webots' controlPID P).
         hold_s: time to keep simulating after the last motion, the last targets held, s.
-        floor_friction: robot-floor friction coefficient (pyramidal cone).
+        floor_friction: robot-floor Coulomb friction coefficient (pyramidal cone), > 0.
+            None: the profile's (1; ``webots``: 7).
+        friction_scale: factor on the floor friction (batch's ``friction`` perturbation).
+        profile: ``default`` (μ = 1, 2 ms: what makes the Webots walks walk in MuJoCo) or
+            ``webots`` (Webots' μ = 7 and physics step = control step, for comparison; its
+            report says that this is not what makes walks match).
         mass_scale, torque_scale: factors on the robot's masses / motor torque limits.
         start_yaw_deg: start heading, degrees.
         start_noise_rad: standard deviation of random offsets added to the start joint
@@ -88,16 +95,20 @@ class PlayOptions:
             are not self-collisions: the bounding primitives of Webots' robots overlap that
             much in the motions that ship with Webots (the same threshold as ``validate``,
             :data:`motiontool.kinematics.checks.DEFAULT_PENETRATION_TOLERANCE_MM`).
+        reach_tolerance_mm: an arm's tool has reached a keyframe once it is this close (mm)
+            to the keyframe's commanded position (the report's ``end_effector`` lags).
     """
 
     timestep_ms: int | None = None
     loops: int = 1
     reverse: bool = False
     start: Literal["standing", "lying-front", "lying-back"] = "standing"
-    physics_step_ms: float = 2.0
+    physics_step_ms: float | None = None
     p_gain: float = 10.0
     hold_s: float = 1.0
-    floor_friction: float = 1.0
+    floor_friction: float | None = None
+    friction_scale: float = 1.0
+    profile: Literal["default", "webots"] = "default"
     mass_scale: float = 1.0
     torque_scale: float = 1.0
     start_yaw_deg: float = 0.0
@@ -106,16 +117,17 @@ class PlayOptions:
     fall_height_m: float = 0.2
     fall_tilt_deg: float = 50.0
     collision_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
+    reach_tolerance_mm: float = 1.0
 
     def check(self) -> None:
         """Raise :class:`MotionToolError` for an out-of-range option."""
         if self.timestep_ms is not None and self.timestep_ms < 1:
-            raise MotionToolError(f"--timestep must be >= 1 ms, got {self.timestep_ms}")
+            raise MotionToolError(f"the time step must be >= 1 ms, got {self.timestep_ms}")
         if self.loops < 1:
-            raise MotionToolError(f"--loop must be >= 1, got {self.loops}")
+            raise MotionToolError(f"loops must be >= 1, got {self.loops}")
         if self.start not in STARTS:
-            raise MotionToolError(f"--start {self.start!r}: choose {', '.join(STARTS)}")
-        for name in ("physics_step_ms", "p_gain", "floor_friction", "mass_scale", "torque_scale"):
+            raise MotionToolError(f"start {self.start!r}: choose {', '.join(STARTS)}")
+        for name in ("p_gain", "mass_scale", "torque_scale"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise MotionToolError(f"{name} must be a positive number, got {value}")
@@ -123,8 +135,16 @@ class PlayOptions:
             raise MotionToolError(
                 f"collision tolerance must be >= 0 mm, got {self.collision_tolerance_mm}"
             )
+        if not (math.isfinite(self.reach_tolerance_mm) and self.reach_tolerance_mm > 0):
+            raise MotionToolError(f"reach tolerance must be > 0 mm, got {self.reach_tolerance_mm}")
         if not (math.isfinite(self.hold_s) and self.hold_s >= 0):
-            raise MotionToolError(f"--hold must be >= 0 s, got {self.hold_s}")
+            raise MotionToolError(f"the hold time must be >= 0 s, got {self.hold_s}")
+        check_physics(
+            profile=self.profile,
+            physics_step_ms=self.physics_step_ms,
+            friction=self.floor_friction,
+            friction_scale=self.friction_scale,
+        )
 
 
 @dataclass(frozen=True)
@@ -141,21 +161,6 @@ class Marker:
     level: str
     text: str
     entity: str
-
-
-def resolve_robot(robot: str, motions: Sequence[Motion]) -> RobotSpec:
-    """The robot to play ``motions`` on: ``auto`` picks the built-in robot that has the most
-    joints of the motions, at least half (:func:`motiontool.kinematics.detect_robot`)."""
-    if robot != "auto":
-        return load_robot(robot)
-    joints = sorted({j for m in motions for j in m.joints})
-    found = detect_robot(joints)
-    if found is None:
-        raise MotionToolError(
-            "no built-in robot has half of the joints of the motion(s) or more; pass --robot "
-            f"({', '.join(builtin_robots())}, a model file or erd:<name>)"
-        )
-    return load_robot(found)
 
 
 def _read_playable(path: str) -> Motion:
@@ -239,14 +244,16 @@ def play(
 
     Args:
         paths: motion files.
-        robot: ``auto``, a :func:`motiontool.kinematics.load_robot` spec, or a RobotSpec.
+        robot: a RobotSpec, or a name for :func:`motiontool.kinematics.resolve_robot`
+            (``auto``: the built-in robot the joints of all the motions fit).
         options: how to play (:class:`PlayOptions`).
         rrd: write a Rerun recording of the run there (also when the run fails).
         stamps: versions to stamp the report and the recording with (tool, libraries, model
-            hash; ``motiontool.cli.stamps.stamps``); the time steps and seed are added.
+            hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
 
     Raises:
-        MotionToolError: a file Webots would reject, an unknown robot or a bad option. A run
+        MotionToolError: a file Webots would reject, a bad option, or no robot
+            (:class:`~motiontool.kinematics.robots.RobotError`: unknown, or none fits). A run
             that fails (falls, collides, raises a warning, stops on an error) is reported, not
             raised.
     """
@@ -259,8 +266,18 @@ def play(
     if not paths:
         raise MotionToolError("no motion file to play")
     motions = [_read_playable(str(p)) for p in paths]
-    spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, motions)
+    if isinstance(robot, RobotSpec):
+        spec = robot
+    else:
+        spec = resolve_robot(robot, (j for m in motions for j in m.joints))
     timestep = opts.timestep_ms or spec.default_timestep_ms
+    physics = resolve_physics(
+        timestep,
+        profile=opts.profile,
+        physics_step_ms=opts.physics_step_ms,
+        friction=opts.floor_friction,
+        friction_scale=opts.friction_scale,
+    )
 
     start_joints = {j: 0.0 for j in spec.joint_names}
     if opts.start in ("lying-front", "lying-back"):
@@ -279,10 +296,10 @@ def play(
     scene = _mujoco.build_scene(
         spec,
         timestep,
-        physics_step_ms=opts.physics_step_ms,
+        physics_step_ms=physics.timestep_ms,
         start=opts.start,
         start_joints=start_joints,
-        floor_friction=opts.floor_friction,
+        floor_friction=physics.friction,
         mass_scale=opts.mass_scale,
         torque_scale=opts.torque_scale,
         start_yaw_deg=opts.start_yaw_deg,
@@ -325,8 +342,21 @@ def play(
         k: v for k, v in asdict(opts).items() if k not in ("timestep_ms", "physics_step_ms", "seed")
     }
     options_doc["p_gain_per_s"] = options_doc.pop("p_gain")
+    options_doc["floor_friction"] = physics.friction
     report = _measure(scene, trace, opts, spec, files, options_doc, all_stamps, ignored)
     report.unplayed_files = unplayed
+    timestep_ms, friction = read_back(scene)  # what the compiled model really has
+    report.physics = {**physics.to_json(), "timestep_ms": timestep_ms, "friction": friction}
+    report.end_effector = measure_end_effector(
+        scene,
+        trace,
+        motions,
+        lengths,
+        timestep,
+        reverse=opts.reverse,
+        loops=opts.loops,
+        reach_tolerance_mm=opts.reach_tolerance_mm,
+    )
     if rrd is not None:
         from motiontool.sim import recording
 
@@ -338,6 +368,7 @@ def play(
             limits=scene.limits,
             joint_limbs=scene.joint_limbs,
             markers=markers,
+            end_effector=report.end_effector,
             properties={k: "" if v is None else str(v) for k, v in all_stamps.items()},
             name=" + ".join(Path(p).name for p in paths) + f" on {spec.name}",
         )

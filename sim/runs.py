@@ -16,7 +16,7 @@ from motiontool.sim.batch import RunSpec
 __all__ = ["run_spec"]
 
 _OPTION_OF = {
-    "friction": "floor_friction",
+    "friction": "friction_scale",
     "mass": "mass_scale",
     "motor-strength": "torque_scale",
     "start-yaw": "start_yaw_deg",
@@ -39,9 +39,10 @@ def _retimed_copy(path: str, speed: float, directory: str) -> str:
 
 def run_spec(spec: RunSpec) -> dict[str, Any]:
     """Play ``spec`` headless and return the play report as JSON (``clean``, ``reason``, ...)."""
-    from motiontool.cli.stamps import stamps
-    from motiontool.kinematics.robots import load_robot
+    from motiontool.kinematics.robots import AUTO, resolve_robot
+    from motiontool.motionfmt import read_motion
     from motiontool.sim.play import PlayOptions, play
+    from motiontool.stamps import stamps
 
     params = dict(spec.params)
     options = dict(spec.options)
@@ -50,14 +51,14 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
         kwargs["start"] = str(options["start"])
+    for name in ("physics_step_ms", "floor_friction", "profile"):  # sim.physics.physics_run_options
+        if options.get(name) is not None:
+            kwargs[name] = options[name]
     kwargs["seed"] = spec.sample
-    if spec.robot == "auto":  # no built-in robot fits: resolve_robot says why, as one line
-        from motiontool.motionfmt import read_motion
-        from motiontool.sim.play import resolve_robot
-
-        robot = resolve_robot("auto", [read_motion(spec.path)])
-    else:
-        robot = load_robot(spec.robot)
+    # plan() has resolved "auto" where a built-in robot fits; where none does, this run fails
+    # alone, NoRobotDetectedError saying why in one line.
+    joints = read_motion(spec.path).joints if spec.robot == AUTO else ()
+    robot = resolve_robot(spec.robot, joints)
     rrd = None
     if options.get("rrd_dir"):
         stem = options.get("rrd_name") or Path(spec.path).stem

@@ -13,8 +13,16 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.cli.batch_reports import render_json, render_markdown, render_summary, write_junit
+from motiontool.kinematics.robots import UnknownRobotError
 from motiontool.motionfmt import MotionToolError, read_motion
-from motiontool.sim.batch import RunSpec, parse_perturbation, plan, recording_stems, run_batch
+from motiontool.sim.batch import (
+    RunSpec,
+    check_robots,
+    parse_perturbation,
+    plan,
+    recording_stems,
+    run_batch,
+)
 
 CALLS: list[str] = []
 
@@ -60,6 +68,27 @@ def test_plan_is_seeded_and_independent_of_order(motions: list[Path]) -> None:
         assert 0.7 <= params["friction"] <= 1.3 and 0.9 <= params["mass"] <= 1.1
     assert plan(motions, ["nao", "nao-v5"], samples=5)[0].params == ()  # no perturbation: 1 sample
     assert len(plan(motions, ["nao", "nao-v5"], samples=5)) == 4
+
+
+def test_plan_resolves_auto_per_file(tmp_path: Path) -> None:
+    nao = tmp_path / "nao.motion"
+    nao.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYw\n0,A,0,0\n")  # a typo: still the Nao
+    arm = tmp_path / "arm.motion"
+    arm.write_bytes(b"#WEBOTS_MOTION,V1.0,elbow_joint\n0,A,0\n")
+    stray = tmp_path / "stray.motion"
+    stray.write_bytes(b"#WEBOTS_MOTION,V1.0,leg0\n0,A,0\n")
+    specs = plan([nao, arm, stray], ["auto", "nao-v5"])
+    assert [(Path(s.path).name, s.robot) for s in specs] == [
+        ("nao.motion", "nao"),
+        ("nao.motion", "nao-v5"),
+        ("arm.motion", "ur5e"),
+        ("arm.motion", "nao-v5"),
+        ("stray.motion", "auto"),  # no robot fits: kept, and that run fails alone
+        ("stray.motion", "nao-v5"),
+    ]
+    check_robots(["auto", "nao"])
+    with pytest.raises(UnknownRobotError, match="did you mean 'nao'"):
+        check_robots(["auto", "nao7"])
 
 
 def test_cache_replays_only_what_is_missing(motions: list[Path], tmp_path: Path) -> None:
@@ -184,8 +213,9 @@ def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
     runs = {Path(r["spec"]["path"]).name: r for r in doc["runs"]}
     assert runs["good.motion"]["status"] == "clean"
     assert runs["typos.motion"]["status"] == "error"
-    assert runs["typos.motion"]["reason"].startswith(
-        "no built-in robot has half of the joints of the motion(s) or more; pass --robot"
+    assert runs["typos.motion"]["reason"] == (
+        "no robot fits the motion: no built-in robot (nao, nao-v5, ur5e) has any of its joints;"
+        " name the robot explicitly (nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>)"
     )
     assert runs["syntax.motion"]["status"] == "error"
     assert runs["syntax.motion"]["reason"] == (

@@ -18,7 +18,7 @@ from typer.testing import CliRunner
 
 from motiontool import __version__
 from motiontool.cli.app import app
-from motiontool.kinematics.robots import load_robot
+from motiontool.kinematics.robots import load_robot, robot_choices
 
 runner = CliRunner()
 
@@ -252,6 +252,51 @@ def test_short_options_mean_the_same_on_every_command() -> None:
                     assert {long, short} <= opts, f"{name}: {sorted(opts)} should be {long}/{short}"
                     seen.add((name, long))
     assert {("validate", "--timestep"), ("play", "--robot"), ("batch", "--timestep")} <= seen
+
+
+def test_robot_and_timestep_options_share_their_help_and_choices() -> None:
+    """One --robot help text with the one list of choices, one --timestep wording."""
+    robots, timesteps = [], []
+    for name, command in _commands():
+        for param in command.params:
+            if "--robot" in param.opts:
+                robots.append(name)
+                help_text = getattr(param, "help", "") or ""
+                keywords = ("auto", "none") if "none:" in help_text else ("auto",)
+                assert robot_choices(*keywords) in help_text, (name, help_text)
+                assert "auto: the built-in robot that has the most" in help_text, name
+            if "--timestep" in param.opts:
+                timesteps.append(name)
+                assert (getattr(param, "help", "") or "").startswith(
+                    "Controller time step in ms"
+                ), name
+    assert {"validate", "play", "batch", "retime", "mirror", "concat", "scale", "plot"} <= set(
+        robots
+    )
+    assert {
+        "validate",
+        "sample",
+        "play",
+        "batch",
+        "retime",
+        "concat",
+        "scale",
+        "plot",
+        "diff",
+    } <= set(timesteps)
+
+
+def test_no_robot_fits_the_cli_names_the_robot_option(here: Path) -> None:
+    # The library says "name the robot explicitly"; the CLI says how: --robot.
+    (here / "hex.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,leg0\n0,p,0\n100,q,1\n")
+    choices = "nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>"
+    line = (
+        "motiontool: error: no robot fits the motion: no built-in robot (nao, nao-v5, ur5e) has"
+        f" any of its joints; name one with --robot ({choices})\n"
+    )
+    for args in (["retime", "--fit-limits"], ["mirror"]):
+        assert invoke(*args, "hex.motion", "-o", "x.motion") == (2, "", line), args
+    assert not (here / "x.motion").exists()
 
 
 def test_version_short_option() -> None:

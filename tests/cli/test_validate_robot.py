@@ -141,6 +141,7 @@ def test_json_report_stamps_the_robot_and_its_model_hash() -> None:
             }
         ],
         "unchecked_files": [],
+        "skipped_checks": [],  # Pinocchio is installed: collision ran
     }
     (diags,) = [f["diagnostics"] for f in doc["files"]]
     mt302 = next(d for d in diags if d["code"] == "MT302")

@@ -24,7 +24,14 @@ from motiontool.kinematics.checks import (
     parse_checks,
     robot_checks,
 )
-from motiontool.motionfmt import CODES, Severity, ValidationReport, validate_bytes, validate_paths
+from motiontool.motionfmt import (
+    CODES,
+    Severity,
+    ValidationReport,
+    read_bytes,
+    validate_bytes,
+    validate_paths,
+)
 from motiontool.motionfmt.errors import MotionToolError
 
 NAO_JSON = ROBOT_FACTS / "nao.json"
@@ -257,6 +264,20 @@ def test_unknown_joint_without_a_close_name_lists_the_motors() -> None:
     ).diagnostics
     assert d.message == "unknown joint 'wheel_left' for robot ur5e"
     assert "shoulder_pan_joint, shoulder_lift_joint" in (d.hint or "")
+    assert (d.hint or "").endswith("; or name another robot explicitly")  # no CLI flag
+
+
+def test_hints_name_the_callers_robot_option() -> None:
+    # The CLI says how its user names a robot; the library only passes it on.
+    data = b"#WEBOTS_MOTION,V1.0,wheel_left\n0,P,0\n"
+    checks = robot_checks(load_robot("ur5e"), robot_option="--robot")
+    (d,) = validate_bytes(data, "t", checks=checks).diagnostics
+    assert (d.hint or "").endswith("; or name another robot with --robot")
+    (note,) = RobotChecks("auto", robot_option="--robot")(read_bytes(data, "t"))
+    assert note.code == "MT901"
+    assert note.hint == (
+        "name the robot with --robot (nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>)"
+    )
 
 
 # --------------------------------------------------------------------------- real NAO rules
@@ -427,7 +448,10 @@ def test_auto_picks_the_robot_per_file_and_notes_when_none_fits(tmp_path: Path) 
         " more: nao has 1 of 3, not 'HeadYw', 'Tail' (did you mean 'HeadYaw'?); checked at"
         " syntax level only"
     )
-    assert stray.hint is not None and "--robot" in stray.hint
+    # The library names no CLI flag; the CLI passes its own (tests/cli: "with --robot").
+    assert stray.hint == (
+        "name the robot explicitly (nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>)"
+    )
     (mixed,) = by_file["mixed.motion"]
     assert mixed.message == (
         "robot checks skipped: nao and ur5e have 1 of its 2 joints each, so the joints do not"

@@ -16,10 +16,17 @@ from conftest import ROBOT_FACTS
 import motiontool.kinematics as kin
 from motiontool.kinematics import _modelgen, _pinocchio
 from motiontool.kinematics.robots import (
+    AUTO,
+    NONE,
+    NoRobotDetectedError,
+    UnknownRobotError,
     builtin_robots,
     detect_robot,
     load_robot,
     models_dir,
+    pick_robot,
+    resolve_robot,
+    robot_choices,
 )
 from motiontool.motionfmt.errors import MotionToolError
 
@@ -355,7 +362,12 @@ def test_load_robot_from_an_mjcf_file(tmp_path):
     [
         (
             "nao5",
-            "unknown robot 'nao5'; choose nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>",
+            "unknown robot 'nao5'; did you mean 'nao'? choose nao, nao-v5, ur5e, a .urdf/.xml"
+            " path, or erd:<name>",
+        ),
+        (
+            "pepper",
+            "unknown robot 'pepper'; choose nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>",
         ),
         ("missing.urdf", "robot model file 'missing.urdf' not found"),
     ],
@@ -406,6 +418,61 @@ def test_detect_robot_survives_a_typo_but_not_a_foreign_file():
     assert detect_robot(["shoulder_pan_joint", "elbow_jiont"]) == "ur5e"
     # A Darwin-OP motion has nothing of the Nao's.
     assert detect_robot(["ShoulderR", "ArmUpperR", "ArmLowerR", "PelvYR"]) is None
+
+
+# --------------------------------------------------------------------------- resolve_robot
+
+
+def test_robot_choices_is_the_one_list() -> None:
+    assert robot_choices() == "nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>"
+    assert robot_choices(AUTO, NONE) == (
+        "auto, none, nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>"
+    )
+
+
+def test_resolve_robot_auto_named_and_several_motions() -> None:
+    assert resolve_robot(AUTO, ["HeadYaw", "HeadYw"]) is load_robot("nao")
+    assert resolve_robot("nao-v5", ["elbow_joint"]).name == "nao-v5"  # named: joints unused
+    # Several motions: the joints of all of them, a name given twice counting once.
+    both = ["HeadYaw", "Tail", "HeadYaw", "HeadPitch"]
+    assert resolve_robot(AUTO, both).name == "nao"
+
+
+def test_resolve_robot_errors_are_typed_and_carry_their_facts() -> None:
+    with pytest.raises(UnknownRobotError) as unknown:
+        resolve_robot("aut")
+    assert unknown.value.choices == ("auto", "nao", "nao-v5", "ur5e")
+    assert unknown.value.suggestion == "auto"
+    assert str(unknown.value) == (
+        "unknown robot 'aut'; did you mean 'auto'? choose auto, nao, nao-v5, ur5e, a .urdf/.xml"
+        " path, or erd:<name>"
+    )
+    with pytest.raises(UnknownRobotError, match="choose auto, nao"):
+        resolve_robot(NONE)  # where a robot is needed, none is no choice
+    with pytest.raises(NoRobotDetectedError) as none_fits:
+        resolve_robot(AUTO, ["HeadYaw", "HeadYw", "Tail"])
+    err = none_fits.value
+    assert isinstance(err, MotionToolError)
+    assert (err.best, err.covered, err.missing, err.suggestion) == ("nao", 1, (1, 2), "HeadYaw")
+    assert str(err) == (
+        "no robot fits the motion: no built-in robot has half of its joints or more: nao has 1"
+        " of 3, not 'HeadYw', 'Tail' (did you mean 'HeadYaw'?); name the robot explicitly (nao,"
+        " nao-v5, ur5e, a .urdf/.xml path, or erd:<name>)"
+    )
+    assert "--" not in str(err)  # the library names no CLI flag
+    tie = NoRobotDetectedError(["HeadYaw", "elbow_joint"])
+    assert (tie.best, tie.tied) == ("nao", ("ur5e",))
+    assert NoRobotDetectedError(["leg0"]).best is None
+
+
+def test_pick_robot_is_optional() -> None:
+    assert pick_robot(NONE, ["HeadYaw"]) is None
+    assert pick_robot(AUTO, ["leg0"]) is None  # no robot fits: no robot, no error
+    assert pick_robot(AUTO, ["HeadYaw"]) is load_robot("nao")
+    with pytest.raises(UnknownRobotError) as info:
+        pick_robot("nine")
+    assert info.value.choices == ("auto", "none", "nao", "nao-v5", "ur5e")
+    assert info.value.suggestion == "none"
 
 
 # --------------------------------------------------------------------------- collisions, balance

@@ -1,0 +1,47 @@
+"""``--physics-step``, ``--friction`` and ``--profile``: the physics options of ``play`` and
+``batch`` (one spelling and help text each; :mod:`motiontool.sim.physics` says what they do)."""
+
+from __future__ import annotations
+
+import enum
+from typing import Annotated
+
+import typer
+
+__all__ = ["FrictionOption", "PhysicsStepOption", "Profile", "ProfileOption"]
+
+
+class Profile(enum.StrEnum):
+    """Physics profiles (:data:`motiontool.sim.physics.PROFILES`)."""
+
+    default = "default"
+    webots = "webots"
+
+
+PhysicsStepOption = Annotated[
+    float | None,
+    typer.Option(
+        "--physics-step",
+        help="MuJoCo step in ms; it must divide the controller time step (default: 2, or the"
+        " control step with --profile webots).",
+        show_default=False,
+    ),
+]
+FrictionOption = Annotated[
+    float | None,
+    typer.Option(
+        "--friction",
+        help="Robot-floor friction coefficient, > 0 (default: 1, or 7 with --profile webots;"
+        " batch's --perturb friction multiplies it).",
+        show_default=False,
+    ),
+]
+ProfileOption = Annotated[
+    Profile,
+    typer.Option(
+        "--profile",
+        help="default (friction 1, 2 ms) or webots (Webots' friction 7 and physics step = the"
+        " control step; not what makes walks match: see README, Fidelity). --friction and"
+        " --physics-step override it.",
+    ),
+]
