@@ -261,7 +261,7 @@ def play_command(
             seed=seed,
             physics_step_ms=physics_step,
             floor_friction=friction,
-            profile=profile.value,  # type: ignore[arg-type]  # checked by PlayOptions.check
+            profile=profile.value,
         )
         report = play(files, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
         report.expectations = evaluate(expectations, report)

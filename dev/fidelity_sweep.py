@@ -87,7 +87,9 @@ def parse_point(text: str) -> tuple[float, float]:
             raise ValueError
         return float(friction), float(step)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: expected FRICTION@STEP_MS, e.g. 7@20") from None
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: expected FRICTION@STEP_MS, e.g. 7@20"
+        ) from None
 
 
 def markdown(rows: list[Row]) -> str:

@@ -150,6 +150,28 @@ def test_play_json_conforms(files: Path) -> None:
     assert errors(doc, "play")
 
 
+def test_play_json_physics_section_conforms(files: Path) -> None:
+    result = runner.invoke(
+        app,
+        [
+            *("play", "--headless", "--hold", "0", "--json", "webots.json", "nod.motion"),
+            *("--profile", "webots", "--friction", "2", "--physics-step", "4"),
+        ],
+    )
+    assert result.exit_code in (0, 1), result.output
+    doc = json.loads(Path("webots.json").read_text())
+    assert doc["physics"]["timestep_ms"] == 4.0 and doc["physics"]["friction"] == 2.0
+    assert doc["physics"]["profile"] == "webots" and doc["physics"]["profile_note"]
+    assert errors(doc, "play") == []
+    for key, bad in [("friction", "2"), ("friction", 0), ("profile", "ode"), ("timestep_ms", None)]:
+        broken = copy.deepcopy(doc)
+        broken["physics"][key] = bad
+        assert any("physics" in e for e in errors(broken, "play")), (key, bad)
+    broken = copy.deepcopy(doc)
+    del broken["physics"]["timestep_ms"]
+    assert errors(broken, "play")
+
+
 def test_play_json_of_an_arm_conforms(files: Path) -> None:
     # A fixed-base arm's report has an end_effector section (keyframes, lags, the tool trail).
     Path("arm.motion").write_bytes(

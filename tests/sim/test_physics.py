@@ -83,7 +83,9 @@ def test_the_default_step_divides_any_control_step() -> None:
     assert resolve_physics(20) == Physics("default", 2.0, 1.0, 10)
     odd = resolve_physics(25)  # 2 ms does not divide 25 ms: the largest step below that does
     assert odd.substeps == 13 and odd.timestep_ms == pytest.approx(25 / 13)
-    assert resolve_physics(8, profile="webots") == Physics("webots", 8.0, 7.0, 1, WEBOTS_PROFILE_NOTE)
+    assert resolve_physics(8, profile="webots") == Physics(
+        "webots", 8.0, 7.0, 1, WEBOTS_PROFILE_NOTE
+    )
 
 
 @pytest.mark.parametrize(
