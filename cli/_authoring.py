@@ -1,17 +1,22 @@
-"""What the authoring commands (mirror, concat, trim, scale) share: time arguments, and the
-robot checks they run on their result. Their options are in :mod:`motiontool.cli.options`; a
-robot is chosen by :func:`motiontool.kinematics.robots.resolve_robot` (or ``pick_robot``)."""
+"""What the authoring commands (mirror, concat, trim, scale, resample, retime) share: time
+arguments, the robot checks they run on their result, and how they report it. Their options are
+in :mod:`motiontool.cli.options`; a robot is chosen by
+:func:`motiontool.kinematics.robots.resolve_robot` (or ``pick_robot``)."""
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
+from typing import Any
 
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
+from motiontool.stamps import stamps
 
-__all__ = ["check_result", "num", "parse_time_ms"]
+__all__ = ["check_result", "findings_lines", "num", "parse_time_ms", "report_header"]
 
 
 def num(x: float) -> str:
@@ -23,6 +28,29 @@ def check_result(
 ) -> list[Diagnostic]:
     """What one of validate's robot checks reports on ``doc``."""
     return check(read_bytes(doc.to_bytes(), doc.path))
+
+
+def findings_lines(findings: list[Diagnostic], heading: str, clean: str) -> list[str]:
+    """The report lines of a check on a command's result: ``heading`` then one indented
+    ``path:line:col: CODE: message`` line per finding, or ``clean`` when there is none."""
+    if not findings:
+        return [clean]
+    return [heading, *(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)]
+
+
+def report_header(
+    schema: str, source: Path, target: Path | None, model_hash: str | None = None
+) -> dict[str, Any]:
+    """The first keys of a one-input command's JSON report: ``schema`` (``motiontool.trim``),
+    its version, the stamps (with the robot model's hash, if one was used), input and output
+    (None: stdout)."""
+    return {
+        "schema": schema,
+        "schema_version": 1,
+        "stamps": stamps(model_hash),
+        "input": source_name(source),
+        "output": None if target is None else str(target),
+    }
 
 
 def parse_time_ms(text: str, option: str) -> int:

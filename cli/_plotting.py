@@ -9,12 +9,13 @@ versions.
 
 from __future__ import annotations
 
+import functools
 import io
 import math
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from motiontool.motionfmt.extras import require
 
@@ -25,6 +26,9 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["JointLimits", "Panel", "limb_groups", "panels_for", "plot_diff", "plot_motion"]
+
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
 
 _DPI = 100
 _PANEL_W_IN = 3.4
@@ -123,6 +127,17 @@ def _style() -> Any:
     return _mpl("matplotlib.style").context("default")
 
 
+def _styled(func: Callable[_P, _R]) -> Callable[_P, _R]:
+    """``func``, drawing in matplotlib's default style (:func:`_style`)."""
+
+    @functools.wraps(func)
+    def styled(*args: _P.args, **kwargs: _P.kwargs) -> _R:
+        with _style():
+            return func(*args, **kwargs)
+
+    return styled
+
+
 def _figure(rows: int, cols: int) -> Any:
     Figure = _mpl("matplotlib.figure").Figure
 
@@ -185,6 +200,7 @@ def _view(
     return lo - pad, hi + pad, shown
 
 
+@_styled
 def plot_motion(
     motion: Motion,
     *,
@@ -205,19 +221,6 @@ def plot_motion(
             the joint gets no command; None to leave those spans empty.
         title, caption: text above and below the grid; ``comment`` goes into the PNG's text.
     """
-    with _style():
-        return _plot_motion(motion, groups, limits, held, title, caption, comment)
-
-
-def _plot_motion(
-    motion: Motion,
-    groups: Sequence[tuple[str, list[str]]],
-    limits: Mapping[str, JointLimits],
-    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
-    title: str,
-    caption: str,
-    comment: str,
-) -> tuple[bytes, int, int]:
     import numpy as np
 
     placed, rows, cols = _layout(groups)
@@ -312,6 +315,7 @@ def motion_commanded(
     return commands_at(motion, elapsed)[1][:, column]
 
 
+@_styled
 def plot_diff(
     elapsed_ms: npt.NDArray[np.int64],
     old: Mapping[str, npt.NDArray[np.float64]],
@@ -324,19 +328,6 @@ def plot_diff(
 ) -> bytes:
     """Old (grey) and new (blue) held targets of ``joints`` over time, one panel each, with
     their difference shaded, as a PNG."""
-    with _style():
-        return _plot_diff(elapsed_ms, old, new, joints, title, caption, comment)
-
-
-def _plot_diff(
-    elapsed_ms: npt.NDArray[np.int64],
-    old: Mapping[str, npt.NDArray[np.float64]],
-    new: Mapping[str, npt.NDArray[np.float64]],
-    joints: Sequence[str],
-    title: str,
-    caption: str,
-    comment: str,
-) -> bytes:
     import numpy as np
 
     cols = min(max(len(joints), 1), 4)

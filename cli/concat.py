@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import check_result, num
+from motiontool.cli._authoring import check_result, findings_lines, num
 from motiontool.cli.options import (
     Format,
     FormatOption,
@@ -142,16 +142,12 @@ def _text(
     if r.unconstrained and spec is not None:
         lines.append(f"not motors of {spec.name}, not constrained: " + ", ".join(r.unconstrained))
     if spec is not None:
-        if findings:
-            lines.append(
-                f"velocity check ({step} ms controller step): {len(findings)} warnings in the "
-                "transitions:"
-            )
-            lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)
-        else:
-            lines.append(
-                f"velocity check ({step} ms controller step): no warning in the transitions"
-            )
+        lines += findings_lines(
+            findings,
+            f"velocity check ({step} ms controller step): {len(findings)} warnings in the "
+            "transitions:",
+            f"velocity check ({step} ms controller step): no warning in the transitions",
+        )
     return "\n".join(lines) + "\n"
 
 

@@ -3,17 +3,18 @@
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli._authoring import findings_lines, report_header
 from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
 from motiontool.cli.resample import (
     load_input,
     output_target,
     say,
+    write_bytes,
 )
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
@@ -21,21 +22,10 @@ from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
 from motiontool.motionfmt.authoring import Mirrored, mirror
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, source_name
+from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.reader import read_bytes
-from motiontool.stamps import stamps
 
 __all__ = ["mirror_command"]
-
-
-def _write(data: bytes, target: Path | None) -> None:
-    """Write ``data`` atomically to ``target``, or to stdout when None."""
-    if target is None:
-        sys.stdout.flush()
-        sys.stdout.buffer.write(data)
-        sys.stdout.buffer.flush()
-    else:
-        atomic_write(target, data)
 
 
 def _map_lines(m: MirrorMap) -> list[str]:
@@ -88,14 +78,12 @@ def _text(
         lines.append(f"not motors of {m.robot}, unchanged: " + ", ".join(r.unmapped))
     if show_map:
         lines.extend(_map_lines(m))
-    if new:
-        lines.append(
-            f"limits: {len(new)} mirrored values fall outside the partner's limits (the model's "
-            "left and right ranges differ):"
-        )
-        lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in new)
-    else:
-        lines.append("limits: every mirrored value within the partner's limits")
+    lines += findings_lines(
+        new,
+        f"limits: {len(new)} mirrored values fall outside the partner's limits (the model's "
+        "left and right ranges differ):",
+        "limits: every mirrored value within the partner's limits",
+    )
     return "\n".join(lines) + "\n"
 
 
@@ -103,11 +91,7 @@ def _json(
     r: Mirrored, m: MirrorMap, source: Path, target: Path | None, new: list[Diagnostic]
 ) -> str:
     doc = {
-        "schema": "motiontool.mirror",
-        "schema_version": 1,
-        "stamps": stamps(m.model_hash),
-        "input": source_name(source),
-        "output": None if target is None else str(target),
+        **report_header("motiontool.mirror", source, target, m.model_hash),
         "units": {"dot": "1", "offset_m": "m"},
         "robot": m.robot,
         "swapped": [list(p) for p in r.swapped],
@@ -169,7 +153,7 @@ def mirror_command(
     before = limits(doc.result)
     after = limits(read_bytes(result.data, result.path))  # the one read of the result
     new = after if len(after) > len(before) else []
-    _write(result.data, target)
+    write_bytes(result.data, target)
     if format is Format.json:
         say(_json(result, m, path, target, new), target)
     else:

@@ -14,6 +14,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli._authoring import report_header
 from motiontool.cli.options import Format, FormatOption, InPlace, Output
 from motiontool.cli.output import refuse_overwrite, same_file
 from motiontool.motionfmt.compare import MotionDiff
@@ -21,7 +22,6 @@ from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file, source_name
 from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
-from motiontool.stamps import stamps
 
 __all__ = [
     "deviation_json",
@@ -30,6 +30,7 @@ __all__ = [
     "output_target",
     "resample_command",
     "say",
+    "write_bytes",
     "write_result",
 ]
 
@@ -74,7 +75,11 @@ def load_input(path: Path) -> MotionDocument:
 
 def write_result(doc: MotionDocument, target: Path | None) -> None:
     """Write ``doc`` atomically to ``target``, or to stdout when None."""
-    data = doc.to_bytes()
+    write_bytes(doc.to_bytes(), target)
+
+
+def write_bytes(data: bytes, target: Path | None) -> None:
+    """Write ``data`` atomically to ``target``, or to stdout when None."""
     if target is None:
         sys.stdout.flush()
         sys.stdout.buffer.write(data)
@@ -158,11 +163,7 @@ def _text(r: Resampled, source: Path, target: Path | None, max_error: float | No
 
 def _json(r: Resampled, source: Path, target: Path | None, max_error: float | None) -> str:
     doc = {
-        "schema": "motiontool.resample",
-        "schema_version": 1,
-        "stamps": stamps(),
-        "input": source_name(source),
-        "output": None if target is None else str(target),
+        **report_header("motiontool.resample", source, target),
         "units": {"step_ms": "ms", "max_error": "rad (m for linear joints)", "max_delta": "rad"},
         "step_ms": r.step_ms,
         "max_error": max_error,

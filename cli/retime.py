@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli._authoring import findings_lines, report_header
 from motiontool.cli.options import (
     Format,
     FormatOption,
@@ -36,7 +37,6 @@ from motiontool.motionfmt.transform import (
     fit_limits,
     scale_times,
 )
-from motiontool.stamps import stamps
 
 __all__ = ["retime_command"]
 
@@ -203,14 +203,12 @@ def _text(
     lines.append(_duration_line(r))
     if spec is not None:
         step = timestep or spec.default_timestep_ms
-        if findings:
-            lines.append(
-                f"velocity check ({step} ms controller step): {len(findings)} warnings remain "
-                "that retiming cannot remove:"
-            )
-            lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)
-        else:
-            lines.append(f"velocity check ({step} ms controller step): no warning")
+        lines += findings_lines(
+            findings,
+            f"velocity check ({step} ms controller step): {len(findings)} warnings remain "
+            "that retiming cannot remove:",
+            f"velocity check ({step} ms controller step): no warning",
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -224,11 +222,9 @@ def _json(
     findings: list[Diagnostic],
 ) -> str:
     doc: dict[str, Any] = {
-        "schema": "motiontool.retime",
-        "schema_version": 1,
-        "stamps": stamps(None if spec is None else spec.model_hash),
-        "input": source_name(source),
-        "output": None if target is None else str(target),
+        **report_header(
+            "motiontool.retime", source, target, None if spec is None else spec.model_hash
+        ),
         "units": {
             "times_ms": "ms",
             "duration_ms": "ms",

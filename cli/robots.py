@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -209,7 +210,10 @@ def export_command(
     if urdf is not None:
         require("pinocchio", "kinematics", "motiontool robots export --urdf")
     spec = load_robot(robot)
-    outputs = [(mjcf, mjcf_bytes), (urdf, urdf_bytes)]
+    outputs: list[tuple[Path | None, Callable[[RobotSpec], bytes]]] = [
+        (mjcf, partial(mjcf_bytes, urdf_option="--urdf")),
+        (urdf, urdf_bytes),
+    ]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]
     for path, data in blobs:
         atomic_write(path, data)

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import check_result, num
+from motiontool.cli._authoring import check_result, findings_lines, num, report_header
 from motiontool.cli.options import (
     Format,
     FormatOption,
@@ -28,7 +28,6 @@ from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.authoring import Scaled, scale
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
-from motiontool.stamps import stamps
 
 __all__ = ["scale_command"]
 
@@ -119,14 +118,12 @@ def _text(
         unlimited = [j for j in r.unlimited if j not in spec]
         if unlimited:
             lines.append(f"not motors of {spec.name}, not clipped: " + ", ".join(unlimited))
-        if new:
-            lines.append(
-                f"velocity check: {len(new)} warnings (more than the input's); "
-                "motiontool retime --fit-limits slows the fast segments down:"
-            )
-            lines.extend(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in new)
-        else:
-            lines.append("velocity check: no warning more than the input's")
+        lines += findings_lines(
+            new,
+            f"velocity check: {len(new)} warnings (more than the input's); "
+            "motiontool retime --fit-limits slows the fast segments down:",
+            "velocity check: no warning more than the input's",
+        )
     return "\n".join(lines) + "\n"
 
 
@@ -134,11 +131,9 @@ def _json(
     r: Scaled, source: Path, target: Path | None, spec: RobotSpec | None, new: list[Diagnostic]
 ) -> str:
     doc = {
-        "schema": "motiontool.scale",
-        "schema_version": 1,
-        "stamps": stamps(None if spec is None else spec.model_hash),
-        "input": source_name(source),
-        "output": None if target is None else str(target),
+        **report_header(
+            "motiontool.scale", source, target, None if spec is None else spec.model_hash
+        ),
         "units": {"worst_excess": "rad (m for linear joints)", "at_ms": "ms", "bound": "rad (m)"},
         "robot": None if spec is None else spec.name,
         "amplitude": r.amplitude,

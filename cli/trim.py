@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import parse_time_ms
+from motiontool.cli._authoring import parse_time_ms, report_header
 from motiontool.cli.options import Format, FormatOption, InPlace, Output
 from motiontool.cli.resample import (
     load_input,
@@ -18,7 +18,6 @@ from motiontool.cli.resample import (
 )
 from motiontool.motionfmt.authoring import Trimmed, trim
 from motiontool.motionfmt.fileio import source_name
-from motiontool.stamps import stamps
 
 __all__ = ["trim_command"]
 
@@ -80,11 +79,7 @@ def _text(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
 
 def _json(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
     doc = {
-        "schema": "motiontool.trim",
-        "schema_version": 1,
-        "stamps": stamps(),
-        "input": source_name(source),
-        "output": None if target is None else str(target),
+        **report_header("motiontool.trim", source, target),
         "units": {"from_ms": "ms", "to_ms": "ms", "shift_ms": "ms", "duration_ms": "ms"},
         "from_ms": r.from_ms,
         "to_ms": r.to_ms,

@@ -21,16 +21,23 @@ from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
+    CheckUnavailableError,
     RobotChecks,
     parse_checks,
 )
 from motiontool.kinematics.robots import AUTO, NONE, RobotSpec
+from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import install_hint
 from motiontool.motionfmt.fileio import collect_motion_files
 from motiontool.motionfmt.validate import ValidationReport, validate_paths
 from motiontool.stamps import stamps
 
 __all__ = ["validate_command"]
+
+_CHECKS_OPTION = "--checks"
+_IGNORE_OPTION = "--ignore"
+_MIRROR_COMMAND = "motiontool mirror {source} -o {target}"
+"""How the robot checks' hints tell a user of the CLI to mirror a file (MT309)."""
 
 
 def _plural(n: int, word: str) -> str:
@@ -182,7 +189,7 @@ def validate_command(
     checks: Annotated[
         str,
         typer.Option(
-            "--checks",
+            _CHECKS_OPTION,
             help="Robot checks, comma-separated: limits, velocity, collision, balance (or all).",
         ),
     ] = ",".join(DEFAULT_CHECKS),
@@ -200,7 +207,9 @@ def validate_command(
     ] = False,
     ignore: Annotated[
         list[str] | None,
-        typer.Option("--ignore", help="Diagnostic code to leave out (repeat, or comma-separate)."),
+        typer.Option(
+            _IGNORE_OPTION, help="Diagnostic code to leave out (repeat, or comma-separate)."
+        ),
     ] = None,
     sort: Annotated[
         Order,
@@ -221,15 +230,7 @@ def validate_command(
     codes = [c for item in ignore or [] for c in item.split(",")]
     files = collect_motion_files(paths)
     refuse_overwrite(output, files, "-o")
-    checker = None
-    if robot != NONE:
-        checker = RobotChecks(
-            robot,
-            parse_checks(checks),
-            timestep_ms=timestep,
-            penetration_tolerance_mm=collision_tolerance,
-            robot_option=ROBOT_OPTION,
-        )
+    checker = _checker(robot, checks, timestep, collision_tolerance) if robot != NONE else None
     report = validate_paths(
         files, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes
     )
@@ -242,3 +243,21 @@ def validate_command(
         emit(text, output)
     if report.failed(strict=strict):
         raise typer.Exit(1)
+
+
+def _checker(
+    robot: str, checks: str, timestep: int | None, collision_tolerance: float
+) -> RobotChecks:
+    """The robot checks of ``validate``, their hints in the CLI's words."""
+    try:
+        return RobotChecks(
+            robot,
+            parse_checks(checks),
+            timestep_ms=timestep,
+            penetration_tolerance_mm=collision_tolerance,
+            robot_option=ROBOT_OPTION,
+            ignore_option=_IGNORE_OPTION,
+            mirror_command=_MIRROR_COMMAND,
+        )
+    except CheckUnavailableError as exc:
+        raise MotionToolError(f"{exc}; leave '{exc.check}' out of {_CHECKS_OPTION}") from exc

@@ -280,12 +280,32 @@ _COMMON_NOTES = (
 # --------------------------------------------------------------------------- Nao
 
 
-def _nao_xml(data: dict[str, Any], source: Path) -> str:
-    joints = data["joints"]
+def _tree(
+    data: dict[str, Any],
+) -> tuple[dict[str, dict[str, Any]], dict[str, list[dict[str, Any]]]]:
+    """The robot facts' bodies by name, and each body's child joints in tree order."""
     bodies = {b["name"]: b for b in data["bodies"]}
     children: dict[str, list[dict[str, Any]]] = {}
-    for joint in sorted(joints, key=lambda j: j["tree_index"]):
+    for joint in sorted(data["joints"], key=lambda j: j["tree_index"]):
         children.setdefault(joint["parent_body"], []).append(joint)
+    return bodies, children
+
+
+def _inertial(el: ET.Element, body: dict[str, Any], full: Sequence[float]) -> None:
+    """The ``inertial`` element of ``body``: its mass (kg), centre of mass (m) and the full
+    inertia tensor ``full`` (kg·m², xx yy zz xy xz yz)."""
+    _el(
+        el,
+        "inertial",
+        pos=_vec(body["center_of_mass"]),
+        mass=_num(body["mass"]),
+        fullinertia=_vec(full),
+    )
+
+
+def _nao_xml(data: dict[str, Any], source: Path) -> str:
+    joints = data["joints"]
+    bodies, children = _tree(data)
     timestep_ms = data["webots_world_defaults"]["nao_demo.wbt"]["basicTimeStep_ms"]
     spawn = data["derived_checks"]["zero_pose_sole_height_below_torso_origin"]
 
@@ -353,13 +373,7 @@ def _nao_xml(data: dict[str, Any], source: Path) -> str:
                     "principal moment raised to (largest - middle) so MuJoCo and Pinocchio "
                     "agree (no balanceinertia)",
                 )
-            _el(
-                el,
-                "inertial",
-                pos=_vec(body["center_of_mass"]),
-                mass=_num(body["mass"]),
-                fullinertia=_vec(full),
-            )
+            _inertial(el, body, full)
         for i, prim in enumerate(prims):
             _geom(el, f"{name}_{i}", prim)
         attached = body.get("rigidly_attached")
@@ -493,10 +507,7 @@ def _nao_v5(data: dict[str, Any], source: Path) -> str:
 
 def _ur5e_xml(data: dict[str, Any], source: Path) -> str:
     joints = data["joints"]
-    bodies = {b["name"]: b for b in data["bodies"]}
-    children: dict[str, list[dict[str, Any]]] = {}
-    for joint in sorted(joints, key=lambda j: j["tree_index"]):
-        children.setdefault(joint["parent_body"], []).append(joint)
+    bodies, children = _tree(data)
     timestep_ms = data["webots_world_defaults"]["ure.wbt"]["basicTimeStep_ms"]
 
     root = ET.Element("mujoco", {"model": "ur5e"})
@@ -526,13 +537,7 @@ def _ur5e_xml(data: dict[str, Any], source: Path) -> str:
                 "MuJoCo Menagerie (as chosen in ur5e.json)",
             )
             full, _ = _balanced(body["inertia"])
-            _el(
-                el,
-                "inertial",
-                pos=_vec(body["center_of_mass"]),
-                mass=_num(body["mass"]),
-                fullinertia=_vec(full),
-            )
+            _inertial(el, body, full)
         for i, prim in enumerate(body["webots_bounding_object"]):
             _geom(el, f"{name}_{i}", prim)
         if name == "wrist_3_link":

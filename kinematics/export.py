@@ -28,12 +28,19 @@ def _g(x: float) -> str:
     return repr(float(x))
 
 
-def mjcf_bytes(spec: RobotSpec) -> bytes:
-    """The MJCF file of ``spec`` (raises :class:`MotionToolError` for a URDF robot)."""
+def mjcf_bytes(spec: RobotSpec, *, urdf_option: str | None = None) -> bytes:
+    """The MJCF file of ``spec``.
+
+    Raises:
+        MotionToolError: ``spec`` comes from a URDF file; the message says to export it as URDF
+            (:func:`urdf_bytes`), with ``urdf_option`` where the caller's user gives one (the
+            CLI's ``--urdf``).
+    """
     if spec.model_format != "mjcf":
+        how = f"with {urdf_option}" if urdf_option else "as URDF (urdf_bytes)"
         raise MotionToolError(
-            f"robot {spec.name} comes from a URDF file ({spec.model_path}); export it with "
-            "--urdf, or let MuJoCo convert it (mujoco.MjModel.from_xml_path, then "
+            f"robot {spec.name} comes from a URDF file ({spec.model_path}); export it {how}, "
+            "or let MuJoCo convert it (mujoco.MjModel.from_xml_path, then "
             "mujoco.mj_saveLastXML)"
         )
     raw = spec.model_path.read_bytes()

@@ -21,6 +21,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from motiontool.kinematics.checks._table import header_diagnostic
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
@@ -95,10 +96,24 @@ def unmirrored_joints(file: ReadResult, sibling: ReadResult, mirror: MirrorMap) 
 
 class UnmirroredCopy:
     """MT309 (info) for ``spec``: see the module docstring. A robot that cannot be mirrored
-    joint by joint gets no note."""
+    joint by joint gets no note.
 
-    def __init__(self, spec: RobotSpec) -> None:
+    The hint says how to write the true mirror and how to leave the note out, in the caller's
+    words where it gives them: ``mirror_command`` (e.g. the CLI's ``motiontool mirror {source}
+    -o {target}``, with the sibling's and this file's names) and ``ignore_option`` (the CLI's
+    ``--ignore``); None: plain words.
+    """
+
+    def __init__(
+        self,
+        spec: RobotSpec,
+        *,
+        ignore_option: str | None = None,
+        mirror_command: str | None = None,
+    ) -> None:
         self.spec = spec
+        self.ignore_option = ignore_option
+        self.mirror_command = mirror_command
         self._map: MirrorMap | None = None
         self._failed = False
 
@@ -114,47 +129,49 @@ class UnmirroredCopy:
         if is_stdin(result.path) or not _SIDE.search(Path(result.path).stem):
             return []
         path = Path(result.path)
-        if not path.is_file():
-            return []
-        siblings = sibling_paths(path)
-        if not siblings:
-            return []
-        mirror = self._mirror()
+        siblings = sibling_paths(path) if path.is_file() else []
+        mirror = self._mirror() if siblings else None
         if mirror is None:
             return []
         for sibling in siblings:
-            try:
-                other = read_bytes(sibling.read_bytes(), str(sibling))
-            except OSError:
-                continue
-            if not other.accepted:
-                continue
-            joints = unmirrored_joints(result, other, mirror)
-            if joints is None:
-                continue
-            spans = result.header_spans()
-            j = result.joints.index(joints[0])
-            column, end = spans[j] if j < len(spans) else (1, None)
-            signs = mirror.as_dict()
-            shown = ", ".join(f"{name} (= {signs[name][0]} of {sibling.name})" for name in joints)
-            return [
-                Diagnostic(
-                    code="MT309",
-                    severity=Severity.INFO,
-                    path=result.path,
-                    line=1,
-                    column=column,
-                    message=(
-                        f"looks like an unmirrored copy of {sibling.name}: {shown} "
-                        "without the sign flip a left/right mirror needs"
-                        f" ({self.spec.name}'s joint axes)"
-                    ),
-                    hint=(
-                        f"'motiontool mirror {sibling.name} -o {path.name}' writes the true "
-                        "mirror; if the motion is meant to be asymmetric, --ignore MT309"
-                    ),
-                    joint=joints[0],
-                    end_column=end,
-                )
-            ]
+            other = _read(sibling)
+            joints = None if other is None else unmirrored_joints(result, other, mirror)
+            if joints is not None:
+                return [self._note(result, sibling, joints, mirror)]
         return []
+
+    def _note(
+        self, result: ReadResult, sibling: Path, joints: list[str], mirror: MirrorMap
+    ) -> Diagnostic:
+        """MT309 on the header token of the first of ``joints``, the unflipped copies of
+        ``sibling``'s partner columns."""
+        signs = mirror.as_dict()
+        shown = ", ".join(f"{name} (= {signs[name][0]} of {sibling.name})" for name in joints)
+        return header_diagnostic(
+            result,
+            result.joints.index(joints[0]),
+            "MT309",
+            Severity.INFO,
+            f"looks like an unmirrored copy of {sibling.name}: {shown} without the sign flip a "
+            f"left/right mirror needs ({self.spec.name}'s joint axes)",
+            self._hint(sibling.name, Path(result.path).name),
+        )
+
+    def _hint(self, sibling: str, name: str) -> str:
+        """How to write the true mirror of ``sibling`` into ``name``, or to leave MT309 out."""
+        if self.mirror_command:
+            command = self.mirror_command.format(source=sibling, target=name)
+            write = f"'{command}' writes the true mirror"
+        else:
+            write = f"the left/right mirror of {sibling} is the true one"
+        ignore = f"{self.ignore_option} MT309" if self.ignore_option else "leave MT309 out"
+        return f"{write}; if the motion is meant to be asymmetric, {ignore}"
+
+
+def _read(path: Path) -> ReadResult | None:
+    """``path`` as Webots reads it; None if it cannot be read or Webots rejects it."""
+    try:
+        other = read_bytes(path.read_bytes(), str(path))
+    except OSError:
+        return None
+    return other if other.accepted else None

@@ -609,7 +609,7 @@ def trim(
     if lo >= hi:
         raise MotionToolError(
             f"nothing to keep between {lo} ms and {hi} ms (the motion ends at {last} ms): "
-            "--from must be before --to and before the last pose"
+            "the window must start before it ends and before the last pose"
         )
     shift = 0 if keep_times else lo
     lines = _Lines.of(doc)

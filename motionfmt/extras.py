@@ -21,9 +21,9 @@ __all__ = ["EXTRAS", "install_hint", "require"]
 EXTRAS: dict[str, tuple[tuple[str, ...], str]] = {
     "kinematics": (("pinocchio", "coal"), "Pinocchio: self-collision, balance, IK, URDF robots"),
     "sim": (("mujoco", "junitparser"), "MuJoCo: play, batch (with its JUnit report)"),
-    "rerun": (("rerun",), "Rerun recordings (--rrd, --rrd-dir)"),
-    "plot": (("matplotlib",), "matplotlib: plot, diff --plot"),
-    "erd": (("example_robot_data",), "example-robot-data robots (--robot erd:<name>)"),
+    "rerun": (("rerun",), "Rerun recordings of play and batch"),
+    "plot": (("matplotlib",), "matplotlib: plot, and the plots of diff"),
+    "erd": (("example_robot_data",), "example-robot-data robots (erd:<name>)"),
     "ray": (("ray",), "the Ray executor of batch"),
     "fast": (("pyarrow",), "pyarrow: faster reading of motion files of 1 MB or more"),
 }

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from conftest import DATA
+from conftest import CORPUS, DATA
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -269,6 +269,17 @@ def test_robots_show_json() -> None:
     assert len(doc["head_pitch_envelope"]) == 13
 
 
+@pytest.mark.usefixtures("corpus")
+def test_mt309_hint_names_the_mirror_command_and_ignore_option() -> None:
+    dancing = CORPUS / "projects/robots/softbank/dancing_nao/motions"
+    code, out, _ = invoke("validate", "--checks", "limits", str(dancing / "HandHighLeft.motion"))
+    assert code == 0
+    assert (
+        "= hint: 'motiontool mirror HandHighRight.motion -o HandHighLeft.motion' writes the true"
+        " mirror; if the motion is meant to be asymmetric, --ignore MT309"
+    ) in out
+
+
 def test_robots_export_writes_model_files(tmp_path: Path) -> None:
     mjcf, urdf = tmp_path / "ur5e.xml", tmp_path / "ur5e.urdf"
     code, out, _ = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf), "--urdf", str(urdf))
@@ -279,6 +290,8 @@ def test_robots_export_writes_model_files(tmp_path: Path) -> None:
         f"wrote {urdf} ({urdf.stat().st_size} bytes, robot ur5e)",
     ]
     assert load_robot(str(urdf)).joints == load_robot("ur5e").joints
+    code, _, err = invoke("robots", "export", str(urdf), "--mjcf", str(tmp_path / "u.xml"))
+    assert code == 2 and "comes from a URDF file" in err and "export it with --urdf, or" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["ur5e.urdf", "ur5e.xml"]  # no temp left
     code, _, err = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf / "under-a-file.xml"))
     assert code == 2 and err.startswith("motiontool: error: cannot write")

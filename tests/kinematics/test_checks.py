@@ -20,6 +20,7 @@ from motiontool.kinematics import load_robot
 from motiontool.kinematics.checks import (
     CHECKS,
     DEFAULT_CHECKS,
+    CheckUnavailableError,
     RobotChecks,
     parse_checks,
     robot_checks,
@@ -80,8 +81,10 @@ def test_parse_checks() -> None:
 
 
 def test_balance_needs_feet_and_tolerance_is_a_depth() -> None:
-    with pytest.raises(MotionToolError, match="robot ur5e has no feet"):
+    with pytest.raises(CheckUnavailableError, match="robot ur5e has no feet") as no_feet:
         robot_checks(load_robot("ur5e"), ["balance"])
+    assert (no_feet.value.check, no_feet.value.robot) == ("balance", "ur5e")
+    assert "--" not in str(no_feet.value)  # the CLI names its option (tests/cli)
     with pytest.raises(MotionToolError, match="must be a depth >= 0 mm"):
         robot_checks(load_robot("nao"), ["collision"], penetration_tolerance_mm=-1)
 
@@ -111,13 +114,34 @@ def test_position_limits_name_joint_time_value_bound_and_excess() -> None:
 
 
 def test_star_cells_are_not_checked_and_the_later_duplicate_column_wins() -> None:
-    # The earlier HeadYaw column is shadowed (MT205): its 5 rad never reaches the motor.
+    # Where the later HeadYaw column sends a command it wins (MT205): the earlier one's 5 rad
+    # never reaches the motor.
     shadowed = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n0,P1,5,0\n1000,P2,*,0.1\n"
     assert robot_findings(shadowed) == []
     winning = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n0,P1,0,5\n"
     assert robot_findings(winning, checks=("limits",)) == [
         "2:8: error MT302: HeadYaw = 5 rad at 0 ms is above its upper limit 2.08567 rad"
         " by 2.91433 rad"
+    ]
+
+
+def test_the_earlier_duplicate_column_is_checked_where_the_later_sends_nothing() -> None:
+    # Webots sends both HeadYaw columns in column order: at 500 ms the later one is '*', so the
+    # earlier one's 2.5 rad reaches the motor (clamped, with a warning).
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n0,P1,0,0\n500,P2,2.5,*\n1000,P3,0,0\n"
+    assert robot_findings(data) == [
+        "3:8: error MT302: HeadYaw = 2.5 rad at 500 ms is above its upper limit 2.08567 rad"
+        " by 0.41433 rad"
+    ]
+    report = validate_bytes(data, "t.motion", checks=robot_checks(load_robot("nao"), ["limits"]))
+    (limit,) = [d for d in report.diagnostics if d.code == "MT302"]
+    assert (limit.joint, limit.column, limit.end_column) == ("HeadYaw", 8, 11)
+    # The segment Webots interpolates is the earlier column's too: 1 rad in 100 ms.
+    fast = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n0,P1,0,0\n100,P2,1,*\n"
+    assert robot_findings(fast, checks=("velocity",)) == [
+        "3:8: warning MT303: HeadYaw moves 1 rad in 100 ms (0 ms to 100 ms): 10 rad/s, above its"
+        " maximum velocity 8.26797 rad/s by 1.73203 rad/s; the motor needs 120.9 ms and falls"
+        " 20.9 ms behind"
     ]
 
 
@@ -154,6 +178,16 @@ def test_command_stream_jump_after_a_star_stretch_is_one_warning() -> None:
     assert "at 1005 ms, within one 5 ms controller step: 200.4 rad/s" in only
 
 
+def test_infinite_targets_are_limit_errors_not_velocity_findings() -> None:
+    # An 'inf' cell is sent and clamped: MT302 says so; its infinite speed is no MT303/MT304
+    # (this used to crash the velocity check with an OverflowError).
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n500,B,nan,-inf\n1000,C,inf,0\n"
+    assert [f.split(":")[2].strip() for f in robot_findings(data)] == [
+        "error MT302",
+        "error MT302",
+    ]
+
+
 def test_uncommanded_joint_is_not_checked_where_it_is_not_commanded() -> None:
     # HeadYaw holds 0 while '*'; the file never asks it to move fast, and it stays put.
     data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n40,B,*,0.2\n80,C,*,0.1\n"
@@ -185,27 +219,45 @@ def nao_motions(draw: st.DrawFn) -> bytes:
 
 def _oracle(data: bytes, step: int) -> set[tuple[str, int, str, int | None]]:
     """(code, line, joint, time) of the limit and velocity findings, from plain loops over the
-    oracle loader and player (no motiontool code)."""
+    oracle loader and player (no motiontool code). Of the columns that name one motor, Webots
+    sends each in column order: the later column's command wins where it sends one."""
     loaded = webots_load(data)
     joints = [j.decode() for j in loaded.joints]
-    winning = {name: max(i for i, n in enumerate(joints) if n == name) for name in set(joints)}
     out: set[tuple[str, int, str, int | None]] = set()
     times, values = loaded.times, loaded.values
-    for name, j in winning.items():
+    last = len(times) - 1
+    stream = webots_play(times, values, step)
+
+    def number(p: int, j: int) -> bool:
+        return 0 <= p <= last and values[p][j] != UNDEFINED
+
+    for name in set(joints):
+        group = [j for j, n in enumerate(joints) if n == name]
         lo, hi = _LIMITS[name]
-        for p, row in enumerate(values):
-            if row[j] != UNDEFINED and not lo <= row[j] <= hi:
+        for p in range(len(times)):
+            sent = [
+                j
+                for j in group
+                if number(p, j) and (p in (0, last) or number(p - 1, j) or number(p + 1, j))
+            ]
+            numbers = [j for j in group if number(p, j)]
+            cell = (sent or numbers or [None])[-1]
+            if cell is not None and not lo <= values[p][cell] <= hi:
                 out.add(("MT302", p + 2, name, times[p]))
         fast_segments = set()
         for p in range(len(times) - 1):
-            a, b = values[p][j], values[p + 1][j]
-            if UNDEFINED in (a, b):
+            drivers = [j for j in group if number(p, j) and number(p + 1, j)]
+            if not drivers:
                 continue
+            a, b = values[p][drivers[-1]], values[p + 1][drivers[-1]]
             if abs(b - a) / ((times[p + 1] - times[p]) / 1000) > _VMAX[name] * (1 + 1e-9):
                 out.add(("MT303", p + 3, name, times[p + 1]))
                 fast_segments.add(p)
-        stream = webots_play(times, values, step)
-        commanded = [(e, row[j]) for e, row in stream if row[j] is not None]
+        commanded = []
+        for e, row in stream:
+            targets = [row[j] for j in group if row[j] is not None]
+            if targets:
+                commanded.append((e, targets[-1]))
         worst: dict[int, tuple[float, int]] = {}
         for (e0, q0), (e1, q1) in itertools.pairwise(commanded):
             speed = abs(q1 - q0) / (step / 1000)
@@ -213,7 +265,9 @@ def _oracle(data: bytes, step: int) -> set[tuple[str, int, str, int | None]]:
                 continue
             if e1 - e0 > step:  # a jump after a '*' stretch
                 pose = next(
-                    p for p in range(len(times)) if values[p][j] != UNDEFINED and times[p] > e0
+                    p
+                    for p in range(len(times))
+                    if any(number(p, j) for j in group) and times[p] > e0
                 )
             else:
                 segs = [

@@ -43,6 +43,17 @@ def test_urdf_robot_has_no_mjcf() -> None:
     assert urdf_bytes(spec) == spec.model_path.read_bytes()
 
 
+def test_no_mjcf_message_names_the_callers_option_only_when_given(tmp_path: Path) -> None:
+    path = tmp_path / "arm.urdf"
+    path.write_bytes(urdf_bytes(load_robot("ur5e")))
+    spec = load_robot(str(path))
+    with pytest.raises(MotionToolError, match=r"export it as URDF \(urdf_bytes\), or") as plain:
+        mjcf_bytes(spec)
+    assert "--" not in str(plain.value)
+    with pytest.raises(MotionToolError, match="export it with --urdf, or let MuJoCo convert it"):
+        mjcf_bytes(spec, urdf_option="--urdf")
+
+
 @pytest.mark.parametrize(("robot", "floating"), [("nao", True), ("nao-v5", True), ("ur5e", False)])
 def test_urdf_reads_back_as_the_same_robot(tmp_path: Path, robot: str, floating: bool) -> None:
     spec = load_robot(robot)

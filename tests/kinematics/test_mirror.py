@@ -171,6 +171,26 @@ def test_webots_handhigh_pair_are_unmirrored_copies_of_each_other() -> None:
     assert len(found["HandHighRight.motion"]) == 1
 
 
+def test_mt309_hint_uses_the_callers_words_only_when_given() -> None:
+    left = str(DANCING / "HandHighLeft.motion")
+
+    def hint(**words: str) -> str | None:
+        report = validate_paths([left], checks=[RobotChecks("nao", ["limits"], **words)])
+        (note,) = [d for d in report.diagnostics if d.code == "MT309"]
+        return note.hint
+
+    assert hint() == (
+        "the left/right mirror of HandHighRight.motion is the true one; if the motion is meant"
+        " to be asymmetric, leave MT309 out"
+    )
+    assert hint(
+        ignore_option="--ignore", mirror_command="motiontool mirror {source} -o {target}"
+    ) == (
+        "'motiontool mirror HandHighRight.motion -o HandHighLeft.motion' writes the true mirror;"
+        " if the motion is meant to be asymmetric, --ignore MT309"
+    )
+
+
 def test_handwaveleft_beside_handwave_gets_the_note(tmp_path: Path) -> None:
     shutil.copy(HAND_WAVE, tmp_path)
     shutil.copy(DANCING / "HandWaveLeft.motion", tmp_path)

@@ -1,0 +1,61 @@
+"""Robot checks for ``validate``: what a motion asks of a robot, against what the robot can do.
+
+:func:`robot_checks` builds the :data:`~motiontool.motionfmt.validate.Check` callables that
+:func:`motiontool.motionfmt.validate_paths` runs on every file Webots accepts;
+:class:`RobotChecks` picks the robot per file (``robot='auto'``) or uses a named one. One check
+per module: :mod:`.joints` (MT301), :mod:`.limits` (MT302, MT305, MT306), :mod:`.velocity`
+(MT303, MT304), :mod:`.self_collision` (MT307), :mod:`.balance` (MT308); the unmirrored-copy note
+(MT309) is :mod:`motiontool.kinematics.mirror_check`; :mod:`.runner` picks and runs them.
+
+How a motion is read here (the Webots player, ``../shared/FORMAT.md``):
+
+* A column whose name is not a motor of the robot is ignored by Webots (with a warning): MT301.
+* ``*`` sends no command: the joint holds its previous target. A ``*`` cell is never checked
+  itself; where a check needs the whole robot's configuration (collision, balance, the real
+  NAO's rules), a joint takes its last commanded target, and a joint that this motion has not
+  commanded yet sits at its initial position, 0 (every motor of the Webots PROTOs starts at 0).
+* Of two columns with one name (MT205), Webots sends both, in column order: the later column's
+  command wins where it sends one, and the earlier one's reaches the motor where the later sends
+  none (``*``). The checks check the cell the motor gets, of either column.
+* Webots clamps a target outside ``[minPosition, maxPosition]`` to the range (and warns at every
+  step). Limits are reported on the value as written (MT302); the configuration checks use the
+  clamped value, what the robot actually does, so one bad value is not reported twice.
+
+Limits and velocities are read from the :class:`~motiontool.kinematics.RobotSpec` alone: only
+the collision and balance checks load Pinocchio, when they first run.
+"""
+
+from __future__ import annotations
+
+from motiontool.kinematics.checks.balance import Balance
+from motiontool.kinematics.checks.joints import UnknownJoints
+from motiontool.kinematics.checks.limits import COUPLING_TOLERANCE, Limits
+from motiontool.kinematics.checks.runner import (
+    CHECKS,
+    DEFAULT_CHECKS,
+    CheckUnavailableError,
+    RobotChecks,
+    parse_checks,
+    robot_checks,
+)
+from motiontool.kinematics.checks.self_collision import (
+    DEFAULT_PENETRATION_TOLERANCE_MM,
+    Collision,
+)
+from motiontool.kinematics.checks.velocity import Velocity
+
+__all__ = [
+    "CHECKS",
+    "COUPLING_TOLERANCE",
+    "DEFAULT_CHECKS",
+    "DEFAULT_PENETRATION_TOLERANCE_MM",
+    "Balance",
+    "CheckUnavailableError",
+    "Collision",
+    "Limits",
+    "RobotChecks",
+    "UnknownJoints",
+    "Velocity",
+    "parse_checks",
+    "robot_checks",
+]

@@ -1,0 +1,316 @@
+"""What the robot checks share: a file's poses against one robot's motors, and message pieces.
+
+How a motion is read (the Webots player, ``../shared/FORMAT.md``): ``*`` sends no command, so the
+joint holds its previous target; of two columns with one name (MT205), Webots sends both in
+column order, so the later column's command wins where it sends one and the earlier's reaches the
+motor where the later sends none. :class:`Table` merges such columns the same way
+(:func:`~motiontool.motionfmt.player.hold_targets`), so the checks check what the motor is sent.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.player import hold_targets
+from motiontool.motionfmt.reader import ReadResult
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = [
+    "EPS",
+    "RobotCheck",
+    "Table",
+    "cell",
+    "configurations",
+    "fmt_ms",
+    "fmt_name",
+    "fmt_num",
+    "fmt_span",
+    "header_diagnostic",
+    "name_robot",
+    "read_table",
+    "runs",
+    "sent_cells",
+]
+
+EPS = 1e-9
+"""Relative slack on velocity comparisons, for values that sit exactly at a limit."""
+
+
+# --------------------------------------------------------------------------- message pieces
+
+
+def fmt_num(x: float) -> str:
+    return f"{x:.6g}"
+
+
+def fmt_ms(x: float) -> str:
+    return f"{x:.0f} ms" if float(x).is_integer() else f"{x:.1f} ms"
+
+
+def fmt_span(names: Sequence[str]) -> str:
+    """``RPhalanx1..8`` for numbered names with one stem, else the names comma-separated."""
+    stem = names[0].rstrip("0123456789")
+    if len(names) > 2 and all(n.startswith(stem) and n[len(stem) :].isdigit() for n in names):
+        return f"{names[0]}..{names[-1][len(stem) :]}"
+    return ", ".join(names)
+
+
+def fmt_name(name: str) -> str:
+    """A joint name for a message (undecodable bytes escaped)."""
+    return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+
+
+def name_robot(robot_option: str | None, which: str = "the") -> str:
+    """How a hint tells the user to name a robot: ``name the robot explicitly``, or ``name the
+    robot with --robot`` where the caller says how its user names one (``robot_option``)."""
+    return f"name {which} robot " + (f"with {robot_option}" if robot_option else "explicitly")
+
+
+def header_diagnostic(
+    result: ReadResult,
+    column: int,
+    code: str,
+    severity: Severity,
+    message: str,
+    hint: str | None = None,
+) -> Diagnostic:
+    """A diagnostic on header joint ``column`` (0-based) of ``result`` (line 1; its first
+    column past the 4095 bytes of the header that Webots reads)."""
+    spans = result.header_spans()
+    start, end = spans[column] if column < len(spans) else (1, None)
+    return Diagnostic(
+        code=code,
+        severity=severity,
+        path=result.path,
+        line=1,
+        column=start,
+        message=message,
+        hint=hint,
+        joint=result.joints[column],
+        end_column=end,
+    )
+
+
+def runs(indices: Sequence[int], step: int) -> list[list[int]]:
+    """Group sorted ``indices`` into runs of consecutive values ``step`` apart."""
+    out: list[list[int]] = []
+    for i in indices:
+        if out and i - out[-1][-1] == step:
+            out[-1].append(i)
+        else:
+            out.append([i])
+    return out
+
+
+# --------------------------------------------------------------------------- the file's table
+
+
+def sent_cells(defined: npt.NDArray[np.bool_]) -> npt.NDArray[np.bool_]:
+    """(P, C) bool: the cell's value is sent to the motor at (or right after) its pose time: it
+    is a number (``defined``, :attr:`ReadResult.commanded`: a 'nan' cell is a command, unlike
+    '*') and the first or last pose, or a neighbouring pose's cell is a number too (Webots sends
+    nothing over a segment that touches a '*')."""
+    import numpy as np
+
+    near = np.zeros_like(defined)
+    near[[0, -1]] = True
+    near[1:] |= defined[:-1]
+    near[:-1] |= defined[1:]
+    return defined & near
+
+
+@dataclass
+class Table:
+    """A file's poses against one robot's motors, a column per motor the file names.
+
+    Column k is motor ``motors[k]`` (an index in ``spec.joints``), named by the file's columns
+    ``groups[k]`` (two or more where the header names the motor twice), in the order of the
+    last of them. ``source[p, k]`` is the file column whose cell the motor gets at pose p: the
+    last one that sends there, else the last one holding a number, else the last one.
+    """
+
+    result: ReadResult
+    times: npt.NDArray[np.int64]  # (P,) ms
+    raw: npt.NDArray[np.float64]  # (P, C) the file's cells, NaN for '*'
+    raw_defined: npt.NDArray[np.bool_]  # (P, C) the cell holds a number (a command)
+    raw_sent: npt.NDArray[np.bool_]  # (P, C) the cell is sent (:func:`sent_cells`)
+    motors: list[int]
+    groups: list[list[int]]
+    source: npt.NDArray[np.intp]  # (P, K) file column
+    _held: npt.NDArray[np.float64] | None = field(default=None, repr=False)
+
+    def col(self, pose: int, k: int) -> int:
+        """The file column of motor ``k``'s cell at ``pose``."""
+        return int(self.source[pose, k])
+
+    def _at_source(self, cells: npt.NDArray[np.generic]) -> npt.NDArray[np.generic]:
+        import numpy as np
+
+        return np.take_along_axis(cells, self.source, axis=1)
+
+    @property
+    def values(self) -> npt.NDArray[np.float64]:
+        """(P, K) float64: each motor's cell value (rad, m for linear joints), NaN for '*'."""
+        return self._at_source(self.raw)  # type: ignore[return-value]
+
+    @property
+    def defined(self) -> npt.NDArray[np.bool_]:
+        """(P, K) bool: a column of the motor holds a number (a command) at the pose."""
+        return self._at_source(self.raw_defined)  # type: ignore[return-value]
+
+    @property
+    def commanded(self) -> npt.NDArray[np.bool_]:
+        """(P, K) bool: a column of the motor sends its value at (or right after) the pose
+        (:func:`sent_cells`)."""
+        return self._at_source(self.raw_sent)  # type: ignore[return-value]
+
+    @property
+    def held(self) -> npt.NDArray[np.float64]:
+        """(P, K) float64: each motor's target at each pose, its last commanded value where no
+        column sends one, NaN before the motion first commands it."""
+        if self._held is None:
+            names = [self.result.joints[group[-1]] for group in self.groups]
+            held = hold_targets(self.raw, self.raw_sent, self.result.joints, names)
+            self._held = held.targets
+        return self._held
+
+    def segments(self) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.bool_]]:
+        """Which file column drives each motor over each keyframe segment: (P-1, K) the last
+        column with a number at both ends (Webots interpolates it, and it wins), and (P-1, K)
+        bool whether one does."""
+        import numpy as np
+
+        both = self.raw_defined[:-1] & self.raw_defined[1:]
+        driver = np.zeros((both.shape[0], len(self.groups)), dtype=np.intp)
+        driven = np.zeros(driver.shape, dtype=np.bool_)
+        for k, group in enumerate(self.groups):
+            for c in group:
+                driver[both[:, c], k] = c
+                driven[:, k] |= both[:, c]
+        return driver, driven
+
+    def segment_values(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """(start, end) values (P-1, K) of each motor's keyframe segments from the column that
+        drives it (:meth:`segments`), NaN where none does."""
+        import numpy as np
+
+        driver, driven = self.segments()
+        start = np.take_along_axis(self.raw[:-1], driver, axis=1)
+        end = np.take_along_axis(self.raw[1:], driver, axis=1)
+        return np.where(driven, start, np.nan), np.where(driven, end, np.nan)
+
+
+def _sources(
+    defined: npt.NDArray[np.bool_], sent: npt.NDArray[np.bool_], groups: list[list[int]]
+) -> npt.NDArray[np.intp]:
+    """(P, K) :attr:`Table.source`: per motor, the last column that sends at the pose, else
+    the last one that holds a number there, else the last one."""
+    import numpy as np
+
+    source = np.empty((defined.shape[0], len(groups)), dtype=np.intp)
+    for k, group in enumerate(groups):
+        source[:, k] = group[-1]
+        for mask in (defined, sent):  # later passes and later columns take precedence
+            for c in group:
+                source[mask[:, c], k] = c
+    return source
+
+
+def read_table(result: ReadResult, motor_index: dict[str, int]) -> Table:
+    """``result``'s poses against the robot whose motor indices ``motor_index`` gives."""
+    import numpy as np
+
+    n_poses, n_cols = len(result.times_ms), len(result.joints)
+    by_name: dict[str, list[int]] = {}
+    for j, name in enumerate(result.joints):
+        if name in motor_index:
+            by_name.setdefault(name, []).append(j)
+    groups = sorted(by_name.values(), key=lambda group: group[-1])
+    defined = result.commanded
+    sent = sent_cells(defined)
+    return Table(
+        result=result,
+        times=np.asarray(result.times_ms, dtype=np.int64),
+        raw=np.asarray(result.rows, dtype=np.float64).reshape(n_poses, n_cols),
+        raw_defined=defined,
+        raw_sent=sent,
+        motors=[motor_index[result.joints[group[-1]]] for group in groups],
+        groups=groups,
+        source=_sources(defined, sent, groups),
+    )
+
+
+def cell(
+    table: Table,
+    code: str,
+    severity: Severity,
+    pose: int,
+    col: int | None,
+    message: str,
+    hint: str | None = None,
+    *,
+    time_ms: int | None = None,
+) -> Diagnostic:
+    """A diagnostic on the cell of ``pose`` in file column ``col`` (its time token if None)."""
+    result = table.result
+    line, column, end = result.cell_span(pose, col)
+    return Diagnostic(
+        code=code,
+        severity=severity,
+        path=result.path,
+        line=line,
+        column=column,
+        message=message,
+        hint=hint,
+        joint=None if col is None else result.joints[col],
+        time_ms=int(table.times[pose]) if time_ms is None else time_ms,
+        end_column=end,
+    )
+
+
+def configurations(
+    table: Table, spec: RobotSpec
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Whole-robot configurations at every keyframe and segment midpoint, in that order.
+
+    Returns (Q (2P-1, M) float64 in ``spec.joints`` order, times (2P-1,) float64 ms): row 2p is
+    pose p, row 2p+1 halfway to pose p+1. Held targets where no column sends a command, 0 for a
+    joint not commanded yet or not in the file, everything clamped to the motor limits.
+    """
+    import numpy as np
+
+    n_poses = table.times.shape[0]
+    held = table.held
+    start, end = table.segment_values()
+    mid = (start + end) / 2.0
+    mid = np.where(np.isnan(mid), held[:-1], mid)
+    rows = np.empty((2 * n_poses - 1, len(table.motors)))
+    rows[0::2] = held
+    rows[1::2] = mid
+    q = np.zeros((rows.shape[0], len(spec.joints)))
+    q[:, table.motors] = np.nan_to_num(rows, nan=0.0)
+    lower = np.array([j.lower for j in spec.joints])
+    upper = np.array([j.upper for j in spec.joints])
+    q = np.clip(q, lower, upper)
+    times = np.empty(rows.shape[0])
+    times[0::2] = table.times
+    times[1::2] = (table.times[:-1] + table.times[1:]) / 2.0
+    return q, times
+
+
+class RobotCheck:
+    """Shared state of one robot's checks: the spec and its motor lookup."""
+
+    def __init__(self, spec: RobotSpec) -> None:
+        self.spec = spec
+        self.motor_index = {name: i for i, name in enumerate(spec.joint_names)}
+
+    def table(self, result: ReadResult) -> Table:
+        return read_table(result, self.motor_index)

@@ -1,0 +1,277 @@
+"""Which robot checks run, and against which robot: :func:`robot_checks` for one robot,
+:class:`RobotChecks` for a ``validate`` run that picks the robot per file."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Callable, Iterable
+
+from motiontool.kinematics.checks._table import header_diagnostic, name_robot
+from motiontool.kinematics.checks.balance import Balance
+from motiontool.kinematics.checks.joints import UnknownJoints
+from motiontool.kinematics.checks.limits import Limits
+from motiontool.kinematics.checks.self_collision import (
+    DEFAULT_PENETRATION_TOLERANCE_MM,
+    Collision,
+)
+from motiontool.kinematics.checks.velocity import Velocity
+from motiontool.kinematics.mirror_check import UnmirroredCopy
+from motiontool.kinematics.robots import (
+    AUTO,
+    NONE,
+    NoRobotDetectedError,
+    RobotSpec,
+    pick_robot,
+    robot_choices,
+)
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
+from motiontool.motionfmt.extras import install_hint
+from motiontool.motionfmt.reader import ReadResult
+
+__all__ = [
+    "CHECKS",
+    "DEFAULT_CHECKS",
+    "CheckUnavailableError",
+    "RobotChecks",
+    "parse_checks",
+    "robot_checks",
+]
+
+#: Every check name, in the order they run.
+CHECKS = ("limits", "velocity", "collision", "balance")
+#: What ``validate`` runs unless told otherwise (balance is opt-in).
+DEFAULT_CHECKS = ("limits", "velocity", "collision")
+
+_Check = Callable[[ReadResult], list[Diagnostic]]
+
+
+class CheckUnavailableError(MotionToolError):
+    """A check was asked for that the robot cannot have (``balance`` for a robot without feet).
+
+    Attributes:
+        check: the check's name (``balance``).
+        robot: the robot's name.
+    """
+
+    def __init__(self, check: str, robot: str, why: str) -> None:
+        self.check = check
+        self.robot = robot
+        super().__init__(why)
+
+
+def parse_checks(names: str | Iterable[str]) -> tuple[str, ...]:
+    """Check names from ``'limits,velocity'`` (or an iterable of such strings), in run order.
+
+    ``all`` selects every check. Raises :class:`MotionToolError` naming the valid choices.
+    """
+    items = [names] if isinstance(names, str) else list(names)
+    wanted: set[str] = set()
+    for raw in (raw.strip() for item in items for raw in item.split(",")):
+        wanted.update(_check_names(raw))
+    if not wanted:
+        raise MotionToolError(f"no check named; choose from {', '.join(CHECKS)} or all")
+    return tuple(c for c in CHECKS if c in wanted)
+
+
+def _check_names(raw: str) -> tuple[str, ...]:
+    """The checks one item of a check list names (none for an empty item)."""
+    name = raw.lower()
+    if not name:
+        return ()
+    if name == "all":
+        return CHECKS
+    if name in CHECKS:
+        return (name,)
+    close = difflib.get_close_matches(name, CHECKS, n=1)
+    hint = f"did you mean '{close[0]}'? " if close else ""
+    raise MotionToolError(f"unknown check '{raw}'; {hint}choose from {', '.join(CHECKS)} or all")
+
+
+def robot_checks(
+    spec: RobotSpec,
+    checks: Iterable[str] = DEFAULT_CHECKS,
+    *,
+    timestep_ms: int | None = None,
+    penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
+    robot_option: str | None = None,
+    ignore_option: str | None = None,
+    mirror_command: str | None = None,
+) -> list[_Check]:
+    """The checks of ``spec`` for :func:`motiontool.motionfmt.validate_paths`.
+
+    Args:
+        spec: the robot.
+        checks: names from :data:`CHECKS`; the unknown-joint check (MT301) and the
+            unmirrored-copy note (MT309) always run, and the real robot's rules (``nao-v5``)
+            run with ``limits``.
+        timestep_ms: controller time step (ms) of the sampled command stream checked by
+            ``velocity``; the robot's ``default_timestep_ms`` if None.
+        penetration_tolerance_mm: see :data:`DEFAULT_PENETRATION_TOLERANCE_MM` (mm, >= 0).
+        robot_option, ignore_option, mirror_command: how the user names a robot (the CLI:
+            ``--robot``), leaves a code out (``--ignore``) and mirrors a file
+            (``motiontool mirror {source} -o {target}``), for hints; None: plain words ("name
+            the robot explicitly").
+
+    Raises:
+        MotionToolError: an unknown check name or a negative tolerance.
+        CheckUnavailableError: ``balance`` for a robot without feet.
+    """
+    names = parse_checks(list(checks))
+    if not penetration_tolerance_mm >= 0:
+        raise MotionToolError(
+            f"the collision tolerance must be a depth >= 0 mm, got {penetration_tolerance_mm}"
+        )
+    if "balance" in names and not spec.feet:
+        raise CheckUnavailableError(
+            "balance",
+            spec.name,
+            f"robot {spec.name} has no feet: the balance check needs a humanoid model with "
+            "sole geometries (nao, nao-v5)",
+        )
+    mirrored = UnmirroredCopy(spec, ignore_option=ignore_option, mirror_command=mirror_command)
+    out: list[_Check] = [UnknownJoints(spec, robot_option), mirrored]  # MT309 is a note
+    if "limits" in names:
+        out.append(Limits(spec))
+    if "velocity" in names:
+        out.append(Velocity(spec, timestep_ms))
+    if "collision" in names:
+        out.append(Collision(spec, penetration_tolerance_mm))
+    if "balance" in names:
+        out.append(Balance(spec))
+    return out
+
+
+class RobotChecks:
+    """The robot checks of one ``validate`` run, as one :data:`Check`.
+
+    ``robot='auto'`` picks, per file, the built-in robot that has the most of the header's
+    joints, at least half of them (:func:`~motiontool.kinematics.robots.pick_robot`; the others
+    get MT301 with a did-you-mean, and the joints it has are checked); a file no built-in robot
+    fits is checked at syntax level only and gets an MT901 note whose hint says how to name a
+    robot (``robot_option``: what the caller's user gives, the CLI's ``--robot``; None: "name
+    the robot explicitly") and the robots to choose from. ``'none'`` checks nothing. Any other
+    ``robot`` is loaded once (:func:`~motiontool.kinematics.load_robot`) and checks every
+    file. Robots and their models are loaded once per process. ``ignore_option`` and
+    ``mirror_command``: see :func:`robot_checks`.
+
+    A check whose library is not installed (collision and balance need Pinocchio,
+    ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note on the
+    first file it would have checked; the others still run.
+
+    Attributes:
+        used: for every file checked, the robot it was checked against (None: skipped).
+        skipped: the checks skipped for a missing library, by name, with the error that says
+            which extra to install.
+    """
+
+    def __init__(
+        self,
+        robot: str = "auto",
+        checks: Iterable[str] = DEFAULT_CHECKS,
+        *,
+        timestep_ms: int | None = None,
+        penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
+        robot_option: str | None = None,
+        ignore_option: str | None = None,
+        mirror_command: str | None = None,
+    ) -> None:
+        self.robot = robot
+        self.robot_option = robot_option
+        self.checks = parse_checks(list(checks))
+        self.used: dict[str, RobotSpec | None] = {}
+        self.skipped: dict[str, MissingExtraError] = {}
+        self.timestep_ms = timestep_ms
+        self.penetration_tolerance_mm = penetration_tolerance_mm
+        self.ignore_option = ignore_option
+        self.mirror_command = mirror_command
+        self._by_robot: dict[str, list[_Check]] = {}
+        self._specs: dict[str, RobotSpec] = {}
+        spec = None if robot == AUTO else pick_robot(robot)  # UnknownRobotError: exit early
+        if spec is not None:
+            self._checks_for(spec, strict=True)
+
+    def _checks_for(self, spec: RobotSpec, *, strict: bool = False) -> list[_Check]:
+        if spec.name not in self._by_robot:
+            names = self.checks
+            if not strict and not spec.feet:
+                names = tuple(c for c in names if c != "balance")
+            self._specs[spec.name] = spec
+            self._by_robot[spec.name] = robot_checks(
+                spec,
+                names,
+                timestep_ms=self.timestep_ms,
+                penetration_tolerance_mm=self.penetration_tolerance_mm,
+                robot_option=self.robot_option,
+                ignore_option=self.ignore_option,
+                mirror_command=self.mirror_command,
+            )
+        return self._by_robot[spec.name]
+
+    def spec_for(self, result: ReadResult) -> RobotSpec | None:
+        """The robot ``result`` is checked against, or None (auto, no built-in robot fits)."""
+        if self.robot != AUTO:
+            return next(iter(self._specs.values()), None)
+        return pick_robot(AUTO, result.joints)
+
+    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        if self.robot == NONE:
+            return []
+        spec = self.spec_for(result)
+        self.used[result.path] = spec
+        if spec is None:
+            return [_skipped(result, self.robot_option)]
+        out = []
+        for check in self._checks_for(spec):
+            out.extend(self._run(check, result))
+        if "balance" in self.checks and not spec.feet:
+            message = f"balance check skipped: robot {spec.name} has no feet"
+            out.append(Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message))
+        return out
+
+    def _run(self, check: _Check, result: ReadResult) -> list[Diagnostic]:
+        """``check`` on ``result``; a check that needs a missing extra is skipped from then on,
+        with an MT902 note the first time."""
+        name = _CHECK_NAMES.get(type(check))
+        if name in self.skipped:
+            return []
+        try:
+            return check(result)
+        except MissingExtraError as exc:
+            if name is None:
+                raise
+            self.skipped[name] = exc
+            return [_skipped_for_extra(result, name, exc)]
+
+
+_CHECK_NAMES: dict[type, str] = {Collision: "collision", Balance: "balance"}
+"""The checks that need an extra (Pinocchio), by class: skipped with MT902 when it is missing."""
+
+
+def _skipped_for_extra(result: ReadResult, name: str, exc: MissingExtraError) -> Diagnostic:
+    """MT902, once a run: check ``name`` is skipped because its library is not installed."""
+    return Diagnostic(
+        code="MT902",
+        severity=Severity.INFO,
+        path=result.path,
+        line=1,
+        column=1,
+        message=f"{name} check skipped: {exc.library} is not installed; every file of this run "
+        f"is checked without it",
+        hint=install_hint(exc.extra),
+    )
+
+
+def _skipped(result: ReadResult, robot_option: str | None) -> Diagnostic:
+    """MT901 for a file :func:`~motiontool.kinematics.detect_robot` finds no robot for: no
+    built-in robot has half of its joints, or two robots with different motors have as many
+    (:class:`~motiontool.kinematics.robots.NoRobotDetectedError` says which); the hint says
+    how to name a robot and the robots to choose from."""
+    joints = result.joints
+    why = NoRobotDetectedError(joints)
+    message = f"robot checks skipped: {why.detail}; checked at syntax level only"
+    hint = f"{name_robot(robot_option)} ({robot_choices()})"
+    if not joints:
+        return Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message, hint)
+    where = why.missing[0] if why.missing else 0
+    return header_diagnostic(result, where, "MT901", Severity.INFO, message, hint)

@@ -1,0 +1,119 @@
+"""MT307: self-collision of the robot's bodies at every keyframe and segment midpoint."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from motiontool.kinematics.checks._table import (
+    RobotCheck,
+    Table,
+    cell,
+    configurations,
+    fmt_ms,
+    runs,
+)
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.extras import require
+from motiontool.motionfmt.reader import ReadResult
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["DEFAULT_PENETRATION_TOLERANCE_MM", "Collision"]
+
+DEFAULT_PENETRATION_TOLERANCE_MM = 15.0
+"""Self-collisions shallower than this (mm) are not reported.
+
+The Webots robots' collision shapes are bounding primitives, larger than the bodies they stand
+for: the Nao's forearm is a capsule, its foot force sensor a 147 x 89 mm box with sharp corners.
+In the motions that ship with Webots (``tests/data/corpus/webots``), played as Webots plays them
+(targets clamped to the motor limits), such shapes overlap by at most 10.0 mm: the two foot boxes
+in the turns (TurnLeft40, TurnRight40, TurnLeft180), the head capsule and an arm raised within
+its limits by 7.2 mm (HandWaveLeft, HandsUp) and 6.3 mm (HandHighLeft, HandWave). Those motions
+are how the robot is meant to move, so overlaps of that size are artefacts of the shapes. (Left
+unclamped, HandWaveLeft's LShoulderRoll of -0.5 rad, past the -0.314 rad limit, would put the
+elbow 25 mm into the head: that value is reported as a limit error instead.) Bodies that really
+meet go deeper: a hand saluting at the forehead 25 mm into the head, a right forearm folded
+across the belly 33 mm into the torso, its hand 49 mm. 15 mm is the artefact ceiling, 10.0 mm,
+plus half of it as a margin, well below the real contacts measured. It was chosen once, from
+those measurements; ``--collision-tolerance`` sets another (0 reports every overlap).
+"""
+
+
+class Collision(RobotCheck):
+    """MT307: self-collision at every keyframe and segment midpoint (one diagnostic per pair
+    of bodies and run of consecutive checked instants)."""
+
+    def __init__(
+        self, spec: RobotSpec, penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
+    ) -> None:
+        super().__init__(spec)
+        self.tolerance_mm = penetration_tolerance_mm
+
+    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        from motiontool.kinematics.collision import scan_self_collisions
+
+        require("pinocchio", "kinematics", "the collision check")
+        table = self.table(result)
+        if not table.motors:
+            return []
+        q, times = configurations(table, self.spec)
+        contacts = scan_self_collisions(
+            self.spec,
+            q,
+            penetration_tolerance_m=self.tolerance_mm / 1000.0,
+            fingers_in_hand=True,
+        )
+        by_pair: dict[tuple[str, str], dict[int, float]] = {}
+        for c in contacts:
+            by_pair.setdefault((c.body_a, c.body_b), {})[c.config] = c.depth_m
+        return [
+            self._overlap(table, times, pair, depths, run)
+            for pair, depths in sorted(by_pair.items())
+            for run in runs(sorted(depths), 1)
+        ]
+
+    def _overlap(
+        self,
+        table: Table,
+        times: npt.NDArray[np.float64],
+        pair: tuple[str, str],
+        depths: dict[int, float],
+        run: list[int],
+    ) -> Diagnostic:
+        """MT307 for the bodies ``pair`` overlapping over the checked instants ``run`` (indices
+        in ``times``, ms), by ``depths`` (m) at each."""
+        deepest = max(run, key=lambda i: depths[i])
+        depth_mm = depths[deepest] * 1000.0
+        at = self._instant(table, times, deepest)
+        span = (
+            ""
+            if len(run) == 1
+            else f"; they overlap from {fmt_ms(times[run[0]])} to {fmt_ms(times[run[-1]])}"
+        )
+        a, b = pair
+        return cell(
+            table,
+            "MT307",
+            Severity.WARNING,
+            (deepest + 1) // 2,
+            None,
+            f"{a} and {b} overlap by {depth_mm:.1f} mm at {at}{span}",
+            f"overlaps under {self.tolerance_mm:g} mm are ignored as artefacts of the "
+            "coarse collision shapes; a simulator with self-collision off lets the "
+            f"bodies pass through each other, the real {self.spec.name} does not",
+            time_ms=math.floor(times[deepest]),
+        )
+
+    @staticmethod
+    def _instant(table: Table, times: npt.NDArray[np.float64], index: int) -> str:
+        if index % 2 == 0:
+            return f"{fmt_ms(times[index])} (pose '{table.result.pose_names[index // 2]}')"
+        p = index // 2
+        return (
+            f"{fmt_ms(times[index])}, halfway from {int(table.times[p])} ms to "
+            f"{int(table.times[p + 1])} ms"
+        )

@@ -1,0 +1,219 @@
+"""MT303 keyframe segments faster than a motor's maximum velocity; MT304 the command stream at
+the controller time step (target jumps after a ``*`` stretch, one step per segment)."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from motiontool.kinematics.checks._table import (
+    EPS,
+    RobotCheck,
+    Table,
+    cell,
+    fmt_ms,
+    fmt_name,
+    fmt_num,
+)
+from motiontool.kinematics.robots import JointSpec, RobotSpec
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.player import hold_targets
+from motiontool.motionfmt.reader import ReadResult
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["Velocity"]
+
+#: A fast controller step of one motor: (speed (unit/s), its start and end playback times (ms),
+#: how many controller steps apart the two commands are).
+_Step = tuple[float, int, int, int]
+
+
+class Velocity(RobotCheck):
+    """MT303 keyframe segments faster than maxVelocity; MT304 the command stream at the
+    controller time step (target jumps after a ``*`` stretch, one step per segment).
+
+    A segment is the one that Webots interpolates: of two columns with one name, the later one
+    with a number at both ends; the stream is what the motor gets (the later column's command
+    where it sends one, else the earlier's)."""
+
+    def __init__(self, spec: RobotSpec, timestep_ms: int | None = None) -> None:
+        super().__init__(spec)
+        self.timestep_ms = timestep_ms or spec.default_timestep_ms
+
+    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        import numpy as np
+
+        table = self.table(result)
+        joints = [self.spec.joints[m] for m in table.motors]
+        limited = [k for k, j in enumerate(joints) if math.isfinite(j.max_velocity)]
+        if not limited or table.times.shape[0] < 2:
+            return []
+        vmax = np.array([joints[k].max_velocity for k in limited])
+        start, end = table.segment_values()
+        driver = table.segments()[0][:, limited]
+        dt_s = np.diff(table.times).astype(np.float64) / 1000.0
+        with np.errstate(invalid="ignore"):
+            delta = np.abs(end[:, limited] - start[:, limited])
+            speed = delta / dt_s[:, None]
+            # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
+            fast = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
+        out = [
+            self._segment(table, joints[limited[i]], int(seg), int(driver[seg, i]), delta[seg, i])
+            for seg, i in zip(*np.nonzero(fast), strict=True)
+        ]
+        out.extend(self._stream(table, joints, limited, fast))
+        return out
+
+    @staticmethod
+    def _segment(table: Table, joint: JointSpec, seg: int, col: int, delta: float) -> Diagnostic:
+        """MT303: ``joint`` moves ``delta`` over segment ``seg``, interpolating column ``col``."""
+        u = joint.unit
+        vmax = joint.max_velocity
+        t0, t1 = int(table.times[seg]), int(table.times[seg + 1])
+        speed = float(delta) / ((t1 - t0) / 1000.0)
+        need_ms = float(delta) / vmax * 1000.0
+        return cell(
+            table,
+            "MT303",
+            Severity.WARNING,
+            seg + 1,
+            col,
+            f"{fmt_name(joint.name)} moves {fmt_num(delta)} {u} in {t1 - t0} ms "
+            f"({t0} ms to {t1} ms): {fmt_num(speed)} {u}/s, above its maximum velocity "
+            f"{fmt_num(vmax)} {u}/s by {fmt_num(speed - vmax)} {u}/s; the motor needs "
+            f"{fmt_ms(round(need_ms, 1))} and falls {fmt_ms(round(need_ms - (t1 - t0), 1))} behind",
+            "Webots caps the motor's speed at maxVelocity, so the joint arrives late; "
+            f"give this move at least {math.ceil(need_ms)} ms",
+        )
+
+    def _stream(
+        self,
+        table: Table,
+        joints: Sequence[JointSpec],
+        limited: list[int],
+        fast: npt.NDArray[np.bool_],
+    ) -> list[Diagnostic]:
+        """The sampled command stream, one diagnostic per joint and segment."""
+        import numpy as np
+
+        from motiontool.motionfmt.player import sample
+
+        stream = sample(table.result.motion, self.timestep_ms)
+        names = [table.result.joints[group[-1]] for group in table.groups]
+        motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
+        # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
+        fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int64)
+        np.cumsum(fast, axis=0, out=fast_before[1:])
+        defined = table.defined
+        worst: dict[tuple[int, int], _Step] = {}
+        for i, k in enumerate(limited):
+            steps = np.flatnonzero(motors.sent[:, k])
+            if steps.shape[0] < 2:
+                continue
+            fast_steps = self._fast_steps(
+                table.times,
+                stream.elapsed_ms[steps],
+                motors.targets[steps, k],
+                (joints[k].max_velocity, defined[:, k], fast_before[:, i]),
+            )
+            for pose, found in fast_steps:
+                if (i, pose) not in worst or found[0] > worst[(i, pose)][0]:
+                    worst[(i, pose)] = found
+        return [
+            self._step_warning(table, joints[limited[i]], pose, table.col(pose, limited[i]), *w)
+            for (i, pose), w in sorted(worst.items())
+        ]
+
+    def _fast_steps(
+        self,
+        times: npt.NDArray[np.int64],
+        elapsed: npt.NDArray[np.int64],
+        targets: npt.NDArray[np.float64],
+        motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int64]],
+    ) -> list[tuple[int, _Step]]:
+        """The steps of one motor whose target moves faster than its maximum velocity, each
+        with the pose to report it on.
+
+        Args:
+            times: (P,) the pose times, ms.
+            elapsed: (S,) the playback times of the steps that send the motor a target, ms.
+            targets: (S,) the targets sent then.
+            motor: its maximum velocity (unit/s), (P,) which poses command it, and (P,) how
+                many of its segments before each pose are MT303 segments.
+        """
+        import numpy as np
+
+        step = self.timestep_ms
+        vmax, defined, fast_before = motor
+        with np.errstate(invalid="ignore"):  # 'inf' targets: left to MT302
+            per_step = np.abs(np.diff(targets)) / (step / 1000.0)
+            n = np.flatnonzero(np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS)))
+        if n.size == 0:
+            return []
+        at0, at1 = elapsed[n], elapsed[n + 1]
+        jump = at1 - at0 > step
+        # After a '*' stretch, the first number after the last command restarts the joint.
+        numbered = np.flatnonzero(defined)
+        after = np.searchsorted(times[numbered], at0, "right")
+        restart = numbered[np.minimum(after, numbered.shape[0] - 1)]
+        # Otherwise the steps of a segment MT303 already reports are left to it.
+        last_seg = times.shape[0] - 2
+        seg_start = np.clip(np.searchsorted(times, at0, "right") - 1, 0, last_seg)
+        seg_end = np.clip(np.searchsorted(times, at1, "left") - 1, 0, last_seg)
+        covered = fast_before[seg_end + 1] - fast_before[seg_start] > 0
+        poses = np.where(jump, restart, seg_end + 1)
+        return [
+            (
+                int(poses[m]),
+                (float(per_step[n[m]]), int(at0[m]), int(at1[m]), int(at1[m] - at0[m]) // step),
+            )
+            for m in np.flatnonzero(jump | ~covered)
+        ]
+
+    def _step_warning(
+        self,
+        table: Table,
+        joint: JointSpec,
+        pose: int,
+        col: int,
+        speed: float,
+        e0: int,
+        e1: int,
+        gap: int,
+    ) -> Diagnostic:
+        """MT304 on ``col``'s cell at ``pose``: a controller step from ``e0`` to ``e1`` ms,
+        ``gap`` steps apart, at ``speed``."""
+        step = self.timestep_ms
+        name = fmt_name(joint.name)
+        u = joint.unit
+        vmax = joint.max_velocity
+        delta = speed * step / 1000.0
+        lag = delta / vmax * 1000.0 - step
+        if gap > 1:
+            what = (
+                f"{name} gets no command from {e0 + step} ms to {e1 - step} ms ('*'), then "
+                f"its target jumps by {fmt_num(delta)} {u} at {e1} ms, within one {step} ms "
+                "controller step"
+            )
+            hint = "write values instead of '*' so that the joint moves there gradually"
+        else:
+            what = (
+                f"at the {step} ms controller step, {name}'s target moves {fmt_num(delta)} {u} "
+                f"from {e0} ms to {e1} ms"
+            )
+            hint = "spread the move over more time"
+        return cell(
+            table,
+            "MT304",
+            Severity.WARNING,
+            pose,
+            col,
+            f"{what}: {fmt_num(speed)} {u}/s, above its maximum velocity {fmt_num(vmax)} {u}/s "
+            f"by {fmt_num(speed - vmax)} {u}/s; the motor falls {fmt_ms(round(lag, 1))} behind",
+            hint,
+            time_ms=e1,
+        )
