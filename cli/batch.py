@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -16,10 +16,13 @@ from motiontool.cli.physics_options import (
     Profile,
     ProfileOption,
 )
-from motiontool.cli.play import Start
+from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
+
+if TYPE_CHECKING:
+    from motiontool.sim.batch import BatchResult, Perturbation, RunResult, RunSpec
 
 __all__ = ["batch_command"]
 
@@ -78,27 +81,11 @@ def batch_command(
         Path | None,
         typer.Option("--rrd-dir", help="Keep a Rerun recording of every run in this folder."),
     ] = None,
-    start: Annotated[
-        Start | None,
-        typer.Option(
-            "--start",
-            help="Start standing, lying face down or lying face up (default: each motion's"
-            " sidecar start, else standing).",
-            show_default=False,
-        ),
-    ] = None,
+    start: Annotated[Start | None, start_option("each motion's sidecar start")] = None,
     expect: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--expect",
-            help="What every run must do, e.g. 'dx>=0.3', 'yaw=60±10', upright (repeatable;"
-            " in addition to each motion's motions.toml sidecar).",
-            show_default=False,
-        ),
+        list[str] | None, expect_option("every run", "each motion's motions.toml sidecar")
     ] = None,
-    no_sidecar: Annotated[
-        bool, typer.Option("--no-sidecar", help="Ignore motions.toml sidecars.")
-    ] = False,
+    no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     no_cache: Annotated[bool, typer.Option("--no-cache", help="Run everything again.")] = False,
     cache_dir: Annotated[
         Path | None,
@@ -108,38 +95,60 @@ def batch_command(
     """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
-    from motiontool.cli.batch_reports import (
-        render_json,
-        render_markdown,
-        render_summary,
-        write_junit,
-    )
-    from motiontool.kinematics.robots import AUTO, load_robot
-    from motiontool.sim.batch import (
-        check_robots,
-        default_cache_dir,
-        parse_perturbation,
-        plan,
-        recording_stems,
-        run_batch,
-    )
+    from motiontool.kinematics.robots import AUTO
+    from motiontool.sim.batch import check_robots, default_cache_dir, parse_perturbation
+    from motiontool.sim.executor import EXECUTORS
     from motiontool.sim.expect import parse_expectations
-    from motiontool.sim.physics import physics_run_options, resolve_physics
-    from motiontool.sim.runs import run_spec
-    from motiontool.sim.sidecar import Sidecar, expectations_for
+    from motiontool.sim.physics import physics_run_options
 
-    if executor not in ("local", "ray"):
-        raise typer.BadParameter(f"{executor!r}: choose local or ray", param_hint="--executor")
+    if executor not in EXECUTORS:
+        raise typer.BadParameter(
+            f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
+        )
     if any(is_stdin(p) for p in paths):
         raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
     files = collect_motion_files(paths)
-    for option, out in [
-        ("--json", json_out),
-        ("--markdown", markdown),
-        ("--junit", junit),
-        ("--rrd-dir", rrd_dir),
-    ]:
+    outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
+    for option, out in outputs.items():
         refuse_overwrite(out, files, option)
+    _require_extras(junit=junit, rrd_dir=rrd_dir, executor=executor)
+    perturbations = [parse_perturbation(p) for p in perturb or []]
+    options = {
+        "timestep_ms": timestep,
+        **physics_run_options(profile.value, physics_step, friction),
+    }
+    robots = robot or [AUTO]
+    check_robots(robots)  # an unknown robot: exit 2 before anything runs
+    parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
+    specs = _plan(
+        files,
+        roots=[p for p in paths if p.is_dir()],
+        robots=robots,
+        perturbations=perturbations,
+        samples=samples,
+        seed=seed,
+        options=options,
+        start=start,
+        expect=expect or [],
+        sidecar=not no_sidecar,
+        rrd_dir=rrd_dir,
+    )
+    _check_physics(specs, timestep, profile, physics_step, friction)
+    batch = _run(
+        specs,
+        executor=executor,
+        jobs=jobs,
+        timeout=timeout,
+        cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
+        ray_address=ray_address,
+    )
+    _write_reports(batch, profile, json_out=json_out, markdown=markdown, junit=junit)
+    if batch.failures:
+        raise typer.Exit(1)
+
+
+def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) -> None:
+    """Stop (one line, exit 2) when an extra the options need is missing."""
     require("mujoco", "sim", "motiontool batch")
     if junit is not None:
         require("junitparser", "sim", "motiontool batch --junit")
@@ -147,39 +156,66 @@ def batch_command(
         require("rerun", "rerun", "motiontool batch --rrd-dir")
     if executor == "ray":
         require("ray", "ray", "motiontool batch --executor ray")
-    perturbations = [parse_perturbation(p) for p in perturb or []]
-    physics_options = physics_run_options(profile.value, physics_step, friction)
-    robots = robot or [AUTO]
-    check_robots(robots)  # an unknown robot: exit 2 before anything runs
+
+
+def _plan(
+    files: list[Path],
+    *,
+    roots: list[Path],
+    robots: list[str],
+    perturbations: list[Perturbation],
+    samples: int,
+    seed: int,
+    options: dict[str, object],
+    start: Start | None,
+    expect: list[str],
+    sidecar: bool,
+    rrd_dir: Path | None,
+) -> list[RunSpec]:
+    """Every run of the batch (:func:`motiontool.sim.batch.plan`), file by file: each with its
+    sidecar's expectations and start, and its recording's name."""
+    from motiontool.sim.batch import plan, recording_stems
+    from motiontool.sim.sidecar import Sidecar, expectations_for
+
     rrd_names = recording_stems(files)
-    parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
-    roots = [p for p in paths if p.is_dir()]
     sidecars: dict[Path, Sidecar] = {}
     specs = []
     for f in files:
         expected, sidecar_start = expectations_for(
-            f, expect or [], sidecar=not no_sidecar, roots=roots, cache=sidecars
+            f, expect, sidecar=sidecar, roots=roots, cache=sidecars
         )
         start_state = start.value if start is not None else sidecar_start
-        options: dict[str, object] = {"timestep_ms": timestep, **physics_options}
+        file_options = dict(options)
         if start_state not in (None, "standing"):
-            options["start"] = start_state
+            file_options["start"] = start_state
         if rrd_dir is not None:
             rrd_dir.mkdir(parents=True, exist_ok=True)
-            options["rrd_dir"] = str(rrd_dir)
-            options["rrd_name"] = rrd_names[str(f)]
+            file_options["rrd_dir"] = str(rrd_dir)
+            file_options["rrd_name"] = rrd_names[str(f)]
         specs += plan(
             [f],
             robots,
             perturbations=perturbations,
             samples=samples,
             seed=seed,
-            options=options,
+            options=file_options,
             expect=expected,
         )
+    return specs
+
+
+def _check_physics(
+    specs: list[RunSpec],
+    timestep: int | None,
+    profile: Profile,
+    physics_step: float | None,
+    friction: float | None,
+) -> None:
+    """A physics step that does not divide a robot's control step: exit 2 before anything runs."""
+    from motiontool.kinematics.robots import AUTO, load_robot
+    from motiontool.sim.physics import resolve_physics
 
     for name in dict.fromkeys(s.robot for s in specs if s.robot != AUTO):
-        # a physics step that does not divide a robot's control step: exit 2 before anything runs
         resolve_physics(
             timestep or load_robot(name).default_timestep_ms,
             profile=profile.value,
@@ -187,9 +223,24 @@ def batch_command(
             friction=friction,
         )
 
-    def model_hash(name: str) -> str:
-        return "" if name == AUTO else load_robot(name).model_hash
 
+def _model_hash(name: str) -> str:
+    from motiontool.kinematics.robots import AUTO, load_robot
+
+    return "" if name == AUTO else load_robot(name).model_hash
+
+
+def _run(
+    specs: list[RunSpec],
+    *,
+    executor: str,
+    jobs: int,
+    timeout: float | None,
+    cache_dir: Path | None,
+    ray_address: str | None,
+) -> BatchResult:
+    """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
+    (a terminal only)."""
     from rich.console import Console
     from rich.progress import (
         BarColumn,
@@ -198,6 +249,9 @@ def batch_command(
         TextColumn,
         TimeRemainingColumn,
     )
+
+    from motiontool.sim.batch import run_batch
+    from motiontool.sim.runs import run_outputs, run_spec
 
     # Colour: rich follows NO_COLOR / FORCE_COLOR itself; --no-color is the root option.
     console = Console(stderr=True, no_color=rich_no_color())
@@ -214,23 +268,42 @@ def batch_command(
     ) as bar:
         task = bar.add_task("batch", total=len(specs), rate=0.0, failures=0)
 
-        def progress(result: object, done: int, total: int) -> None:
+        def progress(result: RunResult, done: int, total: int) -> None:
             nonlocal failures
-            failures += not getattr(result, "ok", False)
+            failures += not result.ok
             elapsed = bar.tasks[0].elapsed or 1e-9
             bar.update(task, completed=done, rate=done / elapsed, failures=failures)
 
-        batch = run_batch(
+        return run_batch(
             specs,
             run_spec,
-            model_hash=model_hash,
+            model_hash=_model_hash,
             executor=executor,
             jobs=jobs,
             timeout_s=timeout,
-            cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
+            cache_dir=cache_dir,
             ray_address=ray_address,
+            outputs=run_outputs,
             progress=progress,
         )
+
+
+def _write_reports(
+    batch: BatchResult,
+    profile: Profile,
+    *,
+    json_out: Path | None,
+    markdown: Path | None,
+    junit: Path | None,
+) -> None:
+    """The summary on stdout, then the reports asked for."""
+    from motiontool.cli.batch_reports import (
+        render_json,
+        render_markdown,
+        render_summary,
+        write_junit,
+    )
+
     if profile is Profile.webots:
         from motiontool.sim.physics import WEBOTS_PROFILE_NOTE
 
@@ -242,5 +315,3 @@ def batch_command(
         emit(render_markdown(batch), markdown)
     if junit is not None:
         write_junit(batch, junit)
-    if batch.failures:
-        raise typer.Exit(1)

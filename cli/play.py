@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import enum
 import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -18,6 +17,7 @@ from motiontool.cli.physics_options import (
     Profile,
     ProfileOption,
 )
+from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
@@ -28,14 +28,6 @@ if TYPE_CHECKING:
     from motiontool.sim.report import ContactSummary, PlayReport
 
 __all__ = ["play_command"]
-
-
-class Start(enum.StrEnum):
-    """Start states of a run."""
-
-    standing = "standing"
-    lying_front = "lying-front"
-    lying_back = "lying-back"
 
 
 def _num(value: float | None, fmt: str, unit: str) -> str:
@@ -188,27 +180,12 @@ def play_command(
     robot: Annotated[
         str, robot_option("Robot to play on (auto: of the joints of all the files)")
     ] = AUTO,
-    start: Annotated[
-        Start | None,
-        typer.Option(
-            "--start",
-            help="Start standing, lying face down or lying face up (default: the sidecar's"
-            " start, else standing).",
-            show_default=False,
-        ),
-    ] = None,
+    start: Annotated[Start | None, start_option("the sidecar's start")] = None,
     expect: Annotated[
         list[str] | None,
-        typer.Option(
-            "--expect",
-            help="What the run must do, e.g. 'dx>=0.3', 'yaw=60±10', upright (repeatable; in"
-            " addition to the motions.toml sidecar's, for a single file).",
-            show_default=False,
-        ),
+        expect_option("the run", "the motions.toml sidecar's, for a single file"),
     ] = None,
-    no_sidecar: Annotated[
-        bool, typer.Option("--no-sidecar", help="Ignore motions.toml sidecars.")
-    ] = False,
+    no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     hold: Annotated[
         float,
         typer.Option("--hold", min=0.0, help="Seconds to keep simulating after the last motion."),
@@ -236,10 +213,9 @@ def play_command(
     require("mujoco", "sim", "motiontool play")
     if rrd is not None:
         require("rerun", "rerun", "motiontool play --rrd")
-    from motiontool.motionfmt import read_motion
     from motiontool.motionfmt.fileio import is_stdin
     from motiontool.sim.expect import evaluate, parse_expectations
-    from motiontool.sim.play import PlayOptions, play
+    from motiontool.sim.play import PlayOptions, play, read_playable
     from motiontool.sim.sidecar import expectations_for
 
     # A sidecar describes one motion: it applies when one file is played (not stdin).
@@ -249,7 +225,7 @@ def play_command(
     start_state = start.value if start is not None else (sidecar_start or "standing")
     doc_stamps: dict[str, Any] = dict(stamps())
     try:
-        motions = [read_motion(str(f)) for f in files]
+        motions = [read_playable(f) for f in files]  # read once: play() takes the motions
         spec = resolve_robot(robot, (j for m in motions for j in m.joints))
         doc_stamps = dict(stamps(spec.model_hash))
         options = PlayOptions(
@@ -263,7 +239,8 @@ def play_command(
             floor_friction=friction,
             profile=profile.value,
         )
-        report = play(files, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
+        names = [str(f) for f in files]
+        report = play(motions, names=names, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
         report.expectations = evaluate(expectations, report)
     except MotionToolError as exc:
         if json_path is not None:

@@ -20,6 +20,7 @@ from motiontool.sim.play import (
     PlayOptions,
     command_matrix,
     play,
+    read_playable,
 )
 from motiontool.sim.report import (
     SCHEMA,
@@ -64,5 +65,6 @@ __all__ = [
     "evaluate",
     "parse_expectation",
     "play",
+    "read_playable",
     "velocity_command",
 ]

@@ -23,6 +23,7 @@ have none): targets are clipped, the joints themselves are free.
 
 from __future__ import annotations
 
+import enum
 import math
 import re
 from collections.abc import Callable, Sequence
@@ -32,7 +33,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.sim.motor import MotorLimits
+from motiontool.sim.motor import MotorLimits, velocity_command
 from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
 
 if TYPE_CHECKING:
@@ -43,8 +44,11 @@ if TYPE_CHECKING:
 
 __all__ = [
     "BOX_HEIGHT_M",
+    "FALLBACK_MAX_TORQUE",
+    "FALLBACK_MAX_VELOCITY",
     "SPAWN_CLEARANCE_M",
     "TOOL_SITE_PATTERN",
+    "GeomClass",
     "Scene",
     "build_scene",
     "mujoco_version",
@@ -62,12 +66,46 @@ spawns its torso at 0.334 m, its FSR soles being 0.3339 m below the torso origin
 BOX_HEIGHT_M = 0.6
 """Edge of the wooden box a fixed-base robot stands on, m (Webots ``WoodenBox`` default size)."""
 
+MS_PER_S = 1000.0
+"""Milliseconds in a second."""
+
+STEP_RATIO_SLACK = 1e-9
+"""Rounding slack when dividing the control step by the physics step: a 20 ms step over 2 ms is
+10 substeps even where the float quotient comes out a hair above 10."""
+
+FALLBACK_MAX_VELOCITY = 10.0
+"""maxVelocity, rad/s (m/s), of a motor whose model gives none (or not a positive number)."""
+
+FALLBACK_MAX_TORQUE = 10.0
+"""maxTorque, N·m (N), of a motor whose model gives none (or not a positive number)."""
+
+DRIVER_PREFIX = "motiontool_driver_"
+"""Name of the driver body and hinge of motor ``k``: this prefix and ``k``."""
+
 DRIVER_ARMATURE = 1e6
 """Armature of each driver hinge, kg·m²: a motor torque of 15 N·m changes its speed by
 3e-8 rad/s per 2 ms step, and its speed is set again every control step."""
 
+DRIVER_MASS_KG = 1e-3
+"""Mass of each driver body, kg (its armature, not its mass, keeps its speed)."""
+
+DRIVER_INERTIA_KG_M2 = 1e-6
+"""Principal inertias of each driver body, kg·m²."""
+
 MOTOR_SOLIMP = (0.99, 0.99, 0.001, 0.5, 2.0)
 """solimp of the motor constraints: nearly hard, as ODE's joint motors."""
+
+MOTOR_TIMECONST_STEPS = 2.0
+"""Time constant of the motor constraints, in physics steps (MuJoCo's smallest stable value)."""
+
+FLOOR_GRID_M = 0.05
+"""Grid spacing of the (infinite) floor plane, m: drawing only."""
+
+FLOOR_SPIN_ROLL_FRICTION = (0.005, 0.0001)
+"""Torsional (m) and rolling (m) friction of the floor contacts: MuJoCo's defaults."""
+
+LIGHT_HEIGHT_M = 4.0
+"""Height of the light above the floor, m: drawing only."""
 
 FLOOR_BOUNCE = 0.3
 """Restitution of robot-floor contacts (Webots ``nao_demo.wbt`` / ``nao_robocup.wbt``
@@ -125,6 +163,19 @@ def mujoco_version() -> str:
     return str(mujoco.__version__)
 
 
+class GeomClass(enum.IntEnum):
+    """What a geom of the scene is, for the contact bookkeeping (:attr:`Scene.geom_class`)."""
+
+    FLOOR = 0
+    FOOT = 1  # a foot geometry of the robot (``RobotSpec.feet``)
+    ROBOT = 2  # any other robot geometry
+    SCENE = 3  # any other scene geometry (the UR5e's box)
+
+
+ROBOT_CLASSES = (GeomClass.FOOT, GeomClass.ROBOT)
+"""The classes of robot geometries."""
+
+
 @dataclass(eq=False)
 class Scene:
     """A compiled scene and the indices the stepping loop needs.
@@ -141,7 +192,7 @@ class Scene:
         robot_bodies: (B,) int, ids of the robot's bodies (root first).
         body_limbs: limb of each robot body (same order).
         joint_limbs: limb of each motor joint.
-        geom_class: (ngeom,) int: 0 floor, 1 foot, 2 other robot geom, 3 other scene geom.
+        geom_class: (ngeom,) int, the :class:`GeomClass` of each geom.
         foot_geoms: (F,) int, the foot geometries (``RobotSpec.feet``).
         probe: the self-collision probe (a copy of the model where only the candidate pairs of
             robot geometries collide), or None if the robot has fewer than two bodies.
@@ -221,19 +272,40 @@ def build_scene(
         start_yaw_deg: heading of the robot at start, degrees about +z.
         p_gain: P gain of the position controller, 1/s.
     """
-    mujoco = _mj()
-    import numpy as np
+    substeps = _substeps(control_step_ms, physics_step_ms)
+    dt = control_step_ms / MS_PER_S / substeps
+    spec = _load_spec(robot, dt)
+    roots, floating = _robot_roots(spec, robot)
+    _scale_masses(spec, mass_scale)
+    _add_floor(spec, floor_friction)
+    if not floating:
+        _add_box(spec, roots)
+    limits = _motor_limits(robot, torque_scale, p_gain)
+    _add_motors(spec, robot.joint_names, limits.max_torque, dt)
+    model = _compile_as_designed(spec, robot)
+    scene = _scene(model, robot, limits, substeps, roots, floating)
+    _set_start_state(scene, start, start_joints or {}, start_yaw_deg)
+    scene.probe = _self_collision_probe(spec, model, scene)
+    scene.tool = None if floating else _tool_frame(model, scene.root_body, scene.robot_bodies)
+    return scene
 
+
+def _substeps(control_step_ms: int, physics_step_ms: float) -> int:
+    """Physics steps per control step: the fewest whose step is at most ``physics_step_ms``."""
     if control_step_ms <= 0:
         raise MotionToolError(f"control step must be positive, got {control_step_ms} ms")
     if not physics_step_ms > 0:
         raise MotionToolError(f"physics step must be positive, got {physics_step_ms} ms")
-    substeps = max(1, math.ceil(control_step_ms / physics_step_ms - 1e-9))
-    dt = control_step_ms / 1000.0 / substeps
+    return max(1, math.ceil(control_step_ms / physics_step_ms - STEP_RATIO_SLACK))
 
+
+def _load_spec(robot: RobotSpec, dt: float) -> Any:
+    """The robot's model as an :class:`mujoco.MjSpec`, with the simulation options, no actuators
+    (the motors are modelled by :func:`_add_motors`) and a physics step of ``dt`` s."""
+    mujoco = _mj()
     try:
         spec = mujoco.MjSpec.from_file(str(robot.model_path))
-    except Exception as exc:  # MuJoCo raises ValueError with its own message
+    except ValueError as exc:  # MuJoCo's parse errors carry its own message
         raise MotionToolError(f"MuJoCo cannot read '{robot.model_path}': {exc}") from exc
     _resolve_package_meshes(spec, robot.model_path)
     spec.option.timestep = dt
@@ -242,86 +314,127 @@ def build_scene(
     spec.option.tolerance = SOLVER_TOLERANCE
     spec.compiler.balanceinertia = True
     spec.compiler.fusestatic = False  # MuJoCo's URDF import would fuse a fixed base away
-    for actuator in list(spec.actuators):  # the motors are modelled below
+    for actuator in list(spec.actuators):
         spec.delete(actuator)
+    return spec
 
-    motor_names = robot.joint_names
-    joint_specs = {j.name: j for j in spec.joints}
-    missing = [n for n in motor_names if n not in joint_specs]
+
+def _robot_roots(spec: Any, robot: RobotSpec) -> tuple[list[Any], bool]:
+    """The robot's top bodies, and whether it is free-flying (a URDF of a free-flying robot
+    gets its free joint here)."""
+    mujoco = _mj()
+    joint_specs = {j.name for j in spec.joints}
+    missing = [n for n in robot.joint_names if n not in joint_specs]
     if missing:
         raise MotionToolError(
             f"MuJoCo model of robot {robot.name} has no joint named {', '.join(missing)}"
         )
-    roots = [b for b in spec.worldbody.bodies]
+    roots = list(spec.worldbody.bodies)
     if not roots:
         raise MotionToolError(f"robot model '{robot.model_path}' has no body")
     floating = any(j.type == mujoco.mjtJoint.mjJNT_FREE for j in roots[0].joints)
     if robot.floating_base and not floating and len(roots) == 1:  # a URDF: no free joint
         roots[0].add_freejoint()
         floating = True
+    return roots, floating
 
+
+def _scale_masses(spec: Any, mass_scale: float) -> None:
+    """Every body's mass and inertia times ``mass_scale``."""
+    if mass_scale == 1.0:
+        return
     for body in spec.bodies:
-        if body.name != "world" and mass_scale != 1.0:
+        if body.name != "world":
             body.mass = body.mass * mass_scale
             body.fullinertia = [v * mass_scale for v in body.fullinertia]
             body.inertia = [v * mass_scale for v in body.inertia]
 
-    # The scene.
+
+def _add_floor(spec: Any, friction: float) -> None:
+    """The floor plane (its friction and contact softness win over the robot's geoms) and a
+    light."""
+    mujoco = _mj()
     floor = spec.worldbody.add_geom(
         name="floor",
         type=mujoco.mjtGeom.mjGEOM_PLANE,
-        size=[0.0, 0.0, 0.05],
+        size=[0.0, 0.0, FLOOR_GRID_M],
         rgba=[0.6, 0.6, 0.6, 1.0],
     )
-    floor.friction = [floor_friction, 0.005, 0.0001]
+    floor.friction = [friction, *FLOOR_SPIN_ROLL_FRICTION]
     floor.priority = 1  # its friction and solref win over the robot geoms' defaults
     floor.solref = [FLOOR_TIMECONST_S, _damping_ratio(FLOOR_BOUNCE)]
     floor.contype = 1
     floor.conaffinity = 1
-    spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, 4.0], dir=[0.0, 0.0, -1.0])
-    if not floating:
-        half = BOX_HEIGHT_M / 2
-        box = spec.worldbody.add_geom(
-            name="wooden_box",
-            type=mujoco.mjtGeom.mjGEOM_BOX,
-            size=[half, half, half],
-            pos=[0.0, 0.0, half],
-            rgba=[0.63, 0.45, 0.25, 1.0],
-        )
-        box.contype = 1
-        box.conaffinity = 1
-        for body in roots:
-            body.pos = [body.pos[0], body.pos[1], body.pos[2] + BOX_HEIGHT_M]
+    spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, LIGHT_HEIGHT_M], dir=[0.0, 0.0, -1.0])
 
-    # Motors: limits, free joints (no hard stops), drivers coupled through tendons.
-    lower = np.array([robot.joint(n).lower for n in motor_names], dtype=np.float64)
-    upper = np.array([robot.joint(n).upper for n in motor_names], dtype=np.float64)
-    vmax = np.array([_finite(robot.joint(n).max_velocity, 10.0) for n in motor_names])
-    tmax = np.array([_finite(robot.joint(n).max_torque, 10.0) for n in motor_names]) * torque_scale
-    for name in motor_names:
+
+def _add_box(spec: Any, roots: Sequence[Any]) -> None:
+    """The wooden box a fixed-base robot stands on; the robot moved onto its top face."""
+    mujoco = _mj()
+    half = BOX_HEIGHT_M / 2
+    box = spec.worldbody.add_geom(
+        name="wooden_box",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[half, half, half],
+        pos=[0.0, 0.0, half],
+        rgba=[0.63, 0.45, 0.25, 1.0],
+    )
+    box.contype = 1
+    box.conaffinity = 1
+    for body in roots:
+        body.pos = [body.pos[0], body.pos[1], body.pos[2] + BOX_HEIGHT_M]
+
+
+def _motor_limits(robot: RobotSpec, torque_scale: float, p_gain: float) -> MotorLimits:
+    """The motors' limits; a maxVelocity or maxTorque that is not a positive number is
+    :data:`FALLBACK_MAX_VELOCITY` / :data:`FALLBACK_MAX_TORQUE`."""
+    import numpy as np
+
+    joints = [robot.joint(n) for n in robot.joint_names]
+    return MotorLimits(
+        np.array([j.lower for j in joints], dtype=np.float64),
+        np.array([j.upper for j in joints], dtype=np.float64),
+        np.array([_positive(j.max_velocity, FALLBACK_MAX_VELOCITY) for j in joints]),
+        np.array([_positive(j.max_torque, FALLBACK_MAX_TORQUE) for j in joints]) * torque_scale,
+        p_gain,
+    )
+
+
+def _add_motors(
+    spec: Any, motors: Sequence[str], max_torque: npt.NDArray[np.float64], dt: float
+) -> None:
+    """Free the motor joints (no hard stops) and couple each to its driver hinge through a
+    tendon whose friction loss is the motor's maxTorque (see the module docstring)."""
+    mujoco = _mj()
+    joint_specs = {j.name: j for j in spec.joints}
+    for name in motors:
         joint = joint_specs[name]
         joint.limited = mujoco.mjtLimited.mjLIMITED_FALSE
         joint.actfrclimited = mujoco.mjtLimited.mjLIMITED_FALSE
-    for k, name in enumerate(motor_names):
-        driver = spec.worldbody.add_body(name=f"motiontool_driver_{k}", mass=1e-3)
-        driver.inertia = [1e-6, 1e-6, 1e-6]
+    for k, name in enumerate(motors):
+        driver = spec.worldbody.add_body(name=f"{DRIVER_PREFIX}{k}", mass=DRIVER_MASS_KG)
+        driver.inertia = [DRIVER_INERTIA_KG_M2] * 3
         driver.explicitinertial = True
         driver.add_joint(
-            name=f"motiontool_driver_{k}",
+            name=f"{DRIVER_PREFIX}{k}",
             type=mujoco.mjtJoint.mjJNT_HINGE,
             axis=[0.0, 0.0, 1.0],
             armature=DRIVER_ARMATURE,
         )
         tendon = spec.add_tendon(name=f"motiontool_motor_{k}")
         tendon.wrap_joint(name, 1.0)
-        tendon.wrap_joint(f"motiontool_driver_{k}", -1.0)
-        tendon.frictionloss = float(tmax[k])
-        tendon.solref_friction = [2.0 * dt, 1.0]
+        tendon.wrap_joint(f"{DRIVER_PREFIX}{k}", -1.0)
+        tendon.frictionloss = float(max_torque[k])
+        tendon.solref_friction = [MOTOR_TIMECONST_STEPS * dt, 1.0]
         tendon.solimp_friction = list(MOTOR_SOLIMP)
 
+
+def _compile_as_designed(spec: Any, robot: RobotSpec) -> Any:
+    """The compiled model, where robot bodies whose geometries already touch in the zero pose
+    (a URDF's links, which MuJoCo collides by default) are part of the design: they never
+    collide (``spec`` gets the exclusions)."""
+    mujoco = _mj()
     model = _compile(spec, robot)
-    # Robot bodies whose geometries already touch in the zero pose (a URDF's links, which
-    # MuJoCo collides by default) are part of the design: they never collide.
     data = mujoco.MjData(model)
     mujoco.mj_kinematics(model, data)
     mujoco.mj_collision(model, data)
@@ -330,85 +443,108 @@ def build_scene(
         for a, b in data.contact.geom.tolist()
     }
     designed = {p for p in designed if 0 not in p and p[0] != p[1]}
-    if designed:
-        for a, b in sorted(designed):
-            spec.add_exclude(bodyname1=model.body(a).name, bodyname2=model.body(b).name)
-        model = _compile(spec, robot)
-        data = mujoco.MjData(model)
+    if not designed:
+        return model
+    for a, b in sorted(designed):
+        spec.add_exclude(bodyname1=model.body(a).name, bodyname2=model.body(b).name)
+    return _compile(spec, robot)
 
-    qpos_adr = np.array([model.jnt_qposadr[model.joint(n).id] for n in motor_names], dtype=np.intp)
-    driver_dof = np.array(
-        [
-            model.jnt_dofadr[model.joint(f"motiontool_driver_{k}").id]
-            for k in range(len(motor_names))
-        ],
-        dtype=np.intp,
-    )
+
+def _scene(
+    model: Any,
+    robot: RobotSpec,
+    limits: MotorLimits,
+    substeps: int,
+    roots: Sequence[Any],
+    floating: bool,
+) -> Scene:
+    """The scene of ``model`` (fresh data, at the zero pose) and its indices."""
+    mujoco = _mj()
+    import numpy as np
+
+    motors = robot.joint_names
+    root_ids = {int(model.body(r.name).id) for r in roots}
     root_body = int(model.body(roots[0].name).id)
-    robot_bodies = np.array(
-        [
-            b
-            for b in range(1, model.nbody)
-            if _in_subtree(model, b, {int(model.body(r.name).id) for r in roots})
-        ],
-        dtype=np.intp,
-    )
-
-    # Start state.
-    if start_joints:
-        for name, value in start_joints.items():
-            if name in motor_names:
-                data.qpos[qpos_adr[motor_names.index(name)]] = value
-    if floating:
-        free_adr = int(model.jnt_qposadr[model.body_jntadr[root_body]])
-        quat = _quat_about_z(math.radians(start_yaw_deg))
-        if start == "lying-front":  # face down: the torso's x axis points to the floor
-            quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
-        elif start == "lying-back":  # face up: the torso's x axis points to the sky
-            quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, -math.sin(math.pi / 4), 0.0))
-        data.qpos[free_adr + 3 : free_adr + 7] = quat
-        mujoco.mj_kinematics(model, data)
-        robot_geoms = [
-            g for g in range(model.ngeom) if model.geom_bodyid[g] in set(robot_bodies.tolist())
-        ]
-        lowest = _lowest_point(model, data, robot_geoms)
-        data.qpos[free_adr + 2] += SPAWN_CLEARANCE_M - lowest
-    elif start != "standing":
-        raise MotionToolError(f"start {start} needs a free-flying robot; {robot.name} is fixed")
-    elif start_yaw_deg:
-        raise MotionToolError("a start yaw needs a free-flying robot")
-    mujoco.mj_forward(model, data)
-
-    limbs = _limbs(model, motor_names, root_body, robot_bodies)
-    geom_class = np.full(model.ngeom, 3, dtype=np.intp)
-    robot_set = set(robot_bodies.tolist())
-    for g in range(model.ngeom):
-        if model.geom_bodyid[g] in robot_set:
-            geom_class[g] = 2
-    geom_class[model.geom("floor").id] = 0
-    foot_geoms = np.array([model.geom(f).id for f in robot.feet], dtype=np.intp)
-    geom_class[foot_geoms] = 1
-
-    scene = Scene(
+    bodies = [b for b in range(1, model.nbody) if _in_subtree(model, b, root_ids)]
+    robot_bodies = np.array(bodies, dtype=np.intp)
+    joint_limbs, body_limbs = _limbs(model, motors, root_body, robot_bodies)
+    feet = np.array([model.geom(f).id for f in robot.feet], dtype=np.intp)
+    return Scene(
         model=model,
-        data=data,
+        data=mujoco.MjData(model),
         robot=robot,
-        joints=motor_names,
-        limits=MotorLimits(lower, upper, vmax, tmax, p_gain),
-        qpos_adr=qpos_adr,
-        driver_dof=driver_dof,
+        joints=motors,
+        limits=limits,
+        qpos_adr=np.array([model.jnt_qposadr[model.joint(n).id] for n in motors], dtype=np.intp),
+        driver_dof=np.array(
+            [model.jnt_dofadr[model.joint(f"{DRIVER_PREFIX}{k}").id] for k in range(len(motors))],
+            dtype=np.intp,
+        ),
         control_substeps=substeps,
         root_body=root_body,
         floating=floating,
         robot_bodies=robot_bodies,
-        body_limbs=limbs[1],
-        joint_limbs=limbs[0],
-        geom_class=geom_class,
-        foot_geoms=foot_geoms,
+        body_limbs=body_limbs,
+        joint_limbs=joint_limbs,
+        geom_class=_geom_classes(model, set(bodies), feet),
+        foot_geoms=feet,
     )
-    scene.probe = _self_collision_probe(spec, model, scene)
-    scene.tool = None if floating else _tool_frame(model, root_body, robot_bodies)
-    return scene
+
+
+def _geom_classes(
+    model: Any, robot_bodies: set[int], feet: npt.NDArray[np.intp]
+) -> npt.NDArray[np.intp]:
+    """The :class:`GeomClass` of every geom of ``model``."""
+    import numpy as np
+
+    classes = np.full(model.ngeom, GeomClass.SCENE, dtype=np.intp)
+    for g in range(model.ngeom):
+        if model.geom_bodyid[g] in robot_bodies:
+            classes[g] = GeomClass.ROBOT
+    classes[model.geom("floor").id] = GeomClass.FLOOR
+    classes[feet] = GeomClass.FOOT
+    return classes
+
+
+def _set_start_state(
+    scene: Scene, start: Start, start_joints: dict[str, float], start_yaw_deg: float
+) -> None:
+    """Put ``scene.data`` at the start state: the motors at ``start_joints``; a free-flying
+    robot turned by the yaw, laid down if asked, its lowest point :data:`SPAWN_CLEARANCE_M`
+    above the floor."""
+    mujoco = _mj()
+    model, data = scene.model, scene.data
+    for name, value in start_joints.items():
+        if name in scene.joints:
+            data.qpos[scene.qpos_adr[scene.joints.index(name)]] = value
+    if scene.floating:
+        _place_free_robot(scene, start, start_yaw_deg)
+    elif start != "standing":
+        raise MotionToolError(
+            f"start {start} needs a free-flying robot; {scene.robot.name} is fixed"
+        )
+    elif start_yaw_deg:
+        raise MotionToolError("a start yaw needs a free-flying robot")
+    mujoco.mj_forward(model, data)
+
+
+def _place_free_robot(scene: Scene, start: Start, start_yaw_deg: float) -> None:
+    """Orient the free joint (yaw, then lying face down or up) and lower the robot onto the
+    floor."""
+    mujoco = _mj()
+    model, data = scene.model, scene.data
+    free_adr = int(model.jnt_qposadr[model.body_jntadr[scene.root_body]])
+    quat = _quat_about_z(math.radians(start_yaw_deg))
+    if start == "lying-front":  # face down: the torso's x axis points to the floor
+        quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
+    elif start == "lying-back":  # face up: the torso's x axis points to the sky
+        quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, -math.sin(math.pi / 4), 0.0))
+    data.qpos[free_adr + 3 : free_adr + 7] = quat
+    mujoco.mj_kinematics(model, data)
+    in_robot = set(scene.robot_bodies.tolist())
+    robot_geoms = [g for g in range(model.ngeom) if model.geom_bodyid[g] in in_robot]
+    lowest = _lowest_point(model, data, robot_geoms)
+    data.qpos[free_adr + 2] += SPAWN_CLEARANCE_M - lowest
 
 
 def _tool_frame(model: Any, root: int, bodies: npt.NDArray[np.intp]) -> tuple[str, str, int] | None:
@@ -442,7 +578,7 @@ def _tool_frame(model: Any, root: int, bodies: npt.NDArray[np.intp]) -> tuple[st
 def _compile(spec: Any, robot: RobotSpec) -> Any:
     try:
         return spec.compile()
-    except Exception as exc:  # MuJoCo's ValueError carries its message
+    except ValueError as exc:  # MuJoCo's compile errors carry its own message
         raise MotionToolError(f"MuJoCo cannot compile the scene of {robot.name}: {exc}") from exc
 
 
@@ -467,8 +603,9 @@ def _damping_ratio(restitution: float) -> float:
     return -log_e / math.sqrt(math.pi**2 + log_e**2)
 
 
-def _finite(value: float, default: float) -> float:
-    return value if math.isfinite(value) and value > 0 else default
+def _positive(value: float, fallback: float) -> float:
+    """``value`` if it is a positive number, else ``fallback``."""
+    return value if math.isfinite(value) and value > 0 else fallback
 
 
 def _quat_about_z(angle: float) -> tuple[float, float, float, float]:
@@ -565,10 +702,35 @@ def _self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any
     """
     mujoco = _mj()
 
-    robot_geoms = [g for g in range(model.ngeom) if scene.geom_class[g] in (1, 2)]
+    robot_geoms = [g for g in range(model.ngeom) if scene.geom_class[g] in ROBOT_CLASSES]
     if len({int(model.geom_bodyid[g]) for g in robot_geoms}) < 2:
         return None
-    with_geometry = {int(model.geom_bodyid[g]) for g in robot_geoms}
+    probe_spec = spec.copy()
+    for geom in probe_spec.geoms:
+        geom.contype = 0
+        geom.conaffinity = 0
+    names = {g: _geom_key(model, g) for g in robot_geoms}
+    # Unnamed geoms get a name so that a pair can refer to them.
+    spec_geoms = list(probe_spec.geoms)
+    for g in robot_geoms:
+        if not spec_geoms[g].name:
+            spec_geoms[g].name = names[g]
+    adjacent = _adjacency(model, {int(model.geom_bodyid[g]) for g in robot_geoms})
+    pairs = []
+    for i, ga in enumerate(robot_geoms):
+        for gb in robot_geoms[i + 1 :]:
+            ba, bb = int(model.geom_bodyid[ga]), int(model.geom_bodyid[gb])
+            if ba != bb and not adjacent(ba, bb):
+                pairs.append(probe_spec.add_pair(geomname1=names[ga], geomname2=names[gb]))
+    if not pairs or not _drop_touching_pairs(probe_spec, pairs):
+        return None
+    probe = probe_spec.compile()
+    return probe, mujoco.MjData(probe)
+
+
+def _adjacency(model: Any, with_geometry: set[int]) -> Callable[[int, int], bool]:
+    """Whether two bodies are adjacent: one is the other's parent, bodies without geometry
+    (``with_geometry`` has the others) skipped."""
 
     def adjacent(a: int, b: int) -> bool:
         for child, parent in ((a, b), (b, a)):
@@ -581,25 +743,13 @@ def _self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any
                     break
         return False
 
-    probe_spec = spec.copy()
-    for geom in probe_spec.geoms:
-        geom.contype = 0
-        geom.conaffinity = 0
-    names = {g: _geom_key(model, g) for g in robot_geoms}
-    # Unnamed geoms get a name so that a pair can refer to them.
-    spec_geoms = list(probe_spec.geoms)
-    for g in robot_geoms:
-        if not spec_geoms[g].name:
-            spec_geoms[g].name = names[g]
-    pairs = []
-    for i, ga in enumerate(robot_geoms):
-        for gb in robot_geoms[i + 1 :]:
-            ba, bb = int(model.geom_bodyid[ga]), int(model.geom_bodyid[gb])
-            if ba != bb and not adjacent(ba, bb):
-                pairs.append(probe_spec.add_pair(geomname1=names[ga], geomname2=names[gb]))
-    if not pairs:
-        return None
-    # Pairs already touching at the zero pose are part of the design.
+    return adjacent
+
+
+def _drop_touching_pairs(probe_spec: Any, pairs: list[Any]) -> int:
+    """Delete the ``pairs`` of ``probe_spec`` that already touch at the zero pose (part of the
+    design); the number kept."""
+    mujoco = _mj()
     probe = probe_spec.compile()
     probe_data = mujoco.MjData(probe)
     mujoco.mj_kinematics(probe, probe_data)
@@ -616,10 +766,7 @@ def _self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any
             probe_spec.delete(pair)
         else:
             kept += 1
-    if not kept:
-        return None
-    probe = probe_spec.compile()
-    return probe, mujoco.MjData(probe)
+    return kept
 
 
 def _geom_key(model: Any, g: int) -> str:
@@ -646,20 +793,48 @@ def run(
         commanded: (S, J) bool, whether the motion sent the target at that step.
         record_bodies: also keep every robot body's pose at every frame (for a recording).
 
-    A failure inside the loop stops the run: the trace keeps what was simulated and says why.
+    An error MuJoCo raises (:class:`mujoco.FatalError`) stops the run: the trace keeps what was
+    simulated and says why. Any other exception is a bug, and propagates.
     """
     mujoco = _mj()
     import numpy as np
 
     model, data = scene.model, scene.data
+    trace = _new_trace(scene, targets, commanded, record_bodies)
+    observe = _observer(scene, trace, record_bodies)
+    limits, driver_dof, substeps = scene.limits, scene.driver_dof, scene.control_substeps
+    position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+    try:
+        observe(0)
+        for k in range(len(targets)):
+            command = velocity_command(limits, targets[k], position[k])  # Webots' motor law
+            velocity_cmd[k] = command
+            data.qvel[driver_dof] = command
+            mujoco.mj_step(model, data, substeps)
+            torque[k] = data.qfrc_constraint[driver_dof]
+            np.negative(torque[k], out=torque[k])
+            observe(k + 1)
+            trace.steps_done = k + 1
+    except mujoco.FatalError as exc:  # MuJoCo's own error: the report says why the run stopped
+        trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
+    trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
+    return trace if trace.steps_done == len(targets) else trace.truncated()
+
+
+def _new_trace(
+    scene: Scene,
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    record_bodies: bool,
+) -> Trace:
+    """An empty trace for ``targets`` (S, J): S + 1 frames, zero-filled."""
+    import numpy as np
+
     steps, n_joints = targets.shape
-    limits = scene.limits
-    clipped = np.clip(targets, limits.lower, limits.upper)
-    feet = scene.foot_geoms
-    bodies = scene.robot_bodies
     n_frames = steps + 1
     body_frames = n_frames if record_bodies else 0
-    trace = Trace(
+    feet, bodies = scene.foot_geoms, scene.robot_bodies
+    return Trace(
         joints=scene.joints,
         control_step_s=scene.control_step_s,
         physics_step_s=scene.physics_step_s,
@@ -681,15 +856,17 @@ def run(
         tool_pos=np.zeros((n_frames, 3)) if scene.tool else None,
         tool_quat=np.zeros((n_frames, 4)) if scene.tool else None,
     )
-    qpos_adr, driver_dof = scene.qpos_adr, scene.driver_dof
-    p_gain, vmax = limits.p_gain, limits.max_velocity
-    substeps = scene.control_substeps
-    root = scene.root_body
-    position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+
+
+def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int], None]:
+    """A function that measures the state of ``scene.data`` into frame ``frame`` of ``trace``:
+    positions, poses, contacts, self-collisions."""
+    data, feet, bodies = scene.data, scene.foot_geoms, scene.robot_bodies
+    qpos_adr, root = scene.qpos_adr, scene.root_body
     read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
 
     def observe(frame: int) -> None:
-        position[frame] = data.qpos[qpos_adr]
+        trace.position[frame] = data.qpos[qpos_adr]
         if read_tool is not None:
             read_tool(frame)
         trace.base_pos[frame] = data.xpos[root]
@@ -704,21 +881,7 @@ def run(
         if scene.probe is not None:
             _self_collisions(scene, data, frame, trace)
 
-    try:
-        observe(0)
-        for k in range(steps):
-            command = np.clip(p_gain * (clipped[k] - position[k]), -vmax, vmax)
-            velocity_cmd[k] = command
-            data.qvel[driver_dof] = command
-            mujoco.mj_step(model, data, substeps)
-            torque[k] = data.qfrc_constraint[driver_dof]
-            np.negative(torque[k], out=torque[k])
-            observe(k + 1)
-            trace.steps_done = k + 1
-    except Exception as exc:  # keep what was simulated; the report says why it stopped
-        trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
-    trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
-    return trace if trace.steps_done == steps else trace.truncated()
+    return observe
 
 
 def _tool_reader(
@@ -785,34 +948,34 @@ def tool_poses(
 
 def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
     """Foot-floor contacts into ``foot_contact``; every other robot contact into events."""
-    geoms = data.contact.geom
-    dist = data.contact.dist
     cls = scene.geom_class
-    feet = scene.foot_geoms
-    model = scene.model
     seen: dict[tuple[str, str, str], float] = {}
-    for (g1, g2), d in zip(geoms.tolist(), dist.tolist(), strict=True):
-        c1, c2 = cls[g1], cls[g2]
-        if c1 not in (1, 2):
-            g1, g2, c1, c2 = g2, g1, c2, c1
-        if c1 not in (1, 2):
+    for (g1, g2), d in zip(data.contact.geom.tolist(), data.contact.dist.tolist(), strict=True):
+        if cls[g1] not in ROBOT_CLASSES:
+            g1, g2 = g2, g1
+        if cls[g1] not in ROBOT_CLASSES:
             continue  # scene-scene
-        if c2 == 0 and c1 == 1:
-            trace.foot_contact[frame, int((feet == g1).argmax())] = True
+        if cls[g1] == GeomClass.FOOT and cls[g2] == GeomClass.FLOOR:
+            trace.foot_contact[frame, int((scene.foot_geoms == g1).argmax())] = True
             continue
-        body = scene.body_name(int(model.geom_bodyid[g1]))
-        if c2 in (1, 2):  # the model collides the robot with itself (Webots' UR5e)
-            other = scene.body_name(int(model.geom_bodyid[g2]))
-            kind, body, other = "touch", min(body, other), max(body, other)
-        elif c2 == 0:
-            kind = "scene" if not scene.floating else "ground"
-            other = "floor"
-        else:
-            kind, other = "scene", scene.geom_name(g2)
-        key = (kind, body, other)
+        key = _contact_event_key(scene, g1, g2)
         seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
     for (kind, body, other), depth in seen.items():
         trace.events.append(ContactEvent(frame, kind, body, other, depth))  # type: ignore[arg-type]
+
+
+def _contact_event_key(scene: Scene, robot_geom: int, other_geom: int) -> tuple[str, str, str]:
+    """(kind, robot body, other) of a contact between a robot geom and another geom that is not
+    a foot on the floor (see :class:`~motiontool.sim.trace.ContactEvent`)."""
+    model = scene.model
+    body = scene.body_name(int(model.geom_bodyid[robot_geom]))
+    other_class = scene.geom_class[other_geom]
+    if other_class in ROBOT_CLASSES:  # the model collides the robot with itself (Webots' UR5e)
+        other = scene.body_name(int(model.geom_bodyid[other_geom]))
+        return "touch", min(body, other), max(body, other)
+    if other_class == GeomClass.FLOOR:
+        return ("scene" if not scene.floating else "ground"), body, "floor"
+    return "scene", body, scene.geom_name(other_geom)
 
 
 def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:

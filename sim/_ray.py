@@ -13,17 +13,11 @@ from typing import Any
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
+from motiontool.sim.executor import Outcome, call_runner
 
 __all__ = ["run_ray"]
 
-
-def _call(runner: Callable[[Any], Any], task: Any) -> tuple[str, Any, str]:
-    from motiontool.sim.pool import error_reason
-
-    try:
-        return "done", runner(task), ""
-    except Exception as exc:  # sent back as a result, like the local pool does
-        return "error", None, error_reason(exc)
+_LOST = "the Ray task failed: its worker died or its result was lost"
 
 
 def run_ray(
@@ -33,13 +27,14 @@ def run_ray(
     jobs: int = 2,
     timeout_s: float | None = None,
     address: str | None = None,
-) -> Iterator[tuple[int, str, Any, str, float]]:
-    """Yield ``(index, status, value, reason, wall_s)`` for every task, as they end.
+) -> Iterator[Outcome]:
+    """Run ``runner(task)`` for every task as Ray tasks, at most ``jobs`` in flight; yield
+    outcomes as they end (an :class:`~motiontool.sim.executor.Executor`).
 
     Connects to ``address`` (``auto`` finds a running cluster) or, when None, starts a local
     Ray instance for the duration of the call.
     """
-    ray = require("ray", "ray", "the Ray executor (batch --executor ray)")
+    ray = require("ray", "ray", "the Ray executor")
     started_here = not ray.is_initialized()
     if started_here:
         try:
@@ -49,7 +44,7 @@ def run_ray(
                 ray.init(address=address, include_dashboard=False, log_to_driver=False)
         except (ConnectionError, RuntimeError, ValueError) as exc:
             raise MotionToolError(f"cannot reach the Ray cluster at {address!r}: {exc}") from exc
-    remote = ray.remote(max_retries=0)(_call)
+    remote = ray.remote(max_retries=0)(call_runner)
     try:
         pending = list(range(len(tasks)))
         in_flight: dict[Any, tuple[int, float]] = {}
@@ -57,29 +52,34 @@ def run_ray(
             while pending and len(in_flight) < jobs:
                 i = pending.pop(0)
                 in_flight[remote.remote(runner, tasks[i])] = (i, time.monotonic())
-            wait_s = None
-            if timeout_s is not None:
-                first = min(t for _, t in in_flight.values())
-                wait_s = max(0.0, first + timeout_s - time.monotonic())
-            ready, _ = ray.wait(list(in_flight), num_returns=1, timeout=wait_s)
-            now = time.monotonic()
-            for ref in ready:
-                i, t0 = in_flight.pop(ref)
-                try:
-                    status, value, reason = ray.get(ref)
-                except ray.exceptions.RayError:
-                    status, value, reason = (
-                        "crashed",
-                        None,
-                        "the Ray task failed: its worker died or its result was lost",
-                    )
-                yield i, status, value, reason, now - t0
-            if timeout_s is not None:
-                for ref, (i, t0) in list(in_flight.items()):
-                    if now - t0 >= timeout_s:
-                        ray.cancel(ref, force=True)
-                        del in_flight[ref]
-                        yield i, "timeout", None, f"exceeded the {timeout_s:g} s timeout", now - t0
+            yield from _collect(ray, in_flight, timeout_s)
     finally:
         if started_here:
             ray.shutdown()
+
+
+def _collect(
+    ray: Any, in_flight: dict[Any, tuple[int, float]], timeout_s: float | None
+) -> Iterator[Outcome]:
+    """Wait for the first task in flight to end or time out; yield (and drop) every task that
+    has ended, and cancel those past the timeout."""
+    wait_s = None
+    if timeout_s is not None:
+        first = min(t for _, t in in_flight.values())
+        wait_s = max(0.0, first + timeout_s - time.monotonic())
+    ready, _ = ray.wait(list(in_flight), num_returns=1, timeout=wait_s)
+    now = time.monotonic()
+    for ref in ready:
+        i, t0 = in_flight.pop(ref)
+        try:
+            status, value, reason = ray.get(ref)
+        except ray.exceptions.RayError:
+            status, value, reason = "crashed", None, _LOST
+        yield Outcome(i, status, value, reason, now - t0)
+    if timeout_s is None:
+        return
+    for ref, (i, t0) in list(in_flight.items()):
+        if now - t0 >= timeout_s:
+            ray.cancel(ref, force=True)
+            del in_flight[ref]
+            yield Outcome(i, "timeout", None, f"exceeded the {timeout_s:g} s timeout", now - t0)

@@ -1,12 +1,14 @@
 """Batch simulation: many files x robots x perturbation samples, cached, on a pool or a Ray cluster.
 
 The plan is a list of :class:`RunSpec` (pure data, picklable). A *runner* turns one spec into a
-JSON-able report (``motiontool.sim.runs.run_spec`` plays it in MuJoCo); the executors only move
+JSON-able report (``motiontool.sim.runs.run_spec`` plays it in MuJoCo); the executors
+(:mod:`motiontool.sim.executor`: a local pool or Ray, one protocol, one ``Outcome``) only move
 specs and reports around, so the local pool and Ray give identical results for the same seed.
 Results are cached on disk by (file content, model hash, options, perturbation, tool version):
 an interrupted or repeated batch only runs what is missing. A run's expectations
 (:mod:`motiontool.sim.expect`) are not part of the key: the raw report is cached and judged
-after the cache, so changing an expectation re-judges without re-running.
+after the cache, so changing an expectation re-judges without re-running. A cached run whose
+outputs (its recording) are missing is run again.
 """
 
 from __future__ import annotations
@@ -17,16 +19,17 @@ import math
 import os
 import random
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from motiontool import __version__
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, read_file
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.sim.executor import Outcome, get_executor
 
 __all__ = [
     "PERTURBATIONS",
@@ -34,6 +37,7 @@ __all__ = [
     "Perturbation",
     "RunResult",
     "RunSpec",
+    "RunStatus",
     "check_robots",
     "parse_perturbation",
     "plan",
@@ -122,14 +126,21 @@ class RunSpec:
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
 
+RunStatus = Literal["clean", "failed", "error", "crashed", "timeout"]
+"""How a run ended: ``clean`` (upright, no collision, no warning, every expectation met),
+``failed`` (the run says why: fell, collided, simulator warning, an expectation not met),
+``error`` (the runner raised), ``crashed`` (its worker died) or ``timeout``."""
+
+CACHED_STATUSES: tuple[RunStatus, ...] = ("clean", "failed")
+"""Runs that are cached: the simulation's own verdict (an error, crash or timeout is run again)."""
+
+
 @dataclass
 class RunResult:
     """The outcome of one run.
 
     Attributes:
-        status: ``clean`` (upright, no collision, no warning), ``failed`` (the run says why:
-            fell, collided, simulator warning), ``error`` (the runner raised), ``crashed``
-            or ``timeout``.
+        status: see :data:`RunStatus`.
         reason: one line for anything but ``clean``.
         report: the runner's full report (JSON-able), or None.
         wall_s: wall-clock seconds (0 for a cached result).
@@ -137,7 +148,7 @@ class RunResult:
     """
 
     spec: RunSpec
-    status: str
+    status: RunStatus
     reason: str = ""
     report: dict[str, Any] | None = None
     wall_s: float = 0.0
@@ -252,37 +263,62 @@ def recording_stems(files: Sequence[str | Path]) -> dict[str, str]:
     return names
 
 
-def _classify(spec: RunSpec, status: str, value: Any, reason: str, wall_s: float) -> RunResult:
-    if status != "done":
-        return RunResult(spec, status, reason, None, wall_s)
-    report: dict[str, Any] = value
+def _verdict(spec: RunSpec, report: dict[str, Any], wall_s: float, cached: bool) -> RunResult:
+    """``clean`` or ``failed``, as ``report`` says (its ``clean`` and ``reason``)."""
     clean = bool(report.get("clean"))
     why = "" if clean else str(report.get("reason") or "not clean")
-    return RunResult(spec, "clean" if clean else "failed", why, report, wall_s)
+    return RunResult(spec, "clean" if clean else "failed", why, report, wall_s, cached)
+
+
+def _classify(spec: RunSpec, outcome: Outcome) -> RunResult:
+    if outcome.status != "done":
+        return RunResult(spec, outcome.status, outcome.reason, None, outcome.wall_s)
+    return _verdict(spec, outcome.value, outcome.wall_s, cached=False)
 
 
 def _judged(result: RunResult) -> RunResult:
     """``result`` with its spec's expectations judged on its report (runs without a report,
     or without expectations, are returned as they are)."""
-    if not result.spec.expect or result.report is None or result.status not in ("clean", "failed"):
+    if not result.spec.expect or result.report is None or result.status not in CACHED_STATUSES:
         return result
     from motiontool.sim.expect import apply_expectations
 
     report = apply_expectations(result.report, result.spec.expect)
-    clean = bool(report.get("clean"))
-    why = "" if clean else str(report.get("reason") or "not clean")
-    status = "clean" if clean else "failed"
-    return RunResult(result.spec, status, why, report, result.wall_s, result.cached)
-
-
-def _cache_path(cache_dir: Path, key: str) -> Path:
-    return cache_dir / key[:2] / f"{key}.json"
+    return _verdict(result.spec, report, result.wall_s, result.cached)
 
 
 def default_cache_dir() -> Path:
     """``$XDG_CACHE_HOME/motiontool/batch`` (``~/.cache/motiontool/batch``)."""
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
     return Path(base) / "motiontool" / "batch"
+
+
+@dataclass(frozen=True)
+class _Cache:
+    """Raw results on disk, one JSON file per cache key; ``directory`` None: no cache."""
+
+    directory: Path | None
+
+    def _path(self, key: str) -> Path | None:
+        return None if self.directory is None else self.directory / key[:2] / f"{key}.json"
+
+    def load(self, spec: RunSpec, key: str) -> RunResult | None:
+        path = self._path(key)
+        try:
+            doc: dict[str, Any] = json.loads(path.read_text()) if path else {}
+        except (OSError, ValueError):
+            return None
+        if doc.get("status") not in CACHED_STATUSES:
+            return None
+        return RunResult(spec, doc["status"], doc["reason"], doc["report"], 0.0, True)
+
+    def store(self, result: RunResult, key: str) -> None:
+        path = self._path(key)
+        if path is None or result.status not in CACHED_STATUSES:
+            return
+        payload = {"status": result.status, "reason": result.reason, "report": result.report}
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write(path, json.dumps(payload, sort_keys=True).encode())
 
 
 def run_batch(
@@ -295,6 +331,7 @@ def run_batch(
     timeout_s: float | None = None,
     cache_dir: Path | None = None,
     ray_address: str | None = None,
+    outputs: Callable[[RunSpec], Sequence[Path]] | None = None,
     progress: Callable[[RunResult, int, int], None] | None = None,
 ) -> BatchResult:
     """Run ``specs`` (cached ones are not run again) and return every result in plan order.
@@ -303,77 +340,50 @@ def run_batch(
         runner: a picklable module-level function returning a JSON-able report with at least
             ``clean`` (bool) and ``reason`` (str).
         model_hash: robot spec -> model hash, for the cache key.
-        executor: ``local`` (a process pool on this machine) or ``ray``.
+        executor: ``local`` (a process pool on this machine) or ``ray``
+            (:func:`motiontool.sim.executor.get_executor`).
         jobs: parallel runs (local workers, or Ray tasks in flight).
         timeout_s: wall-clock limit of one run in seconds.
         cache_dir: where results are cached; None disables the cache.
         ray_address: Ray cluster address (``auto``, ``ray://...``); None starts a local one.
+        outputs: the files a run writes besides its report (its recording,
+            :func:`motiontool.sim.runs.run_outputs`): a cached run one of whose files is
+            missing is run again.
         progress: called after every run with (result, runs done, runs total).
     """
     t0 = time.monotonic()
-    results: list[RunResult | None] = [None] * len(specs)
+    run = get_executor(executor, ray_address=ray_address)
+    cache = _Cache(cache_dir)
     keys = [s.cache_key(model_hash(s.robot)) for s in specs]
-    todo = []
+    results: list[RunResult | None] = [None] * len(specs)
     done = 0
-    for i, spec in enumerate(specs):
-        hit = _load_cached(cache_dir, keys[i]) if cache_dir is not None else None
-        if hit is not None:
-            cached = RunResult(spec, hit["status"], hit["reason"], hit["report"], 0.0, True)
-            results[i] = _judged(cached)
-            done += 1
-            if progress:
-                progress(results[i], done, len(specs))  # type: ignore[arg-type]
-        else:
-            todo.append(i)
-    outcomes: Iterator[tuple[int, str, Any, str, float]]
-    if executor == "local":
-        from motiontool.sim.pool import run_pool
 
-        outcomes = (
-            (todo[o.index], o.status, o.value, o.reason, o.wall_s)
-            for o in run_pool(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s)
-        )
-    elif executor == "ray":
-        from motiontool.sim._ray import run_ray
-
-        outcomes = (
-            (todo[i], status, value, reason, wall)
-            for i, status, value, reason, wall in run_ray(
-                runner,
-                [specs[i] for i in todo],
-                jobs=jobs,
-                timeout_s=timeout_s,
-                address=ray_address,
-            )
-        )
-    else:
-        raise MotionToolError(f"unknown executor {executor!r}; choose local or ray")
-    for i, status, value, reason, wall in outcomes:
-        result = _classify(specs[i], status, value, reason, wall)
-        results[i] = result
-        if cache_dir is not None and result.status in ("clean", "failed"):
-            payload = {"status": result.status, "reason": result.reason, "report": result.report}
-            path = _cache_path(cache_dir, keys[i])
-            path.parent.mkdir(parents=True, exist_ok=True)
-            atomic_write(path, json.dumps(payload, sort_keys=True).encode())
-        result = results[i] = _judged(result)
+    def finish(i: int, result: RunResult) -> None:
+        nonlocal done
+        results[i] = judged = _judged(result)
         done += 1
         if progress:
-            progress(result, done, len(specs))
+            progress(judged, done, len(specs))
+
+    todo = []
+    for i, spec in enumerate(specs):
+        hit = cache.load(spec, keys[i]) if _outputs_exist(spec, outputs) else None
+        if hit is None:
+            todo.append(i)
+        else:
+            finish(i, hit)
+    for outcome in run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s):
+        i = todo[outcome.index]
+        result = _classify(specs[i], outcome)
+        cache.store(result, keys[i])
+        finish(i, result)
     final = [r for r in results if r is not None]
     assert len(final) == len(specs), "every run has a result"
     return BatchResult(final, time.monotonic() - t0, executor, jobs)
 
 
-def _load_cached(cache_dir: Path, key: str) -> dict[str, Any] | None:
-    path = _cache_path(cache_dir, key)
-    try:
-        doc: dict[str, Any] = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None
-    if doc.get("status") not in ("clean", "failed"):
-        return None
-    return doc
+def _outputs_exist(spec: RunSpec, outputs: Callable[[RunSpec], Sequence[Path]] | None) -> bool:
+    return outputs is None or all(path.exists() for path in outputs(spec))
 
 
 def result_json(result: RunResult) -> dict[str, Any]:

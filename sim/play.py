@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
@@ -22,6 +22,7 @@ from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.robots import RobotSpec, resolve_robot
 from motiontool.motionfmt import Motion, read_bytes, read_file, sample
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.player import Held, hold_targets
 from motiontool.sim.arm import measure_end_effector
 from motiontool.sim.physics import check_physics, read_back, resolve_physics
@@ -39,6 +40,8 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
     from motiontool.sim._mujoco import Scene
+    from motiontool.sim.motor import MotorLimits
+    from motiontool.sim.physics import Physics
     from motiontool.sim.trace import ContactEvent, Trace
 
 __all__ = [
@@ -49,6 +52,7 @@ __all__ = [
     "PlayOptions",
     "command_matrix",
     "play",
+    "read_playable",
 ]
 
 log = logging.getLogger("motiontool")
@@ -62,6 +66,9 @@ TORQUE_CAP_FRACTION = 0.999
 
 LIMIT_TOLERANCE = 0.01
 """How far past a motor limit (rad, or m) a position must be to count as beyond the limits."""
+
+MS_PER_S = 1000.0
+"""Milliseconds in a second."""
 
 
 @dataclass(frozen=True)
@@ -163,12 +170,18 @@ class Marker:
     entity: str
 
 
-def _read_playable(path: str) -> Motion:
-    """The motion Webots plays from ``path``, refused at its first ``nan`` / ``inf`` cell:
-    Webots would send that to the motor (MT113), and the physics must not be fed it."""
+def read_playable(path: str | Path) -> Motion:
+    """The motion Webots plays from ``path`` (``-``: standard input), refused at its first
+    ``nan`` / ``inf`` cell: Webots would send that to the motor (MT113), and the physics must not
+    be fed it.
+
+    Raises:
+        MotionToolError: the file cannot be read; :class:`MotionSyntaxError` Webots rejects it,
+            or a cell is not a finite number.
+    """
     import numpy as np
 
-    result = read_bytes(read_file(path), path)
+    result = read_bytes(read_file(path), source_name(path))
     motion = result.motion
     bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
     if bad.shape[0]:
@@ -179,7 +192,7 @@ def _read_playable(path: str) -> Motion:
             f"{motion.joints[j]} = {value!r} is not a finite number; Webots would send it to the"
             " motor, so it is not played (write a number, or '*' for no command)"
             " [MT113]",
-            path,
+            result.path,
             line,
             column,
         )
@@ -233,17 +246,21 @@ def command_matrix(
 
 
 def play(
-    paths: Sequence[str | Path],
+    motions: Sequence[str | Path | Motion],
     *,
+    names: Sequence[str] | None = None,
     robot: str | RobotSpec = "auto",
     options: PlayOptions | None = None,
     rrd: str | Path | None = None,
     stamps: Mapping[str, Any] | None = None,
 ) -> PlayReport:
-    """Play ``paths`` one after another on ``robot`` and measure the run.
+    """Play ``motions`` one after another on ``robot`` and measure the run.
 
     Args:
-        paths: motion files.
+        motions: motion files (read with :func:`read_playable`) or :class:`Motion` objects
+            (already read, or made in memory: a batch's retimed motion).
+        names: how the report and the recording name each motion; default: the path as given,
+            ``<motion N>`` for a Motion object.
         robot: a RobotSpec, or a name for :func:`motiontool.kinematics.resolve_robot`
             (``auto``: the built-in robot the joints of all the motions fit).
         options: how to play (:class:`PlayOptions`).
@@ -254,22 +271,18 @@ def play(
     Raises:
         MotionToolError: a file Webots would reject, a bad option, or no robot
             (:class:`~motiontool.kinematics.robots.RobotError`: unknown, or none fits). A run
-            that fails (falls, collides, raises a warning, stops on an error) is reported, not
-            raised.
+            that fails (falls, collides, raises a warning, stops on a MuJoCo error) is reported,
+            not raised.
     """
-    import numpy as np
-
     from motiontool.sim import _mujoco
 
     opts = options or PlayOptions()
     opts.check()
-    if not paths:
+    if not motions:
         raise MotionToolError("no motion file to play")
-    motions = [_read_playable(str(p)) for p in paths]
-    if isinstance(robot, RobotSpec):
-        spec = robot
-    else:
-        spec = resolve_robot(robot, (j for m in motions for j in m.joints))
+    loaded = [m if isinstance(m, Motion) else read_playable(m) for m in motions]
+    labels = _names(motions, names)
+    spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep = opts.timestep_ms or spec.default_timestep_ms
     physics = resolve_physics(
         timestep,
@@ -278,12 +291,74 @@ def play(
         friction=opts.floor_friction,
         friction_scale=opts.friction_scale,
     )
+    scene = _scene(spec, timestep, physics, opts, loaded[0])
+    targets, commanded, lengths, ignored = command_matrix(
+        loaded,
+        scene.joints,
+        timestep,
+        scene.data.qpos[scene.qpos_adr].copy(),
+        reverse=opts.reverse,
+        loops=opts.loops,
+        hold_steps=round(opts.hold_s * MS_PER_S / timestep),
+    )
+    for name in ignored:
+        log.info("joint %r is not a motor of robot %s: ignored (as Webots does)", name, spec.name)
+    trace = _mujoco.run(scene, targets, commanded, record_bodies=rrd is not None)
+    files = _file_runs(labels, lengths, scene.control_step_s)
+    run = _Run(scene, trace, opts, loaded, lengths, timestep, files)
+    all_stamps = _all_stamps(stamps, scene, timestep, opts)
+    report = _report(run, physics, all_stamps, ignored)
+    if rrd is not None:
+        _record(Path(rrd), run, report, all_stamps, labels)
+    return report
+
+
+@dataclass(frozen=True)
+class _Run:
+    """A simulated run and how it was asked for: what the report and recording are made of.
+
+    Attributes:
+        motions: the motions played, ``lengths`` their control steps, ``files`` their
+            report entries; timestep_ms: the control step, ms.
+    """
+
+    scene: Scene
+    trace: Trace
+    opts: PlayOptions
+    motions: list[Motion]
+    lengths: list[int]
+    timestep_ms: int
+    files: list[FileRun]
+
+
+def _columns(motions: Sequence[Motion]) -> Iterator[str]:
+    """The joint names of every column of ``motions``."""
+    return (j for m in motions for j in m.joints)
+
+
+def _names(motions: Sequence[str | Path | Motion], names: Sequence[str] | None) -> list[str]:
+    """The name of each motion in the report (see :func:`play`)."""
+    if names is None:
+        return [
+            f"<motion {k + 1}>" if isinstance(m, Motion) else str(m) for k, m in enumerate(motions)
+        ]
+    if len(names) != len(motions):
+        raise MotionToolError(f"{len(names)} names for {len(motions)} motions")
+    return list(names)
+
+
+def _start_joints(
+    spec: RobotSpec, opts: PlayOptions, first: Motion, timestep_ms: int
+) -> dict[str, float]:
+    """Each motor's start position, rad (m): zero; lying, the first motion's first pose; then
+    the start noise (drawn from the seed)."""
+    import numpy as np
 
     start_joints = {j: 0.0 for j in spec.joint_names}
     if opts.start in ("lying-front", "lying-back"):
-        first = sample(motions[0], timestep, reverse=opts.reverse)
+        stream = sample(first, timestep_ms, reverse=opts.reverse)
         for name, value, sent in zip(
-            first.joints, first.targets[0].tolist(), first.commanded[0].tolist(), strict=True
+            stream.joints, stream.targets[0].tolist(), stream.commanded[0].tolist(), strict=True
         ):
             if name in start_joints and sent:
                 start_joints[name] = value
@@ -293,86 +368,108 @@ def play(
         start_joints = {
             k: v + float(e) for (k, v), e in zip(start_joints.items(), noise, strict=True)
         }
-    scene = _mujoco.build_scene(
+    return start_joints
+
+
+def _scene(
+    spec: RobotSpec, timestep_ms: int, physics: Physics, opts: PlayOptions, first: Motion
+) -> Scene:
+    """The scene at its start state (:func:`motiontool.sim._mujoco.build_scene`)."""
+    from motiontool.sim import _mujoco
+
+    return _mujoco.build_scene(
         spec,
-        timestep,
+        timestep_ms,
         physics_step_ms=physics.timestep_ms,
         start=opts.start,
-        start_joints=start_joints,
+        start_joints=_start_joints(spec, opts, first, timestep_ms),
         floor_friction=physics.friction,
         mass_scale=opts.mass_scale,
         torque_scale=opts.torque_scale,
         start_yaw_deg=opts.start_yaw_deg,
         p_gain=opts.p_gain,
     )
-    initial = scene.data.qpos[scene.qpos_adr].copy()
-    hold_steps = round(opts.hold_s * 1000.0 / timestep)
-    targets, commanded, lengths, ignored = command_matrix(
-        motions,
-        scene.joints,
-        timestep,
-        initial,
-        reverse=opts.reverse,
-        loops=opts.loops,
-        hold_steps=hold_steps,
-    )
-    for name in ignored:
-        log.warning(
-            "joint %r is not a motor of robot %s: ignored (as Webots does)", name, spec.name
-        )
-    unplayed = [
-        str(p) for p, m in zip(paths, motions, strict=True) if not any(j in spec for j in m.joints)
-    ]
-    trace = _mujoco.run(scene, targets, commanded, record_bodies=rrd is not None)
 
+
+def _file_runs(names: Sequence[str], lengths: Sequence[int], step_s: float) -> list[FileRun]:
+    """Where each motion starts and how long it plays, its ``lengths`` in control steps."""
     files = []
     step = 0
-    for path, n in zip(paths, lengths, strict=True):
-        files.append(FileRun(str(path), step * scene.control_step_s, n * scene.control_step_s, n))
+    for name, n in zip(names, lengths, strict=True):
+        files.append(FileRun(name, step * step_s, n * step_s, n))
         step += n
-    all_stamps = dict(stamps or {})
-    all_stamps.setdefault("mujoco", _mujoco.mujoco_version())
-    all_stamps.setdefault("model_sha256", spec.model_hash)
-    all_stamps.update(
-        control_step_ms=timestep,
-        physics_step_ms=scene.physics_step_s * 1000.0,
+    return files
+
+
+def _all_stamps(
+    stamps: Mapping[str, Any] | None, scene: Scene, timestep_ms: int, opts: PlayOptions
+) -> dict[str, Any]:
+    """``stamps``, MuJoCo's version and the model hash where missing, the steps and the seed."""
+    from motiontool.sim import _mujoco
+
+    out = dict(stamps or {})
+    out.setdefault("mujoco", _mujoco.mujoco_version())
+    out.setdefault("model_sha256", scene.robot.model_hash)
+    out.update(
+        control_step_ms=timestep_ms,
+        physics_step_ms=scene.physics_step_s * MS_PER_S,
         seed=opts.seed,
     )
-    options_doc = {
+    return out
+
+
+def _options_doc(opts: PlayOptions, physics: Physics) -> dict[str, Any]:
+    """The report's ``options``: the options but those stamped, the floor friction used."""
+    doc = {
         k: v for k, v in asdict(opts).items() if k not in ("timestep_ms", "physics_step_ms", "seed")
     }
-    options_doc["p_gain_per_s"] = options_doc.pop("p_gain")
-    options_doc["floor_friction"] = physics.friction
-    report = _measure(scene, trace, opts, spec, files, options_doc, all_stamps, ignored)
-    report.unplayed_files = unplayed
+    doc["p_gain_per_s"] = doc.pop("p_gain")
+    doc["floor_friction"] = physics.friction
+    return doc
+
+
+def _report(run: _Run, physics: Physics, stamps: dict[str, Any], ignored: list[str]) -> PlayReport:
+    """The report of ``run``."""
+    scene, opts = run.scene, run.opts
+    report = _measure(run, _options_doc(opts, physics), stamps, ignored)
+    report.unplayed_files = [
+        f.path
+        for f, m in zip(run.files, run.motions, strict=True)
+        if not any(j in scene.robot for j in m.joints)
+    ]
     timestep_ms, friction = read_back(scene)  # what the compiled model really has
     report.physics = {**physics.to_json(), "timestep_ms": timestep_ms, "friction": friction}
     report.end_effector = measure_end_effector(
         scene,
-        trace,
-        motions,
-        lengths,
-        timestep,
+        run.trace,
+        run.motions,
+        run.lengths,
+        run.timestep_ms,
         reverse=opts.reverse,
         loops=opts.loops,
         reach_tolerance_mm=opts.reach_tolerance_mm,
     )
-    if rrd is not None:
-        from motiontool.sim import recording
-
-        markers = _markers(scene, trace, report, files, opts)
-        recording.write_recording(
-            Path(rrd),
-            trace,
-            _mujoco.scene_shapes(scene),
-            limits=scene.limits,
-            joint_limbs=scene.joint_limbs,
-            markers=markers,
-            end_effector=report.end_effector,
-            properties={k: "" if v is None else str(v) for k, v in all_stamps.items()},
-            name=" + ".join(Path(p).name for p in paths) + f" on {spec.name}",
-        )
     return report
+
+
+def _record(
+    path: Path, run: _Run, report: PlayReport, stamps: dict[str, Any], names: Sequence[str]
+) -> None:
+    """Write the Rerun recording of ``run`` (:mod:`motiontool.sim.recording`)."""
+    from motiontool.sim import _mujoco, recording
+
+    scene = run.scene
+    recording.write_recording(
+        path,
+        run.trace,
+        _mujoco.scene_shapes(scene),
+        limits=scene.limits,
+        joint_limbs=scene.joint_limbs,
+        markers=_markers(run, report),
+        end_effector=report.end_effector,
+        properties={k: "" if v is None else str(v) for k, v in stamps.items()},
+        name=" + ".join(Path(n).name for n in names) + f" on {scene.robot.name}",
+    )
 
 
 # ------------------------------------------------------------------------------- measuring
@@ -521,18 +618,12 @@ def _contact_summaries(trace: Trace, kind: str, opts: PlayOptions) -> list[Conta
 
 
 def _measure(
-    scene: Scene,
-    trace: Trace,
-    opts: PlayOptions,
-    spec: RobotSpec,
-    files: list[FileRun],
-    options_doc: dict[str, Any],
-    stamps: dict[str, Any],
-    ignored: list[str],
+    run: _Run, options_doc: dict[str, Any], stamps: dict[str, Any], ignored: list[str]
 ) -> PlayReport:
+    scene, trace, opts = run.scene, run.trace, run.opts
     return PlayReport(
-        robot=spec.name,
-        files=files,
+        robot=scene.robot.name,
+        files=run.files,
         options=options_doc,
         stamps=stamps,
         simulated_s=float(trace.time_s[-1]),
@@ -557,56 +648,74 @@ def _starts(flags: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
     return np.flatnonzero(flags & ~prev)
 
 
-def _markers(
-    scene: Scene, trace: Trace, report: PlayReport, files: list[FileRun], opts: PlayOptions
-) -> list[Marker]:
-    """Events of the run for the recording's timeline."""
+def _markers(run: _Run, report: PlayReport) -> list[Marker]:
+    """Events of the run for the recording's timeline, in time order."""
+    trace = run.trace
+    out = [Marker(f.start_s, "INFO", f"start {Path(f.path).name}", "motion") for f in run.files]
+    if report.base is not None:
+        out += _fall_markers(trace, run.opts)
+    out += _contact_markers(trace, run.opts)
+    out += _limit_markers(trace, run.scene.limits)
+    t_end = float(trace.time_s[-1])
+    raised = {k: v for k, v in trace.warnings.items() if v}
+    if raised:
+        out.append(Marker(t_end, "ERROR", f"MuJoCo warnings: {raised}", "simulator"))
+    if trace.error:
+        out.append(Marker(t_end, "ERROR", trace.error, "simulator"))
+    out.sort(key=lambda m: m.time_s)
+    return out
+
+
+def _fall_markers(trace: Trace, opts: PlayOptions) -> list[Marker]:
+    """Where the robot goes down and gets up again (not at the start)."""
+    t = trace.time_s
+    down = _down(trace, opts)
+    out = [
+        Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall")
+        for k in _starts(down).tolist()
+        if k
+    ]
+    out += [Marker(float(t[k]), "INFO", "upright", "fall") for k in _starts(~down).tolist() if k]
+    return out
+
+
+_CONTACT_WORDS = {"self": "self-collision", "scene": "contact", "ground": "on the floor"}
+"""How the recording's event log names each kind of counted contact."""
+
+
+def _contact_markers(trace: Trace, opts: PlayOptions) -> list[Marker]:
+    """Where each pair of bodies starts touching, for each counted kind of contact."""
     import numpy as np
 
-    out = [Marker(f.start_s, "INFO", f"start {Path(f.path).name}", "motion") for f in files]
     t = trace.time_s
-    if report.base is not None:
-        down = _down(trace, opts)
-        for k in _starts(down).tolist():
-            if k:
-                out.append(Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall"))
-        for k in _starts(~down).tolist():
-            if k:
-                out.append(Marker(float(t[k]), "INFO", "upright", "fall"))
     frames: dict[tuple[str, str, str], list[int]] = {}
-    for kind in ("self", "scene", "ground"):
+    for kind in _CONTACT_WORDS:
         for e in _counted(trace, kind, opts):
             frames.setdefault((kind, e.body_a, e.body_b), []).append(e.frame)
+    out = []
     for (kind, a, b), ks in frames.items():
         flags = np.zeros(len(t), dtype=bool)
         flags[ks] = True
         level = "INFO" if kind == "ground" else "WARN"
-        what = {"self": "self-collision", "scene": "contact", "ground": "on the floor"}[kind]
-        for k in _starts(flags).tolist():
-            out.append(Marker(float(t[k]), level, f"{what}: {a} / {b}", "collision"))
-    lim = scene.limits
+        text = f"{_CONTACT_WORDS[kind]}: {a} / {b}"
+        out += [Marker(float(t[k]), level, text, "collision") for k in _starts(flags).tolist()]
+    return out
+
+
+def _limit_markers(trace: Trace, lim: MotorLimits) -> list[Marker]:
+    """Where a target starts to lie outside the limits (it is clipped), and where a position
+    starts to lie past them by more than :data:`LIMIT_TOLERANCE`."""
+    t = trace.time_s
+    out = []
     for j, name in enumerate(trace.joints):
-        outside = (trace.targets[:, j] < lim.lower[j]) | (trace.targets[:, j] > lim.upper[j])
-        for k in _starts(outside).tolist():
-            out.append(
-                Marker(
-                    float(t[k]),
-                    "WARN",
-                    f"{name} target {trace.targets[k, j]:.4g} outside "
-                    f"[{lim.lower[j]:.4g}, {lim.upper[j]:.4g}]: clipped",
-                    "limit",
-                )
-            )
+        lower, upper = lim.lower[j], lim.upper[j]
+        target = trace.targets[:, j]
+        for k in _starts((target < lower) | (target > upper)).tolist():
+            text = f"{name} target {target[k]:.4g} outside [{lower:.4g}, {upper:.4g}]: clipped"
+            out.append(Marker(float(t[k]), "WARN", text, "limit"))
         pos = trace.position[:, j]
-        beyond = (pos < lim.lower[j] - LIMIT_TOLERANCE) | (pos > lim.upper[j] + LIMIT_TOLERANCE)
+        beyond = (pos < lower - LIMIT_TOLERANCE) | (pos > upper + LIMIT_TOLERANCE)
         for k in _starts(beyond).tolist():
-            out.append(
-                Marker(float(t[k]), "WARN", f"{name} at {pos[k]:.4g}, past its limits", "limit")
-            )
-    raised = {k: v for k, v in trace.warnings.items() if v}
-    if raised:
-        out.append(Marker(float(t[-1]), "ERROR", f"MuJoCo warnings: {raised}", "simulator"))
-    if trace.error:
-        out.append(Marker(float(t[-1]), "ERROR", trace.error, "simulator"))
-    out.sort(key=lambda m: m.time_s)
+            text = f"{name} at {pos[k]:.4g}, past its limits"
+            out.append(Marker(float(t[k]), "WARN", text, "limit"))
     return out

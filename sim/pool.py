@@ -17,32 +17,11 @@ from collections import deque
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
-from typing import Any, Generic, TypeVar
+from typing import Any
 
-__all__ = ["Outcome", "error_reason", "run_pool"]
+from motiontool.sim.executor import Outcome, call_runner
 
-T = TypeVar("T")
-R = TypeVar("R")
-
-
-@dataclass(frozen=True)
-class Outcome(Generic[T]):
-    """How one task ended.
-
-    Attributes:
-        index: the task's position in the input.
-        status: ``done``, ``error`` (the runner raised), ``crashed`` (the worker died) or
-            ``timeout``.
-        value: the runner's return value when ``done``.
-        reason: a one-line explanation otherwise.
-        wall_s: wall-clock seconds the task took.
-    """
-
-    index: int
-    status: str
-    value: Any = None
-    reason: str = ""
-    wall_s: float = 0.0
+__all__ = ["run_pool"]
 
 
 def _worker(runner: Callable[[Any], Any], conn: Connection) -> None:
@@ -54,17 +33,7 @@ def _worker(runner: Callable[[Any], Any], conn: Connection) -> None:
         if message is None:
             return
         index, task = message
-        try:
-            conn.send((index, "done", runner(task), ""))
-        except Exception as exc:  # reported to the parent, never lost
-            conn.send((index, "error", None, error_reason(exc)))
-
-
-def error_reason(exc: BaseException) -> str:
-    """One line for a report: the message the runner raised (a diagnostic such as
-    ``wave.motion:3:14: expected ...``), never the exception class or a source location."""
-    lines = str(exc).strip().splitlines()
-    return lines[0] if lines else "the run stopped on an unexpected error (no message)"
+        conn.send((index, *call_runner(runner, task)))
 
 
 @dataclass
@@ -80,13 +49,14 @@ def _context() -> Any:
 
 
 def run_pool(
-    runner: Callable[[T], R],
-    tasks: Sequence[T],
+    runner: Callable[[Any], Any],
+    tasks: Sequence[Any],
     *,
     jobs: int = 2,
     timeout_s: float | None = None,
-) -> Iterator[Outcome[T]]:
-    """Run ``runner(task)`` for every task on ``jobs`` worker processes; yield outcomes as they end.
+) -> Iterator[Outcome]:
+    """Run ``runner(task)`` for every task on ``jobs`` worker processes; yield outcomes as they end
+    (an :class:`~motiontool.sim.executor.Executor`).
 
     Args:
         runner: a picklable module-level function.
@@ -96,75 +66,109 @@ def run_pool(
     """
     if jobs < 1:
         raise ValueError(f"jobs must be >= 1, got {jobs}")
-    ctx = _context()
-    pending = deque(range(len(tasks)))
-    slots: list[_Slot] = []
-
-    def spawn() -> _Slot:
-        parent, child = ctx.Pipe()
-        process = ctx.Process(target=_worker, args=(runner, child), daemon=True)
-        process.start()
-        child.close()
-        return _Slot(process, parent)
-
-    def feed(slot: _Slot) -> None:
-        if pending:
-            slot.task = pending.popleft()
-            slot.started = time.monotonic()
-            slot.conn.send((slot.task, tasks[slot.task]))
-        else:
-            slot.task = None
-
-    def retire(slot: _Slot) -> None:
-        slot.conn.close()
-        if slot.process.is_alive():
-            slot.process.kill()
-        slot.process.join()
-
+    pool = _Pool(runner, tasks, timeout_s)
     try:
-        for _ in range(min(jobs, len(tasks))):
-            slot = spawn()
-            slots.append(slot)
-            feed(slot)
-        while any(s.task is not None for s in slots):
-            busy = [s for s in slots if s.task is not None]
-            wait_s = None
-            if timeout_s is not None:
-                now = time.monotonic()
-                wait_s = max(0.0, min(s.started + timeout_s - now for s in busy))
-            ready = wait([s.conn for s in busy] + [s.process.sentinel for s in busy], wait_s)
-            now = time.monotonic()
-            for i, slot in enumerate(slots):
-                if slot.task is None:
-                    continue
-                index = slot.task
-                if slot.conn in ready:
-                    try:
-                        got_index, status, value, reason = slot.conn.recv()
-                    except (EOFError, OSError):
-                        pass  # the worker died while sending: handled as a crash below
-                    else:
-                        yield Outcome(got_index, status, value, reason, now - slot.started)
-                        feed(slot)
-                        continue
-                if slot.process.sentinel in ready or not slot.process.is_alive():
-                    slot.process.join(timeout=5.0)  # reap it, so that its exit code is known
-                    code = slot.process.exitcode
-                    retire(slot)
-                    yield Outcome(index, "crashed", reason=f"worker died (exit code {code})",
-                                  wall_s=now - slot.started)  # fmt: skip
-                elif timeout_s is not None and now - slot.started >= timeout_s:
-                    retire(slot)
-                    yield Outcome(index, "timeout", reason=f"exceeded the {timeout_s:g} s timeout",
-                                  wall_s=now - slot.started)  # fmt: skip
-                else:
-                    continue
-                slots[i] = spawn()
-                feed(slots[i])
+        pool.start(min(jobs, len(tasks)))
+        while pool.busy():
+            yield from pool.collect()
     finally:
-        for slot in slots:
+        pool.close()
+
+
+class _Pool:
+    """Worker processes, each holding at most one task (its index in ``tasks``)."""
+
+    def __init__(
+        self, runner: Callable[[Any], Any], tasks: Sequence[Any], timeout_s: float | None
+    ) -> None:
+        self.runner = runner
+        self.tasks = tasks
+        self.timeout_s = timeout_s
+        self.ctx = _context()
+        self.pending = deque(range(len(tasks)))
+        self.slots: list[_Slot] = []
+
+    def start(self, workers: int) -> None:
+        for _ in range(workers):
+            slot = self._spawn()
+            self.slots.append(slot)
+            self._feed(slot)
+
+    def busy(self) -> list[_Slot]:
+        return [s for s in self.slots if s.task is not None]
+
+    def collect(self) -> Iterator[Outcome]:
+        """Wait for the first task to end (or to time out); yield every task that has ended,
+        giving its worker the next task (a dead or killed worker is replaced first)."""
+        ready = self._wait(self.busy())
+        now = time.monotonic()
+        for i, slot in enumerate(self.slots):
+            ended = None if slot.task is None else self._ended(slot, ready, now)
+            if ended is None:
+                continue
+            outcome, lost_worker = ended
+            if lost_worker:
+                _retire(slot)
+                slot = self.slots[i] = self._spawn()
+            self._feed(slot)
+            yield outcome
+
+    def close(self) -> None:
+        for slot in self.slots:
             if slot.process.is_alive():
                 with contextlib.suppress(OSError):
                     slot.conn.send(None)
             slot.process.join(timeout=1.0)
-            retire(slot)
+            _retire(slot)
+
+    def _spawn(self) -> _Slot:
+        parent, child = self.ctx.Pipe()
+        process = self.ctx.Process(target=_worker, args=(self.runner, child), daemon=True)
+        process.start()
+        child.close()
+        return _Slot(process, parent)
+
+    def _feed(self, slot: _Slot) -> None:
+        if self.pending:
+            slot.task = self.pending.popleft()
+            slot.started = time.monotonic()
+            slot.conn.send((slot.task, self.tasks[slot.task]))
+        else:
+            slot.task = None
+
+    def _wait(self, busy: list[_Slot]) -> list[Any]:
+        """The connections and process sentinels of ``busy`` that are ready, waiting at most
+        until the first task's timeout."""
+        wait_s = None
+        if self.timeout_s is not None:
+            now = time.monotonic()
+            wait_s = max(0.0, min(s.started + self.timeout_s - now for s in busy))
+        return wait([s.conn for s in busy] + [s.process.sentinel for s in busy], wait_s)
+
+    def _ended(self, slot: _Slot, ready: list[Any], now: float) -> tuple[Outcome, bool] | None:
+        """(how the slot's task ended, whether its worker is lost), or None if it runs on."""
+        index = slot.task
+        assert index is not None
+        wall_s = now - slot.started
+        if slot.conn in ready:
+            try:
+                got_index, status, value, reason = slot.conn.recv()
+            except (EOFError, OSError):
+                pass  # the worker died while sending: handled as a crash below
+            else:
+                return Outcome(got_index, status, value, reason, wall_s), False
+        if slot.process.sentinel in ready or not slot.process.is_alive():
+            slot.process.join(timeout=5.0)  # reap it, so that its exit code is known
+            reason = f"worker died (exit code {slot.process.exitcode})"
+            return Outcome(index, "crashed", reason=reason, wall_s=wall_s), True
+        if self.timeout_s is not None and wall_s >= self.timeout_s:
+            reason = f"exceeded the {self.timeout_s:g} s timeout"
+            return Outcome(index, "timeout", reason=reason, wall_s=wall_s), True
+        return None
+
+
+def _retire(slot: _Slot) -> None:
+    slot.conn.close()
+    if slot.process.is_alive():
+        slot.process.kill()
+    slot.process.join()

@@ -62,8 +62,31 @@ _LIMB_COLORS = (
 _COMMANDED = (230, 80, 60)
 _MEASURED = (40, 120, 230)
 _LIMIT = (150, 150, 150)
+_SCENE = (170, 170, 170)
+_BASE_TRAIL = (255, 200, 0)
 _TOOL = (0, 200, 255)
 _KEYFRAME = (230, 80, 60)
+
+LIMIT_WIDTH = 0.5
+"""Width of a joint limit's line in the plots, UI points (the series' own are 1)."""
+
+POINT_RADIUS_M = 0.01
+"""Radius of the base's and the tool's moving point, m."""
+
+BASE_TRAIL_RADIUS_M = 0.003
+"""Radius of the base's path, m."""
+
+TOOL_TRAIL_RADIUS_M = 0.002
+"""Radius of the tool's path, m."""
+
+KEYFRAME_RADIUS_M = 0.006
+"""Radius of a keyframe's commanded tool position, m."""
+
+PLANE_HALF_SIZE_M = 2.0
+"""Half the side of an infinite plane as drawn (a 4 m x 4 m floor), m."""
+
+PLANE_THICKNESS_M = 1e-4
+"""Half the thickness of a plane as drawn (a thin box just below its surface), m."""
 
 TOOL_TRAIL_ROWS = 400
 """At most this many rows of the growing tool trail (a longer run logs every n-th sample; the
@@ -72,7 +95,7 @@ last row is always the whole path)."""
 
 def _rerun(module: str) -> Any:
     """``rerun`` (or a submodule), or a one-line error naming ``motiontool[rerun]``."""
-    return require(module, "rerun", "a Rerun recording (--rrd, --rrd-dir)")
+    return require(module, "rerun", "a Rerun recording")
 
 
 def _stream(name: str, properties: Mapping[str, str]) -> tuple[Any, Any]:
@@ -122,57 +145,74 @@ def write_recording(
     end_effector: EndEffectorStats | None = None,
 ) -> None:
     """Write the recording of one run to ``path`` (atomically)."""
+    rec, memory = _stream(name, properties)
+    limbs = _log_joints(rec, trace, limits, joint_limbs)
+    _log_bodies(rec, trace, shapes)
+    _log_base(rec, trace)
+    if end_effector is not None and trace.tool_pos is not None:
+        _log_tool(rec, trace, end_effector)
+    if markers:
+        _log_events(rec, markers)
+    rec.send_blueprint(_blueprint(limbs))
+    _finish(rec, memory, path)
+
+
+def _log_joints(
+    rec: Any, trace: Trace, limits: MotorLimits, joint_limbs: Sequence[str]
+) -> dict[str, list[str]]:
+    """Joint series: commanded (clipped, as the motor sees it), measured, limits. Returns the
+    entity of each joint, by limb."""
     import numpy as np
 
     rr = _rerun("rerun")
-    rrb = _rerun("rerun.blueprint")
-
-    rec, memory = _stream(name, properties)
-    esc = rr.escape_entity_path_part
     times = trace.time_s
     frames = rr.TimeColumn(TIMELINE, duration=times)
     steps = rr.TimeColumn(TIMELINE, duration=times[:-1])
-    ends = rr.TimeColumn(TIMELINE, duration=[float(times[0]), float(times[-1])])
-
-    # Joint series: commanded (clipped, as the motor sees it), measured, limits.
     clipped = np.clip(trace.targets, limits.lower, limits.upper)
     limbs: dict[str, list[str]] = {}
     for j, joint in enumerate(trace.joints):
-        base = f"/joints/{esc(joint_limbs[j])}/{esc(joint)}"
+        base = f"/joints/{rr.escape_entity_path_part(joint_limbs[j])}/"
+        base += rr.escape_entity_path_part(joint)
         limbs.setdefault(joint_limbs[j], []).append(base)
-        if len(clipped):
-            rec.send_columns(
-                f"{base}/commanded",
-                indexes=[steps],
-                columns=rr.Scalars.columns(scalars=clipped[:, j]),
-            )
-        rec.send_columns(
-            f"{base}/measured",
-            indexes=[frames],
-            columns=rr.Scalars.columns(scalars=trace.position[:, j]),
-        )
-        rec.log(
-            f"{base}/commanded",
-            rr.SeriesLines(colors=[_COMMANDED], names=["commanded"]),
-            static=True,
-        )
-        rec.log(
-            f"{base}/measured", rr.SeriesLines(colors=[_MEASURED], names=["measured"]), static=True
-        )
-        for side, value in (("lower", limits.lower[j]), ("upper", limits.upper[j])):
-            if math.isfinite(value):
-                rec.send_columns(
-                    f"{base}/{side}",
-                    indexes=[ends],
-                    columns=rr.Scalars.columns(scalars=[float(value), float(value)]),
-                )
-                rec.log(
-                    f"{base}/{side}",
-                    rr.SeriesLines(colors=[_LIMIT], names=[f"{side} limit"], widths=[0.5]),
-                    static=True,
-                )
+        _log_series(rec, f"{base}/commanded", steps, clipped[:, j], _COMMANDED, "commanded")
+        _log_series(rec, f"{base}/measured", frames, trace.position[:, j], _MEASURED, "measured")
+        _log_limits(rec, base, times, limits.lower[j], limits.upper[j])
+    return limbs
 
-    # Bodies: static primitives in the body frame, the body posed every frame.
+
+def _log_series(
+    rec: Any, entity: str, index: Any, values: Any, color: tuple[int, int, int], name: str
+) -> None:
+    """One scalar series (one ``send_columns``; none when empty) and its static line style."""
+    rr = _rerun("rerun")
+    if len(values):
+        rec.send_columns(entity, indexes=[index], columns=rr.Scalars.columns(scalars=values))
+    rec.log(entity, rr.SeriesLines(colors=[color], names=[name]), static=True)
+
+
+def _log_limits(rec: Any, base: str, times: Any, lower: float, upper: float) -> None:
+    """A joint's finite limits: a flat line each, from the first frame to the last."""
+    rr = _rerun("rerun")
+    ends = rr.TimeColumn(TIMELINE, duration=[float(times[0]), float(times[-1])])
+    for side, value in (("lower", lower), ("upper", upper)):
+        if math.isfinite(value):
+            rec.send_columns(
+                f"{base}/{side}",
+                indexes=[ends],
+                columns=rr.Scalars.columns(scalars=[float(value), float(value)]),
+            )
+            rec.log(
+                f"{base}/{side}",
+                rr.SeriesLines(colors=[_LIMIT], names=[f"{side} limit"], widths=[LIMIT_WIDTH]),
+                static=True,
+            )
+
+
+def _log_bodies(rec: Any, trace: Trace, shapes: Sequence[BodyShapes]) -> None:
+    """Bodies: static primitives in the body frame, a robot body posed every frame."""
+    rr = _rerun("rerun")
+    esc = rr.escape_entity_path_part
+    frames = rr.TimeColumn(TIMELINE, duration=trace.time_s)
     limb_color = {
         limb: _LIMB_COLORS[i % len(_LIMB_COLORS)]
         for i, limb in enumerate(dict.fromkeys(s.limb for s in shapes if s.robot))
@@ -181,8 +221,7 @@ def write_recording(
     rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     for body in shapes:
         root = f"/world/robot/{esc(body.name)}" if body.robot else f"/world/scene/{esc(body.name)}"
-        color = limb_color.get(body.limb, (170, 170, 170))
-        _log_shapes(rec, root, body, color)
+        _log_shapes(rec, root, body, limb_color.get(body.limb, _SCENE))
         if body.robot and body.name in body_index and len(trace.body_pos):
             b = body_index[body.name]
             rec.send_columns(
@@ -193,30 +232,43 @@ def write_recording(
                     quaternion=trace.body_quat[:, b][:, [1, 2, 3, 0]],  # xyzw
                 ),
             )
+
+
+def _log_base(rec: Any, trace: Trace) -> None:
+    """The root body: its whole path (static), its position at every frame."""
+    import numpy as np
+
+    rr = _rerun("rerun")
     rec.log(
         "/world/base_trail",
-        rr.LineStrips3D([trace.base_pos], colors=[(255, 200, 0)], radii=[0.003]),
+        rr.LineStrips3D([trace.base_pos], colors=[_BASE_TRAIL], radii=[BASE_TRAIL_RADIUS_M]),
         static=True,
     )
     rec.send_columns(
         "/world/base",
-        indexes=[frames],
-        columns=rr.Points3D.columns(positions=trace.base_pos, radii=np.full(len(times), 0.01)),
+        indexes=[rr.TimeColumn(TIMELINE, duration=trace.time_s)],
+        columns=rr.Points3D.columns(
+            positions=trace.base_pos, radii=np.full(len(trace.time_s), POINT_RADIUS_M)
+        ),
     )
 
-    if end_effector is not None and trace.tool_pos is not None:
-        _log_tool(rec, trace, end_effector)
 
-    if markers:
-        rec.send_columns(
-            "/events",
-            indexes=[rr.TimeColumn(TIMELINE, duration=[m.time_s for m in markers])],
-            columns=rr.TextLog.columns(
-                text=[f"[{m.entity}] {m.text}" for m in markers],
-                level=[m.level for m in markers],
-            ),
-        )
+def _log_events(rec: Any, markers: Sequence[Marker]) -> None:
+    """The event log: one ``TextLog`` row per marker."""
+    rr = _rerun("rerun")
+    rec.send_columns(
+        "/events",
+        indexes=[rr.TimeColumn(TIMELINE, duration=[m.time_s for m in markers])],
+        columns=rr.TextLog.columns(
+            text=[f"[{m.entity}] {m.text}" for m in markers],
+            level=[m.level for m in markers],
+        ),
+    )
 
+
+def _blueprint(limbs: Mapping[str, Sequence[str]]) -> Any:
+    """The 3D view and the event log beside one tab of joint plots per limb."""
+    rrb = _rerun("rerun.blueprint")
     plots = [
         rrb.Grid(
             *[rrb.TimeSeriesView(origin=base, name=base.rsplit("/", 1)[1]) for base in bases],
@@ -224,7 +276,7 @@ def write_recording(
         )
         for limb, bases in limbs.items()
     ]
-    blueprint = rrb.Blueprint(
+    return rrb.Blueprint(
         rrb.Horizontal(
             rrb.Vertical(
                 rrb.Spatial3DView(origin="/world", name="robot"),
@@ -236,8 +288,6 @@ def write_recording(
         ),
         collapse_panels=True,
     )
-    rec.send_blueprint(blueprint)
-    _finish(rec, memory, path)
 
 
 def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
@@ -251,7 +301,7 @@ def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
         "/world/tool",
         indexes=[rr.TimeColumn(TIMELINE, duration=trace.time_s)],
         columns=rr.Points3D.columns(
-            positions=trace.tool_pos, radii=np.full(len(trace.time_s), 0.01)
+            positions=trace.tool_pos, radii=np.full(len(trace.time_s), POINT_RADIUS_M)
         ),
     )
     trail = np.array(ee.trail_position_m, dtype=np.float64).reshape(-1, 3)
@@ -268,7 +318,7 @@ def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
         )
         rec.log(
             "/world/tool/trail",
-            rr.LineStrips3D.from_fields(colors=[_TOOL], radii=[0.002]),
+            rr.LineStrips3D.from_fields(colors=[_TOOL], radii=[TOOL_TRAIL_RADIUS_M]),
             static=True,
         )
     if ee.keyframes:
@@ -278,7 +328,7 @@ def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
                 [k.commanded_position_m for k in ee.keyframes],
                 labels=[k.name for k in ee.keyframes],
                 colors=[_KEYFRAME],
-                radii=[0.006],
+                radii=[KEYFRAME_RADIUS_M],
             ),
             static=True,
         )
@@ -305,31 +355,20 @@ def _log_shapes(rec: Any, root: str, body: BodyShapes, color: tuple[int, int, in
                 rr.Boxes3D(half_sizes=size, centers=pos, quaternions=xyzw, colors=colors),
                 static=True,
             )
-        elif kind == "capsule":
-            # Rerun's capsule starts at its origin and runs along +z; MuJoCo's is centred.
-            start = pos - np.array(
-                [_rotate(q, (0.0, 0.0, s[1])) for q, s in zip(quat, size, strict=True)]
-            )
+        elif kind in ("capsule", "cylinder"):
+            if kind == "capsule":  # Rerun's starts at its origin along +z; MuJoCo's is centred
+                start = [_rotate(q, (0.0, 0.0, s[1])) for q, s in zip(quat, size, strict=True)]
+                archetype, place = rr.Capsules3D, {"translations": pos - np.array(start)}
+            else:
+                archetype, place = rr.Cylinders3D, {"centers": pos}
             rec.log(
-                f"{root}/capsules",
-                rr.Capsules3D(
+                f"{root}/{kind}s",
+                archetype(
                     lengths=2 * size[:, 1],
                     radii=size[:, 0],
-                    translations=start,
                     quaternions=xyzw,
                     colors=colors,
-                ),
-                static=True,
-            )
-        elif kind == "cylinder":
-            rec.log(
-                f"{root}/cylinders",
-                rr.Cylinders3D(
-                    lengths=2 * size[:, 1],
-                    radii=size[:, 0],
-                    centers=pos,
-                    quaternions=xyzw,
-                    colors=colors,
+                    **place,
                 ),
                 static=True,
             )
@@ -343,12 +382,12 @@ def _log_shapes(rec: Any, root: str, body: BodyShapes, color: tuple[int, int, in
                 static=True,
             )
         elif kind == "plane":
-            half = np.where(size[:, :2] > 0, size[:, :2], 2.0)  # an infinite plane: 4 m x 4 m
+            half = np.where(size[:, :2] > 0, size[:, :2], PLANE_HALF_SIZE_M)  # 0: infinite
             rec.log(
                 f"{root}/planes",
                 rr.Boxes3D(
-                    half_sizes=np.column_stack([half, np.full(len(group), 1e-4)]),
-                    centers=pos - [0.0, 0.0, 1e-4],
+                    half_sizes=np.column_stack([half, np.full(len(group), PLANE_THICKNESS_M)]),
+                    centers=pos - [0.0, 0.0, PLANE_THICKNESS_M],
                     quaternions=xyzw,
                     colors=colors,
                     fill_mode="solid",

@@ -2,18 +2,22 @@
 
 This is the runner the batch executors ship to their workers (a module-level function, so it
 pickles by reference). Perturbations map onto :class:`~motiontool.sim.play.PlayOptions`; the
-``speed`` perturbation retimes the motion (times only) before it is played.
+``speed`` perturbation retimes the motion in memory (times only) before it is played.
 """
 
 from __future__ import annotations
 
-import tempfile
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool.sim.batch import RunSpec
 
-__all__ = ["run_spec"]
+if TYPE_CHECKING:
+    from motiontool.kinematics.robots import RobotSpec
+    from motiontool.motionfmt import Motion
+
+__all__ = ["recording_path", "retimed", "run_outputs", "run_spec"]
 
 _OPTION_OF = {
     "friction": "friction_scale",
@@ -24,29 +28,45 @@ _OPTION_OF = {
 }
 
 
-def _retimed_copy(path: str, speed: float, directory: str) -> str:
-    """The motion played ``speed`` times faster: pose times as ``retime --speed`` writes them
-    (:func:`motiontool.motionfmt.transform.scale_times`, whole ms)."""
-    from motiontool.motionfmt import load
+def retimed(motion: Motion, speed: float) -> Motion:
+    """``motion`` played ``speed`` times faster: pose times as ``retime --speed`` writes them
+    (:func:`motiontool.motionfmt.transform.scale_times`, whole ms); values unchanged."""
+    import numpy as np
+
     from motiontool.motionfmt.transform import scale_times
 
-    doc = load(path)
-    doc.set_times(list(scale_times(doc.motion.times_ms.tolist(), speed).times_ms))
-    out = Path(directory) / Path(path).name
-    out.write_bytes(doc.to_bytes())
-    return str(out)
+    times = scale_times(motion.times_ms.tolist(), speed).times_ms
+    return replace(motion, times_ms=np.array(times, dtype=np.int64))
 
 
-def run_spec(spec: RunSpec) -> dict[str, Any]:
-    """Play ``spec`` headless and return the play report as JSON (``clean``, ``reason``, ...)."""
-    from motiontool.kinematics.robots import AUTO, resolve_robot
-    from motiontool.motionfmt import read_motion
-    from motiontool.sim.play import PlayOptions, play
-    from motiontool.stamps import stamps
-
-    params = dict(spec.params)
+def recording_path(spec: RunSpec, robot: RobotSpec) -> Path | None:
+    """Where the run of ``spec`` on ``robot`` keeps its recording
+    (``<rrd_dir>/<name>.<robot>.<sample>.rrd``), or None when none is asked for."""
     options = dict(spec.options)
-    kwargs: dict[str, Any] = {_OPTION_OF[k]: v for k, v in params.items() if k in _OPTION_OF}
+    if not options.get("rrd_dir"):
+        return None
+    stem = options.get("rrd_name") or Path(spec.path).stem
+    return Path(options["rrd_dir"]) / f"{stem}.{robot.name}.{spec.sample}.rrd"
+
+
+def run_outputs(spec: RunSpec) -> list[Path]:
+    """The files the run of ``spec`` writes besides its report: its recording, if asked for
+    (none for a file no robot fits: that run fails before it plays)."""
+    from motiontool.kinematics.robots import AUTO, load_robot
+
+    if spec.robot == AUTO:
+        return []
+    path = recording_path(spec, load_robot(spec.robot))
+    return [] if path is None else [path]
+
+
+def _play_options(spec: RunSpec) -> Any:
+    """The :class:`~motiontool.sim.play.PlayOptions` of ``spec``: its options, its
+    perturbation's factors, and its sample index as the seed."""
+    from motiontool.sim.play import PlayOptions
+
+    options = dict(spec.options)
+    kwargs: dict[str, Any] = {_OPTION_OF[k]: v for k, v in spec.params if k in _OPTION_OF}
     if options.get("timestep_ms"):
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
@@ -54,22 +74,30 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
     for name in ("physics_step_ms", "floor_friction", "profile"):  # sim.physics.physics_run_options
         if options.get(name) is not None:
             kwargs[name] = options[name]
-    kwargs["seed"] = spec.sample
+    return PlayOptions(**kwargs, seed=spec.sample)
+
+
+def run_spec(spec: RunSpec) -> dict[str, Any]:
+    """Play ``spec`` headless and return the play report as JSON (``clean``, ``reason``, ...)."""
+    from motiontool.kinematics.robots import resolve_robot
+    from motiontool.sim.play import play, read_playable
+    from motiontool.stamps import stamps
+
+    params = dict(spec.params)
+    motion = read_playable(spec.path)
     # plan() has resolved "auto" where a built-in robot fits; where none does, this run fails
     # alone, NoRobotDetectedError saying why in one line.
-    joints = read_motion(spec.path).joints if spec.robot == AUTO else ()
-    robot = resolve_robot(spec.robot, joints)
-    rrd = None
-    if options.get("rrd_dir"):
-        stem = options.get("rrd_name") or Path(spec.path).stem
-        rrd = Path(options["rrd_dir"]) / f"{stem}.{robot.name}.{spec.sample}.rrd"
-    with tempfile.TemporaryDirectory() as tmp:
-        path = spec.path
-        if "speed" in params and params["speed"] != 1.0:
-            path = _retimed_copy(spec.path, params["speed"], tmp)
-        report = play([path], robot=robot, options=PlayOptions(**kwargs), rrd=rrd,
-                      stamps=stamps(robot.model_hash))  # fmt: skip
+    robot = resolve_robot(spec.robot, motion.joints)
+    if params.get("speed", 1.0) != 1.0:
+        motion = retimed(motion, params["speed"])
+    report = play(
+        [motion],
+        names=[spec.path],
+        robot=robot,
+        options=_play_options(spec),
+        rrd=recording_path(spec, robot),
+        stamps=stamps(robot.model_hash),
+    )
     doc = report.to_json()
-    doc["files"][0]["path"] = spec.path
     doc["perturbation"] = params
     return doc

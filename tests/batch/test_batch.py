@@ -230,17 +230,65 @@ def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
 
 def test_speed_perturbation_retimes_as_retime_speed_does(tmp_path: Path) -> None:
     from motiontool.motionfmt.transform import scale_times
-    from motiontool.sim.runs import _retimed_copy
+    from motiontool.sim.runs import retimed
 
     src = tmp_path / "m.motion"
     src.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n5,B,0.1\n16,C,0.2\n")
-    out = tmp_path / "out"
-    out.mkdir()
-    batch_times = read_motion(_retimed_copy(str(src), 2.0, str(out))).times_ms.tolist()
+    motion = read_motion(str(src))
+    batch = retimed(motion, 2.0)  # in memory: no temporary file
     result = CliRunner().invoke(
         app, ["retime", str(src), "--speed", "2", "-o", str(tmp_path / "r.motion")]
     )
     assert result.exit_code == 0, result.output
-    retime_times = read_motion(str(tmp_path / "r.motion")).times_ms.tolist()
+    written = read_motion(str(tmp_path / "r.motion"))
     # 5 / 2 = 2.5 ms: batch rounded it to even (2), retime half up (3).
-    assert batch_times == retime_times == list(scale_times([0, 5, 16], 2.0).times_ms) == [0, 3, 8]
+    assert batch.times_ms.tolist() == written.times_ms.tolist() == [0, 3, 8]
+    assert list(scale_times([0, 5, 16], 2.0).times_ms) == [0, 3, 8]
+    assert batch.values.tobytes() == written.values.tobytes() == motion.values.tobytes()
+    assert (batch.joints, batch.pose_names) == (motion.joints, motion.pose_names)
+
+
+def test_a_cached_run_whose_recording_is_missing_runs_again(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "nod.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B,0.2\n")
+    monkeypatch.chdir(tmp_path)
+    args = ["batch", "nod.motion", "-j", "1", "--cache-dir", "cache", "--rrd-dir", "rrd"]
+    args += ["--json", "report.json"]
+    first = CliRunner().invoke(app, args)
+    assert first.exit_code == 0, first.output
+    rrd = tmp_path / "rrd" / "nod.nao.0.rrd"
+    assert rrd.is_file()
+    rrd.unlink()
+    again = CliRunner().invoke(app, args)
+    assert again.exit_code == 0, again.output
+    # Before: served from the cache, and no recording written.
+    assert rrd.is_file()
+    assert json.loads((tmp_path / "report.json").read_text())["summary"]["cached"] == 0
+    third = CliRunner().invoke(app, args)  # the recording is there: the cache serves the run
+    assert third.exit_code == 0, third.output
+    assert json.loads((tmp_path / "report.json").read_text())["summary"]["cached"] == 1
+
+
+def test_cached_results_are_used_only_while_the_runs_outputs_exist(
+    motions: list[Path], tmp_path: Path
+) -> None:
+    specs = plan(motions[:1], ["nao"])
+    marker = tmp_path / "made.txt"
+    cache = tmp_path / "cache"
+
+    def outputs(spec: RunSpec) -> list[Path]:
+        return [marker]
+
+    first = run_batch(specs, runner, model_hash=lambda r: "h", cache_dir=cache, outputs=outputs)
+    assert not first.runs[0].cached  # nothing cached yet
+    second = run_batch(specs, runner, model_hash=lambda r: "h", cache_dir=cache, outputs=outputs)
+    assert not second.runs[0].cached  # cached, but its output is missing
+    marker.write_text("")
+    third = run_batch(specs, runner, model_hash=lambda r: "h", cache_dir=cache, outputs=outputs)
+    assert third.runs[0].cached
+
+
+def test_unknown_executor_names_the_choices(motions: list[Path]) -> None:
+    with pytest.raises(MotionToolError, match="unknown executor 'dask'; choose local or ray"):
+        run_batch(plan(motions, ["nao"]), runner, model_hash=lambda r: "h", executor="dask")

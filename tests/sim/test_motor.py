@@ -147,3 +147,62 @@ def test_command_matrix_later_duplicate_column_wins_where_it_has_a_value() -> No
     targets, _c, _l, _i = command_matrix([m], ["A"], 20, np.zeros(1))
     assert targets[:, 0].tolist() == [1.0, 3.0]
     assert not math.isnan(targets[0, 0])
+
+
+def test_the_control_loop_sends_the_motor_laws_command(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # One law, in sim.motor: the stepping loop calls it instead of a copy of it.
+    calls: list[tuple[np.ndarray, np.ndarray]] = []
+
+    def spy(limits: MotorLimits, target: np.ndarray, position: np.ndarray) -> np.ndarray:
+        calls.append((target.copy(), position.copy()))
+        return velocity_command(limits, target, position)
+
+    monkeypatch.setattr(mj, "velocity_command", spy)
+    scene = mj.build_scene(arm(tmp_path, vertical=True, max_velocity=2.0, max_torque=10.0), 20)
+    trace = mj.run(scene, *hold(1.0, 6))
+    assert len(calls) == 6
+    for k, (target, position) in enumerate(calls):
+        assert target.tolist() == [1.0] and position.tolist() == trace.position[k].tolist()
+        assert (
+            trace.velocity_cmd[k].tolist()
+            == velocity_command(scene.limits, target, position).tolist()
+        )
+
+
+def _small_arena_arm(tmp_path: Path) -> RobotSpec:
+    """The arm of ARM, its link longer and its base clear of the box it stands on, with a MuJoCo
+    arena too small for the contacts of the link falling onto the box: MuJoCo raises
+    mujoco.FatalError (out of memory) mid-run."""
+    path = tmp_path / "small_arena.xml"
+    path.write_text(
+        ARM.format(axis="0 -1 0")
+        .replace("<worldbody>", '<size memory="4K"/>\n  <worldbody>')
+        .replace('pos="0 0 .05"', 'pos="0 0 .1"')
+        .replace('fromto="0 0 0 0.2 0 0"', 'fromto="0 0 0 0.3 0 0"')
+    )
+    joint = JointSpec("j", -3.0, 3.0, 5.0, 0.01)  # too weak to hold the link up
+    return RobotSpec("arm", path, hashlib.sha256(path.read_bytes()).hexdigest(), (joint,), 20)
+
+
+def test_a_mujoco_error_stops_the_run_and_the_trace_says_why(tmp_path: Path) -> None:
+    scene = mj.build_scene(_small_arena_arm(tmp_path), 20)
+    trace = mj.run(scene, *hold(0.0, 50))
+    assert 0 < trace.steps_done < 50
+    assert trace.error is not None
+    assert trace.error.startswith(f"simulation stopped at step {trace.steps_done}: mj_stackAlloc")
+    assert len(trace.position) == trace.steps_done + 1
+
+
+def test_a_bug_in_our_own_contact_code_is_raised_not_reported_as_a_stopped_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def broken(*args: object) -> None:
+        raise IndexError("a bug in motiontool's contact bookkeeping")
+
+    monkeypatch.setattr(mj, "_contacts", broken)
+    scene = mj.build_scene(arm(tmp_path, vertical=False, max_velocity=5.0, max_torque=0.01), 20)
+    # Before: trace.error = "simulation stopped at step N: a bug in ...", a clean-looking exit 2.
+    with pytest.raises(IndexError, match="contact bookkeeping"):
+        mj.run(scene, *hold(0.0, 50))

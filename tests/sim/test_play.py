@@ -312,3 +312,51 @@ def test_ur5e_joints_are_grouped_as_arm_and_wrist(tmp_path: Path) -> None:
     assert groups == [
         (limb, [j for j in ur5e.joint_names if limbs[j] == limb]) for limb in ("arm", "wrist")
     ]
+
+
+def test_play_takes_motion_objects_and_reports_them_as_the_files(nod: Path) -> None:
+    from motiontool.sim import read_playable
+
+    from_file = play([nod], robot="nao", options=PlayOptions(hold_s=0.1)).to_json()
+    motion = read_playable(nod)
+    from_motion = play([motion], names=[str(nod)], robot="nao", options=PlayOptions(hold_s=0.1))
+    assert json.dumps(from_motion.to_json()) == json.dumps(from_file)  # bit for bit
+    unnamed = play([motion, nod], robot="nao", options=PlayOptions(hold_s=0.0))
+    assert [f.path for f in unnamed.files] == ["<motion 1>", str(nod)]
+    from motiontool.motionfmt import MotionToolError
+
+    with pytest.raises(MotionToolError, match="1 names for 2 motions"):
+        play([motion, motion], names=["a"], robot="nao")
+
+
+def test_cli_warns_once_per_ignored_joint(tmp_path: Path) -> None:
+    # A subprocess: in-process, pytest's log capture hides the library's log line, which Python
+    # printed on stderr too (before: the warning twice, once from the log, once from the CLI).
+    import subprocess
+    import sys
+
+    path = tmp_path / "clip.motion"
+    path.write_bytes(OUT_OF_RANGE)
+    code = (
+        "from motiontool.cli.app import app\n"
+        f"app(['play', {str(path)!r}, '--headless', '--hold', '0'], prog_name='motiontool')\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=False, timeout=120
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == "motiontool: warning: joint 'NotAJoint' is not a motor of nao: ignored\n"
+    assert "ignored (not motors of the robot): NotAJoint" in proc.stdout
+
+
+def test_geoms_are_classed_with_an_enum(nod: Path) -> None:
+    from motiontool.kinematics import load_robot
+    from motiontool.sim._mujoco import GeomClass, build_scene
+
+    scene = build_scene(load_robot("nao"), 20)
+    classes = [GeomClass(int(c)) for c in scene.geom_class]
+    assert classes[scene.model.geom("floor").id] is GeomClass.FLOOR
+    assert [classes[g] for g in scene.foot_geoms.tolist()] == [GeomClass.FOOT] * 2
+    assert GeomClass.ROBOT in classes and GeomClass.SCENE not in classes  # the Nao: no box
+    box = build_scene(load_robot("ur5e"), 8)
+    assert box.geom_class[box.model.geom("wooden_box").id] == GeomClass.SCENE
