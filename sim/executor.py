@@ -29,9 +29,6 @@ Status = Literal["done", "error", "crashed", "timeout"]
 """How a task ended: ``done`` (the runner returned), ``error`` (it raised), ``crashed`` (its
 worker died) or ``timeout`` (it outlived the time limit; its worker was killed)."""
 
-EXECUTORS = ("local", "ray")
-"""Executor names for :func:`get_executor`."""
-
 
 @dataclass(frozen=True)
 class Outcome:
@@ -85,6 +82,28 @@ def call_runner(runner: Callable[[Any], Any], task: Any) -> tuple[Status, Any, s
         return "error", None, error_reason(exc)
 
 
+def _local(ray_address: str | None) -> Executor:
+    from motiontool.sim.pool import run_pool
+
+    return run_pool
+
+
+def _ray(ray_address: str | None) -> Executor:
+    from functools import partial
+
+    from motiontool.sim._ray import run_ray
+
+    return partial(run_ray, address=ray_address)
+
+
+_FACTORIES: dict[str, Callable[[str | None], Executor]] = {"local": _local, "ray": _ray}
+"""Executor name -> factory (imports lazily). A new executor is a module with a function that
+satisfies :class:`Executor`, and one entry here."""
+
+EXECUTORS = tuple(_FACTORIES)
+"""Executor names for :func:`get_executor`."""
+
+
 def get_executor(name: str, *, ray_address: str | None = None) -> Executor:
     """The executor called ``name`` (:data:`EXECUTORS`); ``ray_address``: the Ray cluster
     (``auto``, ``ray://...``; None starts a local one).
@@ -92,14 +111,7 @@ def get_executor(name: str, *, ray_address: str | None = None) -> Executor:
     Raises:
         MotionToolError: an unknown name.
     """
-    if name == "local":
-        from motiontool.sim.pool import run_pool
-
-        return run_pool
-    if name == "ray":
-        from functools import partial
-
-        from motiontool.sim._ray import run_ray
-
-        return partial(run_ray, address=ray_address)
-    raise MotionToolError(f"unknown executor {name!r}; choose {' or '.join(EXECUTORS)}")
+    factory = _FACTORIES.get(name)
+    if factory is None:
+        raise MotionToolError(f"unknown executor {name!r}; choose {' or '.join(EXECUTORS)}")
+    return factory(ray_address)
