@@ -1,6 +1,7 @@
-"""What the authoring commands (mirror, concat, trim, scale, resample, retime) share: time
-arguments, the robot checks they run on their result, and how they report it. Their options are
-in :mod:`motiontool.cli.options`; a robot is chosen by
+"""What the authoring commands (mirror, concat, trim, scale, resample, retime) share: where the
+result goes (``-o`` or ``--in-place``, never over the input otherwise), time arguments, the robot
+checks they run on their result, and how they report it. Their options are in
+:mod:`motiontool.cli.options`; a robot is chosen by
 :func:`motiontool.kinematics.robots.resolve_robot` (or ``pick_robot``)."""
 
 from __future__ import annotations
@@ -9,18 +10,76 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import typer
+
+from motiontool.cli.output import emit_bytes, refuse_overwrite, same_file
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.document import MotionDocument
+from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 from motiontool.stamps import stamps
 
-__all__ = ["check_result", "findings_lines", "num", "parse_time_ms", "report_header"]
+__all__ = [
+    "check_result",
+    "destination",
+    "findings_json",
+    "findings_lines",
+    "load_input",
+    "output_target",
+    "parse_time_ms",
+    "report_header",
+    "say",
+    "write_result",
+]
 
 
-def num(x: float) -> str:
-    return f"{x:.6g}"
+def output_target(path: Path, output: Path | None, in_place: bool) -> Path | None:
+    """Where to write the result of transforming ``path``: a file, or None for stdout.
+
+    Raises :class:`MotionToolError` when neither ``-o`` nor ``--in-place`` is given, when ``-o``
+    names the input (or a symlink or hard link to it) without ``--in-place``, when both name
+    different files, or for ``--in-place`` on standard input (``-``).
+    """
+    if in_place and is_stdin(path):
+        raise MotionToolError(
+            "--in-place cannot replace standard input ('-'); give -o FILE, or -o - for stdout"
+        )
+    if output is not None and str(output) == "-":
+        if in_place:
+            raise MotionToolError("--in-place writes the input file; do not give -o - with it")
+        return None
+    if in_place:
+        if output is not None and not same_file(output, path):
+            raise MotionToolError(
+                f"--in-place writes '{path}'; -o names another file '{output}': give one of them"
+            )
+        return path
+    if output is None:
+        raise MotionToolError(
+            f"say where to write the result: -o FILE, -o - for stdout, or --in-place to "
+            f"replace '{path}'"
+        )
+    refuse_overwrite(
+        output, [path], "-o", "add --in-place to overwrite it, or write to another file"
+    )
+    return output
+
+
+def load_input(path: Path) -> MotionDocument:
+    """The input as a lossless document (:class:`MotionSyntaxError` where Webots rejects it);
+    ``-`` reads standard input."""
+    return loads(read_file(path), source_name(path))
+
+
+def write_result(doc: MotionDocument, target: Path | None) -> None:
+    """Write ``doc`` atomically to ``target``, or to stdout when None."""
+    emit_bytes(doc.to_bytes(), target)
+
+
+def say(text: str, target: Path | None) -> None:
+    """Print a report: on stdout, or on stderr when the motion itself goes to stdout."""
+    typer.echo(text, nl=False, err=target is None)
 
 
 def check_result(
@@ -36,6 +95,18 @@ def findings_lines(findings: list[Diagnostic], heading: str, clean: str) -> list
     if not findings:
         return [clean]
     return [heading, *(f"  {d.path}:{d.line}:{d.column}: {d.code}: {d.message}" for d in findings)]
+
+
+def findings_json(findings: list[Diagnostic]) -> list[dict[str, Any]]:
+    """The JSON of a check's findings on a command's result: code, line, column, message."""
+    return [
+        {"code": d.code, "line": d.line, "column": d.column, "message": d.message} for d in findings
+    ]
+
+
+def destination(target: Path | None) -> str:
+    """Where the result went, for a report: the file, or ``stdout`` (None)."""
+    return "stdout" if target is None else str(target)
 
 
 def report_header(

@@ -8,7 +8,16 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import check_result, findings_lines, num
+from motiontool.cli._authoring import (
+    check_result,
+    destination,
+    findings_json,
+    findings_lines,
+    load_input,
+    output_target,
+    say,
+    write_result,
+)
 from motiontool.cli.options import (
     Format,
     FormatOption,
@@ -18,12 +27,7 @@ from motiontool.cli.options import (
     RobotOption,
 )
 from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.resample import (
-    load_input,
-    output_target,
-    say,
-    write_result,
-)
+from motiontool.cli.text import num
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.authoring import Concatenated, Transition, concat
@@ -83,16 +87,12 @@ def concat_command(
     if not in_place:
         refuse_overwrite(target, paths[1:], "-o", "write to a file that is not an input")
     docs = [load_input(p) for p in paths]
-    spec: RobotSpec | None
-    if transition is None:
-        spec = pick_robot(robot, docs[0].joints)
-        if spec is None:
-            raise MotionToolError(
-                "fitting the transitions needs a robot's velocity limits: give --robot "
-                "(none detected), or a fixed --transition MS"
-            )
-    else:
-        spec = pick_robot(robot, docs[0].joints)
+    spec = pick_robot(robot, docs[0].joints)
+    if spec is None and transition is None:
+        raise MotionToolError(
+            "fitting the transitions needs a robot's velocity limits: give --robot "
+            "(none detected), or a fixed --transition MS"
+        )
     limits = None if spec is None else {j.name: j.max_velocity for j in spec.joints}
     result = concat(docs, transition_ms=transition, max_velocity=limits, margin=margin)
     findings: list[Diagnostic] = []
@@ -119,7 +119,7 @@ def _text(
     findings: list[Diagnostic],
     step: int,
 ) -> str:
-    dest = "stdout" if target is None else str(target)
+    dest = destination(target)
     names = " + ".join(source_name(p) for p in paths)
     motion = r.document.motion
     lines = [f"joined {names} -> {dest}: {motion.n_poses} poses, {motion.duration_ms} ms"]
@@ -182,9 +182,6 @@ def _json(
         "reordered": list(r.reordered),
         "dropped_lines": r.dropped_lines,
         "unconstrained": list(r.unconstrained),
-        "transition_velocity_findings": [
-            {"code": d.code, "line": d.line, "column": d.column, "message": d.message}
-            for d in findings
-        ],
+        "transition_velocity_findings": findings_json(findings),
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

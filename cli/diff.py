@@ -11,6 +11,7 @@ import typer
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import Format, FormatOption, timestep_option
 from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.text import num
 from motiontool.motionfmt.compare import (
     DEFAULT_TOLERANCE_RAD,
     JointDiff,
@@ -27,10 +28,6 @@ from motiontool.stamps import stamps
 __all__ = ["diff_command"]
 
 
-def _num(x: float) -> str:
-    return f"{x:.6g}"
-
-
 def _short(path: Path) -> str:
     """A file's name for a plot title (``<stdin>`` for ``-``)."""
     return source_name(path) if str(path) == "-" else path.name
@@ -45,8 +42,8 @@ def _joint_line(j: JointDiff, tolerance: float, width: int) -> str:
     parts = []
     if j.max_delta > tolerance and j.at_ms is not None:
         parts.append(
-            f"|Δq| {_num(j.max_delta)} rad at {j.at_ms} ms "
-            f"(old {_num(j.old_value or 0.0)} rad, new {_num(j.new_value or 0.0)} rad)"
+            f"|Δq| {num(j.max_delta)} rad at {j.at_ms} ms "
+            f"(old {num(j.old_value or 0.0)} rad, new {num(j.new_value or 0.0)} rad)"
         )
     if j.old_only_steps:
         parts.append(f"held only by old at {j.old_only_steps} steps")
@@ -58,7 +55,7 @@ def _joint_line(j: JointDiff, tolerance: float, width: int) -> str:
 
 
 def _text(diff: MotionDiff, old: Path, new: Path) -> str:
-    how = f"every joint within {_num(diff.tolerance)} rad, compared every {diff.timestep_ms} ms"
+    how = f"every joint within {num(diff.tolerance)} rad, compared every {diff.timestep_ms} ms"
     lines = []
     if diff.same:
         lines.append(
@@ -87,7 +84,7 @@ def _text(diff: MotionDiff, old: Path, new: Path) -> str:
         lines.extend(_joint_line(j, diff.tolerance, width) for j in changed)
         rest = len(diff.joints) - len(changed)
         if rest:
-            lines.append(f"{rest} other joints within {_num(diff.tolerance)} rad")
+            lines.append(f"{rest} other joints within {num(diff.tolerance)} rad")
     return "\n".join(lines) + "\n"
 
 
@@ -136,7 +133,7 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
         {n: held_a[:, k] for k, n in enumerate(joints)},
         {n: held_b[:, k] for k, n in enumerate(joints)},
         joints,
-        title=f"{_short(old)} -> {_short(new)}: {verdict} (tolerance {_num(diff.tolerance)} rad)",
+        title=f"{_short(old)} -> {_short(new)}: {verdict} (tolerance {num(diff.tolerance)} rad)",
         caption=f"motiontool {stamps()['motiontool']}\nheld targets every {diff.timestep_ms} ms:"
         " old grey, new blue, difference shaded red",
         comment=json.dumps(stamps(), sort_keys=True),

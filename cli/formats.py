@@ -12,6 +12,7 @@ from typing import Any
 import typer
 
 from motiontool.cli.jsontext import ESCAPED_BYTES, dumps, escape_undecodable
+from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
@@ -43,10 +44,6 @@ class Order(enum.StrEnum):
     severity = "severity"  # errors first, then warnings, then notes (each in file order)
 
 
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}{'' if n == 1 else 's'}"
-
-
 def summary(report: ValidationReport) -> str:
     """``checked 3 files: 1 error, 2 warnings, 0 notes``, then every check skipped for a
     missing library (MT902): ``; collision check skipped: pip install 'motiontool[kinematics]'``."""
@@ -56,10 +53,10 @@ def summary(report: ValidationReport) -> str:
         if d.code == "MT902"
     )
     return (
-        f"checked {_plural(len(report.files), 'file')}: "
-        f"{_plural(report.count(Severity.ERROR), 'error')}, "
-        f"{_plural(report.count(Severity.WARNING), 'warning')}, "
-        f"{_plural(report.count(Severity.INFO), 'note')}{skipped}"
+        f"checked {plural(len(report.files), 'file')}: "
+        f"{plural(report.count(Severity.ERROR), 'error')}, "
+        f"{plural(report.count(Severity.WARNING), 'warning')}, "
+        f"{plural(report.count(Severity.INFO), 'note')}{skipped}"
     )
 
 

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import dataclasses
 import shlex
-from pathlib import Path
-from typing import Annotated
 
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import TableFormat, TextOrJsonOption
+from motiontool.cli.options import MotionFile, TableFormat, TextOrJsonOption
+from motiontool.cli.text import plural
 from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.summary import MotionSummary, summarize
 from motiontool.stamps import stamps
@@ -18,14 +17,10 @@ from motiontool.stamps import stamps
 __all__ = ["info_command"]
 
 
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}{'' if n == 1 else 's'}"
-
-
 def _findings(s: MotionSummary, arg: str) -> str:
     """The counts ``validate --robot none`` gives, by severity, and how to list them."""
     counts = ", ".join(
-        [_plural(s.errors, "error"), _plural(s.warnings, "warning"), _plural(s.notes, "note")]
+        [plural(s.errors, "error"), plural(s.warnings, "warning"), plural(s.notes, "note")]
     )
     return (
         f"{counts} (syntax only; 'motiontool validate --robot none {shlex.quote(arg)}' lists them)"
@@ -68,7 +63,7 @@ def _text(s: MotionSummary, arg: str) -> str:
 
 
 def info_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     format: TextOrJsonOption = TableFormat.text,
 ) -> None:
     """Joints, poses, duration, pose spacing and undefined cells of a motion file, and the

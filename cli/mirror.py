@@ -8,14 +8,17 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli._authoring import findings_lines, report_header
-from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
-from motiontool.cli.resample import (
+from motiontool.cli._authoring import (
+    destination,
+    findings_json,
+    findings_lines,
     load_input,
     output_target,
+    report_header,
     say,
-    write_bytes,
 )
+from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
+from motiontool.cli.output import emit_bytes
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
@@ -60,7 +63,7 @@ def _text(
     show_map: bool,
     new: list[Diagnostic],
 ) -> str:
-    dest = "stdout" if target is None else str(target)
+    dest = destination(target)
     lines = [
         f"mirrored {source_name(source)} -> {dest}: robot {m.robot} (model {m.model_hash[:12]})"
     ]
@@ -99,9 +102,7 @@ def _json(
         "negated": list(r.negated),
         "unmapped": list(r.unmapped),
         "map": _map_json(m),
-        "limit_findings": [
-            {"code": d.code, "line": d.line, "column": d.column, "message": d.message} for d in new
-        ],
+        "limit_findings": findings_json(new),
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
@@ -153,7 +154,7 @@ def mirror_command(
     before = limits(doc.result)
     after = limits(read_bytes(result.data, result.path))  # the one read of the result
     new = after if len(after) > len(before) else []
-    write_bytes(result.data, target)
+    emit_bytes(result.data, target)
     if format is Format.json:
         say(_json(result, m, path, target, new), target)
     else:

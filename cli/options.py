@@ -23,6 +23,7 @@ __all__ = [
     "Format",
     "FormatOption",
     "InPlace",
+    "MotionFile",
     "Output",
     "ReportFormat",
     "ReportOutput",
@@ -64,6 +65,8 @@ class TableFormat(enum.StrEnum):
     json = "json"
 
 
+MotionFile = Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)]
+"""The one motion file a command reads."""
 FormatOption = Annotated[
     Format, typer.Option("--format", "-f", help="Report as text for people or json for CI.")
 ]

@@ -10,7 +10,7 @@ from pathlib import Path
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, is_stdin
 
-__all__ = ["emit", "refuse_overwrite", "same_file"]
+__all__ = ["emit", "emit_bytes", "refuse_overwrite", "same_file"]
 
 
 def same_file(a: Path, b: Path) -> bool:
@@ -52,7 +52,12 @@ def emit(text: str, output: Path | None) -> None:
     Names read from a file keep undecodable bytes as surrogates; they are written back as the
     original bytes.
     """
-    data = text.encode("utf-8", "surrogateescape")
+    emit_bytes(text.encode("utf-8", "surrogateescape"), output)
+
+
+def emit_bytes(data: bytes, output: Path | None) -> None:
+    """Write ``data`` to ``output`` (temporary file, then rename) or, for None or ``-``, to
+    stdout."""
     if output is not None and str(output) != "-":
         atomic_write(output, data)
         return

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.options import ROBOT_OPTION, robot_option, timestep_option
+from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
 from motiontool.cli.output import refuse_overwrite
 from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
@@ -23,7 +23,7 @@ _DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
 
 
 def plot_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     output: Annotated[
         Path, typer.Option("--output", "-o", help="The PNG file to write.", show_default=False)
     ],

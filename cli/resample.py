@@ -1,100 +1,29 @@
-"""``motiontool resample``: keyframes on a uniform grid, or fewer keyframes, within a bound.
-
-Also holds what the commands that write a motion share: where the result goes (``-o`` or
-``--in-place``, never over the input otherwise) and the deviation line of a report; their
-options are in :mod:`motiontool.cli.options`.
-"""
+"""``motiontool resample``: keyframes on a uniform grid, or fewer keyframes, within a bound."""
 
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli._authoring import report_header
-from motiontool.cli.options import Format, FormatOption, InPlace, Output
-from motiontool.cli.output import refuse_overwrite, same_file
+from motiontool.cli._authoring import (
+    destination,
+    load_input,
+    output_target,
+    report_header,
+    say,
+    write_result,
+)
+from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output
+from motiontool.cli.text import num, plural
 from motiontool.motionfmt.compare import MotionDiff
-from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file, source_name
+from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
 
-__all__ = [
-    "deviation_json",
-    "deviation_text",
-    "load_input",
-    "output_target",
-    "resample_command",
-    "say",
-    "write_bytes",
-    "write_result",
-]
-
-
-def output_target(path: Path, output: Path | None, in_place: bool) -> Path | None:
-    """Where to write the result of transforming ``path``: a file, or None for stdout.
-
-    Raises :class:`MotionToolError` when neither ``-o`` nor ``--in-place`` is given, when ``-o``
-    names the input (or a symlink or hard link to it) without ``--in-place``, when both name
-    different files, or for ``--in-place`` on standard input (``-``).
-    """
-    if in_place and is_stdin(path):
-        raise MotionToolError(
-            "--in-place cannot replace standard input ('-'); give -o FILE, or -o - for stdout"
-        )
-    if output is not None and str(output) == "-":
-        if in_place:
-            raise MotionToolError("--in-place writes the input file; do not give -o - with it")
-        return None
-    if in_place:
-        if output is not None and not same_file(output, path):
-            raise MotionToolError(
-                f"--in-place writes '{path}'; -o names another file '{output}': give one of them"
-            )
-        return path
-    if output is None:
-        raise MotionToolError(
-            f"say where to write the result: -o FILE, -o - for stdout, or --in-place to "
-            f"replace '{path}'"
-        )
-    refuse_overwrite(
-        output, [path], "-o", "add --in-place to overwrite it, or write to another file"
-    )
-    return output
-
-
-def load_input(path: Path) -> MotionDocument:
-    """The input as a lossless document (:class:`MotionSyntaxError` where Webots rejects it);
-    ``-`` reads standard input."""
-    return loads(read_file(path), source_name(path))
-
-
-def write_result(doc: MotionDocument, target: Path | None) -> None:
-    """Write ``doc`` atomically to ``target``, or to stdout when None."""
-    write_bytes(doc.to_bytes(), target)
-
-
-def write_bytes(data: bytes, target: Path | None) -> None:
-    """Write ``data`` atomically to ``target``, or to stdout when None."""
-    if target is None:
-        sys.stdout.flush()
-        sys.stdout.buffer.write(data)
-        sys.stdout.buffer.flush()
-    else:
-        atomic_write(target, data)
-
-
-def say(text: str, target: Path | None) -> None:
-    """Print a report: on stdout, or on stderr when the motion itself goes to stdout."""
-    typer.echo(text, nl=False, err=target is None)
-
-
-def _num(x: float) -> str:
-    return f"{x:.6g}"
+__all__ = ["deviation_json", "deviation_text", "resample_command"]
 
 
 def deviation_text(diff: MotionDiff) -> str:
@@ -104,12 +33,12 @@ def deviation_text(diff: MotionDiff) -> str:
         line = "largest deviation from the original command stream: none (no joint commanded)"
     elif worst.max_delta <= ROUNDING_RAD:
         line = (
-            f"largest deviation from the original command stream: {_num(worst.max_delta)} rad "
+            f"largest deviation from the original command stream: {num(worst.max_delta)} rad "
             "(floating-point rounding only)"
         )
     else:
         line = (
-            f"largest deviation from the original command stream: {_num(worst.max_delta)} rad "
+            f"largest deviation from the original command stream: {num(worst.max_delta)} rad "
             f"at {worst.at_ms} ms ({worst.joint})"
         )
     line += f", compared every {diff.timestep_ms} ms\n"
@@ -133,30 +62,25 @@ def deviation_json(diff: MotionDiff) -> dict[str, Any]:
     }
 
 
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}{'' if n == 1 else 's'}"
-
-
 def _text(r: Resampled, source: Path, target: Path | None, max_error: float | None) -> str:
-    dest = "stdout" if target is None else str(target)
     old_poses = r.deviation.old_poses
     poses = f"{old_poses} -> {r.deviation.new_poses} poses"
-    lines = [f"resampled {source_name(source)} -> {dest}: {poses}"]
+    lines = [f"resampled {source_name(source)} -> {destination(target)}: {poses}"]
     if r.step_ms is not None:
         if r.grid_has_keyframes:
             lines.append(
                 f"grid: every {r.step_ms} ms; it holds every original pose time, so the result "
-                f"is lossless ({_plural(r.inserted, 'pose')} inserted on their segments)"
+                f"is lossless ({plural(r.inserted, 'pose')} inserted on their segments)"
             )
         else:
             lines.append(
-                f"grid: every {r.step_ms} ms; {_plural(r.dropped_off_grid, 'original pose')} off "
-                f"the grid dropped, {_plural(r.inserted, 'pose')} inserted: NOT lossless"
+                f"grid: every {r.step_ms} ms; {plural(r.dropped_off_grid, 'original pose')} off "
+                f"the grid dropped, {plural(r.inserted, 'pose')} inserted: NOT lossless"
             )
     if max_error is not None:
         lines.append(
             f"removed {r.removed} of {old_poses - r.dropped_off_grid + r.inserted} keyframes "
-            f"({r.collinear} exactly collinear), keeping every joint within {_num(max_error)} rad"
+            f"({r.collinear} exactly collinear), keeping every joint within {num(max_error)} rad"
         )
     return "\n".join(lines) + "\n" + deviation_text(r.deviation)
 
@@ -179,7 +103,7 @@ def _json(r: Resampled, source: Path, target: Path | None, max_error: float | No
 
 
 def resample_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     step: Annotated[
         int | None,
         typer.Option(

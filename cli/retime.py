@@ -8,28 +8,32 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli._authoring import findings_lines, report_header
+from motiontool.cli._authoring import (
+    check_result,
+    destination,
+    findings_json,
+    findings_lines,
+    load_input,
+    output_target,
+    report_header,
+    say,
+    write_result,
+)
 from motiontool.cli.options import (
     Format,
     FormatOption,
     InPlace,
+    MotionFile,
     Output,
     ResultTimestep,
     robot_option,
 )
-from motiontool.cli.resample import (
-    load_input,
-    output_target,
-    say,
-    write_result,
-)
+from motiontool.cli.text import num
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
-from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import (
     DEFAULT_MARGIN,
     Retimed,
@@ -41,17 +45,6 @@ from motiontool.motionfmt.transform import (
 __all__ = ["retime_command"]
 
 _LISTED = 10  # stretched segments listed in the text report (all of them in JSON)
-
-
-def _num(x: float) -> str:
-    return f"{x:.6g}"
-
-
-def _velocity_findings(
-    doc: MotionDocument, spec: RobotSpec, timestep_ms: int | None
-) -> list[Diagnostic]:
-    """What ``validate``'s velocity check still reports on the result."""
-    return Velocity(spec, timestep_ms)(read_bytes(doc.to_bytes(), doc.path))
 
 
 def _duration_line(r: Retimed) -> str:
@@ -74,7 +67,7 @@ def _stretch_lines(r: Retimed) -> list[str]:
 
 
 def retime_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     speed: Annotated[
         float | None,
         typer.Option(
@@ -146,7 +139,7 @@ def retime_command(
     findings: list[Diagnostic] = []
     if speed is not None:
         result = scale_times(times, speed)
-        how = f"speed x{_num(speed)}"
+        how = f"speed x{num(speed)}"
     elif duration is not None:
         result = fit_duration(times, duration)
         how = f"duration {duration} ms"
@@ -159,7 +152,7 @@ def retime_command(
         how = f"fit to {spec.name}'s limits"
     doc.set_times(list(result.times_ms))
     if spec is not None:
-        findings = _velocity_findings(doc, spec, timestep)
+        findings = check_result(doc, Velocity(spec, timestep))
     write_result(doc, target)
     if format is Format.json:
         say(_json(result, path, target, spec, margin, accel, findings), target)
@@ -180,12 +173,11 @@ def _text(
     findings: list[Diagnostic],
     timestep: int | None,
 ) -> str:
-    dest = "stdout" if target is None else str(target)
-    lines = [f"retimed {source_name(source)} -> {dest}: {how}"]
+    lines = [f"retimed {source_name(source)} -> {destination(target)}: {how}"]
     if spec is not None:
-        limit = f"velocity within {_num(margin * 100)}% of maxVelocity"
+        limit = f"velocity within {num(margin * 100)}% of maxVelocity"
         if accel is not None:
-            limit += f", acceleration within {_num(accel)} rad/s²"
+            limit += f", acceleration within {num(accel)} rad/s²"
         lines.append(f"robot: {spec.name} (model {spec.model_hash[:12]}); {limit}")
         if r.unconstrained:
             lines.append(
@@ -198,7 +190,7 @@ def _text(
         lines.extend(_stretch_lines(r))
     else:
         lines.append(
-            f"pose times rounded to whole ms: at most {_num(r.rounding_ms)} ms from exact scaling"
+            f"pose times rounded to whole ms: at most {num(r.rounding_ms)} ms from exact scaling"
         )
     lines.append(_duration_line(r))
     if spec is not None:
@@ -252,9 +244,6 @@ def _json(
             for s in r.stretches
         ],
         "unconstrained": list(r.unconstrained),
-        "remaining_velocity_findings": [
-            {"code": d.code, "line": d.line, "column": d.column, "message": d.message}
-            for d in findings
-        ],
+        "remaining_velocity_findings": findings_json(findings),
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

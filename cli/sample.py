@@ -12,7 +12,7 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import timestep_option
+from motiontool.cli.options import MotionFile, timestep_option
 from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.motionfmt import read_file
 from motiontool.motionfmt.errors import MotionToolError
@@ -92,7 +92,7 @@ def _json(stream: CommandStream, path: str) -> str:
 
 
 def sample_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     timestep: Annotated[
         int, timestep_option("20, the Webots Nao worlds'; the UR5e's is 8", use="one row per step")
     ] = 20,

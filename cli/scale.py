@@ -8,21 +8,27 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import check_result, findings_lines, num, report_header
+from motiontool.cli._authoring import (
+    check_result,
+    destination,
+    findings_json,
+    findings_lines,
+    load_input,
+    output_target,
+    report_header,
+    say,
+    write_result,
+)
 from motiontool.cli.options import (
     Format,
     FormatOption,
     InPlace,
+    MotionFile,
     Output,
     ResultTimestep,
     RobotOption,
 )
-from motiontool.cli.resample import (
-    load_input,
-    output_target,
-    say,
-    write_result,
-)
+from motiontool.cli.text import num
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.authoring import Scaled, scale
@@ -33,7 +39,7 @@ __all__ = ["scale_command"]
 
 
 def scale_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     amplitude: Annotated[
         float,
         typer.Option(
@@ -97,7 +103,7 @@ def _about(r: Scaled) -> str:
 def _text(
     r: Scaled, source: Path, target: Path | None, spec: RobotSpec | None, new: list[Diagnostic]
 ) -> str:
-    dest = "stdout" if target is None else str(target)
+    dest = destination(target)
     lines = [
         f"scaled {source_name(source)} -> {dest}: amplitude x{num(r.amplitude)} about {_about(r)}",
         f"changed {r.changed} cells",
@@ -152,8 +158,6 @@ def _json(
             }
             for c in r.clips
         ],
-        "new_velocity_findings": [
-            {"code": d.code, "line": d.line, "column": d.column, "message": d.message} for d in new
-        ],
+        "new_velocity_findings": findings_json(new),
     }
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"

@@ -8,14 +8,16 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli._authoring import parse_time_ms, report_header
-from motiontool.cli.options import Format, FormatOption, InPlace, Output
-from motiontool.cli.resample import (
+from motiontool.cli._authoring import (
+    destination,
     load_input,
     output_target,
+    parse_time_ms,
+    report_header,
     say,
     write_result,
 )
+from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output
 from motiontool.motionfmt.authoring import Trimmed, trim
 from motiontool.motionfmt.fileio import source_name
 
@@ -23,7 +25,7 @@ __all__ = ["trim_command"]
 
 
 def trim_command(
-    path: Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)],
+    path: MotionFile,
     start: Annotated[
         str | None,
         typer.Option(
@@ -63,7 +65,7 @@ def trim_command(
 
 
 def _text(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
-    dest = "stdout" if target is None else str(target)
+    dest = destination(target)
     shift = (
         f"times shifted {r.shift_ms} ms earlier (the result starts at 0 ms)"
         if r.shift_ms

@@ -18,6 +18,7 @@ from motiontool.cli.options import (
     timestep_option,
 )
 from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.text import plural
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
@@ -38,10 +39,6 @@ _CHECKS_OPTION = "--checks"
 _IGNORE_OPTION = "--ignore"
 _MIRROR_COMMAND = "motiontool mirror {source} -o {target}"
 """How the robot checks' hints tell a user of the CLI to mirror a file (MT309)."""
-
-
-def _plural(n: int, word: str) -> str:
-    return f"{n} {word}{'' if n == 1 else 's'}"
 
 
 def _robots_used(checker: RobotChecks) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
@@ -72,7 +69,7 @@ def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
         return "robot: none (--robot none): Webots syntax checks only\n"
     rejected = _unchecked(report, checker)[1]
     unchecked = (
-        f"not checked against a robot: {_plural(len(rejected), 'file')} Webots rejects"
+        f"not checked against a robot: {plural(len(rejected), 'file')} Webots rejects"
         if rejected
         else ""
     )
@@ -80,12 +77,12 @@ def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
     parts = []
     for name, (spec, files) in used.items():
         step = checker.timestep_ms or spec.default_timestep_ms
-        count = f"{_plural(len(files), 'file')}, " if len(used) + bool(skipped) > 1 else ""
+        count = f"{plural(len(files), 'file')}, " if len(used) + bool(skipped) > 1 else ""
         parts.append(
             f"{name} ({count}{step} ms controller step, model sha256 {spec.model_hash[:12]})"
         )
     if skipped:
-        parts.append(f"none for {_plural(len(skipped), 'file')} (MT901)")
+        parts.append(f"none for {plural(len(skipped), 'file')} (MT901)")
     if not parts:  # no file reached the robot checks (Webots rejects them all)
         return f"robot: {unchecked}\n" if unchecked else ""
     named = []

@@ -39,6 +39,7 @@ __all__ = [
     "builtin_robots",
     "detect_robot",
     "erd_robot_names",
+    "fmt_name",
     "load_robot",
     "models_dir",
     "pick_robot",
@@ -392,7 +393,7 @@ class NoRobotDetectedError(RobotError):
             first = joints[self.missing[0]]
             close = difflib.get_close_matches(first, _builtin(best[0]).joint_names, n=1)
             self.suggestion = close[0] if close else None
-            lacked = ", ".join(f"'{_printable(joints[j])}'" for j in self.missing[:3])
+            lacked = ", ".join(f"'{fmt_name(joints[j])}'" for j in self.missing[:3])
             more = f" and {len(self.missing) - 3} more" if len(self.missing) > 3 else ""
             guess = f" (did you mean '{self.suggestion}'?)" if self.suggestion else ""
             self.detail = (
@@ -403,7 +404,7 @@ class NoRobotDetectedError(RobotError):
         super().__init__(f"{self.reason}; name the robot explicitly ({robot_choices()})")
 
 
-def _printable(name: str) -> str:
+def fmt_name(name: str) -> str:
     """A joint name for a message (undecodable bytes escaped)."""
     return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
 

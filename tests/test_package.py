@@ -255,3 +255,32 @@ def test_library_messages_name_no_cli_flag() -> None:
         if (rel, flag) not in _FLAGS_ALLOWED
     ]
     assert not wrong, "\n".join(wrong)
+
+
+def _function_bodies(path: Path) -> list[tuple[str, str]]:
+    """(``path:line name``, the body's AST without its docstring, with the arguments) of every
+    function of ``path``."""
+    import ast
+
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        body = node.body
+        if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
+            body = body[1:]
+        where = f"{path.relative_to(ROOT).as_posix()}:{node.lineno} {node.name}"
+        out.append((where, ast.dump(node.args) + "".join(ast.dump(b) for b in body)))
+    return out
+
+
+@pytest.mark.parametrize("package", ["cli", "motionfmt", "kinematics", "sim"])
+def test_no_function_is_written_twice_in_a_package(package: str) -> None:
+    # One helper serves every module of a package (issue #11): a second copy of a function,
+    # word for word, is a shared helper waiting to be imported.
+    seen: dict[str, list[str]] = {}
+    for path in sorted((ROOT / package).rglob("*.py")):
+        for where, body in _function_bodies(path):
+            seen.setdefault(body, []).append(where)
+    twice = [" = ".join(places) for places in seen.values() if len(places) > 1]
+    assert not twice, "\n".join(twice)

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
@@ -60,11 +60,6 @@ def fmt_span(names: Sequence[str]) -> str:
     if len(names) > 2 and all(n.startswith(stem) and n[len(stem) :].isdigit() for n in names):
         return f"{names[0]}..{names[-1][len(stem) :]}"
     return ", ".join(names)
-
-
-def fmt_name(name: str) -> str:
-    """A joint name for a message (undecodable bytes escaped)."""
-    return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
 
 
 def name_robot(robot_option: str | None, which: str = "the") -> str:
