@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     check_result,
     destination,
@@ -184,4 +184,4 @@ def _json(
         "unconstrained": list(r.unconstrained),
         "transition_velocity_findings": findings_json(findings),
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return jsontext.dumps(doc)

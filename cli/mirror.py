@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     destination,
     findings_json,
@@ -104,7 +105,7 @@ def _json(
         "map": _map_json(m),
         "limit_findings": findings_json(new),
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return jsontext.dumps(doc)
 
 
 def mirror_command(

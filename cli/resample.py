@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     destination,
     load_input,
@@ -99,7 +99,7 @@ def _json(r: Resampled, source: Path, target: Path | None, max_error: float | No
         "collinear": r.collinear,
         "deviation": deviation_json(r.deviation),
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return jsontext.dumps(doc)
 
 
 def resample_command(

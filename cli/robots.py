@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable
 from functools import partial
@@ -11,6 +10,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.cli import jsontext
 from motiontool.cli.options import TableFormat, TextOrJsonOption
 from motiontool.cli.output import refuse_overwrite
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
@@ -107,7 +107,7 @@ def _show_json(spec: RobotSpec) -> str:
         "head_pitch_envelope": [list(row) for row in spec.head_pitch_envelope],
         "coupled_joints": [list(pair) for pair in spec.coupled_joints],
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return jsontext.dumps(doc)
 
 
 def _coupled(spec: RobotSpec) -> str:

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     destination,
     load_input,
@@ -89,4 +89,4 @@ def _json(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
         "poses": {"old": poses, "kept": r.kept, "inserted": r.inserted},
         "duration_ms": r.document.motion.duration_ms,
     }
-    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+    return jsontext.dumps(doc)

