@@ -55,11 +55,10 @@ def summarize(data: bytes, path: str) -> MotionSummary:
     lf = data.count(b"\n")
     line_ends = "CRLF" if crlf and crlf == lf else ("mixed" if crlf else "LF")
     undefined = {j: 0 for j in read.joints}
-    if isinstance(read.rows, list):  # the bulk reader's (P, J) array only comes without '*'
-        for row in read.rows:
-            for name, v in zip(read.joints, row, strict=True):
-                if v != v:
-                    undefined[name] += 1
+    # '*' and the marker send no command; a 'nan' cell is a command (Webots sends it).
+    uncommanded = (~read.motion.commanded).sum(axis=0).tolist()
+    for name, count in zip(read.joints, uncommanded, strict=True):
+        undefined[name] += int(count)
     return MotionSummary(
         path=path,
         size_bytes=len(data),

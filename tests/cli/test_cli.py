@@ -178,6 +178,14 @@ def test_info_text_and_json(files: Path) -> None:
     )
 
 
+def test_info_counts_star_and_marker_as_no_command_but_not_nan(tmp_path: Path) -> None:
+    path = tmp_path / "odd.motion"
+    path.write_bytes(b"#WEBOTS_MOTION,V1.0,A,B\n0,P,nan,*\n100,Q,1,-9999999.9\n")
+    code, out, _ = invoke("info", "--format", "json", str(path))
+    assert code == 0, out
+    assert json.loads(out)["undefined"] == {"A": 0, "B": 2}  # Webots sends 'nan' to A
+
+
 def test_info_on_a_rejected_file_names_the_error(files: Path) -> None:
     code, out, err = invoke("info", str(files / "sub" / "bad.motion"))
     assert code == 2 and out == ""
