@@ -25,7 +25,7 @@ import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
@@ -124,6 +124,22 @@ def _tokens(line: bytes) -> list[bytes]:
     return [line[a:b] for a, b in _spans(line)]
 
 
+def _lf_block(block: bytes, n_lines: int, eol: bytes) -> bytes | None:
+    """``block`` (``n_lines`` pose lines joined with ``\\n``) without its ``\\r``s, or None
+    when a line needs Webots' tokenizer for its ends or a NUL (a stray ``\\r``, an end unlike
+    ``eol``). Empty cells are the callers' to find: a two-byte ``in`` scan of 26 MB takes
+    30-40 ms, a one-byte one (``memchr``) 2 ms."""
+    if eol:
+        if block.count(b"\r") != n_lines or not block.endswith(b"\r"):
+            return None
+        if block.count(b"\r\n") != n_lines - 1:
+            return None
+        block = block.replace(b"\r", b"")
+    elif b"\r" in block:
+        return None
+    return None if b"\0" in block else block
+
+
 def _columns(
     poses: list[bytes], n_cells: int, eol: bytes, block: bytes | None = None
 ) -> list[list[bytes]] | None:
@@ -131,21 +147,12 @@ def _columns(
     one ``split`` of the whole block; None when a line needs Webots' tokenizer (empty cells,
     a NUL, a stray ``\\r``, an end unlike ``eol``). ``block``: the lines already joined with
     ``\\n``, when the caller has them (a slice of the file's bytes)."""
-    if block is None:
-        block = b"\n".join(poses)
-    if eol:
-        if block.count(b"\r") != len(poses) or block.count(b"\r\n") != len(poses) - 1:
-            return None
-        if not block.endswith(b"\r"):
-            return None
-        block = block.replace(b"\r", b"")
-    elif b"\r" in block:
+    lf = _lf_block(b"\n".join(poses) if block is None else block, len(poses), eol)
+    if lf is None or b",," in lf or b",\n" in lf or b"\n," in lf:
         return None
-    if b"\0" in block or b",," in block or b",\n" in block or b"\n," in block:
+    if lf.startswith(b",") or lf.endswith(b","):
         return None
-    if block.startswith(b",") or block.endswith(b","):
-        return None
-    flat = block.replace(b"\n", b",").split(b",")
+    flat = lf.replace(b"\n", b",").split(b",")
     if len(flat) != n_cells * len(poses):
         return None
     return [flat[k::n_cells] for k in range(n_cells)]
@@ -185,6 +192,102 @@ def _negate_column(column: list[bytes], flags: list[bool], plain: bool) -> list[
         (t[1:] if t[0] == 45 else b"-" + t) if f else t  # 45: '-'
         for t, f in zip(column, flags, strict=True)
     ]
+
+
+#: Input bytes rearranged per step of :func:`_permute_cells`.
+_GATHER_BYTES = 1 << 20
+
+
+def _permute_cells(
+    block: bytes,
+    n_lines: int,
+    eol: bytes,
+    cells: Sequence[int],
+    negate: npt.NDArray[np.bool_],
+) -> bytes | None:
+    """The pose block with every line's cells rearranged, by a numpy gather of its bytes.
+
+    Output cell ``k`` of line ``p`` is input cell ``cells[k]`` of that line, negated where
+    ``negate[p, k]`` (shape (n_lines, len(cells)), bool; column 0, the time, never) as
+    :func:`_negate_column` does it on plain cells: a leading ``-`` is dropped, otherwise one is
+    put in front. The bytes :func:`_columns`, :func:`_negate_column` and :func:`_lines_of`
+    give, without a Python object per cell. None (the caller takes that path) unless every
+    line is plain: ends as ``eol`` says, no NUL (:func:`_lf_block`), exactly ``len(cells)``
+    cells, none empty nor starting with white space or ``+`` (:data:`_ODD_STARTS`). Those
+    conditions imply the ones of that path's fast, plain case, where it is exact.
+    """
+    import numpy as np
+
+    plain = _lf_block(block, n_lines, eol)
+    if plain is None or bool(negate[:, 0].any()):
+        return None
+    n_cells = len(cells)
+    size = len(plain)
+    end = eol + b"\n"
+    # Bytes the output has and the input may not: ',' and ',-' (a cell put after a separator
+    # with a minus sign), then the line end (whose start is the last line's end, ``eol``).
+    buf = np.frombuffer(plain + b",-" + end, dtype=np.uint8)
+    text = buf[:size]
+    seps = np.flatnonzero((text == 44) | (text == 10))  # 44: ',', 10: '\n'
+    if seps.shape[0] != n_lines * n_cells - 1:
+        return None
+    newline = text[seps] == 10
+    if int(np.count_nonzero(newline)) != n_lines - 1:
+        return None
+    if not bool(newline[n_cells - 1 :: n_cells].all()):
+        return None  # a line with more or fewer cells than the others
+    # int32 offsets where the output and the input both stay below 2 GiB (halves the memory).
+    bound = len(buf) + n_lines * (n_cells + len(end))
+    idx: type[np.signedinteger[Any]] = np.int32 if bound < 2**31 else np.int64
+    bounds = np.empty(n_lines * n_cells + 1, dtype=idx)
+    bounds[0] = -1
+    bounds[1:-1] = seps
+    bounds[-1] = size
+    starts = (bounds[:-1] + 1).reshape(n_lines, n_cells)
+    stops = bounds[1:].reshape(n_lines, n_cells)
+    if int((stops - starts).min()) < 1:
+        return None  # an empty cell
+    odd = np.zeros(256, dtype=bool)
+    odd[[start[1] for start in _ODD_STARTS]] = True
+    if bool(odd[text[starts]].any()):
+        return None  # a cell that starts with white space or '+'
+    order = np.asarray(cells, dtype=np.intp)
+    # Lines are done about a megabyte of input at a time: the index arrays stay small (one
+    # index for the whole file is 4 bytes per byte, and fresh memory is slow to touch).
+    rows = max(1, _GATHER_BYTES * n_lines // max(size, 1))
+    parts = []
+    for a in range(0, n_lines, rows):
+        b = min(a + rows, n_lines)
+        neg = negate[a:b]
+        first = starts[a:b, order]
+        last = stops[a:b, order]
+        minus = text[first] == 45  # 45: '-'
+        first += neg & minus  # drop the minus sign
+        # Two pieces per output cell: what comes before it (nothing, the line end, ',' or
+        # ',-'), then the cell's bytes; after the last line, its end (eol).
+        piece_at = np.empty((b - a, n_cells, 2), dtype=idx)
+        piece_len = np.empty((b - a, n_cells, 2), dtype=idx)
+        piece_at[:, :, 0] = size
+        piece_len[:, :, 0] = 1
+        piece_len[:, :, 0] += neg & ~minus  # put a minus sign in
+        piece_at[:, 0, 0] = size + 2
+        piece_len[:, 0, 0] = len(end)
+        if a == 0:
+            piece_len[0, 0, 0] = 0
+        piece_at[:, :, 1] = first
+        piece_len[:, :, 1] = last - first
+        at = piece_at.ravel()
+        length = piece_len.ravel()
+        if b == n_lines:
+            at = np.append(at, np.asarray(size + 2, dtype=idx))
+            length = np.append(length, np.asarray(len(eol), dtype=idx))
+        # Concatenated ranges: output byte i of a piece is input byte at + i.
+        out_end = np.cumsum(length, dtype=idx)
+        shift = at - (out_end - length)
+        index = np.repeat(shift, length)
+        index += np.arange(int(out_end[-1]), dtype=idx)
+        parts.append(np.take(buf, index).tobytes())
+    return b"".join(parts)
 
 
 def _respell(token: bytes, value: float) -> bytes:
@@ -284,21 +387,35 @@ class Mirrored:
         return loads(self.data, self.path)
 
 
-def mirror(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> Mirrored:
-    """Mirror ``doc`` left/right: ``q'[partner] = sign * q[joint]`` for every mapped column.
+@dataclass(frozen=True, eq=False)
+class _MirrorPlan:
+    """What :func:`mirror` writes: output column ``j`` (header name ``names[j]``) holds input
+    column ``source[j]`` times ``signs[j]``; ``flip`` (P, J) bool: the cells whose text is
+    negated; ``values`` (P, J) float64, rad (m), and ``commanded`` (P, J) bool: the result."""
 
-    Args:
-        doc: the document (not modified).
-        mapping: ``{joint: (partner, sign)}``, sign +1 or -1, symmetric (the partner maps back
-            with the same sign); a centre joint is its own partner.
+    joints: tuple[str, ...]
+    source: list[int]
+    signs: list[int]
+    names: list[str]
+    flip: npt.NDArray[np.bool_]
+    values: npt.NDArray[np.float64]
+    commanded: npt.NDArray[np.bool_]
+    swapped: tuple[tuple[str, str], ...]
+    renamed: tuple[tuple[str, str], ...]
+    unmapped: tuple[str, ...]
 
-    Where both columns of a pair are in the file their cells are exchanged (the header stays);
-    a column whose partner is missing is renamed to it. ``*`` stays ``*``, a zero is not
-    negated, and a negated number keeps its digits.
+    @property
+    def moves(self) -> list[int]:
+        """The output columns whose cells change: taken from another column, or negated."""
+        return [
+            j
+            for j, (k, s) in enumerate(zip(self.source, self.signs, strict=True))
+            if k != j or s < 0
+        ]
 
-    Raises:
-        MotionToolError: a joint named twice, or a ``nan``/``inf`` command.
-    """
+
+def _mirror_plan(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> _MirrorPlan:
+    """The columns, signs and names of ``doc``'s mirror image (see :func:`mirror`)."""
     import numpy as np
 
     _refuse_duplicates(doc, "mirroring")
@@ -339,28 +456,82 @@ def mirror(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> Mirro
     values = motion.values[:, src] * sgn + 0.0  # + 0.0: no '-0'
     commanded = motion.commanded[:, src]
     flip = (sgn < 0)[None, :] & commanded & (motion.values[:, src] != 0.0)
-
-    data = doc.to_bytes()
-    lines = _Lines.of_bytes(data, doc.n_poses)
-    if renamed:
-        spans = _spans(lines.header[:-1] if lines.header.endswith(b"\r") else lines.header)
-        header = lines.header
-        for j in sorted((joints.index(old) for old, _new in renamed), reverse=True):
-            a, b = spans[2 + j]
-            header = header[:a] + names[j].encode("utf-8", "surrogateescape") + header[b:]
-        lines.header = header
-    moves = [j for j in range(len(joints)) if source[j] != j or signs[j] < 0]
-    fast = plain = False
     if np.any(flip & (values == NO_VALUE_MARKER)):
         raise MotionToolError(
             f"{doc.path}: a value of {-NO_VALUE_MARKER} negated is Webots' 'no value' marker "
             f"{NO_VALUE_MARKER}: the mirror cannot be written"
         )
+    return _MirrorPlan(
+        joints,
+        source,
+        signs,
+        names,
+        flip,
+        values,
+        commanded,
+        tuple(swapped),
+        tuple(renamed),
+        tuple(unmapped),
+    )
+
+
+def _mirror_header(header: bytes, plan: _MirrorPlan) -> bytes:
+    """The header line with the renamed columns' new names."""
+    if not plan.renamed:
+        return header
+    spans = _spans(header[:-1] if header.endswith(b"\r") else header)
+    old = [name for name, _new in plan.renamed]
+    for j in sorted((j for j, name in enumerate(plan.joints) if name in old), reverse=True):
+        a, b = spans[2 + j]
+        header = header[:a] + plan.names[j].encode("utf-8", "surrogateescape") + header[b:]
+    return header
+
+
+def _pose_span(lines: _Lines) -> tuple[int, int]:
+    """(start, stop): where the pose lines are in the bytes ``lines`` was split from."""
+    start = len(lines.header) + 1
+    return start, start + sum(map(len, lines.poses)) + len(lines.poses) - 1
+
+
+def _mirror_gather(doc: MotionDocument, plan: _MirrorPlan) -> bytes | None:
+    """The bytes of ``doc``'s mirror image, the pose lines rearranged by :func:`_permute_cells`;
+    None where that does not apply (then the per-cell path of :func:`_mirror_bytes`)."""
+    import numpy as np
+
+    if not plan.moves:
+        return None
+    data = doc.to_bytes()
+    lines = _Lines.of_bytes(data, doc.n_poses)
+    start, stop = _pose_span(lines)
+    negate = np.zeros((len(lines.poses), 2 + len(plan.source)), dtype=bool)
+    negate[:, 2:] = plan.flip
+    cells = [0, 1, *(2 + k for k in plan.source)]
+    out = _permute_cells(data[start:stop], len(lines.poses), lines.eol, cells, negate)
+    if out is None:
+        return None
+    return b"".join([_mirror_header(lines.header, plan), b"\n", out, data[stop:]])
+
+
+def _mirror_bytes(doc: MotionDocument, plan: _MirrorPlan, *, gather: bool = True) -> bytes:
+    """The bytes of ``doc``'s mirror image as ``plan`` says.
+
+    ``gather``: plain pose lines are rearranged by :func:`_mirror_gather`; False takes the
+    per-cell path below for every file: the reference the gather is tested against (the bytes
+    are the same).
+    """
+    if gather:
+        gathered = _mirror_gather(doc, plan)
+        if gathered is not None:
+            return gathered
+    source, signs, moves = plan.source, plan.signs, plan.moves
+    data = doc.to_bytes()
+    lines = _Lines.of_bytes(data, doc.n_poses)
+    start, stop = _pose_span(lines)  # before the header is renamed: a slice of ``data``
+    lines.header = _mirror_header(lines.header, plan)
+    fast = plain = False
     if moves:
-        start = len(lines.header) + 1  # the pose lines are one slice of the file's bytes
-        stop = start + sum(map(len, lines.poses)) + len(lines.poses) - 1
         block = data[start:stop]
-        columns = _columns(lines.poses, 2 + len(joints), lines.eol, block)
+        columns = _columns(lines.poses, 2 + len(source), lines.eol, block)
         if columns is None:  # lines Webots' tokenizer must split: one by one
             rows = [_tokens(line) for line in lines.poses]
             columns = [list(c) for c in zip(*rows, strict=True)]
@@ -372,7 +543,7 @@ def mirror(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> Mirro
         for j in moves:
             column = columns[2 + source[j]]
             if signs[j] < 0:
-                column = _negate_column(column, flip[:, j].tolist(), plain)
+                column = _negate_column(column, plan.flip[:, j].tolist(), plain)
             new_columns[2 + j] = column
         if fast:
             last = lines.poses[-1]
@@ -389,9 +560,29 @@ def mirror(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> Mirro
         # Cells negated by the slow path (white space, '+') are checked, and re-spelt if they
         # do not read as intended; the fast path's textual negation of a plain decimal number
         # is exact (strtod rounds correctly, symmetrically about 0).
-        data = _repair(loads(data, doc.path), values, commanded).to_bytes()
-    negated = tuple(names[j] for j in range(len(joints)) if signs[j] < 0)
-    return Mirrored(data, doc.path, tuple(swapped), negated, tuple(renamed), tuple(unmapped))
+        data = _repair(loads(data, doc.path), plan.values, plan.commanded).to_bytes()
+    return data
+
+
+def mirror(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) -> Mirrored:
+    """Mirror ``doc`` left/right: ``q'[partner] = sign * q[joint]`` for every mapped column.
+
+    Args:
+        doc: the document (not modified).
+        mapping: ``{joint: (partner, sign)}``, sign +1 or -1, symmetric (the partner maps back
+            with the same sign); a centre joint is its own partner.
+
+    Where both columns of a pair are in the file their cells are exchanged (the header stays);
+    a column whose partner is missing is renamed to it. ``*`` stays ``*``, a zero is not
+    negated, and a negated number keeps its digits.
+
+    Raises:
+        MotionToolError: a joint named twice, or a ``nan``/``inf`` command.
+    """
+    plan = _mirror_plan(doc, mapping)
+    data = _mirror_bytes(doc, plan)
+    negated = tuple(plan.names[j] for j in range(len(plan.names)) if plan.signs[j] < 0)
+    return Mirrored(data, doc.path, plan.swapped, negated, plan.renamed, plan.unmapped)
 
 
 # --------------------------------------------------------------------------- concat
