@@ -9,6 +9,7 @@ motor where the later sends none. :class:`Table` merges such columns the same wa
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -150,17 +151,17 @@ class Table:
 
         return np.take_along_axis(cells, self.source, axis=1)
 
-    @property
+    @functools.cached_property
     def values(self) -> npt.NDArray[np.float64]:
         """(P, K) float64: each motor's cell value (rad, m for linear joints), NaN for '*'."""
         return self._at_source(self.raw)  # type: ignore[return-value]
 
-    @property
+    @functools.cached_property
     def defined(self) -> npt.NDArray[np.bool_]:
         """(P, K) bool: a column of the motor holds a number (a command) at the pose."""
         return self._at_source(self.raw_defined)  # type: ignore[return-value]
 
-    @property
+    @functools.cached_property
     def commanded(self) -> npt.NDArray[np.bool_]:
         """(P, K) bool: a column of the motor sends its value at (or right after) the pose
         (:func:`sent_cells`)."""
