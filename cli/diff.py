@@ -19,6 +19,7 @@ from motiontool.motionfmt.compare import (
     compare_motions,
     held_targets,
 )
+from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.motion import Motion
@@ -171,6 +172,8 @@ def diff_command(
     Re-spelt numbers, re-spaced keyframes on the same lines and re-ordered columns are the same
     motion. Exit code 0 same within --tolerance, 1 different, 2 error.
     """
+    if plot is not None and str(plot) == "-":
+        raise MotionToolError("--plot -: the report goes to stdout; name a PNG file to write")
     refuse_overwrite(plot, [old, new], "--plot", "write the PNG to another file")
     if plot is not None:
         require("matplotlib", "plot", "motiontool diff --plot")

@@ -9,11 +9,11 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
-from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.output import emit_bytes, refuse_overwrite
 from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
+from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps
 
@@ -25,7 +25,10 @@ _DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
 def plot_command(
     path: MotionFile,
     output: Annotated[
-        Path, typer.Option("--output", "-o", help="The PNG file to write.", show_default=False)
+        Path,
+        typer.Option(
+            "--output", "-o", help="The PNG file to write ('-': stdout).", show_default=False
+        ),
     ],
     robot: Annotated[
         str, robot_option("Robot whose limits are drawn", none="no limits (as auto finding none)")
@@ -75,7 +78,7 @@ def plot_command(
         f"maxVelocity · dotted: target held over '*' ({step} ms step)",
         comment=json.dumps(stamps(spec.model_hash if spec else None), sort_keys=True),
     )
-    atomic_write(output, png)
+    emit_bytes(png, output)  # '-': the PNG to stdout, the summary line to stderr
     if spec is None:
         findings = "no robot limits drawn"
         if robot == AUTO:
@@ -88,4 +91,8 @@ def plot_command(
             f"{n_fast} segment{'' if n_fast == 1 else 's'} above maxVelocity"
         )
     grouped = f"{len(groups)} group{'' if len(groups) == 1 else 's'}"
-    typer.echo(f"wrote {output}: {len(names)} joints in {grouped}; {who}; {findings}")
+    where = "stdout" if str(output) == "-" else output
+    typer.echo(
+        f"wrote {where}: {len(names)} joints in {grouped}; {who}; {findings}",
+        err=str(output) == "-",
+    )

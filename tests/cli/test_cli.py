@@ -249,3 +249,17 @@ def test_installed_script(tmp_path: Path) -> None:
         f"motiontool: error: cannot read '{tmp_path / 'nope.motion'}': No such file or directory\n",
     )
     assert "Traceback" not in proc.stderr
+
+
+def test_plot_to_stdout_and_diff_plot_refuses_stdout(tmp_path: Path) -> None:
+    path = tmp_path / "w.motion"
+    path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n400,Q,1\n")
+    result = runner.invoke(app, ["plot", str(path), "-o", "-"])
+    assert result.exit_code == 0, result.output
+    assert result.stdout_bytes.startswith(b"\x89PNG\r\n\x1a\n")
+    assert not (tmp_path / "-").exists() and not Path("-").exists()
+    code, out, err = invoke("diff", str(path), str(path), "--plot", "-")
+    assert (code, out) == (2, "")
+    assert (
+        err == "motiontool: error: --plot -: the report goes to stdout; name a PNG file to write\n"
+    )
