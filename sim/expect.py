@@ -97,15 +97,6 @@ class Quantity:
     point: bool = False
 
 
-_KIND = {
-    "m": "length",
-    "deg": "angle",
-    "rad": "angle",
-    "s": "time",
-    "mm": "length",
-    "ms": "time",
-    "": "count",
-}
 _UNITS: dict[str, tuple[str, float]] = {  # unit -> (kind, value in SI)
     "m": ("length", 1.0),
     "cm": ("length", 0.01),
@@ -494,7 +485,7 @@ def _convert(number: float, unit: str, quantity: Quantity, text: str) -> float:
     """``number`` written in ``unit`` (``""``: the quantity's own) in the quantity's unit."""
     if not unit or unit == quantity.unit:
         return number
-    kind = _KIND[quantity.unit]
+    kind = _UNITS[quantity.unit][0] if quantity.unit else "count"
     if unit not in _UNITS or _UNITS[unit][0] != kind:
         own = quantity.unit or "a plain count"
         valid = [u for u, (k, _f) in _UNITS.items() if k == kind]
