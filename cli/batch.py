@@ -178,6 +178,8 @@ def _plan(
     from motiontool.sim.sidecar import Sidecar, expectations_for
 
     rrd_names = recording_stems(files)
+    if rrd_dir is not None:
+        rrd_dir.mkdir(parents=True, exist_ok=True)
     sidecars: dict[Path, Sidecar] = {}
     specs = []
     for f in files:
@@ -189,7 +191,6 @@ def _plan(
         if start_state not in (None, "standing"):
             file_options["start"] = start_state
         if rrd_dir is not None:
-            rrd_dir.mkdir(parents=True, exist_ok=True)
             file_options["rrd_dir"] = str(rrd_dir)
             file_options["rrd_name"] = rrd_names[str(f)]
         specs += plan(

@@ -11,7 +11,7 @@ import typer
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import Format, FormatOption, timestep_option
 from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.text import num
+from motiontool.cli.text import file_name, num
 from motiontool.motionfmt.compare import (
     DEFAULT_TOLERANCE_RAD,
     JointDiff,
@@ -27,11 +27,6 @@ from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps
 
 __all__ = ["diff_command"]
-
-
-def _short(path: Path) -> str:
-    """A file's name for a plot title (``<stdin>`` for ``-``)."""
-    return source_name(path) if str(path) == "-" else path.name
 
 
 def _ordered(diff: MotionDiff) -> list[JointDiff]:
@@ -134,7 +129,8 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
         {n: held_a[:, k] for k, n in enumerate(joints)},
         {n: held_b[:, k] for k, n in enumerate(joints)},
         joints,
-        title=f"{_short(old)} -> {_short(new)}: {verdict} (tolerance {num(diff.tolerance)} rad)",
+        title=f"{file_name(old)} -> {file_name(new)}: {verdict} "
+        f"(tolerance {num(diff.tolerance)} rad)",
         caption=f"motiontool {stamps()['motiontool']}\nheld targets every {diff.timestep_ms} ms:"
         " old grey, new blue, difference shaded red",
         comment=json.dumps(stamps(), sort_keys=True),

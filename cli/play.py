@@ -18,6 +18,7 @@ from motiontool.cli.physics_options import (
     ProfileOption,
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
+from motiontool.cli.text import file_name
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
@@ -81,9 +82,7 @@ def render_text(report: PlayReport) -> str:
     """The summary for people: the outcome, the robot, the feet, contacts, then one row per
     commanded joint."""
     stamps_ = report.stamps
-    names = " + ".join(
-        source_name(f.path) if f.path == "-" else Path(f.path).name for f in report.files
-    )
+    names = " + ".join(file_name(f.path) for f in report.files)
     lines = [
         f"{names} on {report.robot}: {report.simulated_s:.2f} s simulated "
         f"({report.control_steps} control steps of {stamps_.get('control_step_ms')} ms, "

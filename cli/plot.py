@@ -10,6 +10,7 @@ import typer
 
 from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
 from motiontool.cli.output import emit_bytes, refuse_overwrite
+from motiontool.cli.text import file_name, plural
 from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
 from motiontool.motionfmt.extras import require
@@ -65,7 +66,7 @@ def plot_command(
     groups = limb_groups(
         motion.joints, spec.name if spec else None, spec.joint_names if spec else ()
     )
-    name = source_name(path) if str(path) == "-" else path.name
+    name = file_name(path)
     who = f"robot {spec.name} (model {spec.model_hash[:12]})" if spec else "no robot: no limits"
     png, n_limit, n_fast = plot_motion(
         motion,
@@ -87,10 +88,10 @@ def plot_command(
             )
     else:
         findings = (
-            f"{n_limit} keyframe value{'' if n_limit == 1 else 's'} outside the limits, "
-            f"{n_fast} segment{'' if n_fast == 1 else 's'} above maxVelocity"
+            f"{plural(n_limit, 'keyframe value')} outside the limits, "
+            f"{plural(n_fast, 'segment')} above maxVelocity"
         )
-    grouped = f"{len(groups)} group{'' if len(groups) == 1 else 's'}"
+    grouped = plural(len(groups), "group")
     where = "stdout" if str(output) == "-" else output
     typer.echo(
         f"wrote {where}: {len(names)} joints in {grouped}; {who}; {findings}",

@@ -1,8 +1,17 @@
-"""How a number and a count read in the reports for people."""
+"""How a number, a count and a file name read in the reports for people."""
 
 from __future__ import annotations
 
-__all__ = ["num", "plural"]
+from pathlib import Path
+
+from motiontool.motionfmt.fileio import is_stdin, source_name
+
+__all__ = ["file_name", "num", "plural"]
+
+
+def file_name(path: str | Path) -> str:
+    """A file's name for a title or a summary line: ``<stdin>`` for ``-``, else its last part."""
+    return source_name(path) if is_stdin(path) else Path(path).name
 
 
 def num(x: float) -> str:

@@ -148,11 +148,10 @@ def _render(
     color: bool,
     order: Order,
 ) -> str:
-    extra = _robot_json(checker, requested, report)
     if fmt is ReportFormat.json:
-        return render_json(report, extra)
+        return render_json(report, _robot_json(checker, requested, report))
     if fmt is ReportFormat.sarif:
-        return render_sarif(report, extra, order=order)
+        return render_sarif(report, _robot_json(checker, requested, report), order=order)
     if fmt is ReportFormat.text:
         return _robot_line(checker, report) + render(report, fmt.value, color=color, order=order)
     return render(report, fmt.value, order=order)
