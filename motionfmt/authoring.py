@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.reader import NO_VALUE_MARKER, _spans
+from motiontool.motionfmt.reader import NO_VALUE_MARKER, token_spans
 from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
 
@@ -108,7 +108,7 @@ def _replace(line: bytes, changes: Mapping[int, bytes]) -> bytes:
         for k, text in changes.items():
             parts[k] = text
         return b",".join(parts) + (b"\r" if line.endswith(b"\r") else b"")
-    spans = _spans(line)
+    spans = token_spans(line)
     out = line
     for k in sorted(changes, reverse=True):
         a, b = spans[k]
@@ -121,7 +121,7 @@ def _tokens(line: bytes) -> list[bytes]:
     parts = _cells(line)
     if parts is not None:
         return parts
-    return [line[a:b] for a, b in _spans(line)]
+    return [line[a:b] for a, b in token_spans(line)]
 
 
 def _lf_block(block: bytes, n_lines: int, eol: bytes) -> bytes | None:
@@ -479,7 +479,7 @@ def _mirror_header(header: bytes, plan: _MirrorPlan) -> bytes:
     """The header line with the renamed columns' new names."""
     if not plan.renamed:
         return header
-    spans = _spans(header[:-1] if header.endswith(b"\r") else header)
+    spans = token_spans(header[:-1] if header.endswith(b"\r") else header)
     old = [name for name, _new in plan.renamed]
     for j in sorted((j for j, name in enumerate(plan.joints) if name in old), reverse=True):
         a, b = spans[2 + j]

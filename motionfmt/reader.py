@@ -77,9 +77,6 @@ def token_spans(piece: bytes) -> list[tuple[int, int]]:
     return [m.span() for m in _TOKEN.finditer(piece)]
 
 
-_spans = token_spans  # the former private name, still imported by motionfmt/authoring.py
-
-
 @dataclass(frozen=True)
 class _Piece:
     """What one ``fgets`` call returns: part of a physical line."""

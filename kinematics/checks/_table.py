@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics.robots import RobotSpec, fmt_name
@@ -140,7 +140,6 @@ class Table:
     motors: list[int]
     groups: list[list[int]]
     source: npt.NDArray[np.intp]  # (P, K) file column
-    _held: npt.NDArray[np.float64] | None = field(default=None, repr=False)
 
     def col(self, pose: int, k: int) -> int:
         """The file column of motor ``k``'s cell at ``pose``."""
@@ -167,15 +166,12 @@ class Table:
         (:func:`sent_cells`)."""
         return self._at_source(self.raw_sent)  # type: ignore[return-value]
 
-    @property
+    @functools.cached_property
     def held(self) -> npt.NDArray[np.float64]:
         """(P, K) float64: each motor's target at each pose, its last commanded value where no
         column sends one, NaN before the motion first commands it."""
-        if self._held is None:
-            names = [self.result.joints[group[-1]] for group in self.groups]
-            held = hold_targets(self.raw, self.raw_sent, self.result.joints, names)
-            self._held = held.targets
-        return self._held
+        names = [self.result.joints[group[-1]] for group in self.groups]
+        return hold_targets(self.raw, self.raw_sent, self.result.joints, names).targets
 
     def segments(self) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.bool_]]:
         """Which file column drives each motor over each keyframe segment: (P-1, K) the last
