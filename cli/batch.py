@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from motiontool.cli.color import rich_no_color
-from motiontool.cli.options import Timestep, robot_option
-from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.options import Timestep, finite, robot_option
+from motiontool.cli.output import emit, refuse_overwrite, refuse_shared_outputs, require_folder
 from motiontool.cli.physics_options import (
     FrictionOption,
     PhysicsStepOption,
@@ -25,6 +25,19 @@ if TYPE_CHECKING:
     from motiontool.sim.batch import BatchResult, Perturbation, RunResult, RunSpec
 
 __all__ = ["batch_command"]
+
+
+def _timeout_range(value: float | None) -> float | None:
+    """``--timeout``: finite and at most :data:`motiontool.sim.executor.MAX_TIMEOUT_S`."""
+    if value is not None and finite(value) > _max_timeout_s():
+        raise typer.BadParameter(f"{value:g} is more than {_max_timeout_s():g} s (a week)")
+    return value
+
+
+def _max_timeout_s() -> float:
+    from motiontool.sim.executor import MAX_TIMEOUT_S
+
+    return MAX_TIMEOUT_S
 
 
 def batch_command(
@@ -52,7 +65,10 @@ def batch_command(
         ),
     ] = None,
     timeout: Annotated[
-        float | None, typer.Option("--timeout", min=0.1, help="Wall-clock limit of one run, in s.")
+        float | None,
+        typer.Option(
+            "--timeout", min=0.1, callback=_timeout_range, help="Wall-clock limit of one run, in s."
+        ),
     ] = None,
     perturb: Annotated[
         list[str] | None,
@@ -108,9 +124,14 @@ def batch_command(
     if any(is_stdin(p) for p in paths):
         raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
     files = collect_motion_files(paths)
+    if ray_address is not None and executor != "ray":
+        raise MotionToolError("--ray-address names a Ray cluster: use it with --executor ray")
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
     for option, out in outputs.items():
         refuse_overwrite(out, files, option)
+    refuse_shared_outputs({k: v for k, v in outputs.items() if k != "--rrd-dir"})
+    require_folder(rrd_dir, "--rrd-dir")
+    require_folder(cache_dir, "--cache-dir")
     _require_extras(junit=junit, rrd_dir=rrd_dir, executor=executor)
     perturbations = [parse_perturbation(p) for p in perturb or []]
     options = {

@@ -25,6 +25,7 @@ from motiontool.cli.options import (
     Output,
     ResultTimestep,
     RobotOption,
+    finite,
 )
 from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.text import num
@@ -55,7 +56,11 @@ def concat_command(
     robot: RobotOption = AUTO,
     margin: Annotated[
         float,
-        typer.Option("--margin", help="Fraction of maxVelocity a transition may use, in (0, 1]."),
+        typer.Option(
+            "--margin",
+            callback=finite,
+            help="Fraction of maxVelocity a transition may use, in (0, 1].",
+        ),
     ] = DEFAULT_MARGIN,
     transition: Annotated[
         int | None,

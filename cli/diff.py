@@ -9,7 +9,7 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import Format, FormatOption, timestep_option
+from motiontool.cli.options import Format, FormatOption, finite, timestep_option
 from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.text import file_name, num
 from motiontool.motionfmt.compare import (
@@ -148,7 +148,10 @@ def diff_command(
     tolerance: Annotated[
         float,
         typer.Option(
-            "--tolerance", min=0.0, help="Largest |Δq| in rad that still counts as the same."
+            "--tolerance",
+            min=0.0,
+            callback=finite,
+            help="Largest |Δq| in rad that still counts as the same.",
         ),
     ] = DEFAULT_TOLERANCE_RAD,
     format: FormatOption = Format.text,

@@ -8,7 +8,7 @@ import shlex
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import MotionFile, TableFormat, TextOrJsonOption
+from motiontool.cli.options import MotionFile, TextOrJson, TextOrJsonOption
 from motiontool.cli.text import plural
 from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.summary import MotionSummary, summarize
@@ -64,19 +64,17 @@ def _text(s: MotionSummary, arg: str) -> str:
 
 def info_command(
     path: MotionFile,
-    format: TextOrJsonOption = TableFormat.text,
+    format: TextOrJsonOption = TextOrJson.text,
 ) -> None:
     """Joints, poses, duration, pose spacing and undefined cells of a motion file, and the
     count of what 'validate --robot none' finds in it (errors, warnings, notes)."""
     s = summarize(read_file(path), source_name(path))
-    if format is TableFormat.json:
+    if format is TextOrJson.json:
         # schema 2: "warnings" counts warnings only (1 counted every finding), with "errors"
         # and "notes" beside it.
         doc = {"schema": "motiontool.info", "schema_version": 2, "stamps": stamps()}
         doc.update(dataclasses.asdict(s))
         doc["units"] = {"first_ms": "ms", "duration_ms": "ms", "spacing_ms": "ms"}
         typer.echo(dumps(doc), nl=False)
-    elif format is TableFormat.csv:
-        raise typer.BadParameter("info prints text or json", param_hint="--format")
     else:
         typer.echo(_text(s, str(path)), nl=False)

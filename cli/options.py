@@ -10,6 +10,7 @@ uses. :func:`error_line` is where the CLI adds its flags to a library error: the
 from __future__ import annotations
 
 import enum
+import math
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -19,6 +20,8 @@ from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
+    "MAX_LOOPS",
+    "MAX_TIMESTEP_MS",
     "ROBOT_OPTION",
     "Format",
     "FormatOption",
@@ -30,12 +33,33 @@ __all__ = [
     "ResultTimestep",
     "RobotOption",
     "TableFormat",
+    "TextOrJson",
     "TextOrJsonOption",
     "Timestep",
     "error_line",
+    "finite",
     "robot_option",
     "timestep_option",
 ]
+
+MAX_TIMESTEP_MS = 2**31 - 1
+"""The largest controller time step in ms: Webots keeps it in a C ``int``."""
+
+
+MAX_LOOPS = 1_000_000
+"""The most cycles ``--loop`` plays (``play``, ``sample``): a bound on the option's range, so
+that a mistyped number is refused instead of overflowing."""
+
+
+def finite(value: Any) -> Any:
+    """Typer callback of a float option: ``nan`` and ``inf`` (which Click reads as floats and
+    its ranges let through) are refused as the option's value."""
+    values = value if isinstance(value, list | tuple) else [value]
+    for v in values:
+        if isinstance(v, float) and not math.isfinite(v):
+            raise typer.BadParameter(f"{v!r} is not a finite number")
+    return value
+
 
 ROBOT_OPTION = "--robot"
 """How a user of the CLI names a robot (library hints get it as ``robot_option``)."""
@@ -57,6 +81,13 @@ class ReportFormat(enum.StrEnum):
     github = "github"
 
 
+class TextOrJson(enum.StrEnum):
+    """Formats of a listing offered as text or JSON only."""
+
+    text = "text"
+    json = "json"
+
+
 class TableFormat(enum.StrEnum):
     """Formats of a table of numbers."""
 
@@ -71,7 +102,7 @@ FormatOption = Annotated[
     Format, typer.Option("--format", "-f", help="Report as text for people or json for CI.")
 ]
 TextOrJsonOption = Annotated[
-    TableFormat, typer.Option("--format", "-f", help="text or json (csv is not offered).")
+    TextOrJson, typer.Option("--format", "-f", help="Text for people or json for CI.")
 ]
 Output = Annotated[
     Path | None,
@@ -121,6 +152,7 @@ def timestep_option(
         "--timestep",
         "-t",
         min=1,
+        max=MAX_TIMESTEP_MS,
         help=f"Controller time step in ms{': ' + use if use else ''} (default: {default}).",
     )
 

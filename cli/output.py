@@ -4,13 +4,21 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, is_stdin
+from motiontool.motionfmt.fileio import STDOUT, atomic_write, is_stdin, is_stdout, output_kind
 
-__all__ = ["emit", "emit_bytes", "refuse_overwrite", "same_file"]
+__all__ = [
+    "emit",
+    "emit_bytes",
+    "emit_stderr",
+    "refuse_overwrite",
+    "refuse_shared_outputs",
+    "require_folder",
+    "same_file",
+]
 
 
 def same_file(a: Path, b: Path) -> bool:
@@ -55,12 +63,59 @@ def emit(text: str, output: Path | None) -> None:
     emit_bytes(text.encode("utf-8", "surrogateescape"), output)
 
 
+def emit_stderr(text: str) -> None:
+    """Write ``text`` to stderr (a report whose stdout another output took), names' bytes kept."""
+    sys.stderr.flush()
+    sys.stderr.buffer.write(text.encode("utf-8", "surrogateescape"))
+    sys.stderr.buffer.flush()
+
+
 def emit_bytes(data: bytes, output: Path | None) -> None:
-    """Write ``data`` to ``output`` (temporary file, then rename) or, for None or ``-``, to
-    stdout."""
-    if output is not None and str(output) != "-":
-        atomic_write(output, data)
+    """Write ``data`` to ``output`` as :func:`motiontool.motionfmt.fileio.open_output` does
+    (a regular file atomically, a device, FIFO or ``/dev/fd/N`` straight through) or, for None
+    or ``-``, to stdout."""
+    atomic_write(STDOUT if output is None else output, data)
+
+
+def _one_output(a: Path, b: Path) -> bool:
+    """True when writing ``a`` and then ``b`` would leave only one of them: the same regular
+    file (a link to it too, or one new path) or standard output twice. Devices, FIFOs and
+    ``/dev/fd/N`` take what they are given: ``--json /dev/null --markdown /dev/null`` is fine."""
+    if is_stdout(a) or is_stdout(b):
+        return is_stdout(a) and is_stdout(b)
+    if output_kind(a) != "file" or output_kind(b) != "file":
+        return False
+    if os.path.lexists(a) and os.path.lexists(b):
+        return same_file(a, b)
+    return os.path.realpath(a) == os.path.realpath(b)
+
+
+def refuse_shared_outputs(outputs: Mapping[str, Path | None]) -> None:
+    """Refuse two options (``{"--json": path, "--rrd": path}``) that would write one file:
+    the second would replace the first. Called before anything runs.
+
+    Raises:
+        MotionToolError: ``--json and --rrd both write 'X'; give each its own file``.
+    """
+    given = [(option, path) for option, path in outputs.items() if path is not None]
+    for i, (option, path) in enumerate(given):
+        for other, earlier in given[:i]:
+            if _one_output(earlier, path):
+                raise MotionToolError(
+                    f"{other} and {option} both write '{path}'; give each its own file"
+                )
+
+
+def require_folder(path: Path | None, option: str) -> None:
+    """Refuse a folder option (``--rrd-dir``) that names standard output or an existing path
+    that is not a folder, before anything runs (a missing folder is created later).
+
+    Raises:
+        MotionToolError: ``--rrd-dir 'X' is not a folder; ...``.
+    """
+    if path is None:
         return
-    sys.stdout.flush()
-    sys.stdout.buffer.write(data)
-    sys.stdout.buffer.flush()
+    if is_stdout(path) or (os.path.exists(path) and not os.path.isdir(path)):
+        raise MotionToolError(
+            f"{option} '{path}' is not a folder; name a folder (it is created if missing)"
+        )

@@ -8,6 +8,8 @@ from typing import Annotated
 
 import typer
 
+from motiontool.cli.options import finite
+
 __all__ = ["FrictionOption", "PhysicsStepOption", "Profile", "ProfileOption"]
 
 
@@ -22,6 +24,7 @@ PhysicsStepOption = Annotated[
     float | None,
     typer.Option(
         "--physics-step",
+        callback=finite,
         help="MuJoCo step in ms; it must divide the controller time step (default: 2, or the"
         " control step with --profile webots).",
         show_default=False,
@@ -31,6 +34,7 @@ FrictionOption = Annotated[
     float | None,
     typer.Option(
         "--friction",
+        callback=finite,
         help="Robot-floor friction coefficient, > 0 (default: 1, or 7 with --profile webots;"
         " batch's --perturb friction multiplies it).",
         show_default=False,

@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING, Annotated, Any
 import typer
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import Timestep, robot_option
-from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.options import MAX_LOOPS, Timestep, finite, robot_option
+from motiontool.cli.output import emit, emit_stderr, refuse_overwrite, refuse_shared_outputs
 from motiontool.cli.physics_options import (
     FrictionOption,
     PhysicsStepOption,
@@ -22,7 +22,7 @@ from motiontool.cli.text import file_name
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.fileio import is_stdin, is_stdout, source_name
 from motiontool.stamps import stamps
 
 if TYPE_CHECKING:
@@ -173,7 +173,9 @@ def play_command(
     rrd: Annotated[
         Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
     ] = None,
-    loop: Annotated[int, typer.Option("--loop", min=1, help="Play each motion N times.")] = 1,
+    loop: Annotated[
+        int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play each motion N times.")
+    ] = 1,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")] = False,
     timestep: Timestep = None,
     robot: Annotated[
@@ -187,7 +189,12 @@ def play_command(
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     hold: Annotated[
         float,
-        typer.Option("--hold", min=0.0, help="Seconds to keep simulating after the last motion."),
+        typer.Option(
+            "--hold",
+            min=0.0,
+            callback=finite,
+            help="Seconds to keep simulating after the last motion.",
+        ),
     ] = 1.0,
     seed: Annotated[int, typer.Option("--seed", help="Seed of random draws (stamped).")] = 0,
     physics_step: PhysicsStepOption = None,
@@ -209,10 +216,10 @@ def play_command(
         )
     refuse_overwrite(json_path, files, "--json")
     refuse_overwrite(rrd, files, "--rrd")
+    refuse_shared_outputs({"--json": json_path, "--rrd": rrd})
     require("mujoco", "sim", "motiontool play")
     if rrd is not None:
         require("rerun", "rerun", "motiontool play --rrd")
-    from motiontool.motionfmt.fileio import is_stdin
     from motiontool.sim.expect import evaluate, parse_expectations
     from motiontool.sim.play import PlayOptions, play, read_playable
     from motiontool.sim.sidecar import expectations_for
@@ -257,5 +264,11 @@ def play_command(
         )
     if json_path is not None:
         emit(dumps(report.to_json(), indent=1), json_path)
-    emit(render_text(report), None)  # names keep the file's bytes (no UnicodeEncodeError)
+    # Names keep the file's bytes (no UnicodeEncodeError); where --json or --rrd is '-' (stdout),
+    # the text report goes to stderr.
+    text = render_text(report)
+    if is_stdout(json_path) or is_stdout(rrd):
+        emit_stderr(text)
+    else:
+        emit(text, None)
     raise typer.Exit(report.exit_code)

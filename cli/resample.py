@@ -16,7 +16,7 @@ from motiontool.cli._authoring import (
     say,
     write_result,
 )
-from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output
+from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output, finite
 from motiontool.cli.text import num, plural
 from motiontool.motionfmt.compare import MotionDiff
 from motiontool.motionfmt.errors import MotionToolError
@@ -118,6 +118,7 @@ def resample_command(
         typer.Option(
             "--max-error",
             min=0.0,
+            callback=finite,
             help="Remove keyframes while every joint stays within this many rad of the "
             "original command stream (0: only exactly collinear ones).",
         ),

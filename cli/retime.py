@@ -26,6 +26,7 @@ from motiontool.cli.options import (
     MotionFile,
     Output,
     ResultTimestep,
+    finite,
     robot_option,
 )
 from motiontool.cli.text import num
@@ -72,6 +73,7 @@ def retime_command(
         float | None,
         typer.Option(
             "--speed",
+            callback=finite,
             help="Play this many times as fast: 0.5 takes twice as long (times scaled from 0).",
         ),
     ] = None,
@@ -92,6 +94,7 @@ def retime_command(
         float,
         typer.Option(
             "--margin",
+            callback=finite,
             help="Fraction of maxVelocity --fit-limits allows, in (0, 1].",
         ),
     ] = DEFAULT_MARGIN,
@@ -99,6 +102,7 @@ def retime_command(
         float | None,
         typer.Option(
             "--accel",
+            callback=finite,
             help="Also limit each joint's velocity change at a pose to this many rad/s² "
             "(over the half segments around it; the motion starts and ends at rest).",
         ),

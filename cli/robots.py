@@ -11,12 +11,12 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli import jsontext
-from motiontool.cli.options import TableFormat, TextOrJsonOption
-from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.options import TextOrJson, TextOrJsonOption
+from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import atomic_write
+from motiontool.motionfmt.fileio import atomic_write, is_stdout
 from motiontool.stamps import stamps
 
 __all__ = ["build_app", "export_command", "list_robots", "show_command"]
@@ -176,13 +176,11 @@ def _show_text(spec: RobotSpec) -> str:
 
 def show_command(
     robot: _RobotArgument,
-    format: TextOrJsonOption = TableFormat.text,
+    format: TextOrJsonOption = TextOrJson.text,
 ) -> None:
     """A robot's joints: limits, maximum velocities and torques, with their units."""
     spec = load_robot(robot)
-    if format is TableFormat.csv:
-        raise typer.BadParameter("robots show prints text or json", param_hint="--format")
-    typer.echo(_show_json(spec) if format is TableFormat.json else _show_text(spec), nl=False)
+    typer.echo(_show_json(spec) if format is TextOrJson.json else _show_text(spec), nl=False)
 
 
 def export_command(
@@ -215,9 +213,12 @@ def export_command(
         (urdf, urdf_bytes),
     ]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]
+    refuse_shared_outputs({"--mjcf": mjcf, "--urdf": urdf})
+    to_stdout = any(is_stdout(path) for path, _ in blobs)
     for path, data in blobs:
         atomic_write(path, data)
-        typer.echo(f"wrote {path} ({len(data)} bytes, robot {spec.name})")
+        where = "stdout" if is_stdout(path) else path
+        typer.echo(f"wrote {where} ({len(data)} bytes, robot {spec.name})", err=to_stdout)
 
 
 def build_app(guard: Callable[[Callable[..., Any]], Callable[..., Any]]) -> typer.Typer:

@@ -27,6 +27,7 @@ from motiontool.cli.options import (
     Output,
     ResultTimestep,
     RobotOption,
+    finite,
 )
 from motiontool.cli.text import num
 from motiontool.kinematics.checks import Velocity
@@ -45,6 +46,7 @@ def scale_command(
         typer.Option(
             "--amplitude",
             "-k",
+            callback=finite,
             help="Factor K on every joint's excursion from the reference: q' = ref + K (q - ref).",
             show_default=False,
         ),

@@ -14,6 +14,7 @@ from motiontool.cli.options import (
     ROBOT_OPTION,
     ReportFormat,
     ReportOutput,
+    finite,
     robot_option,
     timestep_option,
 )
@@ -194,6 +195,7 @@ def validate_command(
         typer.Option(
             "--collision-tolerance",
             min=0.0,
+            callback=finite,
             help="Self-collisions shallower than this many mm are not reported (the robots' "
             "collision shapes are coarse); 0 reports every overlap.",
         ),

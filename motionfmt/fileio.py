@@ -4,22 +4,31 @@ rename)."""
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import re
 import stat
 import sys
 import tempfile
 import weakref
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import BinaryIO
 
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
     "STDIN",
     "STDIN_NAME",
+    "STDOUT",
+    "STDOUT_NAME",
+    "Sink",
     "atomic_write",
     "collect_motion_files",
     "is_stdin",
+    "is_stdout",
+    "open_output",
+    "output_kind",
     "read_file",
     "source_name",
 ]
@@ -82,41 +91,198 @@ def read_file(path: str | Path) -> bytes:
         raise MotionToolError(f"cannot read '{path}': {exc.strerror or exc}") from exc
 
 
-def atomic_write(path: str | Path, data: bytes) -> None:
-    """Write ``data`` to ``path`` all or nothing: a temporary file beside it, then a rename.
+STDOUT = "-"
+"""The path that means standard output where a command writes a file."""
 
-    Missing parent folders are created; the file's permission bits are kept when it exists.
-    """
-    p = Path(path)
-    directory = p.parent if str(p.parent) else Path()
+# Paths that name a file descriptor the process already has: written through that descriptor
+# (its mode, append or not, and its position are the caller's), never opened or replaced.
+_FD_PATH = re.compile(r"/(?:dev/fd|proc/self/fd|proc/thread-self/fd)/(\d+)")
+_STD_PATHS = {"/dev/stdout": 1, "/dev/stderr": 2}
+
+
+def is_stdout(path: str | Path | None) -> bool:
+    """True for ``-``, the output path that stands for standard output."""
+    return path is not None and str(path) == STDOUT
+
+
+def _descriptor(path: str | Path) -> int | None:
+    """The file descriptor that ``path`` names (``/dev/fd/N``, ``/proc/self/fd/N``,
+    ``/dev/stdout``, ``/dev/stderr``), or None for any other path."""
+    text = os.path.normpath(str(path))
+    if text in _STD_PATHS:
+        return _STD_PATHS[text]
+    match = _FD_PATH.fullmatch(text)
+    return int(match.group(1)) if match else None
+
+
+def output_kind(path: str | Path) -> str:
+    """How :func:`open_output` writes ``path``: ``stdout`` (``-``), ``descriptor`` (a
+    ``/dev/fd/N`` path), ``special`` (an existing character or block device, FIFO or socket,
+    through symlinks: written straight through) or ``file`` (a regular file or a new path:
+    written atomically, through symlinks to their target)."""
+    if is_stdout(path):
+        return "stdout"
+    if _descriptor(path) is not None:
+        return "descriptor"
     try:
-        mode = p.stat().st_mode & 0o7777
+        mode = os.stat(path).st_mode  # follows symlinks: what the path points at
+    except OSError:
+        return "file"
+    return "file" if stat.S_ISREG(mode) or stat.S_ISDIR(mode) else "special"
+
+
+def _cannot_write(path: str | Path, exc: OSError) -> MotionToolError:
+    return MotionToolError(f"cannot write '{path}': {exc.strerror or exc}")
+
+
+@contextlib.contextmanager
+def open_output(path: str | Path) -> Iterator[Sink]:
+    """A binary stream that writes ``path`` without harming what the path names.
+
+    - ``-``: standard output (left open);
+    - ``/dev/fd/N``, ``/dev/stdout``, ``/dev/stderr``: that descriptor, as the shell opened it
+      (appending where it appends);
+    - a character or block device, a FIFO or a socket (through symlinks too): written straight
+      through, never replaced (a FIFO's reader gets the data, ``/dev/full`` reports a full
+      disk);
+    - anything else (a regular file, a new path, a symlink to either): all or nothing, a
+      temporary file beside the real file, then a rename over it; a symlink stays a symlink and
+      its target gets the data; missing parent folders are created; an existing file keeps its
+      permission bits (and its owner, where the process may set it).
+
+    The data is committed when the ``with`` block ends without an exception; on an exception
+    a temporary file is removed and the target is left as it was.
+
+    Raises:
+        MotionToolError: ``cannot write 'PATH': REASON``, whatever the reason.
+    """
+    kind = output_kind(path)
+    if kind == "file":
+        with _atomic(path) as stream:
+            yield Sink(stream)
+        return
+    if kind == "stdout":
+        with _stdout() as stream:
+            yield Sink(stream)
+        return
+    try:
+        fd = _descriptor(path)
+        if fd is not None:
+            if fd in (1, 2):
+                (sys.stdout if fd == 1 else sys.stderr).flush()
+            stream = os.fdopen(os.dup(fd), "wb")
+        else:
+            stream = open(path, "wb")  # noqa: SIM115 - closed below, errors mapped
+    except OSError as exc:
+        raise _cannot_write(path, exc) from exc
+    try:
+        with stream:
+            yield Sink(stream)
+            stream.flush()
+    except OSError as exc:
+        raise _cannot_write(path, exc) from exc
+
+
+class Sink:
+    """What :func:`open_output` yields: ``write`` writes all of ``data`` or raises.
+
+    A buffered stream may return a short count instead of raising, when a pipe's reader goes
+    away in the middle of a large write, or a disk fills up: the data would be cut without a
+    word. ``write`` goes on until everything is written, so the next attempt raises the error.
+    """
+
+    __slots__ = ("_stream",)
+
+    def __init__(self, stream: BinaryIO) -> None:
+        self._stream = stream
+
+    def write(self, data: bytes | bytearray | memoryview) -> int:
+        """Write all of ``data``; the number of bytes (all of them)."""
+        view = memoryview(data).cast("B")
+        total = len(view)
+        while view:
+            n = self._stream.write(view)
+            if n is None or n <= 0:
+                raise OSError(errno.EIO, os.strerror(errno.EIO))
+            view = view[n:]
+        return total
+
+    def flush(self) -> None:
+        self._stream.flush()
+
+
+STDOUT_NAME = "standard output"
+"""How errors name standard output."""
+
+
+@contextlib.contextmanager
+def _stdout() -> Iterator[BinaryIO]:
+    """``sys.stdout``'s bytes, flushed at the end and never closed; a write that fails (a full
+    disk) raises ``cannot write to standard output: REASON``; a closed pipe
+    (:class:`BrokenPipeError`) is left to the entry point, which ends quietly."""
+    try:
+        sys.stdout.flush()
+        buffer: BinaryIO = sys.stdout.buffer
+        yield buffer
+        buffer.flush()
+    except BrokenPipeError:
+        raise
+    except OSError as exc:
+        raise MotionToolError(f"cannot write to {STDOUT_NAME}: {exc.strerror or exc}") from exc
+
+
+@contextlib.contextmanager
+def _atomic(path: str | Path) -> Iterator[BinaryIO]:
+    target = Path(os.path.realpath(path))  # a symlink's target gets the data
+    try:
+        st: os.stat_result | None = target.stat()
     except FileNotFoundError:
+        st = None
+    except OSError as exc:
+        raise _cannot_write(path, exc) from exc
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise MotionToolError(f"cannot write '{path}': Is a directory")
+    if st is not None:
+        mode = st.st_mode & 0o7777
+    else:
         umask = os.umask(0)
         os.umask(umask)
         mode = 0o666 & ~umask
-    except OSError as exc:
-        raise MotionToolError(f"cannot write '{path}': {exc.strerror or exc}") from exc
     try:
-        directory.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{p.name}.", suffix=".tmp", dir=directory)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     except OSError as exc:
-        raise MotionToolError(f"cannot write '{path}': {exc.strerror or exc}") from exc
+        raise _cannot_write(path, exc) from exc
     try:
         with os.fdopen(fd, "wb") as f:
-            f.write(data)
+            yield f
             f.flush()
             os.fsync(f.fileno())
         os.chmod(tmp, mode)
-        os.replace(tmp, p)
+        if st is not None and (st.st_uid, st.st_gid) != (os.geteuid(), os.getegid()):
+            with contextlib.suppress(OSError):  # only root may give a file away
+                os.chown(tmp, st.st_uid, st.st_gid)
+        os.replace(tmp, target)
     except OSError as exc:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
-        raise MotionToolError(f"cannot write '{path}': {exc.strerror or exc}") from exc
+        raise _cannot_write(path, exc) from exc
     except BaseException:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
         raise
+
+
+def atomic_write(path: str | Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` as :func:`open_output` does: regular files all or nothing
+    (a temporary file, then a rename), devices, FIFOs and descriptors straight through, ``-``
+    to standard output.
+
+    Raises:
+        MotionToolError: ``cannot write 'PATH': REASON``.
+    """
+    with open_output(path) as stream:
+        stream.write(data)
 
 
 def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:

@@ -29,7 +29,7 @@ from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, read_file
 from motiontool.motionfmt.reader import read_bytes
-from motiontool.sim.executor import Outcome, get_executor
+from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 
 __all__ = [
     "PERTURBATIONS",
@@ -351,6 +351,10 @@ def run_batch(
             missing is run again.
         progress: called after every run with (result, runs done, runs total).
     """
+    if timeout_s is not None and not 0 < timeout_s <= MAX_TIMEOUT_S:
+        raise MotionToolError(
+            f"a run's timeout must be in (0, {MAX_TIMEOUT_S:g}] s, got {timeout_s}"
+        )
     t0 = time.monotonic()
     run = get_executor(executor, ray_address=ray_address)
     cache = _Cache(cache_dir)

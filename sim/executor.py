@@ -17,6 +17,7 @@ from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
     "EXECUTORS",
+    "MAX_TIMEOUT_S",
     "Executor",
     "Outcome",
     "Status",
@@ -24,6 +25,10 @@ __all__ = [
     "error_reason",
     "get_executor",
 ]
+
+MAX_TIMEOUT_S = 7 * 24 * 3600.0
+"""The longest wall-clock limit of one run, in s (a week): the process pool waits on its
+workers with ``poll``, whose limit in ms is a C ``int`` (about 24 days)."""
 
 Status = Literal["done", "error", "crashed", "timeout"]
 """How a task ended: ``done`` (the runner returned), ``error`` (it raised), ``crashed`` (its

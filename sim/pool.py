@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import multiprocessing as mp
+import signal
 import sys
 import time
 from collections import deque
@@ -25,6 +26,9 @@ __all__ = ["run_pool"]
 
 
 def _worker(runner: Callable[[Any], Any], conn: Connection) -> None:
+    # Ctrl-C reaches the whole process group: the parent stops the pool (and kills its
+    # workers); a worker that took it too would print a KeyboardInterrupt traceback.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     while True:
         try:
             message = conn.recv()
