@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 
@@ -107,8 +108,9 @@ def refuse_shared_outputs(outputs: Mapping[str, Path | None]) -> None:
 
 
 def require_folder(path: Path | None, option: str) -> None:
-    """Refuse a folder option (``--rrd-dir``) that names standard output or an existing path
-    that is not a folder, before anything runs (a missing folder is created later).
+    """Refuse a folder option (``--rrd-dir``) that names standard output, an existing path
+    that is not a folder or a folder that cannot be written (a read-only file system), before
+    anything runs (a missing folder is created later).
 
     Raises:
         MotionToolError: ``--rrd-dir 'X' is not a folder; ...``.
@@ -119,3 +121,8 @@ def require_folder(path: Path | None, option: str) -> None:
         raise MotionToolError(
             f"{option} '{path}' is not a folder; name a folder (it is created if missing)"
         )
+    if os.path.isdir(path):  # a folder where nothing can be written: say so once, up front
+        try:
+            tempfile.TemporaryFile(dir=path).close()
+        except OSError as exc:
+            raise MotionToolError(f"cannot write in '{path}': {exc.strerror or exc}") from exc

@@ -365,3 +365,25 @@ def test_ctrl_c_in_batch_exits_130_without_a_traceback(here: Path) -> None:
     assert err.decode() == "motiontool: error: interrupted\n"
     assert len(list(cache.rglob("*.json"))) >= 2
     assert not [p for p in cache.rglob("*") if p.name.endswith(".tmp")]
+
+
+def test_a_read_only_folder_is_refused_before_anything_runs(here: Path) -> None:
+    ro = here / "ro"
+    ro.mkdir()
+    done = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "ro,size=64k", "none", str(ro)], check=False
+    )
+    if done.returncode != 0:
+        pytest.skip("mounting a read-only tmpfs needs root (CI runs as root)")
+    try:
+        for option in ("--rrd-dir", "--cache-dir"):
+            code, out, err = invoke("batch", "in.motion", option, "ro")
+            assert (code, out) == (2, ""), err
+            assert err == "motiontool: error: cannot write in 'ro': Read-only file system\n"
+        code, _, err = invoke("validate", "in.motion", "-o", "ro/report.txt")
+        assert (code, err) == (
+            2,
+            "motiontool: error: cannot write 'ro/report.txt': Read-only file system\n",
+        )
+    finally:
+        subprocess.run(["umount", str(ro)], check=True)
