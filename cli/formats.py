@@ -48,9 +48,7 @@ def summary(report: ValidationReport) -> str:
     """``checked 3 files: 1 error, 2 warnings, 0 notes``, then every check skipped for a
     missing library (MT902): ``; collision check skipped: pip install 'motiontool[kinematics]'``."""
     skipped = "".join(
-        f"; {d.message.partition(':')[0]}: {d.hint}"
-        for d in report.diagnostics
-        if d.code == "MT902"
+        f"; {d.message.partition(':')[0]}: {d.hint}" for d in report.notes if d.code == "MT902"
     )
     return (
         f"checked {plural(len(report.files), 'file')}: "
@@ -101,8 +99,12 @@ def render_text(report: ValidationReport, *, color: bool = False, order: Order =
     for f, d in _findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
         out.append(f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}")
-        if d.code != "MT902":  # a note about the run, not about a place in the file
-            out.extend(_source_excerpt(f, d, color))
+        out.extend(_source_excerpt(f, d, color))
+        if d.hint:
+            out.append(f"   = hint: {d.hint}")
+    for d in report.notes:  # about the run, not about a place in a file
+        sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
+        out.append(f"{sev} {d.code}: {d.message}")
         if d.hint:
             out.append(f"   = hint: {d.hint}")
     out.append(summary(report))
@@ -123,6 +125,11 @@ def _diagnostic_json(d: Diagnostic) -> dict[str, Any]:
     }
 
 
+def _note_json(d: Diagnostic) -> dict[str, Any]:
+    """A note about the run (no file, line or column)."""
+    return {"code": d.code, "severity": str(d.severity), "message": d.message, "hint": d.hint}
+
+
 def render_json(report: ValidationReport, extra: dict[str, Any] | None = None) -> str:
     """The versioned JSON report; its schema is documented in ``docs/json-report.md`` and
     shipped as ``motiontool/cli/schemas/validate.schema.json``."""
@@ -137,6 +144,7 @@ def render_json(report: ValidationReport, extra: dict[str, Any] | None = None) -
             "warnings": report.count(Severity.WARNING),
             "notes": report.count(Severity.INFO),
         },
+        "notes": [_note_json(d) for d in report.notes],
         "files": [
             {
                 "path": f.path,
@@ -239,7 +247,16 @@ def render_sarif(
                 ],
             }
         )
+    notifications = [
+        {
+            "level": _SARIF_LEVEL[d.severity],
+            "message": {"text": d.message + (f" (hint: {d.hint})" if d.hint else "")},
+            "descriptor": {"id": d.code, "index": index[d.code]},
+        }
+        for d in report.notes
+    ]
     run: dict[str, Any] = {
+        "invocations": [{"executionSuccessful": True, "toolExecutionNotifications": notifications}],
         "tool": {
             "driver": {
                 "name": "motiontool",
@@ -277,7 +294,8 @@ _GH_COMMAND = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.IN
 def render_github(report: ValidationReport, *, order: Order = Order.file) -> str:
     """GitHub Actions workflow commands: one annotation per diagnostic, then a summary.
 
-    ``col`` and ``endColumn`` count characters (GitHub's unit), converted from byte columns.
+    ``col`` and ``endColumn`` count characters (GitHub's unit), converted from byte columns;
+    a run's note (a check skipped for a missing library) is an annotation without a file.
     """
     out = []
     for f, d in _findings(report, order):
@@ -290,8 +308,15 @@ def render_github(report: ValidationReport, *, order: Order = Order.file) -> str
         props.append(f"title={_gh_escape(title, prop=True)}")
         text = d.message + (f" (hint: {d.hint})" if d.hint else "")
         out.append(f"::{_GH_COMMAND[d.severity]} {','.join(props)}::{_gh_escape(text)}")
+    for d in report.notes:  # about the run: an annotation without a file
+        title = _gh_escape(f"{d.code} {CODES[d.code].title}", prop=True)
+        text = d.message + (f" (hint: {d.hint})" if d.hint else "")
+        out.append(f"::{_GH_COMMAND[d.severity]} title={title}::{_gh_escape(text)}")
     out.append(summary(report))
-    return "\n".join(out) + "\n"
+    # A name that is not UTF-8 is written as \xNN, as in the JSON and SARIF reports: the
+    # runner reads the log as UTF-8.
+    text, _count = escape_undecodable("\n".join(out) + "\n")
+    return str(text)
 
 
 def render(

@@ -42,16 +42,21 @@ class FileReport:
 
 @dataclass
 class ValidationReport:
-    """The findings for every file of one ``validate`` run."""
+    """The findings for every file of one ``validate`` run, and the run's own notes (about no
+    file: a check skipped for a missing library, MT902; ``path`` empty, line and column 0)."""
 
     files: list[FileReport] = field(default_factory=list)
+    notes: list[Diagnostic] = field(default_factory=list)
 
     def count(self, severity: Severity) -> int:
-        return sum(f.count(severity) for f in self.files)
+        return sum(f.count(severity) for f in self.files) + sum(
+            1 for d in self.notes if d.severity is severity
+        )
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
-        return [d for f in self.files for d in f.diagnostics]
+        """Every file's findings, then the run's notes."""
+        return [d for f in self.files for d in f.diagnostics] + self.notes
 
     def failed(self, *, strict: bool = False) -> bool:
         """Errors fail a run; with ``strict``, warnings do too."""

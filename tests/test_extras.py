@@ -152,11 +152,12 @@ def test_validate_without_pinocchio_checks_limits_and_velocity_and_notes_the_ski
     assert proc.returncode == 1, proc.stderr  # the limit error fails the run, not the note
     out = proc.stdout
     assert "error MT302" in out and "warning MT303" in out  # limits and velocity still checked
-    assert out.count("MT902") == 1  # one note a run, on the first file it would have checked
+    assert out.count("MT902") == 1  # one note a run, about the run: no file, no line
     assert (
-        "bad.motion:1:1: info MT902: collision check skipped: Pinocchio is not installed; every "
+        "\ninfo MT902: collision check skipped: Pinocchio is not installed; every "
         "file of this run is checked without it\n   = hint: pip install 'motiontool[kinematics]'"
     ) in out
+    assert "bad.motion:1:1" not in out
     assert "checks: limits, velocity, collision (skipped: Pinocchio is not installed)" in out
     assert out.splitlines()[-1].endswith(
         "1 note; collision check skipped: pip install 'motiontool[kinematics]'"
@@ -173,11 +174,35 @@ def test_a_note_is_not_a_failure_even_with_strict(tmp_path: Path) -> None:
     assert proc.returncode == 0 and "MT902" not in proc.stdout, proc.stdout
 
 
-def test_balance_without_pinocchio_is_skipped_with_a_note(tmp_path: Path) -> None:
+@pytest.mark.parametrize("checks", ["limits,balance", "collision", "all"])
+def test_a_check_named_with_checks_fails_the_run_without_its_library(
+    tmp_path: Path, checks: str
+) -> None:
+    """Only default checks may be skipped with a note: one the user asked for by name that
+    cannot run is an error (exit 2), not a silent pass."""
     ok = _write(tmp_path, "ok.motion", NAO_OK)
-    proc = _cli(["validate", "--checks", "limits,balance", ok.name], tmp_path, ("pinocchio",))
+    proc = _cli(["validate", "--checks", checks, ok.name], tmp_path, ("pinocchio",))
+    assert (proc.returncode, proc.stdout) == (2, ""), proc.stdout
+    name = "balance" if "balance" in checks else "collision"
+    assert proc.stderr == (
+        f"motiontool: error: the {name} check needs Pinocchio: "
+        "pip install 'motiontool[kinematics]'\n"
+    )
+
+
+def test_a_run_note_is_not_pinned_to_a_file_in_sarif_or_github(tmp_path: Path) -> None:
+    ok = _write(tmp_path, "ok.motion", NAO_OK)
+    proc = _cli(["validate", "--format", "sarif", ok.name], tmp_path, ("pinocchio",))
     assert proc.returncode == 0, proc.stderr
-    assert "info MT902: balance check skipped: Pinocchio is not installed" in proc.stdout
+    run = json.loads(proc.stdout)["runs"][0]
+    assert run["results"] == []
+    (note,) = run["invocations"][0]["toolExecutionNotifications"]
+    assert note["level"] == "note" and note["descriptor"]["id"] == "MT902"
+    assert note["message"]["text"].startswith("collision check skipped: Pinocchio")
+    proc = _cli(["validate", "--format", "github", ok.name], tmp_path, ("pinocchio",))
+    first = proc.stdout.splitlines()[0]
+    assert first.startswith("::notice title=MT902 check skipped%3A a library it needs")
+    assert "file=" not in first and "line=" not in first
 
 
 def test_the_json_report_lists_the_skipped_checks(tmp_path: Path) -> None:
@@ -195,8 +220,10 @@ def test_the_json_report_lists_the_skipped_checks(tmp_path: Path) -> None:
         }
     ]
     assert doc["summary"]["notes"] == 1
-    (note,) = doc["files"][0]["diagnostics"]
+    assert doc["files"][0]["diagnostics"] == []
+    (note,) = doc["notes"]
     assert (note["code"], note["severity"]) == ("MT902", "info")
+    assert note["hint"] == "pip install 'motiontool[kinematics]'"
     # With Pinocchio, nothing is skipped.
     proc = _cli(["validate", "--format", "json", ok.name], tmp_path)
     assert json.loads(proc.stdout)["robot"]["skipped_checks"] == []

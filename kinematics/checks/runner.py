@@ -156,8 +156,10 @@ class RobotChecks:
     ``mirror_command``: see :func:`robot_checks`.
 
     A check whose library is not installed (collision and balance need Pinocchio,
-    ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note on the
-    first file it would have checked; the others still run.
+    ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note about
+    the run (:attr:`notes`, not pinned to a file); the others still run. With
+    ``skip_missing=False`` (the checks were asked for by name) it raises
+    :class:`~motiontool.motionfmt.errors.MissingExtraError` instead.
 
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).
@@ -175,8 +177,10 @@ class RobotChecks:
         robot_option: str | None = None,
         ignore_option: str | None = None,
         mirror_command: str | None = None,
+        skip_missing: bool = True,
     ) -> None:
         self.robot = robot
+        self.skip_missing = skip_missing
         self.robot_option = robot_option
         self.checks = parse_checks(list(checks))
         self.used: dict[str, RobotSpec | None] = {}
@@ -230,32 +234,39 @@ class RobotChecks:
         return out
 
     def _run(self, check: _Check, result: ReadResult) -> list[Diagnostic]:
-        """``check`` on ``result``; a check that needs a missing extra is skipped from then on,
-        with an MT902 note the first time."""
+        """``check`` on ``result``; a default check that needs a missing extra is skipped from
+        then on (:attr:`notes` says so once); one asked for by name raises."""
         name = _CHECK_NAMES.get(type(check))
         if name in self.skipped:
             return []
         try:
             return check(result)
         except MissingExtraError as exc:
-            if name is None:
+            if name is None or not self.skip_missing:
                 raise
             self.skipped[name] = exc
-            return [_skipped_for_extra(result, name, exc)]
+            return []
+
+    @property
+    def notes(self) -> list[Diagnostic]:
+        """The run's notes, about no file: one MT902 per check skipped for a missing library
+        (``path`` empty, ``line`` and ``column`` 0)."""
+        return [_skipped_for_extra(name, exc) for name, exc in self.skipped.items()]
 
 
 _CHECK_NAMES: dict[type, str] = {Collision: "collision", Balance: "balance"}
 """The checks that need an extra (Pinocchio), by class: skipped with MT902 when it is missing."""
 
 
-def _skipped_for_extra(result: ReadResult, name: str, exc: MissingExtraError) -> Diagnostic:
-    """MT902, once a run: check ``name`` is skipped because its library is not installed."""
+def _skipped_for_extra(name: str, exc: MissingExtraError) -> Diagnostic:
+    """MT902, once a run and about no file: check ``name`` is skipped because its library is
+    not installed."""
     return Diagnostic(
         code="MT902",
         severity=Severity.INFO,
-        path=result.path,
-        line=1,
-        column=1,
+        path="",
+        line=0,
+        column=0,
         message=f"{name} check skipped: {exc.library} is not installed; every file of this run "
         f"is checked without it",
         hint=install_hint(exc.extra),

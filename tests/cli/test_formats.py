@@ -370,3 +370,16 @@ def test_authoring_reports_of_a_non_utf8_joint_name_are_utf8_json(
     doc = strict_json(result.stdout_bytes)
     assert doc["escaped_bytes"] >= 1
     assert Path("out.motion").read_bytes().startswith(b"#WEBOTS_MOTION,V1.0,LHand\xffX,")
+
+
+def test_github_annotations_escape_undecodable_bytes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``--format github`` writes a byte that is not UTF-8 as ``\\xNN``, as the JSON and SARIF
+    reports do: the runner reads the log as UTF-8."""
+    monkeypatch.chdir(tmp_path)
+    Path("bad.motion").write_bytes(NON_UTF8)
+    result = invoke("validate", "--robot", "none", "--format", "github", "bad.motion")
+    assert result.exit_code == 1, result.output
+    text = result.stdout_bytes.decode("utf-8")  # strict: raises on a raw undecodable byte
+    assert f"for {ESCAPED}, found 'abc'" in text
