@@ -14,11 +14,24 @@ __all__ = ["expect_command"]
 
 
 def _floating(path: Path) -> bool | None:
-    """Whether the robot ``path``'s joints belong to is free-flying (None: no robot fits)."""
-    from motiontool.kinematics.robots import AUTO, pick_robot
-    from motiontool.motionfmt import read_bytes, read_file
+    """Whether the robot ``path``'s joints belong to is free-flying (None: no robot fits).
 
-    spec = pick_robot(AUTO, read_bytes(read_file(path), str(path)).joints)
+    Raises:
+        MotionToolError: ``PATH:LINE:COL: not a motion file Webots loads: REASON`` for a file
+            Webots rejects (nothing is proposed for it).
+    """
+    from motiontool.kinematics.robots import AUTO, pick_robot
+    from motiontool.motionfmt import CODES, read_bytes, read_file
+
+    result = read_bytes(read_file(path), str(path))
+    if not result.accepted:
+        first = next((d for d in result.diagnostics if CODES[d.code].rejects), None)
+        where, why = (f"{first.line}:{first.column}", first.message) if first else ("1:1", "")
+        raise MotionToolError(
+            f"{path}:{where}: not a motion file Webots loads{': ' + why if why else ''}; "
+            "expect --infer proposes expectations for motion files"
+        )
+    spec = pick_robot(AUTO, result.joints)
     return None if spec is None else spec.floating_base
 
 
