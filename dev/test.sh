@@ -14,4 +14,6 @@ mkdir -p build/typecheck && ln -sfn ../.. build/typecheck/motiontool
 "$(dirname "$PY")/motiontool" validate motions/ --strict
 # ... and play clean in MuJoCo (no fall, no self-collision, no simulator warning).
 "$(dirname "$PY")/motiontool" batch motions/ --no-cache --jobs 2
+# Hostile outputs and inputs: no traceback, no device, FIFO or symlink replaced.
+"$PY" dev/hostile.py --jobs 2
 "$PY" -m pytest -n 2 "$@"

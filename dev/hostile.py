@@ -1,0 +1,316 @@
+"""Hostile inputs against the installed ``motiontool``: outputs that are devices, FIFOs, links
+and descriptors, a full disk (a ``/dev/full`` node this script makes), stdout that cannot be
+written, a reader that goes away, Ctrl-C, huge and non-finite numbers, two outputs on one path.
+
+Every case runs the real console script in a scratch folder and checks two things: no Python
+traceback on stderr, and no special file replaced (a device node, a FIFO or a symlink is the
+same kind of file, with the same target, afterwards). Prints one line per failure and a
+closing count; exit 1 if anything failed. ``dev/test.sh`` runs it (CI too).
+
+    python dev/hostile.py [--jobs 2]
+
+Device nodes need root (``mknod``); without it those cases are left out, and said so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import signal
+import stat
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SCRIPT = str(Path(sys.executable).parent / "motiontool")
+MOTION = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P1,0,0\n00:00:160,P2,0.2,0.1\n"
+
+# Every option that writes a file, OUT where the output goes.
+WRITERS = [
+    ["validate", "in.motion", "-o", "OUT"],
+    ["validate", "in.motion", "-f", "sarif", "-o", "OUT"],
+    ["sample", "in.motion", "-o", "OUT"],
+    ["play", "in.motion", "--headless", "--json", "OUT"],
+    ["play", "in.motion", "--headless", "--rrd", "OUT"],
+    ["batch", "in.motion", "--no-cache", "--json", "OUT"],
+    ["batch", "in.motion", "--no-cache", "--junit", "OUT"],
+    ["batch", "in.motion", "--no-cache", "--markdown", "OUT"],
+    ["diff", "other.motion", "in.motion", "--plot", "OUT"],
+    ["plot", "in.motion", "-o", "OUT"],
+    ["expect", "--infer", "in.motion", "-o", "OUT"],
+    ["generate", "ur5e-jog", "-o", "OUT"],
+    ["resample", "in.motion", "--step", "20", "-o", "OUT"],
+    ["retime", "in.motion", "--speed", "2", "-o", "OUT"],
+    ["mirror", "in.motion", "-o", "OUT"],
+    ["concat", "in.motion", "other.motion", "-o", "OUT"],
+    ["trim", "in.motion", "--from", "0", "--to", "80", "-o", "OUT"],
+    ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
+    ["robots", "export", "ur5e", "--mjcf", "OUT"],
+    ["robots", "export", "ur5e", "--urdf", "OUT"],
+]
+
+# Numbers no option may take: refused by its range, in one line.
+HUGE = [
+    ["sample", "in.motion", "-t", "99999999999999999999"],
+    ["sample", "in.motion", "--loop", "99999999999999999999"],
+    ["play", "in.motion", "--headless", "--loop", "99999999999999999999"],
+    ["play", "in.motion", "--headless", "--hold", "inf"],
+    ["batch", "in.motion", "--timeout", "inf"],
+    ["batch", "in.motion", "--timeout", "1e9"],
+    ["batch", "in.motion", "--friction", "nan"],
+    ["diff", "in.motion", "other.motion", "--tolerance", "nan"],
+    ["retime", "in.motion", "--speed", "inf", "-o", "r.motion"],
+    ["validate", "in.motion", "-t", "2147483648"],
+]
+
+# Two outputs on one path: refused before anything runs.
+SHARED = [
+    ["play", "in.motion", "--headless", "--json", "X", "--rrd", "X"],
+    ["batch", "in.motion", "--json", "X", "--markdown", "X"],
+    ["batch", "in.motion", "--json", "-", "--junit", "-"],
+    ["robots", "export", "ur5e", "--mjcf", "X", "--urdf", "./X"],
+]
+
+# Commands whose stdout goes to a full disk.
+STDOUT = [
+    ["validate", "in.motion"],
+    ["sample", "in.motion"],
+    ["codes"],
+    ["info", "in.motion"],
+    ["mirror", "in.motion", "-o", "-"],
+    ["robots"],
+]
+
+
+@dataclass
+class Tally:
+    cases: int = 0
+    failures: list[str] = field(default_factory=list)
+    lock: threading.Lock = field(default_factory=threading.Lock)
+
+    def record(self, name: str, problem: str | None) -> None:
+        with self.lock:
+            self.cases += 1
+            if problem:
+                self.failures.append(f"{name}: {problem}")
+                print(f"FAIL {name}: {problem}", flush=True)
+
+
+def _scratch() -> Path:
+    here = Path(tempfile.mkdtemp(prefix="motiontool-hostile-"))
+    (here / "in.motion").write_bytes(MOTION)
+    (here / "other.motion").write_bytes(MOTION)
+    return here
+
+
+def _run(
+    here: Path, line: list[str], *, stdout: int | None = subprocess.PIPE
+) -> subprocess.CompletedProcess[bytes]:
+    env = {**os.environ, "XDG_CACHE_HOME": str(here / "cache")}
+    return subprocess.run(
+        [SCRIPT, *line],
+        cwd=here,
+        stdout=stdout,
+        stderr=subprocess.PIPE,
+        env=env,
+        timeout=300,
+        check=False,
+    )
+
+
+def _traceback(err: bytes) -> str | None:
+    return "traceback on stderr" if b"Traceback (most recent call last)" in err else None
+
+
+def _mknod(path: Path, minor: int) -> bool:
+    try:
+        os.mknod(path, stat.S_IFCHR | 0o666, os.makedev(1, minor))
+    except PermissionError:
+        return False
+    return True
+
+
+def _same_special(path: Path, kind: Callable[[int], bool], rdev: int | None = None) -> str | None:
+    st = path.lstat()
+    if not kind(st.st_mode) or (rdev is not None and st.st_rdev != rdev):
+        return f"{path.name} was replaced (mode {stat.filemode(st.st_mode)})"
+    return None
+
+
+def case_device(line: list[str], minor: int, tally: Tally) -> None:
+    here = _scratch()
+    try:
+        node = here / "dev"
+        if not _mknod(node, minor):
+            return
+        done = _run(here, [a if a != "OUT" else "dev" for a in line])
+        problem = _traceback(done.stderr) or _same_special(node, stat.S_ISCHR, os.makedev(1, minor))
+        if not problem and minor == 7 and done.returncode != 2:
+            problem = f"a full disk exited {done.returncode}, not 2"
+        if not problem and minor == 3 and done.returncode not in (0, 1):
+            problem = f"exit {done.returncode}: {done.stderr.decode(errors='replace')[-200:]}"
+        tally.record(f"{' '.join(line)} > {'null' if minor == 3 else 'full'} node", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_fifo(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        fifo = here / "fifo"
+        os.mkfifo(fifo)
+        got: list[bytes] = []
+        reader = threading.Thread(target=lambda: got.append(fifo.read_bytes()), daemon=True)
+        reader.start()
+        done = _run(here, [a if a != "OUT" else "fifo" for a in line])
+        reader.join(timeout=60)
+        problem = _traceback(done.stderr) or _same_special(fifo, stat.S_ISFIFO)
+        if not problem and not (got and got[0]):
+            problem = "the FIFO's reader got nothing"
+        tally.record(f"{' '.join(line)} > fifo", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_symlink(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        (here / "real").write_bytes(b"stale")
+        (here / "link").symlink_to("real")
+        done = _run(here, [a if a != "OUT" else "link" for a in line])
+        problem = _traceback(done.stderr)
+        if not problem and not (here / "link").is_symlink():
+            problem = "the symlink was replaced by a regular file"
+        if not problem and (here / "real").read_bytes() == b"stale":
+            problem = "the link's target was left stale"
+        tally.record(f"{' '.join(line)} > symlink", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_refused(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        done = _run(here, line)
+        err = done.stderr.decode(errors="replace")
+        problem = _traceback(done.stderr)
+        if not problem and (done.returncode != 2 or not err.startswith("motiontool: error: ")):
+            problem = f"exit {done.returncode}, stderr {err[-200:]!r}"
+        if not problem and err.count("\n") != 1:
+            problem = f"{err.count(chr(10))} lines on stderr, not 1"
+        if not problem and (here / "X").exists():
+            problem = "an output was written"
+        tally.record(" ".join(line), problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_stdout_full(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        if not _mknod(here / "full", 7):
+            return
+        with (here / "full").open("wb") as full:
+            done = _run(here, line, stdout=full.fileno())
+        problem = _traceback(done.stderr)
+        if not problem and done.returncode != 2:
+            problem = f"stdout on a full disk exited {done.returncode}, not 2"
+        tally.record(f"{' '.join(line)} with stdout on a full disk", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_broken_pipe(tally: Tally) -> None:
+    here = _scratch()
+    try:
+        rows = b"".join(b"%d,P,0.1,0.2\n" % t for t in range(40, 200000, 40))
+        (here / "long.motion").write_bytes(MOTION.splitlines(keepends=True)[0] + rows)
+        proc = subprocess.Popen(
+            [SCRIPT, "sample", "long.motion", "-t", "1"],
+            cwd=here,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+        )
+        assert proc.stdout is not None and proc.stderr is not None
+        proc.stdout.readline()
+        proc.stdout.close()
+        with proc.stderr:
+            err = proc.stderr.read()
+        code = proc.wait(timeout=120)
+        problem = _traceback(err) or (None if code == 141 else f"exit {code}, not 141")
+        tally.record("sample | head -1", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_ctrl_c(tally: Tally) -> None:
+    here = _scratch()
+    try:
+        cache = here / "cache-dir"
+        line = ["batch", "in.motion", "--samples", "400", "--perturb", "friction=0.8:1.2"]
+        proc = subprocess.Popen(
+            [SCRIPT, *line, "--cache-dir", str(cache)],
+            cwd=here,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            start_new_session=True,
+        )
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and len(list(cache.rglob("*.json"))) < 2:
+            time.sleep(0.2)
+        os.killpg(proc.pid, signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        problem = _traceback(err)
+        if not problem and proc.returncode != 130:
+            problem = f"exit {proc.returncode}, not 130"
+        if not problem and err != b"motiontool: error: interrupted\n":
+            problem = f"stderr {err[-200:]!r}"
+        tally.record("batch, Ctrl-C", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--jobs", type=int, default=2, help="cases run at once")
+    args = parser.parse_args()
+    tally = Tally()
+    rooted = _mknod(Path(tempfile.mkdtemp()) / "probe", 3)
+    cases: list[Callable[[], None]] = []
+    for line in WRITERS:
+        cases += [
+            lambda line=line: case_fifo(line, tally),
+            lambda line=line: case_symlink(line, tally),
+        ]
+        if rooted:
+            cases += [
+                lambda line=line: case_device(line, 3, tally),
+                lambda line=line: case_device(line, 7, tally),
+            ]
+    cases += [lambda line=line: case_refused(line, tally) for line in HUGE + SHARED]
+    if rooted:
+        cases += [lambda line=line: case_stdout_full(line, tally) for line in STDOUT]
+    cases += [lambda: case_broken_pipe(tally), lambda: case_ctrl_c(tally)]
+    t0 = time.monotonic()
+    with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        for future in [pool.submit(case) for case in cases]:
+            future.result()
+    wall = time.monotonic() - t0
+    where = "" if rooted else " (not root: device-node cases left out)"
+    print(
+        f"hostile: {tally.cases} cases, {len(tally.failures)} failed "
+        f"(tracebacks or replaced special files){where}; {wall:.0f} s"
+    )
+    return 1 if tally.failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
