@@ -28,7 +28,6 @@ __all__ = [
     "InPlace",
     "MotionFile",
     "Output",
-    "ReportFormat",
     "ReportOutput",
     "ResultTimestep",
     "RobotOption",
@@ -70,15 +69,6 @@ class Format(enum.StrEnum):
 
     text = "text"
     json = "json"
-
-
-class ReportFormat(enum.StrEnum):
-    """Formats of a diagnostics report."""
-
-    text = "text"
-    json = "json"
-    sarif = "sarif"
-    github = "github"
 
 
 class TextOrJson(enum.StrEnum):

@@ -9,16 +9,15 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli.color import color_enabled
-from motiontool.cli.formats import Order, render, render_json, render_sarif
 from motiontool.cli.options import (
     ROBOT_OPTION,
-    ReportFormat,
     ReportOutput,
     finite,
     robot_option,
     timestep_option,
 )
 from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
 from motiontool.cli.text import plural
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
@@ -140,24 +139,6 @@ def _robot_json(
     }
 
 
-def _render(
-    report: ValidationReport,
-    fmt: ReportFormat,
-    checker: RobotChecks | None,
-    requested: str,
-    *,
-    color: bool,
-    order: Order,
-) -> str:
-    if fmt is ReportFormat.json:
-        return render_json(report, _robot_json(checker, requested, report))
-    if fmt is ReportFormat.sarif:
-        return render_sarif(report, _robot_json(checker, requested, report), order=order)
-    if fmt is ReportFormat.text:
-        return _robot_line(checker, report) + render(report, fmt.value, color=color, order=order)
-    return render(report, fmt.value, order=order)
-
-
 def validate_command(
     paths: Annotated[
         list[Path],
@@ -167,9 +148,13 @@ def validate_command(
         ),
     ],
     format: Annotated[
-        ReportFormat,
-        typer.Option("--format", "-f", help="text for people; json, sarif or github for CI."),
-    ] = ReportFormat.text,
+        FormatName,
+        typer.Option(
+            "--format",
+            "-f",
+            help="; ".join(f"{name}: {entry.help}" for name, entry in REPORTS.items()) + ".",
+        ),
+    ] = DEFAULT_FORMAT,
     output: ReportOutput = None,
     timestep: Annotated[
         int | None,
@@ -239,9 +224,15 @@ def validate_command(
         ignored = {c.strip().upper() for c in codes}
         report.notes = [n for n in checker.notes if n.code not in ignored]
     to_stdout = output is None or str(output) == "-"
-    color = format is ReportFormat.text and color_enabled(sys.stdout, to_file=not to_stdout)
-    text = _render(report, format, checker, robot, color=color, order=sort)
-    if format is ReportFormat.text and output is None:
+    color = REPORTS[format.value].colors and color_enabled(sys.stdout, to_file=not to_stdout)
+    context = Context(
+        color=color,
+        order=sort,
+        robot_line=_robot_line(checker, report),
+        robot_json=lambda: _robot_json(checker, robot, report),
+    )
+    text = render(report, format.value, context)
+    if color and output is None:
         typer.echo(text, nl=False, color=color)
     else:
         emit(text, output)

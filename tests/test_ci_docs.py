@@ -117,3 +117,10 @@ def test_pre_commits_validator_rejects_a_broken_manifest(tmp_path: Path) -> None
     broken.write_text("- id: x\n  name: x\n  language: python\n")  # no entry
     with pytest.raises(InvalidManifestError):
         load_manifest(str(broken))
+
+
+def test_the_gitlab_example_writes_the_code_quality_report_it_uploads() -> None:
+    (job,) = [load_yaml(b)["motions"] for b in yaml_blocks() if "motions" in load_yaml(b)]
+    report = job["artifacts"]["reports"]["codequality"]
+    assert any(f"--format gitlab -o {report}" in line for line in job["script"])
+    assert job["artifacts"]["when"] == "always"

@@ -1,0 +1,62 @@
+"""``--format gitlab``: GitLab Code Quality (the ``codequality`` report artifact of a job)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+from motiontool.cli.jsontext import escape_undecodable
+from motiontool.cli.reports.common import PLAIN, Context, findings, with_hint
+from motiontool.motionfmt.diagnostics import CODES, Severity
+from motiontool.motionfmt.validate import ValidationReport
+
+__all__ = ["render_gitlab"]
+
+_SEVERITY = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: "info"}
+"""GitLab's severities are info, minor, major, critical and blocker."""
+
+
+def _path(path: str) -> str:
+    """The file relative to the working directory (GitLab shows paths from the repository
+    root, where the job runs), or as given for a file outside it."""
+    try:
+        return Path(os.path.abspath(path)).relative_to(Path.cwd()).as_posix()
+    except ValueError:
+        return path
+
+
+def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
+    """A JSON array of Code Quality issues: ``description``, ``check_name`` (the code),
+    ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``).
+
+    A fingerprint identifies one finding across runs and commits: a hash of the code, the
+    path and the message, and the finding's rank among identical ones, not its line (a line
+    added above it must not make it a new finding). A run's notes (about no file) are left
+    out: a Code Quality issue needs a location.
+    """
+    issues: list[dict[str, Any]] = []
+    seen: Counter[str] = Counter()
+    for _file, d in findings(report, context.order):
+        path = _path(d.path)
+        key = f"{d.code}\0{path}\0{d.message}"
+        seen[key] += 1
+        fingerprint = hashlib.sha256(f"{key}\0{seen[key]}".encode("utf-8", "surrogateescape"))
+        title = CODES[d.code].title if d.code in CODES else d.code
+        issues.append(
+            {
+                "type": "issue",
+                "description": f"{d.code} {with_hint(d)}",
+                "check_name": d.code,
+                "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
+                "content": {"body": title},
+                "fingerprint": fingerprint.hexdigest(),
+                "severity": _SEVERITY[d.severity],
+                "location": {"path": path, "lines": {"begin": max(d.line, 1)}},
+            }
+        )
+    clean, _count = escape_undecodable(issues)  # a name that is not UTF-8: \xNN
+    return json.dumps(clean, indent=2, ensure_ascii=False) + "\n"

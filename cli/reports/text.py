@@ -1,0 +1,64 @@
+"""``--format text``: compiler-style lines with the source line and a caret, for people."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import typer
+
+from motiontool.cli.reports.common import PLAIN, Context, findings, summary
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.validate import FileReport, ValidationReport
+
+__all__ = ["render_text"]
+
+_COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
+_WINDOW = 100  # characters of a long source line shown around the column
+
+
+def _style(text: str, color: bool, **how: Any) -> str:
+    return typer.style(text, **how) if color else text
+
+
+def _source_excerpt(report: FileReport, d: Diagnostic, color: bool) -> list[str]:
+    raw = report.source_line(d.line)
+    if not raw and d.line > 1:
+        return []
+    text = raw.decode("utf-8", "replace").replace("\t", " ")
+    start = raw[: max(d.column - 1, 0)].decode("utf-8", "replace")
+    col = len(start)
+    width = 1
+    if d.end_column and d.end_column > d.column:
+        width = len(raw[d.column - 1 : d.end_column - 1].decode("utf-8", "replace"))
+    prefix = ""
+    if len(text) > _WINDOW:
+        lo = max(0, col - _WINDOW // 2)
+        text = text[lo : lo + _WINDOW]
+        col -= lo
+        prefix = "..." if lo else ""
+        col += len(prefix)
+    gutter = str(d.line)
+    pad = " " * len(gutter)
+    caret = " " * col + "^" + "~" * max(0, min(width, _WINDOW) - 1)
+    return [f" {gutter} | {prefix}{text}", f" {pad} | {_style(caret, color, fg='green')}"]
+
+
+def render_text(report: ValidationReport, context: Context = PLAIN) -> str:
+    """The robot line, then compiler-style lines with the source line and a caret; ANSI
+    colours only with ``context.color`` (never for a file or a pipe, see
+    :mod:`motiontool.cli.color`)."""
+    color, order = context.color, context.order
+    out: list[str] = [context.robot_line.rstrip("\n")] if context.robot_line else []
+    for f, d in findings(report, order):
+        sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
+        out.append(f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}")
+        out.extend(_source_excerpt(f, d, color))
+        if d.hint:
+            out.append(f"   = hint: {d.hint}")
+    for d in report.notes:  # about the run, not about a place in a file
+        sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
+        out.append(f"{sev} {d.code}: {d.message}")
+        if d.hint:
+            out.append(f"   = hint: {d.hint}")
+    out.append(summary(report))
+    return "\n".join(out) + "\n"
