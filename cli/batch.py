@@ -40,98 +40,98 @@ def _max_timeout_s() -> float:
     return MAX_TIMEOUT_S
 
 
+_Paths = Annotated[
+    list[Path],
+    typer.Argument(help="Motion files, or directories searched for *.motion.", show_default=False),
+]
+_Robots = Annotated[
+    list[str] | None,
+    robot_option(
+        "Robot to play on, per file (default: auto)",
+        more="Repeat to run every file on several robots.",
+    ),
+]
+_Jobs = Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")]
+_Executor = Annotated[str, typer.Option("--executor", help="local (a process pool) or ray.")]
+_RayAddress = Annotated[
+    str | None,
+    typer.Option(
+        "--ray-address", help="Ray cluster to use (auto: the running one); default: start one."
+    ),
+]
+_Timeout = Annotated[
+    float | None,
+    typer.Option(
+        "--timeout", min=0.1, callback=_timeout_range, help="Wall-clock limit of one run, in s."
+    ),
+]
+_Perturb = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--perturb",
+        help="NAME=LOW:HIGH, uniform draws; NAME: friction, mass, motor-strength,"
+        " start-yaw (deg), start-noise (rad), speed. Repeatable.",
+    ),
+]
+_Samples = Annotated[
+    int, typer.Option("--samples", min=1, help="Perturbation samples per file and robot.")
+]
+_Seed = Annotated[int, typer.Option("--seed", help="Seed of the perturbation draws.")]
+_Junit = Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")]
+_Json = Annotated[Path | None, typer.Option("--json", help="Write every run's report (JSON) here.")]
+_Markdown = Annotated[
+    Path | None, typer.Option("--markdown", help="Write a Markdown summary here.")
+]
+_RrdDir = Annotated[
+    Path | None,
+    typer.Option("--rrd-dir", help="Keep a Rerun recording of every run in this folder."),
+]
+_Start = Annotated[Start | None, start_option("each motion's sidecar start")]
+_Expect = Annotated[
+    list[str] | None, expect_option("every run", "each motion's motions.toml sidecar")
+]
+_NoCache = Annotated[bool, typer.Option("--no-cache", help="Run everything again.")]
+_CacheDir = Annotated[
+    Path | None,
+    typer.Option("--cache-dir", help="Result cache (default ~/.cache/motiontool/batch)."),
+]
+
+
 def batch_command(
-    paths: Annotated[
-        list[Path],
-        typer.Argument(
-            help="Motion files, or directories searched for *.motion.", show_default=False
-        ),
-    ],
-    robot: Annotated[
-        list[str] | None,
-        robot_option(
-            "Robot to play on, per file (default: auto)",
-            more="Repeat to run every file on several robots.",
-        ),
-    ] = None,
-    jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")] = 2,
-    executor: Annotated[
-        str, typer.Option("--executor", help="local (a process pool) or ray.")
-    ] = "local",
-    ray_address: Annotated[
-        str | None,
-        typer.Option(
-            "--ray-address", help="Ray cluster to use (auto: the running one); default: start one."
-        ),
-    ] = None,
-    timeout: Annotated[
-        float | None,
-        typer.Option(
-            "--timeout", min=0.1, callback=_timeout_range, help="Wall-clock limit of one run, in s."
-        ),
-    ] = None,
-    perturb: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--perturb",
-            help="NAME=LOW:HIGH, uniform draws; NAME: friction, mass, motor-strength,"
-            " start-yaw (deg), start-noise (rad), speed. Repeatable.",
-        ),
-    ] = None,
-    samples: Annotated[
-        int, typer.Option("--samples", min=1, help="Perturbation samples per file and robot.")
-    ] = 1,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of the perturbation draws.")] = 0,
+    paths: _Paths,
+    robot: _Robots = None,
+    jobs: _Jobs = 2,
+    executor: _Executor = "local",
+    ray_address: _RayAddress = None,
+    timeout: _Timeout = None,
+    perturb: _Perturb = None,
+    samples: _Samples = 1,
+    seed: _Seed = 0,
     timestep: Timestep = None,
     physics_step: PhysicsStepOption = None,
     friction: FrictionOption = None,
     profile: ProfileOption = Profile.default,
-    junit: Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")] = None,
-    json_out: Annotated[
-        Path | None, typer.Option("--json", help="Write every run's report (JSON) here.")
-    ] = None,
-    markdown: Annotated[
-        Path | None, typer.Option("--markdown", help="Write a Markdown summary here.")
-    ] = None,
-    rrd_dir: Annotated[
-        Path | None,
-        typer.Option("--rrd-dir", help="Keep a Rerun recording of every run in this folder."),
-    ] = None,
-    start: Annotated[Start | None, start_option("each motion's sidecar start")] = None,
-    expect: Annotated[
-        list[str] | None, expect_option("every run", "each motion's motions.toml sidecar")
-    ] = None,
+    junit: _Junit = None,
+    json_out: _Json = None,
+    markdown: _Markdown = None,
+    rrd_dir: _RrdDir = None,
+    start: _Start = None,
+    expect: _Expect = None,
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
-    no_cache: Annotated[bool, typer.Option("--no-cache", help="Run everything again.")] = False,
-    cache_dir: Annotated[
-        Path | None,
-        typer.Option("--cache-dir", help="Result cache (default ~/.cache/motiontool/batch)."),
-    ] = None,
+    no_cache: _NoCache = False,
+    cache_dir: _CacheDir = None,
 ) -> None:
     """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
     from motiontool.kinematics.robots import AUTO
     from motiontool.sim.batch import check_robots, default_cache_dir, parse_perturbation
-    from motiontool.sim.executor import EXECUTORS
     from motiontool.sim.expect import parse_expectations
     from motiontool.sim.physics import physics_run_options
 
-    if executor not in EXECUTORS:
-        raise typer.BadParameter(
-            f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
-        )
-    if any(is_stdin(p) for p in paths):
-        raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
-    files = collect_motion_files(paths)
-    if ray_address is not None and executor != "ray":
-        raise MotionToolError("--ray-address names a Ray cluster: use it with --executor ray")
+    files = _inputs(paths, executor=executor, ray_address=ray_address)
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
-    for option, out in outputs.items():
-        refuse_overwrite(out, files, option)
-    refuse_shared_outputs({k: v for k, v in outputs.items() if k != "--rrd-dir"})
-    require_folder(rrd_dir, "--rrd-dir")
-    require_folder(cache_dir, "--cache-dir")
+    _check_outputs(files, outputs, cache_dir=cache_dir)
     _require_extras(junit=junit, rrd_dir=rrd_dir, executor=executor)
     perturbations = [parse_perturbation(p) for p in perturb or []]
     options = {
@@ -166,6 +166,34 @@ def batch_command(
     _write_reports(batch, profile, json_out=json_out, markdown=markdown, junit=junit)
     if batch.failures:
         raise typer.Exit(1)
+
+
+def _inputs(paths: list[Path], *, executor: str, ray_address: str | None) -> list[Path]:
+    """The motion files to play; an executor that does not exist, ``-`` or --ray-address
+    without --executor ray: exit 2 before anything runs."""
+    from motiontool.sim.executor import EXECUTORS
+
+    if executor not in EXECUTORS:
+        raise typer.BadParameter(
+            f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
+        )
+    if any(is_stdin(p) for p in paths):
+        raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
+    files = collect_motion_files(paths)
+    if ray_address is not None and executor != "ray":
+        raise MotionToolError("--ray-address names a Ray cluster: use it with --executor ray")
+    return files
+
+
+def _check_outputs(
+    files: list[Path], outputs: dict[str, Path | None], *, cache_dir: Path | None
+) -> None:
+    """No output over an input, no two reports on one file, folders that can be written."""
+    for option, out in outputs.items():
+        refuse_overwrite(out, files, option)
+    refuse_shared_outputs({k: v for k, v in outputs.items() if k != "--rrd-dir"})
+    require_folder(outputs["--rrd-dir"], "--rrd-dir")
+    require_folder(cache_dir, "--cache-dir")
 
 
 def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) -> None:

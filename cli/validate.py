@@ -139,73 +139,81 @@ def _robot_json(
     }
 
 
+_Paths = Annotated[
+    list[Path],
+    typer.Argument(
+        help="Motion files, or directories searched recursively for *.motion ('-': stdin).",
+        show_default=False,
+    ),
+]
+_Format = Annotated[
+    FormatName,
+    typer.Option(
+        "--format",
+        "-f",
+        help="; ".join(f"{name}: {entry.help}" for name, entry in REPORTS.items()) + ".",
+    ),
+]
+_Timestep = Annotated[
+    int | None,
+    timestep_option(
+        "the robot's, Nao 20",
+        use="report pose times that are not a multiple of it, and check the command stream "
+        "at that step",
+    ),
+]
+_Robot = Annotated[
+    str, robot_option("Robot to check against, per file", none="Webots syntax checks only")
+]
+_Checks = Annotated[
+    str | None,
+    typer.Option(
+        _CHECKS_OPTION,
+        help="Robot checks, comma-separated: limits, velocity, collision, balance (or all). "
+        f"Default: {','.join(DEFAULT_CHECKS)}, each skipped with a note where the library "
+        "it needs is not installed; a check named here fails the run instead.",
+        show_default=False,
+    ),
+]
+_CollisionTolerance = Annotated[
+    float,
+    typer.Option(
+        "--collision-tolerance",
+        min=0.0,
+        callback=finite,
+        help="Self-collisions shallower than this many mm are not reported (the robots' "
+        "collision shapes are coarse); 0 reports every overlap.",
+    ),
+]
+_Strict = Annotated[
+    bool, typer.Option("--strict", help="Fail (exit 1) on warnings too, not only on errors.")
+]
+_Ignore = Annotated[
+    list[str] | None,
+    typer.Option(_IGNORE_OPTION, help="Diagnostic code to leave out (repeat, or comma-separate)."),
+]
+_Sort = Annotated[
+    Order,
+    typer.Option(
+        "--sort",
+        help="file: file by file, by position; severity: errors first, then warnings, then "
+        "notes (text, github and sarif; GitHub shows only the first 10 annotations of a kind "
+        "per step).",
+    ),
+]
+
+
 def validate_command(
-    paths: Annotated[
-        list[Path],
-        typer.Argument(
-            help="Motion files, or directories searched recursively for *.motion ('-': stdin).",
-            show_default=False,
-        ),
-    ],
-    format: Annotated[
-        FormatName,
-        typer.Option(
-            "--format",
-            "-f",
-            help="; ".join(f"{name}: {entry.help}" for name, entry in REPORTS.items()) + ".",
-        ),
-    ] = DEFAULT_FORMAT,
+    paths: _Paths,
+    format: _Format = DEFAULT_FORMAT,
     output: ReportOutput = None,
-    timestep: Annotated[
-        int | None,
-        timestep_option(
-            "the robot's, Nao 20",
-            use="report pose times that are not a multiple of it, and check the command stream "
-            "at that step",
-        ),
-    ] = None,
-    robot: Annotated[
-        str,
-        robot_option("Robot to check against, per file", none="Webots syntax checks only"),
-    ] = AUTO,
-    checks: Annotated[
-        str | None,
-        typer.Option(
-            _CHECKS_OPTION,
-            help="Robot checks, comma-separated: limits, velocity, collision, balance (or all). "
-            f"Default: {','.join(DEFAULT_CHECKS)}, each skipped with a note where the library "
-            "it needs is not installed; a check named here fails the run instead.",
-            show_default=False,
-        ),
-    ] = None,
-    collision_tolerance: Annotated[
-        float,
-        typer.Option(
-            "--collision-tolerance",
-            min=0.0,
-            callback=finite,
-            help="Self-collisions shallower than this many mm are not reported (the robots' "
-            "collision shapes are coarse); 0 reports every overlap.",
-        ),
-    ] = DEFAULT_PENETRATION_TOLERANCE_MM,
-    strict: Annotated[
-        bool, typer.Option("--strict", help="Fail (exit 1) on warnings too, not only on errors.")
-    ] = False,
-    ignore: Annotated[
-        list[str] | None,
-        typer.Option(
-            _IGNORE_OPTION, help="Diagnostic code to leave out (repeat, or comma-separate)."
-        ),
-    ] = None,
-    sort: Annotated[
-        Order,
-        typer.Option(
-            "--sort",
-            help="file: file by file, by position; severity: errors first, then warnings, then "
-            "notes (text, github and sarif; GitHub shows only the first 10 annotations of a kind "
-            "per step).",
-        ),
-    ] = Order.file,
+    timestep: _Timestep = None,
+    robot: _Robot = AUTO,
+    checks: _Checks = None,
+    collision_tolerance: _CollisionTolerance = DEFAULT_PENETRATION_TOLERANCE_MM,
+    strict: _Strict = False,
+    ignore: _Ignore = None,
+    sort: _Sort = Order.file,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col.
