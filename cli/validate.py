@@ -236,6 +236,7 @@ def validate_command(
     context = Context(
         color=color,
         order=sort,
+        strict=strict,
         robot_line=_robot_line(checker, report),
         robot_json=lambda: _robot_json(checker, robot, report),
     )

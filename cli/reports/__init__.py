@@ -15,6 +15,7 @@ from motiontool.cli.reports.common import PLAIN, Context, Order, summary
 from motiontool.cli.reports.github import render_github
 from motiontool.cli.reports.gitlab import render_gitlab
 from motiontool.cli.reports.json_report import JSON_SCHEMA_VERSION, render_json
+from motiontool.cli.reports.junit import render_junit
 from motiontool.cli.reports.sarif import SARIF_SRCROOT, render_sarif
 from motiontool.cli.reports.text import render_text
 from motiontool.motionfmt.validate import ValidationReport
@@ -54,6 +55,7 @@ REPORTS: dict[str, ReportFormat] = {
     "sarif": ReportFormat(render_sarif, "SARIF 2.1.0 for code scanning"),
     "github": ReportFormat(render_github, "GitHub Actions annotations"),
     "gitlab": ReportFormat(render_gitlab, "GitLab Code Quality"),
+    "junit": ReportFormat(render_junit, "JUnit XML, a test case per file"),
 }
 """Every report format of ``validate``, by the name ``--format`` takes."""
 

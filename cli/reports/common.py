@@ -4,15 +4,31 @@ line, columns in characters or UTF-16 units, and the context a renderer gets."""
 from __future__ import annotations
 
 import enum
+import functools
+import hashlib
+import os
+from collections import Counter
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
-__all__ = ["PLAIN", "Context", "Order", "findings", "summary", "text_column", "with_hint"]
+__all__ = [
+    "PLAIN",
+    "Context",
+    "Fingerprints",
+    "Order",
+    "findings",
+    "project_root",
+    "relative_path",
+    "summary",
+    "text_column",
+    "with_hint",
+]
 
 
 class Order(enum.StrEnum):
@@ -55,6 +71,7 @@ class Context:
     Attributes:
         color: ANSI colours (text only; the caller decides: never for a file or a pipe).
         order: the order of findings (formats that list them one by one).
+        strict: warnings fail the run too (``--strict``), for formats that say pass or fail.
         robot_line: the text report's first line (which robot checked what).
         robot_json: the JSON report's ``robot`` section and ``stamps`` (with the model hash),
             built only by the formats that ask for it.
@@ -62,6 +79,7 @@ class Context:
 
     color: bool = False
     order: Order = Order.file
+    strict: bool = False
     robot_line: str = ""
     robot_json: Callable[[], dict[str, Any]] = field(default=lambda: {})
 
@@ -80,3 +98,46 @@ def text_column(raw: bytes, column: int, *, utf16: bool) -> int:
 
 PLAIN = Context()
 """No colour, file order, no robot line or section: what a renderer uses when given nothing."""
+
+
+def project_root() -> Path:
+    """The repository the run is in: the closest folder from the working directory up that
+    holds ``.git`` (a folder, or a file in a worktree), else the working directory. Reports
+    give paths relative to it, as code-scanning and Code Quality dashboards show them."""
+    return _root_of(Path.cwd())
+
+
+@functools.cache
+def _root_of(cwd: Path) -> Path:
+    for folder in (cwd, *cwd.parents):
+        if (folder / ".git").exists():
+            return folder
+    return cwd
+
+
+def relative_path(path: str) -> Path | None:
+    """``path`` relative to :func:`project_root` (as written, then with links resolved), or
+    None for a file outside it."""
+    root = project_root()
+    for candidate in (Path(os.path.abspath(path)), Path(path).resolve()):
+        try:
+            return candidate.relative_to(root)
+        except ValueError:
+            continue
+    return None
+
+
+class Fingerprints:
+    """Stable identities of findings across runs and commits: a hash of the code, the path
+    relative to the project and the message, and the finding's rank among identical ones; not
+    its line, so that a line added above a finding leaves it the same finding."""
+
+    def __init__(self) -> None:
+        self._seen: Counter[str] = Counter()
+
+    def __call__(self, d: Diagnostic) -> str:
+        rel = relative_path(d.path)
+        key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.message}"
+        self._seen[key] += 1
+        data = f"{key}\0{self._seen[key]}".encode("utf-8", "surrogateescape")
+        return hashlib.sha256(data).hexdigest()

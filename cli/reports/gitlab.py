@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-import hashlib
 import json
-import os
-from collections import Counter
-from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import escape_undecodable
-from motiontool.cli.reports.common import PLAIN, Context, findings, with_hint
+from motiontool.cli.reports.common import (
+    PLAIN,
+    Context,
+    Fingerprints,
+    findings,
+    relative_path,
+    with_hint,
+)
 from motiontool.motionfmt.diagnostics import CODES, Severity
 from motiontool.motionfmt.validate import ValidationReport
 
@@ -21,30 +24,24 @@ _SEVERITY = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: 
 
 
 def _path(path: str) -> str:
-    """The file relative to the working directory (GitLab shows paths from the repository
-    root, where the job runs), or as given for a file outside it."""
-    try:
-        return Path(os.path.abspath(path)).relative_to(Path.cwd()).as_posix()
-    except ValueError:
-        return path
+    """The file relative to the repository root (GitLab shows paths from it), or as given
+    for a file outside it."""
+    rel = relative_path(path)
+    return path if rel is None else rel.as_posix()
 
 
 def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
     """A JSON array of Code Quality issues: ``description``, ``check_name`` (the code),
     ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``).
 
-    A fingerprint identifies one finding across runs and commits: a hash of the code, the
-    path and the message, and the finding's rank among identical ones, not its line (a line
-    added above it must not make it a new finding). A run's notes (about no file) are left
-    out: a Code Quality issue needs a location.
+    A fingerprint identifies one finding across runs and commits
+    (:class:`~motiontool.cli.reports.common.Fingerprints`: not its line). A run's notes (about
+    no file) are left out: a Code Quality issue needs a location.
     """
     issues: list[dict[str, Any]] = []
-    seen: Counter[str] = Counter()
+    fingerprint = Fingerprints()
     for _file, d in findings(report, context.order):
         path = _path(d.path)
-        key = f"{d.code}\0{path}\0{d.message}"
-        seen[key] += 1
-        fingerprint = hashlib.sha256(f"{key}\0{seen[key]}".encode("utf-8", "surrogateescape"))
         title = CODES[d.code].title if d.code in CODES else d.code
         issues.append(
             {
@@ -53,7 +50,7 @@ def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
                 "check_name": d.code,
                 "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
                 "content": {"body": title},
-                "fingerprint": fingerprint.hexdigest(),
+                "fingerprint": fingerprint(d),
                 "severity": _SEVERITY[d.severity],
                 "location": {"path": path, "lines": {"begin": max(d.line, 1)}},
             }

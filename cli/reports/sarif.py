@@ -8,28 +8,36 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import ESCAPED_BYTES, dumps, escape_undecodable
-from motiontool.cli.reports.common import PLAIN, Context, findings, text_column, with_hint
-from motiontool.motionfmt.diagnostics import CODES, Severity
-from motiontool.motionfmt.validate import ValidationReport
+from motiontool.cli.reports.common import (
+    PLAIN,
+    Context,
+    Fingerprints,
+    findings,
+    project_root,
+    relative_path,
+    text_column,
+    with_hint,
+)
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
-__all__ = ["SARIF_SRCROOT", "render_sarif"]
+__all__ = ["FINGERPRINT_KEY", "SARIF_SRCROOT", "render_sarif"]
 
 SARIF_SRCROOT = "%SRCROOT%"
+FINGERPRINT_KEY = "motiontoolFinding/v1"
+"""The key of a result's ``partialFingerprints``: code, path and message, not the line."""
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
 
 
 def _uri(path: str) -> tuple[str, str | None]:
     """The SARIF ``artifactLocation``: a percent-encoded URI reference relative to
-    ``%SRCROOT%`` (the working directory) for a file below it, else an absolute ``file://``
-    URI; the file's name is encoded as its bytes on disk (UTF-8 or not)."""
-    cwd = Path.cwd()
-    for candidate in (Path(os.path.abspath(path)), Path(path).resolve()):
-        try:
-            rel = candidate.relative_to(cwd)
-        except ValueError:
-            continue
+    ``%SRCROOT%`` (the repository root, :func:`~motiontool.cli.reports.common.project_root`)
+    for a file below it, else an absolute ``file://`` URI; the file's name is encoded as its
+    bytes on disk (UTF-8 or not)."""
+    rel = relative_path(path)
+    if rel is not None:
         return urllib.parse.quote(os.fsencode(rel.as_posix()), safe="/"), SARIF_SRCROOT
     return Path(path).resolve().as_uri(), None
 
@@ -43,13 +51,42 @@ def _rule(code: str) -> dict[str, Any]:
         f"the motiontool README (section 'validate') explains each one. Leave this one out "
         f"with 'motiontool validate --ignore {code}'."
     )
+    help_markdown = (
+        f"**{code}**: {title}.\n\nDefault severity: `{level}`. `motiontool codes` lists every "
+        f"code; the motiontool README (section *validate*) explains each one.\n\n"
+        f"Leave this one out with `motiontool validate --ignore {code}`."
+    )
     return {
         "id": code,
         "name": code,
         "shortDescription": {"text": title},
         "fullDescription": {"text": title},
-        "help": {"text": help_text},
+        "help": {"text": help_text, "markdown": help_markdown},
         "defaultConfiguration": {"level": level},
+    }
+
+
+def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[str, Any]:
+    """One finding: its rule, level, message, place (columns in UTF-16 code units) and a
+    fingerprint that survives lines added above it."""
+    raw = f.source_line(d.line)
+    region: dict[str, int] = {
+        "startLine": max(d.line, 1),
+        "startColumn": text_column(raw, d.column, utf16=True),
+    }
+    if d.end_column and d.end_column >= d.column:
+        region["endColumn"] = text_column(raw, d.end_column, utf16=True)
+    uri, base = _uri(d.path)
+    location: dict[str, Any] = {"uri": uri}
+    if base is not None:
+        location["uriBaseId"] = base
+    return {
+        "ruleId": d.code,
+        "ruleIndex": rule,
+        "level": _SARIF_LEVEL[d.severity],
+        "message": {"text": with_hint(d)},
+        "locations": [{"physicalLocation": {"artifactLocation": location, "region": region}}],
+        "partialFingerprints": {FINGERPRINT_KEY: fingerprint},
     }
 
 
@@ -57,37 +94,16 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
     """SARIF 2.1.0, as GitHub code scanning and other CI dashboards read it.
 
     Columns are in UTF-16 code units (``columnKind`` ``utf16CodeUnits``, SARIF's default),
-    converted from the diagnostics' byte columns with the source line. ``properties`` go into
-    the run's property bag (next to the stamps).
+    converted from the diagnostics' byte columns with the source line; URIs are relative to
+    the repository root. The robot section goes into the run's property bag (next to the
+    stamps); a run's notes into the invocation's ``toolExecutionNotifications``.
     """
-    order, properties = context.order, context.robot_json()
     used = sorted({d.code for d in report.diagnostics} | set(CODES))
     index = {code: i for i, code in enumerate(used)}
-    results = []
-    for f, d in findings(report, order):
-        raw = f.source_line(d.line)
-        region: dict[str, int] = {
-            "startLine": max(d.line, 1),
-            "startColumn": text_column(raw, d.column, utf16=True),
-        }
-        if d.end_column and d.end_column >= d.column:
-            region["endColumn"] = text_column(raw, d.end_column, utf16=True)
-        text = with_hint(d)
-        uri, base = _uri(d.path)
-        location: dict[str, Any] = {"uri": uri}
-        if base is not None:
-            location["uriBaseId"] = base
-        results.append(
-            {
-                "ruleId": d.code,
-                "ruleIndex": index[d.code],
-                "level": _SARIF_LEVEL[d.severity],
-                "message": {"text": text},
-                "locations": [
-                    {"physicalLocation": {"artifactLocation": location, "region": region}}
-                ],
-            }
-        )
+    fingerprint = Fingerprints()
+    results = [
+        _result(f, d, index[d.code], fingerprint(d)) for f, d in findings(report, context.order)
+    ]
     notifications = [
         {
             "level": _SARIF_LEVEL[d.severity],
@@ -102,14 +118,13 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
             "driver": {
                 "name": "motiontool",
                 "version": stamps()["motiontool"],
-                "informationUri": "https://pypi.org/project/motiontool/",
                 "rules": [_rule(code) for code in used],
             }
         },
-        "originalUriBaseIds": {SARIF_SRCROOT: {"uri": Path.cwd().as_uri().rstrip("/") + "/"}},
+        "originalUriBaseIds": {SARIF_SRCROOT: {"uri": project_root().as_uri().rstrip("/") + "/"}},
         "columnKind": "utf16CodeUnits",
         "results": results,
-        "properties": {"stamps": stamps(), **(properties or {})},
+        "properties": {"stamps": stamps(), **context.robot_json()},
     }
     doc = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",

@@ -82,3 +82,67 @@ def test_gitlab_paths_are_relative_to_the_working_directory(
     monkeypatch.chdir(here / "sub")
     (issue, *_) = gitlab([str(here / "sub" / "bad.motion")])
     assert issue["location"]["path"] == "bad.motion"  # type: ignore[index]
+
+
+def sarif(args: list[str]) -> dict[str, object]:
+    result = runner.invoke(app, ["validate", "--robot", "none", "-f", "sarif", *args])
+    assert result.exit_code == 1, result.output
+    doc: dict[str, object] = json.loads(result.stdout)
+    return doc
+
+
+def test_sarif_uris_are_relative_to_the_repository_root(
+    here: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (here / ".git").mkdir()
+    monkeypatch.chdir(here / "sub")
+    run = sarif(["bad.motion"])["runs"][0]  # type: ignore[index]
+    location = run["results"][0]["locations"][0]["physicalLocation"]["artifactLocation"]
+    assert location == {"uri": "sub/bad.motion", "uriBaseId": "%SRCROOT%"}
+    assert run["originalUriBaseIds"]["%SRCROOT%"]["uri"] == here.as_uri() + "/"
+    assert gitlab(["bad.motion"])[0]["location"]["path"] == "sub/bad.motion"  # type: ignore[index]
+
+
+def test_sarif_results_have_fingerprints_that_survive_a_line_added_above(here: Path) -> None:
+    def prints() -> list[str]:
+        run = sarif(["sub/bad.motion"])["runs"][0]  # type: ignore[index]
+        return [r["partialFingerprints"]["motiontoolFinding/v1"] for r in run["results"]]
+
+    before = prints()
+    lines = BAD.split(b"\n")
+    shifted = b"\n".join([lines[0], b"00:00:000,P0,0,0", *lines[1:]])
+    (here / "sub" / "bad.motion").write_bytes(shifted.replace(b"00:00:000,P1", b"00:00:040,P1"))
+    assert len(set(before)) == len(before) and set(before) <= set(prints())
+
+
+def test_every_sarif_rule_has_markdown_help_and_no_dead_link(here: Path) -> None:
+    run = sarif(["sub/bad.motion"])["runs"][0]  # type: ignore[index]
+    driver = run["tool"]["driver"]
+    assert "informationUri" not in driver and "helpUri" not in json.dumps(run)
+    for rule in driver["rules"]:
+        assert rule["help"]["markdown"].startswith(f"**{rule['id']}**: ")
+
+
+@pytest.mark.parametrize("strict", [False, True])
+def test_junit_has_a_case_per_file_with_the_reason_in_the_failure_body(
+    here: Path, strict: bool
+) -> None:
+    import xml.etree.ElementTree as ET
+
+    (here / "ok.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P,0\n")
+    (here / "warn.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P,1rad\n")
+    args = ["validate", "--robot", "none", "-f", "junit", "sub/bad.motion", "ok.motion"]
+    result = runner.invoke(app, [*args, "warn.motion", *(["--strict"] if strict else [])])
+    assert result.exit_code == 1, result.output
+    suite = ET.fromstring(result.stdout).find("testsuite")
+    assert suite is not None and suite.get("tests") == "3"
+    cases = {c.get("name"): c for c in suite.iter("testcase")}
+    assert {name: c.get("file") for name, c in cases.items()} == {
+        n: n for n in ("sub/bad.motion", "ok.motion", "warn.motion")
+    }
+    bad = cases["sub/bad.motion"].find("failure")
+    assert bad is not None and bad.get("message") == ("1 error, 1 warning" if strict else "1 error")
+    assert "sub/bad.motion:3:14: error MT113: HeadYaw = 'nan'" in (bad.text or "")
+    assert cases["ok.motion"].find("failure") is None
+    assert (cases["warn.motion"].find("failure") is not None) is strict
+    assert suite.get("failures") == ("2" if strict else "1")
