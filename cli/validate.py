@@ -18,6 +18,7 @@ from motiontool.cli.options import (
 )
 from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
+from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
@@ -192,6 +193,14 @@ _Ignore = Annotated[
     list[str] | None,
     typer.Option(_IGNORE_OPTION, help="Diagnostic code to leave out (repeat, or comma-separate)."),
 ]
+_Statistics = Annotated[
+    bool,
+    typer.Option(
+        "--statistics",
+        help="Print how many findings of each code (most frequent first) instead of each "
+        "finding (text only).",
+    ),
+]
 _Sort = Annotated[
     Order,
     typer.Option(
@@ -214,6 +223,7 @@ def validate_command(
     strict: _Strict = False,
     ignore: _Ignore = None,
     sort: _Sort = Order.file,
+    statistics: _Statistics = False,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col.
@@ -221,6 +231,8 @@ def validate_command(
     Exit code 0 when no error is found (warnings allowed unless --strict), 1 on findings,
     2 on a usage or I/O error.
     """
+    if statistics and format.value != "text":
+        raise MotionToolError("--statistics is a text report: leave out --format")
     codes = [c for item in ignore or [] for c in item.split(",")]
     files = collect_motion_files(paths)
     refuse_overwrite(output, files, "-o")
@@ -240,7 +252,9 @@ def validate_command(
         robot_line=_robot_line(checker, report),
         robot_json=lambda: _robot_json(checker, robot, report),
     )
-    text = render(report, format.value, context)
+    text = (
+        render_statistics(report, context) if statistics else render(report, format.value, context)
+    )
     if color and output is None:
         typer.echo(text, nl=False, color=color)
     else:

@@ -146,3 +146,21 @@ def test_junit_has_a_case_per_file_with_the_reason_in_the_failure_body(
     assert cases["ok.motion"].find("failure") is None
     assert (cases["warn.motion"].find("failure") is not None) is strict
     assert suite.get("failures") == ("2" if strict else "1")
+
+
+def test_statistics_count_each_code_most_frequent_first(here: Path) -> None:
+    (here / "more.motion").write_bytes(
+        b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P,1rad\n00:00:040,Q,2rad\n00:00:080,R,nan\n"
+    )
+    result = runner.invoke(
+        app, ["validate", "--robot", "none", "--statistics", "sub/bad.motion", "more.motion"]
+    )
+    assert result.exit_code == 1, result.output
+    lines = result.stdout.splitlines()
+    assert lines[1:] == [
+        "3  MT203  warning  trailing characters after a number are ignored",
+        "2  MT113  error    value is nan or infinite",
+        "checked 2 files: 2 errors, 3 warnings, 0 notes",
+    ]
+    refused = runner.invoke(app, ["validate", "--statistics", "-f", "json", "more.motion"])
+    assert refused.exit_code == 2 and "--statistics is a text report" in refused.stderr
