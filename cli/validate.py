@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import sys
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Any
 
 import typer
 
 from motiontool.cli.color import color_enabled
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.jsontext import dumps
+from motiontool.cli.lint_run import Checked, Overrides, collect, keep_first, lint
 from motiontool.cli.options import (
     ROBOT_OPTION,
     ReportOutput,
@@ -27,11 +31,10 @@ from motiontool.kinematics.checks import (
     RobotChecks,
     parse_checks,
 )
-from motiontool.kinematics.robots import AUTO, NONE, RobotSpec
+from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import install_hint
-from motiontool.motionfmt.fileio import collect_motion_files
-from motiontool.motionfmt.validate import ValidationReport, validate_paths
+from motiontool.motionfmt.validate import ValidationReport
 from motiontool.stamps import stamps
 
 __all__ = ["validate_command"]
@@ -42,7 +45,7 @@ _MIRROR_COMMAND = "motiontool mirror {source} -o {target}"
 """How the robot checks' hints tell a user of the CLI to mirror a file (MT309)."""
 
 
-def _robots_used(checker: RobotChecks) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
+def _robots_used(checker: Checked) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
     """{robot name: (spec, files checked against it)}, and the files no robot was found for."""
     used: dict[str, tuple[RobotSpec, list[str]]] = {}
     skipped = []
@@ -54,7 +57,7 @@ def _robots_used(checker: RobotChecks) -> tuple[dict[str, tuple[RobotSpec, list[
     return used, skipped
 
 
-def _unchecked(report: ValidationReport, checker: RobotChecks) -> tuple[list[str], list[str]]:
+def _unchecked(report: ValidationReport, checker: Checked) -> tuple[list[str], list[str]]:
     """The files checked at syntax level only, in report order: all of them (Webots rejects
     them, or no robot was found: MT901), and those Webots rejects (no robot check reached them)."""
     skipped = {p for p, spec in checker.used.items() if spec is None}
@@ -63,7 +66,7 @@ def _unchecked(report: ValidationReport, checker: RobotChecks) -> tuple[list[str
     return every, rejected
 
 
-def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
+def _robot_line(checker: Checked | None, report: ValidationReport) -> str:
     """One line for people: which robot checked what, and how many files Webots rejects (they
     are not checked against a robot)."""
     if checker is None:
@@ -102,7 +105,7 @@ def _robot_line(checker: RobotChecks | None, report: ValidationReport) -> str:
 
 
 def _robot_json(
-    checker: RobotChecks | None, requested: str, report: ValidationReport
+    checker: Checked | None, requested: str, report: ValidationReport
 ) -> dict[str, Any]:
     """The JSON report's ``robot`` section and the stamps with the model hash."""
     if checker is None:
@@ -164,7 +167,11 @@ _Timestep = Annotated[
     ),
 ]
 _Robot = Annotated[
-    str, robot_option("Robot to check against, per file", none="Webots syntax checks only")
+    str | None,
+    robot_option(
+        "Robot to check against, per file (default: the configuration's, else auto)",
+        none="Webots syntax checks only",
+    ),
 ]
 _Checks = Annotated[
     str | None,
@@ -187,7 +194,20 @@ _CollisionTolerance = Annotated[
     ),
 ]
 _Strict = Annotated[
-    bool, typer.Option("--strict", help="Fail (exit 1) on warnings too, not only on errors.")
+    bool | None,
+    typer.Option(
+        "--strict/--no-strict",
+        help="Fail (exit 1) on warnings too, not only on errors (default: the configuration's).",
+        show_default=False,
+    ),
+]
+_ShowSettings = Annotated[
+    bool,
+    typer.Option(
+        "--show-settings",
+        help="Print the configuration file each path uses and the settings it gives (JSON), "
+        "then exit.",
+    ),
 ]
 _Ignore = Annotated[
     list[str] | None,
@@ -217,41 +237,54 @@ def validate_command(
     format: _Format = DEFAULT_FORMAT,
     output: ReportOutput = None,
     timestep: _Timestep = None,
-    robot: _Robot = AUTO,
+    robot: _Robot = None,
     checks: _Checks = None,
     collision_tolerance: _CollisionTolerance = DEFAULT_PENETRATION_TOLERANCE_MM,
-    strict: _Strict = False,
+    strict: _Strict = None,
     ignore: _Ignore = None,
     sort: _Sort = Order.file,
     statistics: _Statistics = False,
+    config: ConfigOption = None,
+    isolated: IsolatedOption = False,
+    show_settings: _ShowSettings = False,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
-    file:line:col.
+    file:line:col. Settings come from the closest pyproject.toml [tool.motiontool] or
+    motiontool.toml (options here override them).
 
     Exit code 0 when no error is found (warnings allowed unless --strict), 1 on findings,
     2 on a usage or I/O error.
     """
     if statistics and format.value != "text":
         raise MotionToolError("--statistics is a text report: leave out --format")
-    codes = [c for item in ignore or [] for c in item.split(",")]
-    files = collect_motion_files(paths)
-    refuse_overwrite(output, files, "-o")
-    checker = _checker(robot, checks, timestep, collision_tolerance) if robot != NONE else None
-    report = validate_paths(
-        files, timestep_ms=timestep, checks=[checker] if checker else [], ignore=codes
+    resolver = Resolver(config=config, isolated=isolated)
+    if show_settings:
+        typer.echo(_settings_text(paths, resolver), nl=False)
+        return
+    overrides = Overrides(
+        robot=robot,
+        checks=None if checks is None else parse_checks(checks),
+        timestep=timestep,
+        strict=strict,
+        ignore=tuple(c for item in ignore or [] for c in item.split(",")),
     )
-    if checker is not None:
-        ignored = {c.strip().upper() for c in codes}
-        report.notes = [n for n in checker.notes if n.code not in ignored]
+    files = collect(paths, resolver)
+    refuse_overwrite(output, files, "-o")
+    run = lint(files, resolver, overrides, partial(_checker, tolerance=collision_tolerance))
+    project = resolver.for_file(Path("-"))
+    if project.max_findings is not None:
+        keep_first(run.report, project.max_findings)
     to_stdout = output is None or str(output) == "-"
     color = REPORTS[format.value].colors and color_enabled(sys.stdout, to_file=not to_stdout)
+    requested = robot if robot is not None else project.robot
     context = Context(
         color=color,
         order=sort,
-        strict=strict,
-        robot_line=_robot_line(checker, report),
-        robot_json=lambda: _robot_json(checker, robot, report),
+        strict=strict if strict is not None else project.strict,
+        robot_line=_robot_line(run.checked, run.report),
+        robot_json=lambda: _robot_json(run.checked, requested, run.report),
     )
+    report = run.report
     text = (
         render_statistics(report, context) if statistics else render(report, format.value, context)
     )
@@ -259,22 +292,35 @@ def validate_command(
         typer.echo(text, nl=False, color=color)
     else:
         emit(text, output)
-    if report.failed(strict=strict):
+    if run.failed():
         raise typer.Exit(1)
 
 
+def _settings_text(paths: list[Path], resolver: Resolver) -> str:
+    """``--show-settings``: for each path, the configuration file used and its settings."""
+    docs = []
+    for p in paths:
+        settings = resolver.for_file(p)
+        doc = {"path": str(p), **settings.as_dict()}
+        if not p.is_dir():
+            doc["robot-for-this-file"] = settings.robot_for(p)
+        docs.append(doc)
+    return dumps(docs[0] if len(docs) == 1 else {"files": docs})
+
+
 def _checker(
-    robot: str, checks: str | None, timestep: int | None, collision_tolerance: float
+    robot: str, checks: tuple[str, ...] | None, timestep: int | None, *, tolerance: float
 ) -> RobotChecks:
-    """The robot checks of ``validate``, their hints in the CLI's words; checks named with
-    --checks must run (a missing library is an error), the default ones may be skipped."""
+    """The robot checks of ``validate``, their hints in the CLI's words; checks named (with
+    --checks or in the configuration) must run (a missing library is an error), the default
+    ones may be skipped."""
     try:
         return RobotChecks(
             robot,
             DEFAULT_CHECKS if checks is None else parse_checks(checks),
             skip_missing=checks is None,
             timestep_ms=timestep,
-            penetration_tolerance_mm=collision_tolerance,
+            penetration_tolerance_mm=tolerance,
             robot_option=ROBOT_OPTION,
             ignore_option=_IGNORE_OPTION,
             mirror_command=_MIRROR_COMMAND,

@@ -47,10 +47,16 @@ class ValidationReport:
 
     files: list[FileReport] = field(default_factory=list)
     notes: list[Diagnostic] = field(default_factory=list)
+    hidden: dict[Severity, int] = field(default_factory=dict)
+    """Findings left out of ``files`` (a cap on how many are shown), by severity: counted,
+    and they fail a run as the shown ones do."""
 
     def count(self, severity: Severity) -> int:
-        return sum(f.count(severity) for f in self.files) + sum(
-            1 for d in self.notes if d.severity is severity
+        shown = sum(f.count(severity) for f in self.files)
+        return (
+            shown
+            + sum(1 for d in self.notes if d.severity is severity)
+            + self.hidden.get(severity, 0)
         )
 
     @property
@@ -61,6 +67,8 @@ class ValidationReport:
     def failed(self, *, strict: bool = False) -> bool:
         """Errors fail a run; with ``strict``, warnings do too."""
         worst = Severity.WARNING if strict else Severity.ERROR
+        if any(n for sev, n in self.hidden.items() if sev >= worst):
+            return True
         return any(d.severity >= worst for d in self.diagnostics)
 
 

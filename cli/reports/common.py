@@ -44,11 +44,13 @@ def summary(report: ValidationReport) -> str:
     skipped = "".join(
         f"; {d.message.partition(':')[0]}: {d.hint}" for d in report.notes if d.code == "MT902"
     )
+    hidden = sum(report.hidden.values())
+    not_shown = f"; {plural(hidden, 'finding')} not shown (max-findings)" if hidden else ""
     return (
         f"checked {plural(len(report.files), 'file')}: "
         f"{plural(report.count(Severity.ERROR), 'error')}, "
         f"{plural(report.count(Severity.WARNING), 'warning')}, "
-        f"{plural(report.count(Severity.INFO), 'note')}{skipped}"
+        f"{plural(report.count(Severity.INFO), 'note')}{skipped}{not_shown}"
     )
 
 

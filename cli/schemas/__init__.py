@@ -9,6 +9,7 @@ One file per report, ``<name>.schema.json``: ``validate``, ``info``, ``sample``,
     jsonschema.validate(report, schemas.load("validate"))
 
 A report's ``schema`` field is ``motiontool.<name>``; its ``schema_version`` is the schema's.
+``config.schema.json`` (:data:`CONFIG`) describes the configuration, ``[tool.motiontool]``.
 """
 
 from __future__ import annotations
@@ -17,16 +18,20 @@ import json
 from importlib import resources
 from typing import Any
 
-__all__ = ["NAMES", "load", "path_of"]
+__all__ = ["CONFIG", "NAMES", "load", "path_of"]
 
 NAMES = ("validate", "info", "sample", "diff", "play", "batch")
 """The reports that have a schema (``motiontool.<name>``)."""
 
 
+CONFIG = "config"
+"""The schema of the configuration (``[tool.motiontool]``, ``motiontool.toml``), not a report."""
+
+
 def path_of(name: str) -> str:
-    """The file name of report ``name``'s schema inside this package."""
-    if name not in NAMES:
-        raise ValueError(f"no schema for {name!r}; schemas: {', '.join(NAMES)}")
+    """The file name of report ``name``'s schema (or :data:`CONFIG`'s) inside this package."""
+    if name not in (*NAMES, CONFIG):
+        raise ValueError(f"no schema for {name!r}; schemas: {', '.join((*NAMES, CONFIG))}")
     return f"{name}.schema.json"
 
 

@@ -1,0 +1,367 @@
+"""Project configuration: ``[tool.motiontool]`` in ``pyproject.toml`` or a ``motiontool.toml``.
+
+The file that applies to a motion file is the closest one found walking up from the file's
+folder (as ruff finds its configuration): in each folder, ``motiontool.toml`` (its keys at the
+top level), then ``pyproject.toml`` if it has a ``[tool.motiontool]`` table. ``--config PATH``
+names one file for every input; ``--isolated`` reads none. Options on the command line
+override the file. Globs (``[tool.motiontool.robots]``, ``per-file-ignores``, ``exclude``) are
+relative to the folder of the file that holds them.
+
+Keys (``cli/schemas/config.schema.json`` is their JSON Schema, shipped in the package):
+
+- ``robot``: the robot files are checked and played against (``auto``, ``nao``, ``ur5e``, ...);
+- ``[tool.motiontool.robots]``: ``"GLOB" = "ROBOT"``, the robot for the files a glob matches
+  (the first match wins; ``robot`` for the others);
+- ``select``, ``ignore``, ``extend-ignore``: codes (or prefixes: ``MT2``) reported / left out;
+- ``per-file-ignores``: ``"GLOB" = ["MT206"]``;
+- ``strict``: warnings fail the run too;
+- ``checks``: the robot checks (``["limits", "velocity"]``);
+- ``timestep``: the controller time step in ms;
+- ``exclude``, ``extend-exclude``: files and folders left out when a folder is searched;
+- ``max-findings``: findings shown at most (the summary still counts every one).
+
+A key that does not exist or a value of the wrong type is one error naming the file, the line
+and the key, with a did-you-mean.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import difflib
+import fnmatch
+import re
+import tomllib
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path, PurePosixPath
+from typing import Annotated, Any
+
+import typer
+
+from motiontool.motionfmt.errors import MotionToolError
+
+__all__ = [
+    "CONFIG_NAMES",
+    "KEYS",
+    "ConfigError",
+    "ConfigOption",
+    "IsolatedOption",
+    "Resolver",
+    "Settings",
+    "load_settings",
+]
+
+CONFIG_NAMES = ("motiontool.toml", "pyproject.toml")
+"""The files looked for in each folder, in this order."""
+
+
+ConfigOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--config",
+        help="Use this configuration file (a motiontool.toml, or a pyproject.toml with "
+        "[tool.motiontool]) for every file, instead of the closest one.",
+        show_default=False,
+    ),
+]
+IsolatedOption = Annotated[
+    bool, typer.Option("--isolated", help="Read no configuration file: defaults and options only.")
+]
+
+
+class ConfigError(MotionToolError):
+    """A configuration file that cannot be used: ``FILE:LINE: KEY: what is wrong``."""
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The settings a configuration file gives (defaults where it says nothing).
+
+    Attributes:
+        source: the file they come from (None: no file, the defaults).
+        root: the folder globs are relative to (the file's folder; the working directory for
+            the defaults).
+    """
+
+    source: Path | None = None
+    root: Path = field(default_factory=Path.cwd)
+    robot: str = "auto"
+    robots: tuple[tuple[str, str], ...] = ()
+    select: tuple[str, ...] | None = None
+    ignore: tuple[str, ...] = ()
+    extend_ignore: tuple[str, ...] = ()
+    per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    strict: bool = False
+    checks: tuple[str, ...] | None = None
+    timestep: int | None = None
+    exclude: tuple[str, ...] = ()
+    extend_exclude: tuple[str, ...] = ()
+    max_findings: int | None = None
+
+    def robot_for(self, path: Path) -> str:
+        """The robot for ``path``: the first ``robots`` glob that matches it, else ``robot``."""
+        for pattern, robot in self.robots:
+            if self.matches(pattern, path):
+                return robot
+        return self.robot
+
+    def ignored_for(self, path: Path) -> frozenset[str]:
+        """The codes (and prefixes) left out for ``path``."""
+        codes = set(self.ignore) | set(self.extend_ignore)
+        for pattern, extra in self.per_file_ignores:
+            if self.matches(pattern, path):
+                codes.update(extra)
+        return frozenset(codes)
+
+    def reports(self, code: str, path: Path) -> bool:
+        """Whether a finding ``code`` in ``path`` is reported (``select``, then the ignores;
+        a prefix such as ``MT2`` stands for every code that starts with it)."""
+        if self.select is not None and not any(code.startswith(s) for s in self.select):
+            return False
+        return not any(code.startswith(i) for i in self.ignored_for(path))
+
+    def excluded(self, path: Path) -> bool:
+        """Whether ``path`` (found by searching a folder) is left out."""
+        return any(self.matches(p, path) for p in (*self.exclude, *self.extend_exclude))
+
+    def matches(self, pattern: str, path: Path) -> bool:
+        """``pattern`` against ``path`` relative to :attr:`root`: a pattern with a ``/``
+        matches the relative path (``*`` and ``**`` cross folders), one without matches any
+        folder name on the way or the file name."""
+        try:
+            rel = PurePosixPath(path.resolve().relative_to(self.root.resolve()).as_posix())
+        except ValueError:
+            rel = PurePosixPath(path.as_posix())
+        if "/" in pattern.rstrip("/"):
+            return fnmatch.fnmatchcase(rel.as_posix(), pattern.rstrip("/"))
+        return any(fnmatch.fnmatchcase(part, pattern.rstrip("/")) for part in rel.parts)
+
+    def as_dict(self) -> dict[str, Any]:
+        """The settings as the configuration file spells them (``--show-settings``)."""
+        out: dict[str, Any] = {"source": None if self.source is None else str(self.source)}
+        out["root"] = str(self.root)
+        for f in dataclasses.fields(self):
+            if f.name in ("source", "root"):
+                continue
+            value = getattr(self, f.name)
+            if f.name in ("robots", "per_file_ignores"):
+                value = {k: list(v) if isinstance(v, tuple) else v for k, v in value}
+            elif isinstance(value, tuple):
+                value = list(value)
+            out[f.name.replace("_", "-")] = value
+        return out
+
+
+def _strings(value: Any) -> bool:
+    return isinstance(value, list) and all(isinstance(v, str) for v in value)
+
+
+def _table_of(kind: str) -> Any:
+    def check(value: Any) -> bool:
+        if not isinstance(value, dict):
+            return False
+        if kind == "str":
+            return all(isinstance(v, str) for v in value.values())
+        return all(_strings(v) for v in value.values())
+
+    return check
+
+
+# key -> (check, what the value must be)
+KEYS: dict[str, tuple[Any, str]] = {
+    "robot": (lambda v: isinstance(v, str), "a robot name (string)"),
+    "robots": (_table_of("str"), 'a table of "GLOB" = "ROBOT"'),
+    "select": (_strings, "a list of codes"),
+    "ignore": (_strings, "a list of codes"),
+    "extend-ignore": (_strings, "a list of codes"),
+    "per-file-ignores": (_table_of("list"), 'a table of "GLOB" = ["CODE", ...]'),
+    "strict": (lambda v: isinstance(v, bool), "true or false"),
+    "checks": (_strings, 'a list of checks ("limits", "velocity", "collision", "balance")'),
+    "timestep": (
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 2**31 - 1,
+        "a whole number of ms >= 1",
+    ),
+    "exclude": (_strings, "a list of globs"),
+    "extend-exclude": (_strings, "a list of globs"),
+    "max-findings": (
+        lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 1,
+        "a whole number >= 1",
+    ),
+}
+"""Every configuration key, with the check of its value and what that value must be."""
+
+
+def _line_of(text: str, key: str, table: str | None) -> int:
+    """The 1-based line where ``key`` is set in ``[table]`` (the top level when None): its
+    ``key =`` line, else its own ``[table.key]`` header, else the table's header, else 1."""
+    lines = text.splitlines()
+    header = re.compile(r"^\s*\[\s*([^\]]+?)\s*\]\s*(#.*)?$")
+    current: str | None = None
+    assignment = re.compile(rf"^\s*[\"']?{re.escape(key)}[\"']?\s*=")
+    table_line = None
+    for number, line in enumerate(lines, 1):
+        found = header.match(line)
+        if found:
+            current = found.group(1).replace(" ", "")
+            if current == (f"{table}.{key}" if table else key):
+                return number
+            if current == table:
+                table_line = number
+            continue
+        if current == table and assignment.match(line):
+            return number
+    return table_line or 1
+
+
+def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
+    """(the motiontool table or None, the file's text, the table's dotted name)."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
+        raise ConfigError(f"cannot read '{path}': {reason}") from exc
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{path}: not valid TOML: {exc}") from exc
+    if path.name == "pyproject.toml":
+        table = doc.get("tool", {}).get("motiontool")
+        return (table if isinstance(table, dict) else None), text, "tool.motiontool"
+    return doc, text, None
+
+
+def load_settings(path: Path) -> Settings | None:
+    """The settings of configuration file ``path``, or None for a ``pyproject.toml`` without
+    a ``[tool.motiontool]`` table.
+
+    Raises:
+        ConfigError: ``FILE:LINE: KEY: ...``: an unknown key (with a did-you-mean), a value of
+            the wrong type, a file that is not TOML or cannot be read.
+    """
+    table, text, name = _read(path)
+    if table is None:
+        return None
+    values: dict[str, Any] = {}
+    for key, value in table.items():
+        if key not in KEYS:
+            close = difflib.get_close_matches(key, KEYS, n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else f"; keys: {', '.join(KEYS)}"
+            line = _line_of(text, key, name)
+            raise ConfigError(f"{path}:{line}: unknown key '{key}'{hint}")
+        check, what = KEYS[key]
+        if not check(value):
+            line = _line_of(text, key, name)
+            raise ConfigError(f"{path}:{line}: '{key}' must be {what}, got {value!r}")
+        bad = _unknown_value(key, value)
+        if bad is not None:
+            raise ConfigError(f"{path}:{_line_of(text, key, name)}: '{key}': {bad}")
+        values[key.replace("-", "_")] = value
+    return _settings(path, values)
+
+
+def _did_you_mean(word: str, choices: Iterable[str]) -> str:
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
+def _unknown_value(key: str, value: Any) -> str | None:
+    """What is wrong with a value of the right type (an unknown check or code), or None."""
+    from motiontool.kinematics.checks import CHECKS
+    from motiontool.motionfmt.diagnostics import CODES
+
+    if key == "checks":
+        for name in value:
+            if name not in (*CHECKS, "all"):
+                hint = _did_you_mean(name, CHECKS) or f"; checks: {', '.join(CHECKS)} or all"
+                return f"unknown check '{name}'{hint}"
+    codes: list[str] = []
+    if key in ("select", "ignore", "extend-ignore"):
+        codes = list(value)
+    elif key == "per-file-ignores":
+        codes = [c for listed in value.values() for c in listed]
+    for code in codes:
+        upper = code.strip().upper()
+        if not any(known.startswith(upper) for known in CODES) or not upper.startswith("MT"):
+            hint = _did_you_mean(upper, CODES) or "; 'motiontool codes' lists them"
+            return f"unknown code '{code}'{hint}"
+    return None
+
+
+def _codes(values: Iterable[str]) -> tuple[str, ...]:
+    return tuple(c.strip().upper() for c in values)
+
+
+def _settings(path: Path, values: dict[str, Any]) -> Settings:
+    select = values.get("select")
+    checks = values.get("checks")
+    return Settings(
+        source=path.resolve(),
+        root=path.resolve().parent,
+        robot=values.get("robot", "auto"),
+        robots=tuple(values.get("robots", {}).items()),
+        select=None if select is None else _codes(select),
+        ignore=_codes(values.get("ignore", ())),
+        extend_ignore=_codes(values.get("extend_ignore", ())),
+        per_file_ignores=tuple(
+            (glob, _codes(codes)) for glob, codes in values.get("per_file_ignores", {}).items()
+        ),
+        strict=values.get("strict", False),
+        checks=None if checks is None else tuple(checks),
+        timestep=values.get("timestep"),
+        exclude=tuple(values.get("exclude", ())),
+        extend_exclude=tuple(values.get("extend_exclude", ())),
+        max_findings=values.get("max_findings"),
+    )
+
+
+class Resolver:
+    """The settings for each motion file: the closest configuration file up from it (each
+    file read once), one named file (``config``), or none (``isolated``)."""
+
+    def __init__(self, *, config: Path | None = None, isolated: bool = False) -> None:
+        self.isolated = isolated
+        self._fixed: Settings | None = None
+        self._by_folder: dict[Path, Settings] = {}
+        if config is not None and not isolated:
+            if not config.is_file():
+                raise ConfigError(f"cannot read '{config}': No such file")
+            self._fixed = load_settings(config) or Settings(
+                source=config.resolve(), root=config.resolve().parent
+            )
+
+    def for_file(self, path: Path) -> Settings:
+        """The settings that apply to ``path`` (``-``: those of the working directory)."""
+        if self.isolated:
+            return Settings()
+        if self._fixed is not None:
+            return self._fixed
+        folder = Path.cwd() if str(path) == "-" else path.resolve().parent
+        return self._for_folder(folder)
+
+    def _for_folder(self, folder: Path) -> Settings:
+        if folder in self._by_folder:
+            return self._by_folder[folder]
+        found: Settings | None = None
+        for name in CONFIG_NAMES:
+            candidate = folder / name
+            try:
+                exists = candidate.is_file()
+            except OSError:  # a folder that may not be searched holds no configuration for us
+                exists = False
+            if exists:
+                found = load_settings(candidate)
+                if found is not None:
+                    break
+        if found is None:
+            found = Settings() if folder.parent == folder else self._for_folder(folder.parent)
+        self._by_folder[folder] = found
+        return found
+
+    def sources(self, paths: Iterable[Path]) -> list[Path]:
+        """The configuration files used for ``paths``, each once, in first-use order."""
+        seen: dict[Path, None] = {}
+        for p in paths:
+            s = self.for_file(p)
+            if s.source is not None:
+                seen.setdefault(s.source, None)
+        return list(seen)

@@ -1,0 +1,161 @@
+"""One ``validate`` run with the project's configuration: each file with the settings of the
+closest configuration file (``cli/config.py``), the command line over them.
+
+Files that share a robot, checks and time step are validated together (one set of robot checks
+each); findings are then kept or left out per file (``select``, ``ignore``, ``per-file-ignores``),
+and ``strict`` applies per file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from motiontool.cli.config import Resolver, Settings
+from motiontool.kinematics.checks import RobotChecks
+from motiontool.kinematics.robots import NONE, RobotSpec
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.errors import MissingExtraError
+from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
+from motiontool.motionfmt.validate import FileReport, ValidationReport, validate_paths
+
+__all__ = ["Checked", "LintRun", "Overrides", "collect", "keep_first", "lint"]
+
+
+@dataclass(frozen=True)
+class Overrides:
+    """What the command line says; None where it says nothing (the configuration decides)."""
+
+    robot: str | None = None
+    checks: tuple[str, ...] | None = None
+    timestep: int | None = None
+    strict: bool | None = None
+    ignore: tuple[str, ...] = ()
+    collision_tolerance_mm: float | None = None
+
+
+@dataclass
+class Checked:
+    """The robot checks of a whole run, merged over its groups of files (what the text
+    report's robot line and the JSON report's robot section show)."""
+
+    checks: tuple[str, ...] = ()
+    timestep_ms: int | None = None
+    penetration_tolerance_mm: float = 0.0
+    used: dict[str, RobotSpec | None] = field(default_factory=dict)
+    skipped: dict[str, MissingExtraError] = field(default_factory=dict)
+    notes: list[Diagnostic] = field(default_factory=list)
+
+    def add(self, checker: RobotChecks) -> None:
+        if not self.checks:
+            self.checks = checker.checks
+            self.timestep_ms = checker.timestep_ms
+            self.penetration_tolerance_mm = checker.penetration_tolerance_mm
+        else:
+            self.checks += tuple(c for c in checker.checks if c not in self.checks)
+        self.used.update(checker.used)
+        for name, exc in checker.skipped.items():
+            self.skipped.setdefault(name, exc)
+        messages = {n.message for n in self.notes}
+        self.notes += [n for n in checker.notes if n.message not in messages]
+
+
+@dataclass
+class LintRun:
+    """A run's report, the robot checks it used (None: no file was checked against a robot)
+    and the files whose warnings fail the run."""
+
+    report: ValidationReport
+    checked: Checked | None
+    strict_files: set[str]
+
+    def failed(self) -> bool:
+        """An error anywhere, or a warning in a file whose settings are strict (findings past
+        ``max-findings`` included)."""
+        hidden = self.report.hidden
+        if hidden.get(Severity.ERROR) or (hidden.get(Severity.WARNING) and self.strict_files):
+            return True
+        for f in self.report.files:
+            worst = Severity.WARNING if f.path in self.strict_files else Severity.ERROR
+            if any(d.severity >= worst for d in f.diagnostics):
+                return True
+        return any(d.severity >= Severity.ERROR for d in self.report.notes)
+
+
+def collect(paths: Sequence[Path], resolver: Resolver) -> list[Path]:
+    """The motion files of ``paths``: folders searched, less what their settings exclude
+    (a file named on the command line is never excluded)."""
+    files: list[Path] = []
+    for p in paths:
+        named = is_stdin(p) or not p.is_dir()
+        for f in collect_motion_files([p]):
+            if named or not resolver.for_file(f).excluded(f):
+                files.append(f)
+    return files
+
+
+def _group_key(
+    f: Path, s: Settings, o: Overrides
+) -> tuple[str, tuple[str, ...] | None, int | None]:
+    robot = o.robot if o.robot is not None else s.robot_for(f)
+    checks = o.checks if o.checks is not None else s.checks
+    timestep = o.timestep if o.timestep is not None else s.timestep
+    return robot, checks, timestep
+
+
+def lint(
+    files: Sequence[Path],
+    resolver: Resolver,
+    overrides: Overrides,
+    make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
+) -> LintRun:
+    """Validate ``files``, each with its settings and ``overrides`` over them.
+
+    ``make_checker(robot, checks, timestep)`` builds the robot checks of one group (the CLI
+    words its hints); ``checks`` None means the default checks (skipped with a note where a
+    library is missing), a tuple means checks asked for by name.
+    """
+    groups: dict[tuple[str, tuple[str, ...] | None, int | None], list[Path]] = {}
+    settings = {f: resolver.for_file(f) for f in files}
+    for f in files:
+        groups.setdefault(_group_key(f, settings[f], overrides), []).append(f)
+    by_name: dict[str, FileReport] = {}
+    checked: Checked | None = None
+    for (robot, checks, timestep), group in groups.items():
+        checker = None if robot == NONE else make_checker(robot, checks, timestep)
+        part = validate_paths(
+            group,
+            timestep_ms=timestep,
+            checks=[checker] if checker is not None else [],
+            ignore=overrides.ignore,
+        )
+        for f, fr in zip(group, part.files, strict=True):
+            s = settings[f]
+            fr.diagnostics = [d for d in fr.diagnostics if s.reports(d.code, f)]
+            by_name[str(f)] = fr
+        if checker is not None:
+            checked = checked or Checked()
+            checked.add(checker)
+    report = ValidationReport(files=[by_name[str(f)] for f in files])
+    if checked is not None:
+        ignored = {c.strip().upper() for c in overrides.ignore}
+        report.notes = [n for n in checked.notes if n.code not in ignored]
+    strict = {
+        str(f) if not is_stdin(f) else "<stdin>"
+        for f in files
+        if (overrides.strict if overrides.strict is not None else settings[f].strict)
+    }
+    return LintRun(report, checked, strict)
+
+
+def keep_first(report: ValidationReport, limit: int) -> None:
+    """Keep the first ``limit`` findings (in file order); count the others by severity in
+    ``report.hidden`` (the summary and the exit code still see them)."""
+    left = limit
+    for f in report.files:
+        kept, dropped = f.diagnostics[:left], f.diagnostics[left:]
+        left -= len(kept)
+        for d in dropped:
+            report.hidden[d.severity] = report.hidden.get(d.severity, 0) + 1
+        f.diagnostics = kept

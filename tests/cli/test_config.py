@@ -1,0 +1,171 @@
+"""Configuration: ``[tool.motiontool]`` in pyproject.toml or motiontool.toml, the closest one
+up from each file, the command line over it; errors name the file, the line and the key."""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+
+import jsonschema
+import pytest
+from typer.testing import CliRunner
+
+from motiontool.cli import schemas
+from motiontool.cli.app import app
+from motiontool.cli.config import KEYS
+
+runner = CliRunner()
+
+# Nao: HeadYaw past its limit (2.5 > 2.0857 rad: MT302, an error), '0.1rad' (MT203, a warning).
+NAO = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P1,0,0.1rad\n00:00:400,P2,2.5,0\n"
+# UR5e joints: fine on the UR5e, unknown joints for the Nao.
+UR5E = (
+    b"#WEBOTS_MOTION,V1.0,shoulder_pan_joint,elbow_joint\n00:00:000,P1,0,0\n00:00:800,P2,0.1,0.1\n"
+)
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    result = runner.invoke(app, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def codes(out: str) -> list[str]:
+    doc = json.loads(out)
+    return [d["code"] for f in doc["files"] for d in f["diagnostics"]]
+
+
+@pytest.fixture
+def repo(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    (tmp_path / "motions" / "nao").mkdir(parents=True)
+    (tmp_path / "motions" / "ur5e").mkdir()
+    (tmp_path / "motions" / "nao" / "wave.motion").write_bytes(NAO)
+    (tmp_path / "motions" / "ur5e" / "reach.motion").write_bytes(UR5E)
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def pyproject(repo: Path, body: str) -> None:
+    (repo / "pyproject.toml").write_text(f"[project]\nname = 'x'\n\n[tool.motiontool]\n{body}")
+
+
+def test_without_configuration_the_defaults_apply(repo: Path) -> None:
+    code, out, _ = invoke("validate", "motions", "-f", "json")
+    assert code == 1 and codes(out) == ["MT203", "MT302"]
+
+
+def test_ignore_strict_and_robots_per_glob(repo: Path) -> None:
+    pyproject(
+        repo,
+        'robot = "nao"\nignore = ["MT302"]\nstrict = true\n\n'
+        '[tool.motiontool.robots]\n"motions/ur5e/**" = "ur5e"\n',
+    )
+    code, out, _ = invoke("validate", "motions", "-f", "json")
+    doc = json.loads(out)
+    assert codes(out) == ["MT203"]  # MT302 ignored; the UR5e file checked on the UR5e
+    assert {r["name"]: r["files"] for r in doc["robot"]["robots"]} == {
+        "nao": ["motions/nao/wave.motion"],
+        "ur5e": ["motions/ur5e/reach.motion"],
+    }
+    assert code == 1  # strict: the MT203 warning fails the run
+    assert invoke("validate", "motions", "--no-strict")[0] == 0  # the command line wins
+    code, out, _ = invoke("validate", "motions", "-f", "json", "--robot", "none")
+    assert codes(out) == ["MT203"] and json.loads(out)["robot"]["checks"] == []
+
+
+def test_the_closest_configuration_wins(repo: Path) -> None:
+    pyproject(repo, 'ignore = ["MT203"]\n')
+    (repo / "motions" / "nao" / "motiontool.toml").write_text('select = ["MT2"]\n')
+    out = invoke("validate", "motions", "-f", "json")[1]
+    assert codes(out) == ["MT203"]  # the nao folder's file: only MT2xx, its MT203 kept
+    assert codes(invoke("validate", "motions/ur5e", "-f", "json")[1]) == []
+
+
+def test_per_file_ignores_extend_ignore_and_select_prefix(repo: Path) -> None:
+    pyproject(
+        repo,
+        'extend-ignore = ["MT3"]\n\n[tool.motiontool.per-file-ignores]\n"wave.motion" = ["MT203"]\n',
+    )
+    assert codes(invoke("validate", "motions", "-f", "json")[1]) == []
+    assert codes(invoke("validate", "motions", "-f", "json", "--isolated")[1]) == [
+        "MT203",
+        "MT302",
+    ]
+
+
+def test_checks_timestep_exclude_and_max_findings(repo: Path) -> None:
+    (repo / "motions" / "generated").mkdir()
+    (repo / "motions" / "generated" / "g.motion").write_bytes(NAO)
+    pyproject(
+        repo,
+        'checks = ["velocity"]\ntimestep = 40\nexclude = ["generated"]\nmax-findings = 1\n',
+    )
+    code, out, _ = invoke("validate", "motions", "-f", "json")
+    doc = json.loads(out)
+    assert [f["path"] for f in doc["files"]] == [
+        "motions/nao/wave.motion",
+        "motions/ur5e/reach.motion",
+    ]
+    assert doc["robot"]["checks"] == ["velocity"]
+    assert {r["timestep_ms"] for r in doc["robot"]["robots"]} == {40}
+    assert codes(out) == ["MT203"] and doc["summary"]["warnings"] >= 1
+    pyproject(repo, 'max-findings = 1\nexclude = ["generated"]\n')
+    code, out, _ = invoke("validate", "motions")
+    assert code == 1  # the MT302 error is not shown but fails the run
+    assert out.splitlines()[-1] == (
+        "checked 2 files: 1 error, 1 warning, 0 notes; 1 finding not shown (max-findings)"
+    )
+    # A file named on the command line is checked even where a folder search excludes it.
+    assert invoke("validate", "motions/generated/g.motion", "-f", "json")[0] == 1
+
+
+def test_config_option_and_show_settings(repo: Path) -> None:
+    (repo / "ci.toml").write_text('robot = "none"\n[robots]\n"**/ur5e/*" = "ur5e"\n')
+    code, out, _ = invoke("validate", "motions", "--config", "ci.toml", "-f", "json")
+    assert codes(out) == ["MT203"]
+    code, out, _ = invoke(
+        "validate", "--config", "ci.toml", "--show-settings", "motions/ur5e/reach.motion"
+    )
+    doc = json.loads(out)
+    assert code == 0 and doc["source"] == str((repo / "ci.toml").resolve())
+    assert doc["robot-for-this-file"] == "ur5e" and doc["robot"] == "none"
+    code, out, _ = invoke("validate", "--isolated", "--show-settings", "motions")
+    assert json.loads(out)["source"] is None
+
+
+@pytest.mark.parametrize(
+    ("body", "message"),
+    [
+        ("strictt = true\n", "pyproject.toml:5: unknown key 'strictt'; did you mean 'strict'?"),
+        ('robot = "nao"\ntimestep = "20"\n', "pyproject.toml:6: 'timestep' must be a whole"),
+        ('checks = ["limit"]\n', "pyproject.toml:5: 'checks': unknown check 'limit'; did you"),
+        ('ignore = ["MT2O3"]\n', "pyproject.toml:5: 'ignore': unknown code 'MT2O3'; did you"),
+        ("\n[tool.motiontool.robots]\nwalk = 3\n", "pyproject.toml:6: 'robots' must be a table"),
+        ("strict = yes\n", "pyproject.toml: not valid TOML"),
+    ],
+)
+def test_a_bad_configuration_is_one_error_naming_file_line_and_key(
+    repo: Path, body: str, message: str
+) -> None:
+    pyproject(repo, body)
+    code, out, err = invoke("validate", "motions")
+    assert (code, out) == (2, "")
+    assert err.startswith("motiontool: error: ") and message in err, err
+    assert err.count("\n") == 1
+
+
+def test_the_schema_ships_and_agrees_with_the_reader(repo: Path) -> None:
+    schema = schemas.load(schemas.CONFIG)
+    assert set(schema["properties"]) == set(KEYS)
+    good = tomllib.loads(
+        'robot = "nao"\nstrict = true\nmax-findings = 5\nchecks = ["limits"]\n'
+        '[robots]\n"ur5e/**" = "ur5e"\n[per-file-ignores]\n"*.motion" = ["MT206"]\n'
+    )
+    jsonschema.validate(good, schema)
+    (repo / "motiontool.toml").write_text(
+        'robot = "nao"\nstrict = true\nmax-findings = 5\nchecks = ["limits"]\n'
+        '[robots]\n"ur5e/**" = "ur5e"\n[per-file-ignores]\n"*.motion" = ["MT206"]\n'
+    )
+    assert invoke("validate", "--show-settings", "motions")[0] == 0
+    with pytest.raises(jsonschema.ValidationError):
+        jsonschema.validate({"strictt": True}, schema)
