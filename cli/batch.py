@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from motiontool.cli.color import rich_no_color
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.lint_run import collect
 from motiontool.cli.options import Timestep, finite, robot_option
 from motiontool.cli.output import emit, refuse_overwrite, refuse_shared_outputs, require_folder
 from motiontool.cli.physics_options import (
@@ -19,7 +21,7 @@ from motiontool.cli.physics_options import (
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
+from motiontool.motionfmt.fileio import is_stdin
 
 if TYPE_CHECKING:
     from motiontool.sim.batch import BatchResult, Perturbation, RunResult, RunSpec
@@ -120,16 +122,18 @@ def batch_command(
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     no_cache: _NoCache = False,
     cache_dir: _CacheDir = None,
+    config: ConfigOption = None,
+    isolated: IsolatedOption = False,
 ) -> None:
     """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
-    from motiontool.kinematics.robots import AUTO
     from motiontool.sim.batch import check_robots, default_cache_dir, parse_perturbation
     from motiontool.sim.expect import parse_expectations
     from motiontool.sim.physics import physics_run_options
 
-    files = _inputs(paths, executor=executor, ray_address=ray_address)
+    resolver = Resolver(config=config, isolated=isolated)
+    files = _inputs(paths, resolver, executor=executor, ray_address=ray_address)
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
     _check_outputs(files, outputs, cache_dir=cache_dir)
     _require_extras(junit=junit, rrd_dir=rrd_dir, executor=executor)
@@ -138,13 +142,16 @@ def batch_command(
         "timestep_ms": timestep,
         **physics_run_options(profile.value, physics_step, friction),
     }
-    robots = robot or [AUTO]
-    check_robots(robots)  # an unknown robot: exit 2 before anything runs
+    settings = {f: resolver.for_file(f) for f in files}
+    robots = {f: robot or [settings[f].robot_for(f)] for f in files}
+    timesteps = {f: timestep or settings[f].timestep for f in files}
+    check_robots([r for rs in robots.values() for r in rs])  # an unknown robot: exit 2 now
     parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
     specs = _plan(
         files,
         roots=[p for p in paths if p.is_dir()],
         robots=robots,
+        timesteps=timesteps,
         perturbations=perturbations,
         samples=samples,
         seed=seed,
@@ -154,7 +161,7 @@ def batch_command(
         sidecar=not no_sidecar,
         rrd_dir=rrd_dir,
     )
-    _check_physics(specs, timestep, profile, physics_step, friction)
+    _check_physics(specs, profile, physics_step, friction)
     batch = _run(
         specs,
         executor=executor,
@@ -168,7 +175,9 @@ def batch_command(
         raise typer.Exit(1)
 
 
-def _inputs(paths: list[Path], *, executor: str, ray_address: str | None) -> list[Path]:
+def _inputs(
+    paths: list[Path], resolver: Resolver, *, executor: str, ray_address: str | None
+) -> list[Path]:
     """The motion files to play; an executor that does not exist, ``-`` or --ray-address
     without --executor ray: exit 2 before anything runs."""
     from motiontool.sim.executor import EXECUTORS
@@ -179,7 +188,7 @@ def _inputs(paths: list[Path], *, executor: str, ray_address: str | None) -> lis
         )
     if any(is_stdin(p) for p in paths):
         raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
-    files = collect_motion_files(paths)
+    files = collect(paths, resolver)  # folders searched, less the configuration's exclude
     if ray_address is not None and executor != "ray":
         raise MotionToolError("--ray-address names a Ray cluster: use it with --executor ray")
     return files
@@ -211,7 +220,8 @@ def _plan(
     files: list[Path],
     *,
     roots: list[Path],
-    robots: list[str],
+    robots: dict[Path, list[str]],
+    timesteps: dict[Path, int | None],
     perturbations: list[Perturbation],
     samples: int,
     seed: int,
@@ -237,6 +247,7 @@ def _plan(
         )
         start_state = start.value if start is not None else sidecar_start
         file_options = dict(options)
+        file_options["timestep_ms"] = timesteps[f]
         if start_state not in (None, "standing"):
             file_options["start"] = start_state
         if rrd_dir is not None:
@@ -244,7 +255,7 @@ def _plan(
             file_options["rrd_name"] = rrd_names[str(f)]
         specs += plan(
             [f],
-            robots,
+            robots[f],
             perturbations=perturbations,
             samples=samples,
             seed=seed,
@@ -256,7 +267,6 @@ def _plan(
 
 def _check_physics(
     specs: list[RunSpec],
-    timestep: int | None,
     profile: Profile,
     physics_step: float | None,
     friction: float | None,
@@ -265,7 +275,8 @@ def _check_physics(
     from motiontool.kinematics.robots import AUTO, load_robot
     from motiontool.sim.physics import resolve_physics
 
-    for name in dict.fromkeys(s.robot for s in specs if s.robot != AUTO):
+    steps = {(s.robot, dict(s.options).get("timestep_ms")) for s in specs if s.robot != AUTO}
+    for name, timestep in sorted(steps, key=str):
         resolve_physics(
             timestep or load_robot(name).default_timestep_ms,
             profile=profile.value,

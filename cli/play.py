@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import MAX_LOOPS, Timestep, finite, robot_option
 from motiontool.cli.output import emit, emit_stderr, refuse_overwrite, refuse_shared_outputs
@@ -19,7 +20,7 @@ from motiontool.cli.physics_options import (
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name
-from motiontool.kinematics.robots import AUTO, resolve_robot
+from motiontool.kinematics.robots import resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdin, is_stdout, source_name
@@ -179,8 +180,12 @@ def play_command(
     reverse: Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")] = False,
     timestep: Timestep = None,
     robot: Annotated[
-        str, robot_option("Robot to play on (auto: of the joints of all the files)")
-    ] = AUTO,
+        str | None,
+        robot_option(
+            "Robot to play on (default: the configuration's robot for the first file, else "
+            "auto: of the joints of all the files)"
+        ),
+    ] = None,
     start: Annotated[Start | None, start_option("the sidecar's start")] = None,
     expect: Annotated[
         list[str] | None,
@@ -200,6 +205,8 @@ def play_command(
     physics_step: PhysicsStepOption = None,
     friction: FrictionOption = None,
     profile: ProfileOption = Profile.default,
+    config: ConfigOption = None,
+    isolated: IsolatedOption = False,
 ) -> None:
     """Play motion files headlessly in MuJoCo as a Webots controller would, and report the run.
 
@@ -229,6 +236,9 @@ def play_command(
     expected, sidecar_start = expectations_for(files[0], expect or [], sidecar=use_sidecar)
     expectations = parse_expectations(expected)  # a bad one: exit 2 before anything runs
     start_state = start.value if start is not None else (sidecar_start or "standing")
+    settings = Resolver(config=config, isolated=isolated).for_file(files[0])
+    robot = robot if robot is not None else settings.robot_for(files[0])
+    timestep = timestep if timestep is not None else settings.timestep
     doc_stamps: dict[str, Any] = dict(stamps())
     try:
         motions = [read_playable(f) for f in files]  # read once: play() takes the motions

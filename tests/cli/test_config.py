@@ -169,3 +169,23 @@ def test_the_schema_ships_and_agrees_with_the_reader(repo: Path) -> None:
     assert invoke("validate", "--show-settings", "motions")[0] == 0
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate({"strictt": True}, schema)
+
+
+def test_play_and_batch_read_the_same_configuration(repo: Path) -> None:
+    pyproject(
+        repo,
+        'robot = "nao"\ntimestep = 16\nexclude = ["nao"]\n\n'
+        '[tool.motiontool.robots]\n"motions/ur5e/**" = "ur5e"\n',
+    )
+    code, out, err = invoke("play", "motions/ur5e/reach.motion", "--headless", "--hold", "0")
+    assert code == 0, out + err
+    assert out.startswith("reach.motion on ur5e: 0.82 s simulated (51 control steps of 16 ms")
+    code, out, err = invoke("batch", "motions", "--no-cache", "--json", "batch.json")
+    assert code == 0, out + err
+    runs = json.loads((repo / "batch.json").read_text())["runs"]
+    assert [(r["spec"]["path"], r["spec"]["robot"]) for r in runs] == [
+        ("motions/ur5e/reach.motion", "ur5e")
+    ]
+    assert runs[0]["spec"]["options"] == [["timestep_ms", 16]]
+    code, out, err = invoke("batch", "motions", "--no-cache", "--isolated", "--json", "all.json")
+    assert len(json.loads((repo / "all.json").read_text())["runs"]) == 2
