@@ -13,6 +13,7 @@ from motiontool.motionfmt.fileio import (
     source_name,
 )
 from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.nonfinite import NonFiniteCommandError
 from motiontool.motionfmt.player import (
     CommandStream,
     Held,
@@ -46,6 +47,7 @@ __all__ = [
     "MotionDocument",
     "MotionSyntaxError",
     "MotionToolError",
+    "NonFiniteCommandError",
     "ReadResult",
     "Severity",
     "TimeStyle",

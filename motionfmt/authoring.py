@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, token_spans
 from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
@@ -327,19 +328,6 @@ def _refuse_duplicates(doc: MotionDocument, what: str) -> None:
         seen.add(name)
 
 
-def _refuse_non_finite(doc: MotionDocument, motion: Motion, what: str) -> None:
-    import numpy as np
-
-    bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
-    if bad.shape[0]:
-        p, j = (int(x) for x in bad[0])
-        line, column, _ = doc.result.cell_span(p, j)
-        raise MotionToolError(
-            f"{doc.path}:{line}:{column}: {motion.joints[j]} = {float(motion.values[p, j])!r} is "
-            f"not a finite number (MT113): write a number, or '*' for no command, before {what}"
-        )
-
-
 def _repair(
     doc: MotionDocument,
     values: npt.NDArray[np.float64],
@@ -420,7 +408,7 @@ def _mirror_plan(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) ->
 
     _refuse_duplicates(doc, "mirroring")
     motion = doc.motion
-    _refuse_non_finite(doc, motion, "mirroring")
+    refuse_non_finite(motion, doc.result, "mirroring")
     joints = motion.joints
     col = {name: j for j, name in enumerate(joints)}
     source: list[int] = []
@@ -665,7 +653,7 @@ def concat(
     joints = first.joints
     for doc in docs:
         _refuse_duplicates(doc, "concat")
-        _refuse_non_finite(doc, doc.motion, "concatenating")
+        refuse_non_finite(doc.motion, doc.result, "concatenating")
     want = set(joints)
     for doc in docs[1:]:
         have = set(doc.joints)
@@ -805,7 +793,7 @@ def trim(
     import numpy as np
 
     motion = doc.motion
-    _refuse_non_finite(doc, motion, "trimming")
+    refuse_non_finite(motion, doc.result, "trimming")
     times = motion.times_ms
     last = int(times[-1])
     lo = 0 if from_ms is None else int(from_ms)
@@ -937,7 +925,7 @@ def scale(
     if not (math.isfinite(amplitude) and amplitude >= 0):
         raise MotionToolError(f"the amplitude must be a finite number >= 0, got {amplitude}")
     motion = doc.motion
-    _refuse_non_finite(doc, motion, "scaling")
+    refuse_non_finite(motion, doc.result, "scaling")
     first = _first_commanded(motion)
     if about == "first":
         ref = first

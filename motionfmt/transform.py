@@ -27,7 +27,8 @@ from typing import TYPE_CHECKING
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import targets_at
 
 if TYPE_CHECKING:
@@ -197,25 +198,6 @@ def _simplify(current: Motion, original: Motion, bound: float) -> tuple[list[int
     return removed, collinear
 
 
-def _refuse_non_finite(doc: MotionDocument, motion: Motion) -> None:
-    """Raise at the first ``nan`` / ``inf`` cell: Webots sends it to the motor (MT113), and a
-    new keyframe could not spell what it commands there."""
-    import numpy as np
-
-    bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
-    if bad.shape[0]:
-        p, j = (int(x) for x in bad[0])
-        line, column, _ = doc.result.cell_span(p, j)
-        value = float(motion.values[p, j])
-        raise MotionSyntaxError(
-            f"{motion.joints[j]} = {value!r} is not a finite number (MT113): write a number, or"
-            " '*' for no command, before resampling",
-            doc.path,
-            line,
-            column,
-        )
-
-
 def resample(
     doc: MotionDocument, *, step_ms: int | None = None, max_error: float | None = None
 ) -> Resampled:
@@ -239,7 +221,7 @@ def resample(
     if max_error is not None and not max_error >= 0:
         raise MotionToolError(f"the maximum error must be >= 0 rad, got {max_error}")
     original = doc.motion
-    _refuse_non_finite(doc, original)
+    refuse_non_finite(original, doc.result, "resampling")
     out = loads(doc.to_bytes(), doc.path)
     inserted = dropped = 0
     grid_has_keyframes = True

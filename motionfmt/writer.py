@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.nonfinite import refuse_non_finite
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
@@ -76,17 +77,10 @@ def format_motion(motion: Motion, *, newline: str = "\n", style: TimeStyle = Tim
     """Write ``motion`` as a new file in the canonical spelling (``00:00:040``, shortest floats).
 
     A cell that is not commanded is written ``*``; a NaN or infinite command raises
-    :class:`MotionToolError` (Webots would send it to the motor; write a number or ``*``).
+    :class:`~motiontool.motionfmt.nonfinite.NonFiniteCommandError` (Webots would send it to the
+    motor; write a number or ``*``).
     """
-    import numpy as np
-
-    bad = np.argwhere(motion.commanded & ~np.isfinite(motion.values))
-    if bad.shape[0]:
-        p, j = (int(x) for x in bad[0])
-        raise MotionToolError(
-            f"cannot write {motion.joints[j]} = {float(motion.values[p, j])!r} at"
-            f" {int(motion.times_ms[p])} ms: a joint command must be a finite number"
-        )
+    refuse_non_finite(motion)
     header = ",".join(["#WEBOTS_MOTION", "V1.0", *(check_name(j, "joint") for j in motion.joints)])
     lines = [header]
     for t, name, row in zip(motion.times_ms, motion.pose_names, motion.values, strict=True):
