@@ -3,7 +3,7 @@
 The reader emulates ``wbu_motion_new`` (``src/controller/c/motion.c``) step by step: ``fgets``
 with a 4096-byte buffer, ``strtok`` on ``",\\n\\r"``, ``str_to_time``, ``sscanf("%lf")``. It
 records where Webots would stop (:attr:`ReadResult.rejected_at`) but, unlike Webots, goes on to
-the end of the motion so that one pass reports every problem. ``../shared/FORMAT.md`` is the
+the end of the motion so that one pass reports every problem. ``docs/webots-format.md`` is the
 reference.
 
 Columns are 1-based byte offsets in the physical line (lines split on ``\\n``).

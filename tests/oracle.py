@@ -1,8 +1,8 @@
-"""A plain-loop oracle of Webots' motion loader and player, written from ../shared/FORMAT.md.
+"""A plain-loop oracle of Webots' motion loader and player, written from docs/webots-format.md.
 
 It shares no code with ``motiontool.motionfmt``: lines come from an fgets-like loop, tokens from
 a strtok-like loop, numbers and times from the C library's own ``sscanf`` (through ctypes), and the
-player is a step-by-step loop over the FORMAT.md rules.
+player is a step-by-step loop over the rules of that page.
 """
 
 from __future__ import annotations

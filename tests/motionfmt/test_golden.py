@@ -1,4 +1,4 @@
-"""Golden pairs: every edge case of FORMAT.md with the exact diagnostics and parse expected."""
+"""Golden pairs: every edge case of docs/webots-format.md with the exact diagnostics and parse expected."""
 
 from __future__ import annotations
 

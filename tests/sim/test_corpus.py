@@ -1,4 +1,4 @@
-"""The Webots Nao motions do what their names say (acceptance bands: shared/SIM-NOTES.md).
+"""The Webots Nao motions do what their names say (acceptance bands: docs/simulation.md).
 
 Every motion is simulated once per session (module-scoped cache); the tests only read reports.
 Played from the standing zero pose (StandUpFromFront: lying face down), 20 ms control step,
