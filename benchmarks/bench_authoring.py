@@ -27,7 +27,9 @@ def main() -> None:
     from motiontool.kinematics.mirror import mirror_map
     from motiontool.kinematics.robots import load_robot
     from motiontool.motionfmt import loads, read_file
-    from motiontool.motionfmt.authoring import concat, mirror, trim
+    from motiontool.motionfmt.ops.concat import concat
+    from motiontool.motionfmt.ops.mirror import mirror
+    from motiontool.motionfmt.ops.trim import trim
 
     nao = load_robot("nao")
     mapping = mirror_map(nao).as_dict()

@@ -23,10 +23,10 @@ from motiontool.cli.output import emit_bytes
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
-from motiontool.motionfmt.authoring import Mirrored, mirror
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.ops.mirror import Mirrored, mirror
 from motiontool.motionfmt.reader import read_bytes
 
 __all__ = ["mirror_command"]

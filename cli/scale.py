@@ -32,9 +32,9 @@ from motiontool.cli.options import (
 from motiontool.cli.text import num
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
-from motiontool.motionfmt.authoring import Scaled, scale
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.ops.scale import Scaled, scale
 
 __all__ = ["scale_command"]
 

@@ -18,8 +18,8 @@ from motiontool.cli._authoring import (
     write_result,
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output
-from motiontool.motionfmt.authoring import Trimmed, trim
 from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.ops.trim import Trimmed, trim
 
 __all__ = ["trim_command"]
 

@@ -139,7 +139,7 @@ class MirrorMap:
     pairs: tuple[MirrorPair, ...]
 
     def as_dict(self) -> dict[str, tuple[str, int]]:
-        """``{joint: (partner, sign)}`` for :func:`motiontool.motionfmt.authoring.mirror`."""
+        """``{joint: (partner, sign)}`` for :func:`motiontool.motionfmt.ops.mirror.mirror`."""
         return {p.joint: (p.partner, p.sign) for p in self.pairs}
 
     @property

@@ -15,8 +15,8 @@ from motiontool.kinematics.mirror import mirror_map, partner_name
 from motiontool.kinematics.mirror_check import sibling_paths
 from motiontool.kinematics.robots import JointSpec, RobotSpec, load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.authoring import mirror
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.validate import validate_paths
 
 pytestmark = pytest.mark.usefixtures("corpus")

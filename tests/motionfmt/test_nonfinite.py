@@ -17,8 +17,11 @@ from motiontool.motionfmt import (
     format_motion,
     loads,
 )
-from motiontool.motionfmt.authoring import concat, mirror, scale, trim
 from motiontool.motionfmt.nonfinite import NonFiniteCommandError, refuse_non_finite
+from motiontool.motionfmt.ops.concat import concat
+from motiontool.motionfmt.ops.mirror import mirror
+from motiontool.motionfmt.ops.scale import scale
+from motiontool.motionfmt.ops.trim import trim
 from motiontool.motionfmt.transform import resample
 
 #: The first bad cell, pose by pose, then column by column: B = -inf on line 3 (line 2 has no

@@ -10,7 +10,7 @@ from conftest import CORPUS
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.authoring import mirror
+from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.sim import PlayReport, play
 
 pytestmark = [pytest.mark.slow, pytest.mark.usefixtures("corpus")]

@@ -1,4 +1,4 @@
-"""Library properties of mirror, concat, trim and scale (motiontool.motionfmt.authoring)."""
+"""Library properties of mirror, concat, trim and scale (motiontool.motionfmt.ops)."""
 
 from __future__ import annotations
 
@@ -15,8 +15,11 @@ from motiontool.kinematics.checks import Limits, Velocity
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.authoring import concat, mirror, scale, trim
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.ops.concat import concat
+from motiontool.motionfmt.ops.mirror import mirror
+from motiontool.motionfmt.ops.scale import scale
+from motiontool.motionfmt.ops.trim import trim
 from motiontool.motionfmt.player import commands_at
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import ROUNDING_RAD

@@ -13,14 +13,9 @@ from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.authoring import (
-    _mirror_bytes,
-    _mirror_gather,
-    _mirror_plan,
-    _permute_cells,
-    mirror,
-)
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.ops._permute import permute_cells
+from motiontool.motionfmt.ops.mirror import _mirror_bytes, _mirror_gather, _mirror_plan, mirror
 
 Mapping = dict[str, tuple[str, int]]
 
@@ -270,8 +265,8 @@ def test_the_gather_leaves_lines_that_are_not_plain_to_the_per_cell_path(
     import numpy as np
 
     negate = np.zeros((n_lines, 4), dtype=bool)
-    assert _permute_cells(block, n_lines, b"", [0, 1, 3, 2], negate) is None
+    assert permute_cells(block, n_lines, b"", [0, 1, 3, 2], negate) is None
     negate = np.zeros((2, 4), dtype=bool)
     negate[1, 2] = True
     plain = b"0,P,1,2\n40,Q,2,3"
-    assert _permute_cells(plain, 2, b"", [0, 1, 3, 2], negate) == b"0,P,2,1\n40,Q,-3,2"
+    assert permute_cells(plain, 2, b"", [0, 1, 3, 2], negate) == b"0,P,2,1\n40,Q,-3,2"

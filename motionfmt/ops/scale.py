@@ -1,0 +1,196 @@
+"""Scale a motion's excursions about a reference pose, clipped to the joint limits.
+
+:func:`scale` changes only the cells whose value changes (spelt canonically, keeping their
+leading white space); ``*`` stays ``*``. Limits come in as a plain mapping: no robot knowledge
+here.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.document import MotionDocument, loads
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.nonfinite import refuse_non_finite
+from motiontool.motionfmt.ops._cells import (
+    PoseLines,
+    cell_tokens,
+    repair,
+    replace_cells,
+    respell,
+)
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["Clip", "Scaled", "scale"]
+
+
+@dataclass(frozen=True)
+class Clip:
+    """The cells of one joint that :func:`scale` clipped to its limits.
+
+    Attributes:
+        joint: the joint.
+        count: how many cells.
+        worst_excess: the largest distance of a scaled value beyond the limit, rad (m).
+        unit: ``'rad'`` or ``'m'``.
+        at_ms: the pose time of that worst cell, ms.
+        bound: the limit it was clipped to, rad (m).
+        side: ``'upper'`` or ``'lower'``: which limit ``bound`` is.
+    """
+
+    joint: str
+    count: int
+    worst_excess: float
+    unit: str
+    at_ms: int
+    bound: float
+    side: str
+
+
+@dataclass(frozen=True)
+class Scaled:
+    """What :func:`scale` did.
+
+    Attributes:
+        document: the scaled document.
+        amplitude: the factor K.
+        about: the reference: ``'first'``, ``'zero'`` or a pose name.
+        reference: (J,) the reference value of every column, rad (m); NaN for a column never
+            commanded.
+        changed: cells whose value changed.
+        clips: per joint, the cells clipped to the limits (joints without any: not listed).
+        unlimited: columns without limits (not clipped).
+    """
+
+    document: MotionDocument
+    amplitude: float
+    about: str
+    reference: tuple[float, ...]
+    changed: int
+    clips: tuple[Clip, ...]
+    unlimited: tuple[str, ...]
+
+    @property
+    def clipped(self) -> int:
+        """How many cells were clipped, in all."""
+        return sum(c.count for c in self.clips)
+
+
+def _first_commanded(motion: Motion) -> npt.NDArray[np.float64]:
+    import numpy as np
+
+    c = motion.commanded
+    has = c.any(axis=0)
+    idx = np.argmax(c, axis=0)
+    out: npt.NDArray[np.float64] = motion.values[idx, np.arange(c.shape[1])].copy()
+    out[~has] = np.nan
+    return out
+
+
+def scale(
+    doc: MotionDocument,
+    amplitude: float,
+    *,
+    about: str = "first",
+    limits: Mapping[str, tuple[float, float, str]] | None = None,
+) -> Scaled:
+    """Scale every joint's excursion: ``q' = ref + amplitude * (q - ref)``, clipped to limits.
+
+    Args:
+        doc: the document (not modified).
+        amplitude: the factor K, finite and >= 0 (1 changes nothing, 0 holds the reference).
+        about: the reference pose: ``'first'`` (each joint's first commanded value),
+            ``'zero'`` (0 rad, the robot's zero pose), or the name of a pose of the file (its
+            value; a joint that is ``*`` there uses its first commanded value).
+        limits: ``{joint: (lower, upper, unit)}``, rad or m; a scaled value beyond is set to
+            the bound and reported in :attr:`Scaled.clips`. Columns not in it are not clipped.
+
+    ``*`` stays ``*``; cells whose value does not change keep their spelling.
+
+    Raises:
+        MotionToolError: a bad amplitude, an unknown pose name, a ``nan``/``inf`` command.
+    """
+    import numpy as np
+
+    if not (math.isfinite(amplitude) and amplitude >= 0):
+        raise MotionToolError(f"the amplitude must be a finite number >= 0, got {amplitude}")
+    motion = doc.motion
+    refuse_non_finite(motion, doc.result, "scaling")
+    first = _first_commanded(motion)
+    if about == "first":
+        ref = first
+    elif about == "zero":
+        ref = np.zeros(motion.n_joints)
+    elif about in motion.pose_names:
+        p = motion.pose_names.index(about)
+        ref = np.where(motion.commanded[p], motion.values[p], first)
+    else:
+        shown = ", ".join(f"'{n}'" for n in motion.pose_names[:5])
+        more = ", ..." if motion.n_poses > 5 else ""
+        raise MotionToolError(
+            f"no pose named '{about}' in {doc.path}; give first, zero, or a pose name "
+            f"({shown}{more})"
+        )
+    values = motion.values
+    commanded = motion.commanded
+    with np.errstate(invalid="ignore"):
+        new = ref + amplitude * (values - ref)
+    new = np.where(commanded, new, np.nan)
+    clips = []
+    unlimited = []
+    if limits is None:
+        limits = {}
+    for j, name in enumerate(motion.joints):
+        if name not in limits:
+            unlimited.append(name)
+            continue
+        lower, upper, unit = limits[name]
+        column = new[:, j]
+        with np.errstate(invalid="ignore"):
+            excess = np.maximum(column - upper, lower - column)
+        out = np.flatnonzero(excess > 0)
+        if out.shape[0]:
+            worst = int(out[np.argmax(excess[out])])
+            bound = upper if column[worst] > upper else lower
+            clips.append(
+                Clip(
+                    name,
+                    int(out.shape[0]),
+                    float(excess[worst]),
+                    unit,
+                    int(motion.times_ms[worst]),
+                    bound,
+                    "upper" if column[worst] > upper else "lower",
+                )
+            )
+            with np.errstate(invalid="ignore"):
+                new[:, j] = np.clip(column, lower, upper)
+    new = new + 0.0
+    changed = commanded & (new != values)
+    lines = PoseLines.of(doc)
+    rows = np.flatnonzero(changed.any(axis=1)).tolist()
+    for p in rows:
+        line = lines.poses[p]
+        tokens = cell_tokens(line)
+        cols = np.flatnonzero(changed[p]).tolist()
+        lines.poses[p] = replace_cells(
+            line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
+        )
+    document = repair(loads(lines.to_bytes(), doc.path), new, commanded)
+    return Scaled(
+        document,
+        amplitude,
+        about,
+        tuple(float(x) for x in ref),
+        int(changed.sum()),
+        tuple(clips),
+        tuple(unlimited),
+    )
