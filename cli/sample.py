@@ -1,32 +1,35 @@
-"""``motiontool sample``: the command stream a Webots controller sends."""
+"""``motiontool sample``: the command stream a Webots controller sends, streamed.
+
+Rows are computed and written in chunks of a bounded number of cells
+(:func:`motiontool.motionfmt.player.iter_commands`), so the first row is out at once and memory
+stays flat whatever the duration; ``-o FILE`` writes a temporary file that replaces FILE when
+the stream is whole (:func:`motiontool.motionfmt.fileio.open_output`).
+"""
 
 from __future__ import annotations
 
-import csv
 import enum
-import io
-import math
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import MotionFile, timestep_option
-from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.options import MAX_LOOPS, MotionFile, timestep_option
+from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.sample_text import csv_header, csv_rows, json_document
 from motiontool.motionfmt import read_file
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import source_name
-from motiontool.motionfmt.player import CommandStream, sample
-from motiontool.motionfmt.reader import read_bytes
-from motiontool.stamps import stamps
+from motiontool.motionfmt.clock import clock_overflow
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.fileio import STDOUT, open_output, source_name
+from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.player import iter_commands, iter_elapsed, step_count
+from motiontool.motionfmt.reader import ReadResult, read_bytes
 
-__all__ = ["MAX_CELLS", "SampleFormat", "sample_command"]
+__all__ = ["CHUNK_CELLS", "SampleFormat", "sample_command"]
 
-MAX_CELLS = 10**8
-"""Most cells (steps × joints) ``sample`` writes: about 2 GB of CSV, 1 GB of arrays in memory."""
-
-_ROWS_PER_CHUNK = 1 << 14  # rows converted to Python at once: bounds the temporary lists
+CHUNK_CELLS = 1 << 16
+"""Cells (steps × joints) computed and written at once: a few MB of text, whatever the duration."""
 
 
 class SampleFormat(enum.StrEnum):
@@ -36,59 +39,48 @@ class SampleFormat(enum.StrEnum):
     json = "json"
 
 
-def _cell(value: float, sent: bool) -> str:
-    """A target as CSV text: shortest round-trip ``repr`` ('nan', 'inf', '-inf' included), or
-    empty where no command is sent."""
-    return repr(value) if sent else ""
+def _refuse_endless(result: ReadResult, timestep: int, reverse: bool) -> None:
+    """A motion whose playback time wraps and never ends at this time step (MT115): its stream
+    has no end to print, and a part of it would read as a motion that ends."""
+    motion = result.motion
+    overflow = None if reverse else clock_overflow(motion.duration_ms, timestep)
+    if overflow is None or overflow.ends:
+        return
+    line, column, _ = result.cell_span(motion.n_poses - 1)
+    raise MotionSyntaxError(
+        f"{overflow.message}, so sample has no end to print; {overflow.hint} [MT115]",
+        result.path,
+        line,
+        column,
+    )
 
 
-def _csv(stream: CommandStream) -> str:
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(["time_ms", *stream.joints])
-    for start in range(0, stream.elapsed_ms.shape[0], _ROWS_PER_CHUNK):
-        rows = slice(start, start + _ROWS_PER_CHUNK)
-        writer.writerows(
-            [t, *map(_cell, values, sent)]
-            for t, values, sent in zip(
-                stream.elapsed_ms[rows].tolist(),
-                stream.targets[rows].tolist(),
-                stream.commanded[rows].tolist(),
-                strict=True,
-            )
-        )
-    return buffer.getvalue()
+def _refuse_rows(
+    name: str, motion: Motion, timestep: int, loop: int, rows: int, max_rows: int | None
+) -> None:
+    if max_rows is None or rows <= max_rows:
+        return
+    raise MotionToolError(
+        f"{name}: sampling {motion.duration_ms} ms every {timestep} ms for {loop} cycle(s)"
+        f" gives {rows} rows, above --max-rows {max_rows}; use a larger --timestep, fewer"
+        " --loop cycles or a larger --max-rows"
+    )
 
 
-def _json_value(value: float, sent: bool) -> float | str | None:
-    """null where no command is sent, the strings 'nan' / 'inf' / '-inf' for a non-finite
-    command (JSON has no such numbers), the number otherwise."""
-    if not sent:
-        return None
-    return value if math.isfinite(value) else repr(value)
-
-
-def _json(stream: CommandStream, path: str) -> str:
-    targets = [
-        list(map(_json_value, values, sent))
-        for values, sent in zip(stream.targets.tolist(), stream.commanded.tolist(), strict=True)
-    ]
-    doc = {
-        "schema": "motiontool.sample",
-        "schema_version": 1,
-        "stamps": stamps(),
-        "file": path,
-        "timestep_ms": stream.timestep_ms,
-        "joints": list(stream.joints),
-        "units": {
-            "elapsed_ms": "ms",
-            "targets": "rad (m for linear joints); null = no command; 'nan', 'inf', '-inf' ="
-            " a non-finite command Webots sends to the motor",
-        },
-        "elapsed_ms": stream.elapsed_ms.tolist(),
-        "targets": targets,
-    }
-    return dumps(doc, indent=None, allow_nan=False)
+def _chunks(
+    motion: Motion, name: str, timestep: int, format: SampleFormat, reverse: bool, loop: int
+) -> Iterator[str]:
+    """The output text, piece by piece."""
+    chunk_steps = max(1, CHUNK_CELLS // max(1, motion.n_joints))
+    stream = iter_commands(motion, timestep, reverse=reverse, loops=loop, chunk_steps=chunk_steps)
+    if format is SampleFormat.csv:
+        yield csv_header(motion.joints)
+        yield from map(csv_rows, stream)
+        return
+    elapsed = iter_elapsed(
+        motion.duration_ms, timestep, reverse=reverse, loops=loop, chunk_steps=chunk_steps
+    )
+    yield from json_document(name, timestep, motion.joints, elapsed, stream)
 
 
 def sample_command(
@@ -113,25 +105,37 @@ def sample_command(
         ),
     ] = None,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play backwards.")] = False,
-    loop: Annotated[int, typer.Option("--loop", min=1, help="Play this many cycles.")] = 1,
+    loop: Annotated[
+        int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play this many cycles.")
+    ] = 1,
+    max_rows: Annotated[
+        int | None,
+        typer.Option(
+            "--max-rows",
+            min=1,
+            help="Refuse, before writing anything, a stream of more rows (steps) than this."
+            " Default: no limit (the stream is written as it is computed, in constant memory).",
+            show_default=False,
+        ),
+    ] = None,
 ) -> None:
     """Print the targets a Webots controller stepping every --timestep ms sends, step by step.
 
     One row per step (time_ms = playback time), values in radians (shortest round-trip
     spelling), an empty cell where the joint gets no command, 'nan' or 'inf' where Webots sends
     that to the motor (a nan/inf cell, or inf - inf interpolated). Bit-identical to Webots'
-    player.
+    player, whose playback time is a C int: where it wraps before the motion ends the rows
+    follow it (negative times, the first pose again); a motion that then never ends (MT115)
+    is refused.
     """
     refuse_overwrite(output, [path], "-o")
-    motion = read_bytes(read_file(path), source_name(path)).motion
-    steps = (-(-motion.duration_ms // timestep) + 1) * loop
-    cells = steps * motion.n_joints
-    if cells > MAX_CELLS:
-        raise MotionToolError(
-            f"{path}: sampling {motion.duration_ms} ms every {timestep} ms for {loop} cycle(s)"
-            f" gives {steps} steps x {motion.n_joints} joints = {cells} cells, above the limit"
-            f" of {MAX_CELLS}; use a larger --timestep or fewer --loop cycles"
-        )
-    stream = sample(motion, timestep, reverse=reverse, loops=loop)
-    text = _json(stream, source_name(path)) if format is SampleFormat.json else _csv(stream)
-    emit(text, output)
+    name = source_name(path)
+    result = read_bytes(read_file(path), name)
+    motion = result.motion
+    _refuse_endless(result, timestep, reverse)
+    rows = step_count(motion.duration_ms, timestep, reverse=reverse, loops=loop)
+    if rows is not None:
+        _refuse_rows(name, motion, timestep, loop, rows, max_rows)
+    with open_output(STDOUT if output is None else output) as sink:
+        for text in _chunks(motion, name, timestep, format, reverse, loop):
+            sink.write(text.encode("utf-8", "surrogateescape"))

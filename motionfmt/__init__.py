@@ -3,6 +3,7 @@
 Depends on the standard library and numpy only.
 """
 
+from motiontool.motionfmt.clock import PlaybackNeverEndsError
 from motiontool.motionfmt.diagnostics import CODES, Code, Diagnostic, Severity
 from motiontool.motionfmt.document import MotionDocument, dumps, loads
 from motiontool.motionfmt.errors import MissingExtraError, MotionSyntaxError, MotionToolError
@@ -20,7 +21,9 @@ from motiontool.motionfmt.player import (
     commands_at,
     elapsed_steps,
     hold_targets,
+    iter_commands,
     sample,
+    step_count,
     targets_at,
 )
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes
@@ -48,6 +51,7 @@ __all__ = [
     "MotionSyntaxError",
     "MotionToolError",
     "NonFiniteCommandError",
+    "PlaybackNeverEndsError",
     "ReadResult",
     "Severity",
     "TimeStyle",
@@ -61,6 +65,7 @@ __all__ = [
     "format_time",
     "format_value",
     "hold_targets",
+    "iter_commands",
     "load",
     "loads",
     "read_bytes",
@@ -68,6 +73,7 @@ __all__ = [
     "read_motion",
     "sample",
     "source_name",
+    "step_count",
     "targets_at",
     "validate_bytes",
     "validate_paths",

@@ -73,6 +73,7 @@ CODES: dict[str, Code] = _codes(
     Code("MT112", E, "pose time out of range: Webots' int milliseconds overflow"),
     Code("MT113", E, "value is nan or infinite"),
     Code("MT114", E, "NUL byte: Webots stops reading the line there"),
+    Code("MT115", E, "playback time overflows Webots' int at this time step: the motion replays"),
     # Webots accepts the file but plays something else than it seems to say.
     Code("MT201", W, "a blank line ends the motion: every later line is ignored"),
     Code("MT202", W, "empty cell between commas: the following values shift left"),

@@ -12,14 +12,20 @@ with ``a, b = a + 1`` the first segment such that ``t[a] <= elapsed <= t[b]``. A
 Webots' -9999999.9 marker (``motion_actuate`` skips it). A ``nan`` or ``inf`` cell IS a command:
 Webots sends the NaN or infinity (``inf - inf`` interpolates to NaN) to the motor. So "no
 command" is a separate mask (``commanded``), never NaN in the targets alone.
+
+``elapsed`` is a C ``int`` (:mod:`.clock`): where adding the time step passes 2147483647 ms
+before the motion ends, it wraps negative and the stream goes on as Webots' does, perhaps for
+ever. :func:`iter_commands` gives the stream in chunks of bounded size, whatever its length;
+:func:`sample` gives it whole.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.motionfmt.clock import PlaybackNeverEndsError, clock_overflow, end_step, wrap_int
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
 if TYPE_CHECKING:
@@ -34,7 +40,10 @@ __all__ = [
     "commands_at",
     "elapsed_steps",
     "hold_targets",
+    "iter_commands",
+    "iter_elapsed",
     "sample",
+    "step_count",
     "targets_at",
 ]
 
@@ -68,26 +77,93 @@ class CommandStream:
             object.__setattr__(self, "commanded", ~np.isnan(self.targets))
 
 
+CHUNK_STEPS = 4096
+"""Steps :func:`iter_commands` computes at once: (4096, J) arrays, whatever the duration."""
+
+
+def _check_play(timestep_ms: int, loops: int) -> None:
+    if timestep_ms <= 0:
+        raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
+    if loops < 1:
+        raise ValueError(f"loops must be >= 1, got {loops}")
+
+
+def step_count(
+    duration_ms: int, timestep_ms: int, *, reverse: bool = False, loops: int = 1
+) -> int | None:
+    """How many steps (rows) the command stream has, or None where the motion never stops
+    (Webots' clock wraps: :func:`motiontool.motionfmt.clock.clock_overflow`).
+
+    Forward: ``end_step + 1`` a cycle (``ceil(D / T) + 1`` when the clock does not wrap).
+    Reverse: ``ceil(D / T) + 1`` (counting down never wraps). Times ``loops``.
+    """
+    _check_play(timestep_ms, loops)
+    if reverse:
+        return (-(-duration_ms // timestep_ms) + 1) * loops
+    last = end_step(duration_ms, timestep_ms)
+    return None if last is None else (last + 1) * loops
+
+
+def iter_elapsed(
+    duration_ms: int,
+    timestep_ms: int,
+    *,
+    reverse: bool = False,
+    loops: int = 1,
+    chunk_steps: int = CHUNK_STEPS,
+) -> Iterator[npt.NDArray[np.int64]]:
+    """:func:`elapsed_steps` in int64 chunks of at most ``chunk_steps`` steps, in order.
+
+    Endless where the motion never stops (its clock wraps: see :func:`step_count`).
+    """
+    import numpy as np
+
+    _check_play(timestep_ms, loops)
+    if chunk_steps < 1:
+        raise ValueError(f"chunk_steps must be >= 1, got {chunk_steps}")
+    if reverse:
+        steps: int | None = -(-duration_ms // timestep_ms) + 1
+        start, step = duration_ms, -timestep_ms  # counts down to the first time <= 0: no wrap
+    else:
+        last = end_step(duration_ms, timestep_ms)
+        steps = None if last is None else last + 1
+        start, step = 0, timestep_ms
+    for _ in range(loops):
+        done, elapsed = 0, start
+        while steps is None or done < steps:
+            n = chunk_steps if steps is None else min(chunk_steps, steps - done)
+            chunk = elapsed + np.arange(n, dtype=np.int64) * step  # |values| < 2**44: no overflow
+            if not reverse:  # C int arithmetic, as Webots' player adds the time step
+                chunk = (chunk + 2**31) % 2**32 - 2**31
+            yield chunk
+            done += n
+            elapsed = wrap_int(elapsed + n * step)
+
+
 def elapsed_steps(
     duration_ms: int, timestep_ms: int, *, reverse: bool = False, loops: int = 1
 ) -> npt.NDArray[np.int64]:
     """Playback times (ms) at which a controller stepping every ``timestep_ms`` computes targets.
 
     Forward: ``0, T, 2T, ...`` up to and including the first multiple of ``T`` that is
-    ``>= duration_ms``. Reverse: ``D, D - T, ...`` down to the first value ``<= 0``. With
-    ``loops > 1`` the cycle repeats, as Webots' loop mode restarts at the other end.
+    ``>= duration_ms``, in C ``int`` arithmetic (where ``kT`` passes 2147483647 ms the time
+    wraps negative and goes on until it lands in ``[duration_ms, 2147483647]``). Reverse:
+    ``D, D - T, ...`` down to the first value ``<= 0``. With ``loops > 1`` the cycle repeats,
+    as Webots' loop mode restarts at the other end.
+
+    Raises:
+        PlaybackNeverEndsError: the clock wraps and the motion never stops at this time step.
     """
     import numpy as np
 
-    if timestep_ms <= 0:
-        raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
-    if loops < 1:
-        raise ValueError(f"loops must be >= 1, got {loops}")
-    n = -(-duration_ms // timestep_ms) + 1  # ceil(D / T) + 1 steps
-    steps = np.arange(n, dtype=np.int64) * timestep_ms
-    if reverse:
-        steps = duration_ms - steps
-    return np.tile(steps, loops)
+    _check_play(timestep_ms, loops)
+    overflow = None if reverse else clock_overflow(duration_ms, timestep_ms)
+    if overflow is not None and not overflow.ends:
+        raise PlaybackNeverEndsError(overflow)
+    cycle = np.concatenate(
+        list(iter_elapsed(duration_ms, timestep_ms, reverse=reverse, chunk_steps=1 << 20))
+    )
+    return np.tile(cycle, loops)
 
 
 def commands_at(
@@ -137,12 +213,69 @@ def targets_at(motion: Motion, elapsed_ms: npt.NDArray[np.int64]) -> npt.NDArray
 
 
 def sample(
-    motion: Motion, timestep_ms: int, *, reverse: bool = False, loops: int = 1
+    motion: Motion,
+    timestep_ms: int,
+    *,
+    reverse: bool = False,
+    loops: int = 1,
+    max_steps: int | None = None,
 ) -> CommandStream:
-    """The command stream of ``motion`` played by a controller stepping every ``timestep_ms``."""
-    elapsed = elapsed_steps(motion.duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    """The command stream of ``motion`` played by a controller stepping every ``timestep_ms``,
+    whole, in memory: (S, J) arrays. :func:`iter_commands` streams it in bounded chunks.
+
+    Args:
+        max_steps: keep only the first steps, at most this many (the stream of a motion that
+            never ends included); None: every step.
+
+    Raises:
+        PlaybackNeverEndsError: the motion never stops at this time step (Webots' clock wraps)
+            and ``max_steps`` is None.
+    """
+    import numpy as np
+
+    if max_steps is None:
+        elapsed = elapsed_steps(motion.duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    else:
+        if max_steps < 1:
+            raise ValueError(f"max_steps must be >= 1, got {max_steps}")
+        kept: list[npt.NDArray[np.int64]] = []
+        left = max_steps
+        for chunk in iter_elapsed(
+            motion.duration_ms,
+            timestep_ms,
+            reverse=reverse,
+            loops=loops,
+            chunk_steps=min(max_steps, 1 << 20),
+        ):
+            kept.append(chunk[:left])
+            left -= kept[-1].shape[0]
+            if left == 0:
+                break
+        elapsed = np.concatenate(kept)
     targets, commanded = commands_at(motion, elapsed)
     return CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
+
+
+def iter_commands(
+    motion: Motion,
+    timestep_ms: int,
+    *,
+    reverse: bool = False,
+    loops: int = 1,
+    chunk_steps: int = CHUNK_STEPS,
+) -> Iterator[CommandStream]:
+    """The command stream of :func:`sample`, in consecutive chunks of at most ``chunk_steps``
+    steps: memory stays bounded whatever the duration, and the first chunk comes at once.
+
+    Where the motion never stops at this time step (Webots' clock wraps:
+    :func:`step_count` is None) the iterator is endless, as Webots' player is: bound it
+    (``itertools.islice``).
+    """
+    for elapsed in iter_elapsed(
+        motion.duration_ms, timestep_ms, reverse=reverse, loops=loops, chunk_steps=chunk_steps
+    ):
+        targets, commanded = commands_at(motion, elapsed)
+        yield CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
 
 
 class Held(NamedTuple):

@@ -18,6 +18,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.clock import clock_overflow
 from motiontool.motionfmt.cscan import INT_MAX, scan_double, scan_time
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionSyntaxError
@@ -833,18 +834,38 @@ class _Reader:
                 if t % step:
                     col, end = self.cell_column(p, 0)
                     lo = t - t % step
+                    fits = lo + step <= INT_MAX  # the step after may be past a C int (MT115)
+                    steps = f"steps at {lo} and {lo + step} ms" if fits else f"step at {lo} ms"
                     self.report(
                         "MT209",
                         res.pose_lines[p],
                         col,
                         f"pose at {t} ms is not a multiple of the {step} ms time step: the"
-                        f" controller never commands it exactly (steps at {lo} and {lo + step} ms)",
-                        f"move it to {lo} or {lo + step} ms",
+                        f" controller never commands it exactly ({steps})",
+                        f"move it to {lo} or {lo + step} ms" if fits else f"move it to {lo} ms",
                         time_ms=t,
                         end_column=end,
                     )
+            self.check_clock(step)
         if self.star_seen:
             self.check_uncommanded()
+
+    def check_clock(self, step: int) -> None:
+        """MT115: Webots' int playback time wraps before the motion ends (see :mod:`.clock`)."""
+        res = self.result
+        overflow = clock_overflow(int(res.times_ms[-1]), step) if step <= INT_MAX else None
+        if overflow is None:
+            return
+        col, end = self.cell_column(len(res.times_ms) - 1, 0)
+        self.report(
+            "MT115",
+            res.pose_lines[-1],
+            col,
+            overflow.message,
+            overflow.hint,
+            time_ms=res.times_ms[-1],
+            end_column=end,
+        )
 
     def check_uncommanded(self) -> None:
         """Report runs of ``*`` cells: the joint gets no command over the segments they touch."""

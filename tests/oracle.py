@@ -123,9 +123,11 @@ def webots_load(data: bytes) -> Loaded:
 
 
 def webots_play(
-    times: list[int], values: list[list[float]], timestep: int
+    times: list[int], values: list[list[float]], timestep: int, max_rows: int | None = None
 ) -> list[tuple[int, list[float | None]]]:
-    """(elapsed, targets) per step; None where no command is sent."""
+    """(elapsed, targets) per step; None where no command is sent. ``elapsed`` is a C int:
+    ``elapsed += timestep`` wraps past 2**31 - 1 (a motion may then never stop: ``max_rows``
+    stops the loop after that many rows)."""
     rows = []
     elapsed = 0
     duration = times[-1]
@@ -151,7 +153,7 @@ def webots_play(
                         break
             targets.append(None if pos == UNDEFINED else pos)
         rows.append((elapsed, targets))
-        if elapsed >= duration:
+        if elapsed >= duration or len(rows) == max_rows:
             break
-        elapsed += timestep
+        elapsed = ctypes.c_int(elapsed + timestep).value  # int arithmetic: wraps
     return rows

@@ -100,9 +100,15 @@ class Velocity(RobotCheck):
         """The sampled command stream, one diagnostic per joint and segment."""
         import numpy as np
 
+        from motiontool.motionfmt.clock import clock_overflow
         from motiontool.motionfmt.player import sample
 
-        stream = sample(table.result.motion, self.timestep_ms)
+        motion = table.result.motion
+        # Where Webots' playback time wraps (MT115), the steps up to the wrap: it may never end.
+        overflow = clock_overflow(motion.duration_ms, self.timestep_ms)
+        stream = sample(
+            motion, self.timestep_ms, max_steps=None if overflow is None else overflow.step + 1
+        )
         names = [table.result.joints[group[-1]] for group in table.groups]
         motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.

@@ -15,7 +15,7 @@ from pathlib import Path
 from motiontool.motionfmt.reader import read_bytes
 
 HERE = Path(__file__).parent
-TIMESTEP = {"timestep_offgrid": 20}
+TIMESTEP = {"timestep_offgrid": 20, "clock_wraps": 1_000_000_000}
 
 
 def expected_text(path: Path) -> str:
