@@ -11,6 +11,7 @@ import typer
 
 from motiontool.cli.color import color_enabled
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.fixing import fix_files
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.lint_run import Checked, Overrides, collect, keep_first, lint
 from motiontool.cli.options import (
@@ -20,7 +21,7 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.output import emit, emit_bytes, refuse_overwrite
 from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
 from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
@@ -221,6 +222,26 @@ _Statistics = Annotated[
         "finding (text only).",
     ),
 ]
+_Fix = Annotated[
+    bool,
+    typer.Option(
+        "--fix",
+        help="Apply the safe fixes (Webots then sends exactly the same commands) to the files, "
+        "atomically, then report what remains.",
+    ),
+]
+_UnsafeFixes = Annotated[
+    bool,
+    typer.Option(
+        "--unsafe-fixes",
+        help="With --fix or --diff, also the fixes that change what the robot does to what "
+        "the file evidently means (a blank line that cuts the motion, ',,' cells).",
+    ),
+]
+_Diff = Annotated[
+    bool,
+    typer.Option("--diff", help="Print the fixes as a unified diff; write nothing."),
+]
 _Sort = Annotated[
     Order,
     typer.Option(
@@ -247,6 +268,9 @@ def validate_command(
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
     show_settings: _ShowSettings = False,
+    fix: _Fix = False,
+    unsafe_fixes: _UnsafeFixes = False,
+    diff: _Diff = False,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col. Settings come from the closest pyproject.toml [tool.motiontool] or
@@ -270,6 +294,14 @@ def validate_command(
     )
     files = collect(paths, resolver)
     refuse_overwrite(output, files, "-o")
+    if diff:
+        changes = fix_files(files, unsafe=unsafe_fixes, write=False)
+        emit_bytes(b"".join(changes.diff), output)
+        raise typer.Exit(1 if changes.diff else 0)
+    if fix:
+        typer.echo(
+            f"motiontool: {fix_files(files, unsafe=unsafe_fixes, write=True).line()}", err=True
+        )
     run = lint(files, resolver, overrides, partial(_checker, tolerance=collision_tolerance))
     project = resolver.for_file(Path("-"))
     if project.max_findings is not None:

@@ -10,6 +10,7 @@ from pathlib import Path
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
+from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES, Fix, plan_fixes
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 __all__ = ["Check", "FileReport", "ValidationReport", "validate_bytes", "validate_paths"]
@@ -38,6 +39,27 @@ class FileReport:
 
     def count(self, severity: Severity) -> int:
         return sum(1 for d in self.diagnostics if d.severity is severity)
+
+    @functools.cached_property
+    def fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
+        """The fixes for this file's findings (safe and unsafe), by (code, line, column) of
+        the finding they fix (:mod:`motiontool.motionfmt.fixes`)."""
+        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in self.diagnostics):
+            return {}
+        by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
+        planned = plan_fixes(self.data, self.path, unsafe=True, result=self.read)
+        merges = tuple(f for f in planned if f.code == "MT205")
+        for f in planned:
+            if f.code != "MT205":
+                by_place[(f.code, f.line, f.column)] = (f,)
+        for d in self.diagnostics:
+            if d.code == "MT205" and merges:
+                by_place[(d.code, d.line, d.column)] = merges
+        return by_place
+
+    def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
+        """The edits that fix finding ``d`` (empty: none)."""
+        return self.fixes.get((d.code, d.line, d.column), ())
 
 
 @dataclass

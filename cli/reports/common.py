@@ -8,13 +8,14 @@ import functools
 import hashlib
 import os
 from collections import Counter
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
 __all__ = [
@@ -23,6 +24,9 @@ __all__ = [
     "Fingerprints",
     "Order",
     "findings",
+    "fix_counts",
+    "fix_json",
+    "fix_summary",
     "project_root",
     "relative_path",
     "summary",
@@ -59,6 +63,51 @@ def findings(report: ValidationReport, order: Order) -> Iterator[tuple[FileRepor
     if order is Order.severity:
         pairs.sort(key=lambda fd: -fd[1].severity)  # stable: file order within a severity
     return iter(pairs)
+
+
+def fix_counts(report: ValidationReport) -> tuple[int, int]:
+    """(findings a safe fix covers, findings only an unsafe fix covers)."""
+    safe = unsafe = 0
+    for f in report.files:
+        for d in f.diagnostics:
+            fixes = f.fix_of(d)
+            if fixes and all(x.safe for x in fixes):
+                safe += 1
+            elif fixes:
+                unsafe += 1
+    return safe, unsafe
+
+
+def fix_summary(report: ValidationReport) -> str:
+    """``; 3 fixable with --fix (1 more with --fix --unsafe-fixes)``, or nothing."""
+    safe, unsafe = fix_counts(report)
+    if not safe and not unsafe:
+        return ""
+    more = f" ({unsafe} more with --fix --unsafe-fixes)" if unsafe else ""
+    return f"; {safe} fixable with --fix{more}"
+
+
+def fix_json(fixes: Sequence[Fix]) -> dict[str, Any] | None:
+    """A finding's ``fix`` in the JSON report: safe or not, what it does, its edits (byte
+    columns, end exclusive; ``end_column`` null: to the end of the line; ``replacement`` null:
+    the line goes)."""
+    if not fixes:
+        return None
+    return {
+        "safe": all(f.safe for f in fixes),
+        "title": fixes[0].title,
+        "edits": [
+            {
+                "line": f.line,
+                "column": f.column,
+                "end_column": f.end_column,
+                "replacement": None
+                if f.replacement is None
+                else f.replacement.decode("utf-8", "surrogateescape"),
+            }
+            for f in fixes
+        ],
+    }
 
 
 def with_hint(d: Diagnostic) -> str:

@@ -6,9 +6,9 @@ from __future__ import annotations
 from typing import Any
 
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.reports.common import PLAIN, Context
+from motiontool.cli.reports.common import PLAIN, Context, fix_json
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.validate import ValidationReport
+from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
 __all__ = ["JSON_SCHEMA_VERSION", "render_json"]
@@ -16,7 +16,7 @@ __all__ = ["JSON_SCHEMA_VERSION", "render_json"]
 JSON_SCHEMA_VERSION = 1
 
 
-def _diagnostic_json(d: Diagnostic) -> dict[str, Any]:
+def _diagnostic_json(d: Diagnostic, f: FileReport) -> dict[str, Any]:
     return {
         "code": d.code,
         "severity": str(d.severity),
@@ -27,6 +27,7 @@ def _diagnostic_json(d: Diagnostic) -> dict[str, Any]:
         "hint": d.hint,
         "joint": d.joint,
         "time_ms": d.time_ms,
+        "fix": fix_json(f.fix_of(d)),
     }
 
 
@@ -57,7 +58,7 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> str:
                 "joints": len(f.read.joints),
                 "poses": len(f.read.times_ms),
                 "duration_ms": f.read.times_ms[-1] if f.read.times_ms else None,
-                "diagnostics": [_diagnostic_json(d) for d in f.diagnostics],
+                "diagnostics": [_diagnostic_json(d, f) for d in f.diagnostics],
             }
             for f in report.files
         ],

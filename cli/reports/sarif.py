@@ -19,6 +19,7 @@ from motiontool.cli.reports.common import (
     with_hint,
 )
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
@@ -87,7 +88,33 @@ def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[s
         "message": {"text": with_hint(d)},
         "locations": [{"physicalLocation": {"artifactLocation": location, "region": region}}],
         "partialFingerprints": {FINGERPRINT_KEY: fingerprint},
+        **_fixes(f, d, location),
     }
+
+
+def _replacement(f: FileReport, fix: Fix) -> dict[str, Any]:
+    """One edit as a SARIF replacement: the deleted region (UTF-16 columns) and the text."""
+    raw = f.source_line(fix.line)
+    start = text_column(raw, fix.column, utf16=True)
+    if fix.replacement is None:  # the whole line, and its end
+        region = {"startLine": fix.line, "startColumn": 1, "endLine": fix.line + 1}
+        return {"deletedRegion": {**region, "endColumn": 1}}
+    end_byte = len(raw) + 1 if fix.end_column is None else fix.end_column
+    region = {"startLine": fix.line, "startColumn": start}
+    region["endColumn"] = text_column(raw, end_byte, utf16=True)
+    text = fix.replacement.decode("utf-8", "surrogateescape")
+    return {"deletedRegion": region, "insertedContent": {"text": text}}
+
+
+def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, Any]:
+    """``fixes`` of a result with a fix: its description (unsafe ones say so) and edits."""
+    fixes = f.fix_of(d)
+    if not fixes:
+        return {}
+    safe = all(x.safe for x in fixes)
+    text = fixes[0].title + ("" if safe else " (unsafe: it changes what the robot does)")
+    change = {"artifactLocation": location, "replacements": [_replacement(f, x) for x in fixes]}
+    return {"fixes": [{"description": {"text": text}, "artifactChanges": [change]}]}
 
 
 def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:

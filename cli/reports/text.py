@@ -6,7 +6,7 @@ from typing import Any
 
 import typer
 
-from motiontool.cli.reports.common import PLAIN, Context, findings, summary
+from motiontool.cli.reports.common import PLAIN, Context, findings, fix_summary, summary
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
@@ -43,6 +43,16 @@ def _source_excerpt(report: FileReport, d: Diagnostic, color: bool) -> list[str]
     return [f" {gutter} | {prefix}{text}", f" {pad} | {_style(caret, color, fg='green')}"]
 
 
+def _fix_line(f: FileReport, d: Diagnostic) -> list[str]:
+    """``   = fix (--fix): write '2'`` where a fix exists; the compiler line stays as it is, so
+    editors' problem matchers read it unchanged."""
+    fixes = f.fix_of(d)
+    if not fixes:
+        return []
+    how = "--fix" if all(x.safe for x in fixes) else "--fix --unsafe-fixes"
+    return [f"   = fix ({how}): {fixes[0].title}"]
+
+
 def render_text(report: ValidationReport, context: Context = PLAIN) -> str:
     """The robot line, then compiler-style lines with the source line and a caret; ANSI
     colours only with ``context.color`` (never for a file or a pipe, see
@@ -55,10 +65,11 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> str:
         out.extend(_source_excerpt(f, d, color))
         if d.hint:
             out.append(f"   = hint: {d.hint}")
+        out.extend(_fix_line(f, d))
     for d in report.notes:  # about the run, not about a place in a file
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
         out.append(f"{sev} {d.code}: {d.message}")
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-    out.append(summary(report))
+    out.append(summary(report) + fix_summary(report))
     return "\n".join(out) + "\n"

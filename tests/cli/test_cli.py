@@ -95,6 +95,7 @@ def test_json_report(files: Path) -> None:
             "hint": None,
             "joint": "HeadPitch",
             "time_ms": 40,
+            "fix": None,
         }
     ]
 

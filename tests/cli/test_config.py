@@ -113,7 +113,8 @@ def test_checks_timestep_exclude_and_max_findings(repo: Path) -> None:
     code, out, _ = invoke("validate", "motions")
     assert code == 1  # the MT302 error is not shown but fails the run
     assert out.splitlines()[-1] == (
-        "checked 2 files: 1 error, 1 warning, 0 notes; 1 finding not shown (max-findings)"
+        "checked 2 files: 1 error, 1 warning, 0 notes; 1 finding not shown (max-findings);"
+        " 1 fixable with --fix"
     )
     # A file named on the command line is checked even where a folder search excludes it.
     assert invoke("validate", "motions/generated/g.motion", "-f", "json")[0] == 1

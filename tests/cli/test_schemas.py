@@ -101,7 +101,7 @@ def test_the_schema_catches_a_wrong_type_and_a_missing_key(files: Path) -> None:
     assert errors(broken, "validate")
     # Objects meant to grow admit new fields; a closed one does not.
     grown = copy.deepcopy(doc)
-    grown["files"][0]["diagnostics"][0]["fix"] = {"text": "0"}
+    grown["files"][0]["diagnostics"][0]["suggestion"] = {"text": "0"}
     assert errors(grown, "validate") == []
     grown["summary"]["skipped"] = 0
     assert errors(grown, "validate")

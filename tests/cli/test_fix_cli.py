@@ -1,0 +1,133 @@
+"""``validate --fix``, ``--unsafe-fixes`` and ``--diff`` (issue #17 item 2), and the fixes in the
+text, JSON and SARIF reports: the file is rewritten atomically, only where a fix applies, and
+Webots' command stream is unchanged by the safe fixes."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import pytest
+from conftest import DATA
+from typer.testing import CliRunner
+
+from motiontool.cli import schemas
+from motiontool.cli.app import app
+from motiontool.motionfmt import read_bytes, sample
+
+runner = CliRunner()
+SARIF_SCHEMA = json.loads((DATA / "sarif" / "sarif-schema-2.1.0.json").read_text())
+
+
+def errors(doc: Any, schema: Any) -> list[str]:
+    validator = jsonschema.validators.validator_for(schema)(schema)
+    return [f"{list(e.absolute_path)}: {e.message}" for e in validator.iter_errors(doc)]
+
+
+FIXABLE = b"#WEBOTS_MOTION,V1.0,A,B\r\n0,P,2rad,-9999999.9\r\n100,Q,1,  1\r\n\r\n200,R,0,0\r\n"
+SAFE = b"#WEBOTS_MOTION,V1.0,A,B\r\n0,P,2,*\r\n100,Q,1,  1\r\n\r\n200,R,0,0\r\n"
+UNSAFE = b"#WEBOTS_MOTION,V1.0,A,B\r\n0,P,2,*\r\n100,Q,1,  1\r\n200,R,0,0\r\n"
+
+
+@pytest.fixture
+def motion(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "m.motion"
+    path.write_bytes(FIXABLE)
+    return path
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    result = runner.invoke(app, list(args))
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_fix_applies_the_safe_fixes_only_and_keeps_the_rest_byte_for_byte(motion: Path) -> None:
+    os.chmod(motion, 0o640)
+    code, out, err = invoke("validate", "m.motion", "--fix")
+    assert motion.read_bytes() == SAFE  # CRLF, spacing and the blank line are the user's
+    assert err == "motiontool: fixed 2 findings in 1 file (MT203, MT204)\n"
+    assert oct(motion.stat().st_mode & 0o777) == "0o640"
+    assert code == 0 and "MT203" not in out and "MT201" in out  # what remains is reported
+    for step in (1, 20, 32):
+        a, b = sample(read_bytes(FIXABLE).motion, step), sample(read_bytes(SAFE).motion, step)
+        assert a.targets.tobytes() == b.targets.tobytes()
+        assert (a.commanded == b.commanded).all()
+    assert invoke("validate", "m.motion", "--fix")[2] == "motiontool: nothing to fix\n"
+
+
+def test_unsafe_fixes_also_remove_the_blank_line(motion: Path) -> None:
+    code, _, err = invoke("validate", "m.motion", "--fix", "--unsafe-fixes")
+    assert code == 0
+    assert motion.read_bytes() == UNSAFE
+    assert err == "motiontool: fixed 3 findings in 1 file (MT201, MT203, MT204)\n"
+
+
+def test_diff_shows_the_fixes_writes_nothing_and_exits_1(motion: Path) -> None:
+    result = runner.invoke(app, ["validate", "m.motion", "--diff"])
+    out = result.stdout_bytes  # bytes: the CRLF line ends are the file's
+    assert result.exit_code == 1 and motion.read_bytes() == FIXABLE
+    assert out.startswith(b"--- a/m.motion\n+++ b/m.motion\n@@ -1,5 +1,5 @@\n")
+    assert b"-0,P,2rad,-9999999.9\r\n+0,P,2,*\r\n" in out
+    # git apply reads it and gives what --fix writes.
+    subprocess.run(["git", "init", "-q"], check=True)
+    patch = Path("fix.patch")
+    patch.write_bytes(out)
+    subprocess.run(["git", "apply", str(patch)], check=True)
+    assert motion.read_bytes() == SAFE
+    assert invoke("validate", "m.motion", "--diff")[:2] == (0, "")
+
+
+def test_fix_refuses_standard_input(motion: Path) -> None:
+    result = runner.invoke(app, ["validate", "-", "--fix"], input=FIXABLE)
+    assert result.exit_code == 2
+    assert "for standard input use --diff" in result.stderr
+
+
+def test_text_report_offers_the_fix_under_the_finding(motion: Path) -> None:
+    _, out, _ = invoke("validate", "m.motion")
+    lines = out.splitlines()
+    at = next(i for i, line in enumerate(lines) if "MT203" in line)
+    assert lines[at].startswith("m.motion:2:6: warning MT203: ")  # problem matchers unchanged
+    assert "   = fix (--fix): write '2'" in lines[at : at + 6]
+    assert "   = fix (--fix --unsafe-fixes): remove the blank line" in lines
+    assert lines[-1].endswith("; 2 fixable with --fix (1 more with --fix --unsafe-fixes)")
+
+
+def test_json_report_carries_each_fix_and_conforms(motion: Path) -> None:
+    _, out, _ = invoke("validate", "m.motion", "-f", "json")
+    doc = json.loads(out)
+    assert errors(doc, schemas.load("validate")) == []
+    by_code = {d["code"]: d["fix"] for d in doc["files"][0]["diagnostics"]}
+    assert by_code["MT203"] == {
+        "safe": True,
+        "title": "write '2'",
+        "edits": [{"line": 2, "column": 6, "end_column": 9, "replacement": ""}],
+    }
+    assert by_code["MT201"] == {
+        "safe": False,
+        "title": "remove the blank line",
+        "edits": [{"line": 4, "column": 1, "end_column": None, "replacement": None}],
+    }
+    assert by_code["MT207"] is None
+
+
+def test_sarif_report_carries_fixes_that_conform(motion: Path) -> None:
+    _, out, _ = invoke("validate", "m.motion", "-f", "sarif")
+    doc = json.loads(out)
+    assert errors(doc, SARIF_SCHEMA) == []
+    results = {r["ruleId"]: r for r in doc["runs"][0]["results"]}
+    (fix,) = results["MT204"]["fixes"]
+    (change,) = fix["artifactChanges"]
+    assert change["replacements"] == [
+        {
+            "deletedRegion": {"startLine": 2, "startColumn": 10, "endColumn": 20},
+            "insertedContent": {"text": "*"},
+        }
+    ]
+    assert "unsafe" in results["MT201"]["fixes"][0]["description"]["text"]
+    assert "fixes" not in results["MT207"]
