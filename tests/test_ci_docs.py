@@ -4,7 +4,10 @@
 from __future__ import annotations
 
 import json
+import os
 import re
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 from typing import Any
@@ -13,6 +16,7 @@ import jsonschema
 import pytest
 import yaml
 from conftest import DATA, ROOT
+from pre_commit import lang_base
 from pre_commit.clientlib import InvalidManifestError, load_config, load_manifest
 
 CI_DOC = ROOT / "docs" / "ci.md"
@@ -80,14 +84,50 @@ def test_github_annotations_step_sorts_errors_first() -> None:
     assert "10 error and 10 warning annotations per step" in CI_DOC.read_text()
 
 
+def _steps() -> list[dict[str, Any]]:
+    steps: list[dict[str, Any]] = workflow()["jobs"]["motions"]["steps"]
+    return steps
+
+
+def test_simulation_and_reports_run_even_when_lint_fails() -> None:
+    steps = _steps()
+    lint = next(i for i, s in enumerate(steps) if "motiontool validate" in s.get("run", ""))
+    for step in steps[lint + 1 :]:
+        assert step.get("if") == "always()", step
+    assert any(s.get("uses", "").startswith("github/codeql-action/upload-sarif@") for s in steps)
+
+
+def test_the_workflow_keeps_batchs_default_cache(monkeypatch: pytest.MonkeyPatch) -> None:
+    from motiontool.sim.batch import default_cache_dir
+
+    monkeypatch.delenv("XDG_CACHE_HOME", raising=False)
+    steps = _steps()
+    batch = next(i for i, s in enumerate(steps) if "motiontool batch" in s.get("run", ""))
+    restore = next(i for i, s in enumerate(steps) if "actions/cache/restore@" in s.get("uses", ""))
+    save = next(i for i, s in enumerate(steps) if "actions/cache/save@" in s.get("uses", ""))
+    assert restore < batch < save
+    for i in (restore, save):
+        path = steps[i]["with"]["path"]
+        assert Path(path).expanduser() == default_cache_dir(), path
+        assert "--cache-dir" not in steps[batch]["run"]
+    assert steps[save]["with"]["key"].startswith(steps[restore]["with"]["restore-keys"])
+
+
 def test_the_workflow_installs_the_extras_its_commands_need() -> None:
     # The core has no MuJoCo: a workflow that runs batch must install the [sim] extra.
     runs = [s.get("run", "") for s in workflow()["jobs"]["motions"]["steps"]]
     installs = " ".join(r for r in runs if r.startswith("pip install"))
-    extras = set(re.findall(r"motiontool\[([a-z,]+)\]", installs))
+    extras = set(re.findall(r"\.whl\[([a-z,]+)\]", installs))
     names = {name for group in extras for name in group.split(",")}
     assert any("motiontool batch" in r for r in runs)
     assert names & {"sim", "all"}, installs
+
+
+def _tags() -> set[str]:
+    out = subprocess.run(
+        ["git", "tag", "--list"], cwd=ROOT, capture_output=True, text=True, check=False
+    ).stdout
+    return set(out.split())
 
 
 def test_the_pre_commit_config_example_is_valid(tmp_path: Path) -> None:
@@ -95,13 +135,83 @@ def test_the_pre_commit_config_example_is_valid(tmp_path: Path) -> None:
     config.write_text(block("repos"))
     loaded = load_config(str(config))
     (repo,) = loaded["repos"]
-    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
-    # A release tag of this version, or a full commit sha: never a branch.
-    assert repo["rev"] == f"v{version}" or re.fullmatch(r"[0-9a-f]{40}", repo["rev"])
-    ids = {h["id"] for h in load_manifest(str(ROOT / ".pre-commit-hooks.yaml"))}
-    assert {h["id"] for h in repo["hooks"]} <= ids
-    for hook_id in ids:
+    # It works today: a local hook, or a remote one at a tag this repository really has.
+    assert repo["repo"] == "local" or repo["rev"] in _tags(), repo
+    (hook,) = repo["hooks"]
+    (manifest,) = [
+        h for h in load_manifest(str(ROOT / ".pre-commit-hooks.yaml")) if h["id"] == hook["id"]
+    ]
+    for key in ("entry", "files", "require_serial"):
+        assert hook[key] == manifest[key], key
+    for hook_id in ("motiontool-validate", "motiontool-validate-strict"):
         assert hook_id in CI_DOC.read_text()
+
+
+def test_the_docs_install_the_wheel_pip_builds(tmp_path: Path) -> None:
+    # The wheel named in the docs is the one 'pip wheel' writes for this version.
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    text = CI_DOC.read_text()
+    named = set(re.findall(r"motiontool-[^/\s\[']+\.whl", text))
+    assert named == {f"motiontool-{version}-py3-none-any.whl"}
+    runs = [s.get("run", "") for s in workflow()["jobs"]["motions"]["steps"]]
+    assert any(r.startswith("pip install 'tools/motiontool-") for r in runs)
+    assert "motiontool[" not in " ".join(r for r in runs if r.startswith("pip install"))
+
+
+def _hook_output(files: list[str], require_serial: bool, monkeypatch: pytest.MonkeyPatch) -> str:
+    """What pre-commit's own runner prints for the hook over ``files``, as on an 8-core machine."""
+    monkeypatch.setattr(lang_base, "target_concurrency", lambda: 8)
+    motiontool = str(Path(sys.executable).parent / "motiontool")
+    code, out = lang_base.run_xargs(
+        (motiontool, "validate"), files, require_serial=require_serial, color=False
+    )
+    assert code == 0, out.decode()
+    return out.decode()
+
+
+def test_the_hook_prints_one_header_and_one_summary(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    files = []
+    for i in range(40):
+        path = tmp_path / f"nod{i:02}.motion"
+        path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n400,B,0.1,-0.1\n")
+        files.append(str(path))
+    for hook in load_manifest(str(ROOT / ".pre-commit-hooks.yaml")):
+        assert hook["require_serial"] is True, hook["id"]
+        out = _hook_output(files, hook["require_serial"], monkeypatch)
+        assert out.count("robot: ") == 1 and out.count("checked 40 files") == 1, out
+    # Without require_serial pre-commit runs chunks in parallel, each with its own summary.
+    out = _hook_output(files, False, monkeypatch)
+    assert out.count("checked ") > 1, out
+
+
+def test_the_local_hook_example_runs_under_pre_commit(tmp_path: Path) -> None:
+    repo = tmp_path / "assets"
+    repo.mkdir()
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        "PRE_COMMIT_HOME": str(tmp_path / "cache"),
+        "GIT_CONFIG_GLOBAL": os.devnull,
+        "GIT_CONFIG_NOSYSTEM": "1",
+    }
+    (repo / ".pre-commit-config.yaml").write_text(block("repos"))
+    (repo / "ok.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n400,B,0.1\n")
+    (repo / "bad.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n40,B,abc\n")
+    subprocess.run(["git", "init", "-q"], cwd=repo, env=env, check=True)
+    subprocess.run(["git", "add", "."], cwd=repo, env=env, check=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "pre_commit", "run", "--all-files", "--color", "never"],
+        cwd=repo,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "bad.motion:3:6: error MT108" in proc.stdout, proc.stdout
+    assert proc.stdout.count("checked 2 files") == 1, proc.stdout
 
 
 def test_the_hooks_manifest_is_valid_for_pre_commit() -> None:
