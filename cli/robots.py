@@ -13,6 +13,7 @@ import typer
 from motiontool.cli import jsontext
 from motiontool.cli.options import TextOrJson, TextOrJsonOption
 from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs
+from motiontool.kinematics.builtin_robots import describe
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
@@ -21,12 +22,6 @@ from motiontool.stamps import stamps
 
 __all__ = ["build_app", "export_command", "list_robots", "show_command"]
 
-_DESCRIPTIONS = {
-    "nao": "Webots Nao (V5, H25 wrists): 24 body motors and 8 finger motors per hand",
-    "nao-v5": "the same Nao with the real NAO V5's limits and rules (tighter ranges, "
-    "HeadYaw-dependent HeadPitch, one motor for both HipYawPitch joints)",
-    "ur5e": "Webots UR5e arm, fixed base",
-}
 _OTHERS = (
     "Other robots: --robot path/to/robot.urdf, --robot path/to/robot.xml (MJCF), or\n"
     "--robot erd:<name> for a robot of example-robot-data (e.g. erd:ur5, erd:panda, erd:talos)."
@@ -50,7 +45,7 @@ def list_robots() -> str:
             (
                 name,
                 f"{len(spec.joints)} motors, {base}, {spec.default_timestep_ms} ms step: "
-                f"{_DESCRIPTIONS.get(name, spec.model_path.name)}",
+                f"{describe(name)}",
             )
         )
     width = max(len(n) for n, _ in rows)

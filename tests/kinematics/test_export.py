@@ -9,17 +9,18 @@ import numpy as np
 import pytest
 
 from motiontool.kinematics import load_robot, models_dir
+from motiontool.kinematics.builtin_robots import BUILTIN_ROBOTS, BuiltinRobot
 from motiontool.kinematics.collision import scan_self_collisions
+from motiontool.kinematics.erd import from_pinocchio
 from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
-from motiontool.kinematics.robots import _from_pinocchio
 from motiontool.motionfmt.errors import MotionToolError
 
 pin = pytest.importorskip("pinocchio")
 
 
-@pytest.mark.parametrize("robot", ["nao", "ur5e"])
-def test_builtin_mjcf_is_the_model_file(robot: str) -> None:
-    assert mjcf_bytes(load_robot(robot)) == (models_dir() / f"{robot}.xml").read_bytes()
+@pytest.mark.parametrize("robot", [r for r in BUILTIN_ROBOTS if r.overrides is None], ids=str)
+def test_builtin_mjcf_is_the_model_file(robot: BuiltinRobot) -> None:
+    assert mjcf_bytes(load_robot(robot.name)) == (models_dir() / robot.model).read_bytes()
 
 
 def test_nao_v5_mjcf_carries_the_real_robots_limits(tmp_path: Path) -> None:
@@ -61,7 +62,7 @@ def test_urdf_reads_back_as_the_same_robot(tmp_path: Path, robot: str, floating:
     path.write_bytes(urdf_bytes(spec))
     if floating:
         assert "free-flyer root joint" in path.read_text()
-    back = _from_pinocchio(robot, path, "urdf", floating_base=floating)
+    back = from_pinocchio(robot, path, "urdf", floating_base=floating)
     # Joint limits, velocities and torques.
     assert {j.name: j for j in back.joints} == {j.name: j for j in spec.joints}
     # Kinematics and mass distribution, at random configurations.

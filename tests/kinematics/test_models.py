@@ -15,6 +15,7 @@ from conftest import ROBOT_FACTS
 
 import motiontool.kinematics as kin
 from motiontool.kinematics import _modelgen, _pinocchio
+from motiontool.kinematics.builtin_robots import BUILTIN_ROBOTS
 from motiontool.kinematics.robots import (
     AUTO,
     NONE,
@@ -94,8 +95,12 @@ def test_triangle_inequality_correction_is_minimal():
 # --------------------------------------------------------------------------- numbers vs JSON
 
 
+#: The built-in robots with a model of their own (nao-v5 is nao's model with overrides).
+OWN_MODEL = [r.name for r in BUILTIN_ROBOTS if r.overrides is None]
+
+
 @needs_data
-@pytest.mark.parametrize("robot", ["nao", "ur5e"])
+@pytest.mark.parametrize("robot", OWN_MODEL)
 def test_every_motor_matches_the_json(robot):
     data = _json(robot)
     spec = load_robot(robot)
@@ -110,7 +115,7 @@ def test_every_motor_matches_the_json(robot):
 
 
 @needs_data
-@pytest.mark.parametrize("robot", ["nao", "ur5e"])
+@pytest.mark.parametrize("robot", OWN_MODEL)
 def test_every_body_mass_matches_the_json(robot):
     mujoco = _mujoco()
     data = _json(robot)
@@ -208,7 +213,7 @@ def test_pinocchio_zero_pose_torso_height():
         assert -z == pytest.approx(ZERO_POSE_TORSO_HEIGHT_M, abs=1e-9)
 
 
-@pytest.mark.parametrize("robot", ["nao", "ur5e"])
+@pytest.mark.parametrize("robot", builtin_robots())
 def test_mujoco_and_pinocchio_agree_on_forward_kinematics(robot):
     mujoco = _mujoco()
     spec = load_robot(robot)
@@ -564,3 +569,41 @@ def test_all_is_honest():
         if not name.startswith("_") and not isinstance(value, type(sys))
     }
     assert public == exported
+
+
+def test_the_robot_table_is_the_one_place_a_robot_is_named() -> None:
+    """Every built-in robot: loaded, described, listed by ``motiontool robots``, accepted by
+    ``--robot`` and its did-you-mean; the ranking rule finds it for its own joints."""
+    from motiontool.cli.robots import list_robots
+    from motiontool.kinematics.builtin_robots import describe
+
+    listing = list_robots()
+    for robot in BUILTIN_ROBOTS:
+        spec = load_robot(robot.name)
+        assert spec.name == robot.name and describe(robot.name) in listing
+        assert robot.name in robot_choices()
+        assert UnknownRobotError(robot.name + "x").suggestion == robot.name
+        same = [
+            r.name for r in BUILTIN_ROBOTS if load_robot(r.name).joint_names == spec.joint_names
+        ]
+        assert detect_robot(spec.joint_names) == same[0]  # the first of robots with its motors
+
+
+def test_detect_robot_and_its_error_rank_by_one_rule() -> None:
+    from motiontool.kinematics.robots import rank_robots
+
+    for joints in (
+        ["HeadYaw", "HeadYw", "Tail"],
+        ["HeadYaw", "elbow_joint"],
+        ["leg0"],
+        ["HeadYaw", "HeadYaw", "Tail"],  # a name twice counts once
+        ["HeadYaw", "HeadPitch", "Tail"],
+    ):
+        ranking = rank_robots(joints)
+        assert (detect_robot(joints) is not None) == ranking.fits
+        if not ranking.fits:
+            err = NoRobotDetectedError(joints)
+            assert (err.best, err.covered, err.missing, err.tied) == (
+                ranking.best, ranking.covered, ranking.missing, ranking.tied,
+            )  # fmt: skip
+    assert rank_robots(["HeadYaw", "HeadYaw", "Tail"]).covered == 1
