@@ -17,7 +17,7 @@ own, with a huge armature so that the tendon force does not slow it down), whose
 to the command every control step; the tendon's ``frictionloss`` = maxTorque turns it into a
 velocity constraint ``dq_joint/dt = command`` with a force bounded by maxTorque, solved with the
 contacts. Plain ``<velocity>`` actuators with a force range chatter once the torque saturates and
-make the walks fall (``shared/SIM-NOTES.md``). Joint ranges are not hard stops (Webots' PROTOs
+make the walks fall (``docs/simulation.md``). Joint ranges are not hard stops (Webots' PROTOs
 have none): targets are clipped, the joints themselves are free.
 """
 
@@ -265,7 +265,7 @@ def build_scene(
             ``lying-back`` (face up; lying: free-flying robots only).
         start_joints: initial motor positions, rad (m), overriding the zero pose.
         floor_friction: Coulomb friction coefficient between the robot and the floor (pyramidal
-            cone); 1.0 walks as reported in SIM-NOTES (Webots' coulombFriction 7 makes MuJoCo's
+            cone); 1.0 walks (docs/simulation.md; Webots' coulombFriction 7 makes MuJoCo's
             pyramidal cone grip so hard that every walk falls).
         mass_scale: factor on every robot body's mass and inertia.
         torque_scale: factor on every motor's maxTorque.
@@ -309,7 +309,7 @@ def _load_spec(robot: RobotSpec, dt: float) -> Any:
         raise MotionToolError(f"MuJoCo cannot read '{robot.model_path}': {exc}") from exc
     _resolve_package_meshes(spec, robot.model_path)
     spec.option.timestep = dt
-    spec.option.jacobian = mujoco.mjtJacobian.mjJAC_DENSE  # SIM-NOTES: sparse diverged (86 DoF)
+    spec.option.jacobian = mujoco.mjtJacobian.mjJAC_DENSE  # sparse diverged: docs/simulation.md
     spec.option.cone = mujoco.mjtCone.mjCONE_PYRAMIDAL
     spec.option.tolerance = SOLVER_TOLERANCE
     spec.compiler.balanceinertia = True

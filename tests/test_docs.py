@@ -27,42 +27,9 @@ EXEMPT = {
 """Files that may name the folder beside the repository. ``dev/fuzz.py`` falls back to the corpus
 there by path (``ROOT.parent / "shared"``), which cites nothing, so it needs no exemption."""
 
-# issue 16: to be re-cited after the kinematics/sim split
-PENDING = {
-    # line (stripped) -> what it should cite instead
-    '"  python -m motiontool.kinematics._modelgen <shared>/robots kinematics/models",': (
-        "tests/data/robot_facts (kinematics/_modelgen.py; regenerate the models after)"
-    ),
-    "python -m motiontool.kinematics._modelgen <shared>/robots kinematics/models": (
-        "tests/data/robot_facts (kinematics/models/nao.xml and ur5e.xml, generated)"
-    ),
-    '"  Newton solver diverged (shared/SIM-NOTES.md).",': (
-        "docs/simulation.md (kinematics/_modelgen.py)"
-    ),
-    "Newton solver diverged (shared/SIM-NOTES.md).": (
-        "docs/simulation.md (kinematics/models/nao.xml, generated)"
-    ),
-    "How a motion is read here (the Webots player, ``../shared/FORMAT.md``):": (
-        "docs/webots-format.md (kinematics/checks/__init__.py)"
-    ),
-    (
-        "How a motion is read (the Webots player, ``../shared/FORMAT.md``): ``*`` sends no"
-        " command, so the"
-    ): "docs/webots-format.md (kinematics/checks/_table.py)",
-    (
-        "make the walks fall (``shared/SIM-NOTES.md``). Joint ranges are not hard stops"
-        " (Webots' PROTOs"
-    ): "docs/simulation.md (sim/_mujoco.py)",
-    (
-        "cone); 1.0 walks as reported in SIM-NOTES (Webots' coulombFriction 7 makes MuJoCo's"
-    ): "docs/simulation.md (sim/_mujoco.py)",
-    (
-        "spec.option.jacobian = mujoco.mjtJacobian.mjJAC_DENSE  # SIM-NOTES: sparse diverged"
-        " (86 DoF)"
-    ): "docs/simulation.md (sim/_mujoco.py)",
-}
-"""Lines in kinematics/ and sim/ that still cite the notes outside the repository: those folders
-were being restructured when docs/ was written. Re-cite a line, then remove it here."""
+PENDING: dict[str, str] = {}
+"""Lines in kinematics/ and sim/ that may still cite the notes outside the repository (line
+stripped -> what it should cite instead): none are left, all re-cite docs/ or tests/data."""
 
 PENDING_FOLDERS = ("kinematics/", "sim/")
 

@@ -7,7 +7,7 @@ per module: :mod:`.joints` (MT301), :mod:`.limits` (MT302, MT305, MT306), :mod:`
 (MT303, MT304), :mod:`.self_collision` (MT307), :mod:`.balance` (MT308); the unmirrored-copy note
 (MT309) is :mod:`motiontool.kinematics.mirror_check`; :mod:`.runner` picks and runs them.
 
-How a motion is read here (the Webots player, ``../shared/FORMAT.md``):
+How a motion is read here (the Webots player, ``docs/webots-format.md``):
 
 * A column whose name is not a motor of the robot is ignored by Webots (with a warning): MT301.
 * ``*`` sends no command: the joint holds its previous target. A ``*`` cell is never checked
