@@ -145,8 +145,9 @@ def measure_end_effector(
             )
         )
 
-    # The command stream: the target in force over step k against the tool at its end.
-    deviation = np.linalg.norm(trace.tool_pos[1 : len(targets) + 1] - stream_pos, axis=1)
+    # The command stream: the target step k sends at time_s[k] against the tool at that time
+    # (frame k), aligned as the keyframes are (their target and the tool at their frame).
+    deviation = np.linalg.norm(trace.tool_pos[: len(targets)] - stream_pos, axis=1)
     worst = int(np.argmax(deviation)) if len(deviation) else -1
     stride = max(1, round(TRAIL_STEP_S / trace.control_step_s))
     samples = list(range(0, frames, stride))
@@ -158,7 +159,7 @@ def measure_end_effector(
         reach_tolerance_mm=reach_tolerance_mm,
         keyframes=tuple(keyframes),
         max_deviation_mm=float(deviation[worst]) * 1000.0 if worst >= 0 else 0.0,
-        max_deviation_at_s=float(trace.time_s[worst + 1]) if worst >= 0 else 0.0,
+        max_deviation_at_s=float(trace.time_s[worst]) if worst >= 0 else 0.0,
         trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
         trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),
     )

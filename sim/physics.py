@@ -30,6 +30,7 @@ __all__ = [
     "Physics",
     "check_physics",
     "physics_run_options",
+    "profile_note",
     "read_back",
     "resolve_physics",
 ]
@@ -53,7 +54,8 @@ WEBOTS_PROFILE_NOTE = (
     "this is not what makes walks match Webots: MuJoCo's contacts are not ODE's, and with "
     "these numbers the Webots walks fall (README, Fidelity)"
 )
-"""The one line every report made with ``--profile webots`` carries."""
+"""The line a report made with ``--profile webots`` carries when it ran with Webots' numbers
+(:func:`profile_note` says what ran when ``--friction`` / ``--physics-step`` override them)."""
 
 _STEP_TOLERANCE = 1e-9
 """Relative slack when checking that the physics step divides the control step."""
@@ -168,7 +170,60 @@ def resolve_physics(
         timestep_ms=control_step_ms / substeps,
         friction=base * friction_scale,
         substeps=substeps,
-        note=WEBOTS_PROFILE_NOTE if profile == "webots" else None,
+        note=profile_note(
+            profile,
+            control_step_ms,
+            substeps,
+            friction=friction,
+            friction_scale=friction_scale,
+        ),
+    )
+
+
+def profile_note(
+    profile: str,
+    control_step_ms: int,
+    substeps: int,
+    *,
+    friction: float | None = None,
+    friction_scale: float = 1.0,
+) -> str | None:
+    """The report's ``physics.profile_note``: what the profile means for the run that ran.
+
+    ``webots`` with Webots' numbers (friction 7, one physics step per control step):
+    :data:`WEBOTS_PROFILE_NOTE`. Where ``--friction``, ``--physics-step`` or a friction
+    perturbation changed them, the note names what ran instead and does not repeat the claim
+    about Webots' numbers (walks fall), which is about those numbers only. ``default``: None.
+
+    Args:
+        profile: ``default`` or ``webots``.
+        control_step_ms: the control step, ms; substeps: physics steps per control step.
+        friction: the ``--friction`` given (None: the profile's); friction_scale: the
+            perturbation's factor on it.
+    """
+    if profile != "webots":
+        return None
+    ran = (WEBOTS_FRICTION if friction is None else friction) * friction_scale
+    if ran == WEBOTS_FRICTION and substeps == 1:
+        return WEBOTS_PROFILE_NOTE
+    scaled = "" if friction_scale == 1.0 else f" x {friction_scale:g} by the friction perturbation"
+    if ran == WEBOTS_FRICTION:
+        parts = ["floor friction 7 (Webots')"]
+    elif friction is None:
+        parts = [f"floor friction {ran:g} (Webots' 7{scaled})"]
+    else:
+        parts = [f"floor friction {ran:g} ({friction:g} given{scaled}; Webots' is 7)"]
+    step_ms = control_step_ms / substeps
+    if substeps == 1:
+        parts.append(f"physics step {step_ms:g} ms (= the control step, Webots')")
+    else:
+        parts.append(
+            f"physics step {step_ms:g} ms (given; Webots' is the control step, "
+            f"{control_step_ms} ms)"
+        )
+    return (
+        f"profile webots, overridden: this run used {' and '.join(parts)}, so it is not a run "
+        "with Webots' numbers; how friction and step change the walks: README, Fidelity"
     )
 
 

@@ -14,7 +14,9 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "physics": {"timestep_ms", "friction",                     # as the compiled model has them
                   "profile" ("default"|"webots"),
                   "profile_note"},                               # webots only: not what makes
-                                                                 #   walks match (README)
+                                                                 #   walks match (README); with
+                                                                 #   --friction / --physics-step:
+                                                                 #   what ran instead
       "simulated_s": 7.78, "control_steps": 389,
       "clean": true, "exit_code": 0, "reason": "",               # reason: '; '-joined, '' if clean
       "error": null,                                             # why the run stopped early

@@ -298,6 +298,18 @@ def test_the_sorting_demo_reaches_every_pick_and_place() -> None:
     assert not wrong[0].passed and "1100" in wrong[0].reason
 
 
+@pytest.mark.parametrize("motion", ["sorting", "jog"])
+def test_the_largest_deviation_is_at_least_every_keyframe_error(motion: str) -> None:
+    # A keyframe's error is the tool against its commanded pose at its frame: the deviation from
+    # the command stream compares the same frame with the same command, so it cannot be
+    # smaller (issue 15: 80.5 mm against a keyframe's 87.3 mm, one step apart).
+    report = play([ROOT / "motions" / "ur5e" / f"{motion}.motion"], robot="ur5e")
+    ee = report.end_effector
+    assert ee is not None and ee.keyframes
+    worst = max(ee.keyframes, key=lambda k: k.position_error_mm)
+    assert ee.max_deviation_mm >= worst.position_error_mm > 10.0
+
+
 def test_keyframe_times_follow_loops_and_reverse(arm_motion: Path) -> None:
     # A cycle of the 800 ms motion at 8 ms is ceil(800 / 8) + 1 = 101 steps: the second loop
     # starts at 0.808 s (elapsed_steps); reversed, 'turn' comes first.

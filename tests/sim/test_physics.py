@@ -72,11 +72,39 @@ def test_the_webots_profile_uses_webots_numbers_and_says_it_is_not_what_matches(
     assert report.physics["friction"] == 7.0
     assert report.physics["profile"] == "webots"
     assert "not what makes walks match" in report.physics["profile_note"]
-    # Explicit values win over the profile; the note stays.
+    # Explicit values win over the profile; the note says what ran, not that walks fall.
     options = PlayOptions(hold_s=0.0, profile="webots", floor_friction=1.0, physics_step_ms=5)
     mixed = play([nod], robot="nao", options=options)
     assert (mixed.physics["timestep_ms"], mixed.physics["friction"]) == (5.0, 1.0)
-    assert mixed.physics["profile_note"] == WEBOTS_PROFILE_NOTE
+    note = mixed.physics["profile_note"]
+    assert "floor friction 1 (1 given; Webots' is 7)" in note
+    assert "physics step 5 ms (given; Webots' is the control step, 20 ms)" in note
+    assert "walks fall" not in note and "(7)" not in note
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "says"),
+    [
+        ({}, WEBOTS_PROFILE_NOTE),
+        ({"friction": 7.0, "physics_step_ms": 20.0}, WEBOTS_PROFILE_NOTE),  # Webots' own numbers
+        (
+            {"friction": 1.0},
+            "profile webots, overridden: this run used floor friction 1 (1 given; Webots' is 7)"
+            " and physics step 20 ms (= the control step, Webots'), so it is not a run with"
+            " Webots' numbers; how friction and step change the walks: README, Fidelity",
+        ),
+        ({"physics_step_ms": 2.0}, "floor friction 7 (Webots') and physics step 2 ms"),
+        ({"friction_scale": 0.5}, "floor friction 3.5 (Webots' 7 x 0.5 by the friction pert"),
+        ({"friction": 2.0, "friction_scale": 0.5}, "floor friction 1 (2 given x 0.5 by"),
+    ],
+)
+def test_the_webots_note_describes_the_numbers_that_ran(
+    kwargs: dict[str, float], says: str
+) -> None:
+    note = resolve_physics(20, profile="webots", **kwargs).note  # type: ignore[arg-type]
+    assert note is not None and says in note
+    assert (note == WEBOTS_PROFILE_NOTE) == ("walks fall" in note)
+    assert resolve_physics(20, **kwargs).note is None  # type: ignore[arg-type]
 
 
 def test_the_default_step_divides_any_control_step() -> None:
@@ -143,6 +171,18 @@ def test_cli_play_physics_options_text_and_json(nod: Path, tmp_path: Path) -> No
         "friction": 0.5,
         "profile": "default",
     }
+    result = runner.invoke(
+        app,
+        [
+            *("play", "--headless", "--hold", "0", "--profile", "webots", "--friction", "1"),
+            *("--json", str(out), str(nod)),
+        ],
+    )
+    assert result.exit_code in (0, 1), result.output
+    doc = json.loads(out.read_text())
+    assert (doc["physics"]["friction"], doc["physics"]["timestep_ms"]) == (1.0, 20.0)
+    assert "floor friction 1 (1 given; Webots' is 7)" in doc["physics"]["profile_note"]
+    assert f"note: {doc['physics']['profile_note']}\n" in result.stdout
 
 
 @pytest.mark.parametrize(
