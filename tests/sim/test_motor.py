@@ -18,6 +18,7 @@ from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt import read_bytes, sample
 from motiontool.sim import MotorLimits, command_matrix, velocity_command
 from motiontool.sim import _mujoco as mj
+from motiontool.sim._mujoco import stepping
 
 ARM = """<mujoco model="arm">
   <compiler angle="radian" autolimits="true"/>
@@ -159,7 +160,7 @@ def test_the_control_loop_sends_the_motor_laws_command(
         calls.append((target.copy(), position.copy()))
         return velocity_command(limits, target, position)
 
-    monkeypatch.setattr(mj, "velocity_command", spy)
+    monkeypatch.setattr(stepping, "velocity_command", spy)
     scene = mj.build_scene(arm(tmp_path, vertical=True, max_velocity=2.0, max_torque=10.0), 20)
     trace = mj.run(scene, *hold(1.0, 6))
     assert len(calls) == 6
@@ -201,7 +202,7 @@ def test_a_bug_in_our_own_contact_code_is_raised_not_reported_as_a_stopped_run(
     def broken(*args: object) -> None:
         raise IndexError("a bug in motiontool's contact bookkeeping")
 
-    monkeypatch.setattr(mj, "_contacts", broken)
+    monkeypatch.setattr(stepping, "_contacts", broken)
     scene = mj.build_scene(arm(tmp_path, vertical=False, max_velocity=5.0, max_torque=0.01), 20)
     # Before: trace.error = "simulation stopped at step N: a bug in ...", a clean-looking exit 2.
     with pytest.raises(IndexError, match="contact bookkeeping"):

@@ -1,0 +1,241 @@
+"""Stepping a scene (:func:`run`): Webots' motor law every control step, the state measured into
+a :class:`~motiontool.sim.trace.Trace` every frame (positions, poses, contacts,
+self-collisions); the tool's forward kinematics (:func:`tool_poses`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.sim._mujoco._lib import mj, warning_labels
+from motiontool.sim._mujoco.scene import ROBOT_CLASSES, GeomClass, Scene
+from motiontool.sim.motor import velocity_command
+from motiontool.sim.trace import ContactEvent, Trace
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+
+def run(
+    scene: Scene,
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    *,
+    record_bodies: bool = False,
+) -> Trace:
+    """Play ``targets`` (S, J), one row per control step, from the scene's start state.
+
+    Args:
+        scene: a freshly built scene (its data is stepped in place).
+        targets: (S, J) target positions in force at each step (NaN-free), rad (m), before
+            clipping to the motor limits.
+        commanded: (S, J) bool, whether the motion sent the target at that step.
+        record_bodies: also keep every robot body's pose at every frame (for a recording).
+
+    An error MuJoCo raises (:class:`mujoco.FatalError`) stops the run: the trace keeps what was
+    simulated and says why. Any other exception is a bug, and propagates.
+    """
+    mujoco = mj()
+    import numpy as np
+
+    model, data = scene.model, scene.data
+    trace = _new_trace(scene, targets, commanded, record_bodies)
+    observe = _observer(scene, trace, record_bodies)
+    limits, driver_dof, substeps = scene.limits, scene.driver_dof, scene.control_substeps
+    position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+    try:
+        observe(0)
+        for k in range(len(targets)):
+            command = velocity_command(limits, targets[k], position[k])  # Webots' motor law
+            velocity_cmd[k] = command
+            data.qvel[driver_dof] = command
+            mujoco.mj_step(model, data, substeps)
+            torque[k] = data.qfrc_constraint[driver_dof]
+            np.negative(torque[k], out=torque[k])
+            observe(k + 1)
+            trace.steps_done = k + 1
+    except mujoco.FatalError as exc:  # MuJoCo's own error: the report says why the run stopped
+        trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
+    trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
+    return trace if trace.steps_done == len(targets) else trace.truncated()
+
+
+def _new_trace(
+    scene: Scene,
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    record_bodies: bool,
+) -> Trace:
+    """An empty trace for ``targets`` (S, J): S + 1 frames, zero-filled."""
+    import numpy as np
+
+    steps, n_joints = targets.shape
+    n_frames = steps + 1
+    body_frames = n_frames if record_bodies else 0
+    feet, bodies = scene.foot_geoms, scene.robot_bodies
+    return Trace(
+        joints=scene.joints,
+        control_step_s=scene.control_step_s,
+        physics_step_s=scene.physics_step_s,
+        time_s=np.arange(n_frames, dtype=np.float64) * scene.control_step_s,
+        commanded=commanded,
+        targets=targets,
+        velocity_cmd=np.zeros((steps, n_joints)),
+        torque=np.zeros((steps, n_joints)),
+        position=np.zeros((n_frames, n_joints)),
+        base_pos=np.zeros((n_frames, 3)),
+        base_quat=np.zeros((n_frames, 4)),
+        feet=tuple(scene.geom_name(int(g)) for g in feet),
+        foot_pos=np.zeros((n_frames, len(feet), 3)),
+        foot_contact=np.zeros((n_frames, len(feet)), dtype=bool),
+        bodies=tuple(scene.body_name(int(b)) for b in bodies),
+        body_pos=np.zeros((body_frames, len(bodies), 3)),
+        body_quat=np.zeros((body_frames, len(bodies), 4)),
+        tool=scene.tool[0] if scene.tool else "",
+        tool_pos=np.zeros((n_frames, 3)) if scene.tool else None,
+        tool_quat=np.zeros((n_frames, 4)) if scene.tool else None,
+    )
+
+
+def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int], None]:
+    """A function that measures the state of ``scene.data`` into frame ``frame`` of ``trace``:
+    positions, poses, contacts, self-collisions."""
+    data, feet, bodies = scene.data, scene.foot_geoms, scene.robot_bodies
+    qpos_adr, root = scene.qpos_adr, scene.root_body
+    read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
+
+    def observe(frame: int) -> None:
+        trace.position[frame] = data.qpos[qpos_adr]
+        if read_tool is not None:
+            read_tool(frame)
+        trace.base_pos[frame] = data.xpos[root]
+        trace.base_quat[frame] = data.xquat[root]
+        if len(feet):
+            trace.foot_pos[frame] = data.geom_xpos[feet]
+        if record_bodies:
+            trace.body_pos[frame] = data.xpos[bodies]
+            trace.body_quat[frame] = data.xquat[bodies]
+        if data.ncon:
+            _contacts(scene, data, frame, trace)
+        if scene.probe is not None:
+            _self_collisions(scene, data, frame, trace)
+
+    return observe
+
+
+def _tool_reader(
+    scene: Scene,
+    data: Any,
+    pos: npt.NDArray[np.float64] | None,
+    quat: npt.NDArray[np.float64] | None,
+) -> Callable[[int], None] | None:
+    """A function that copies the tool's pose of ``data`` into row ``frame`` of ``pos`` (m)
+    and ``quat`` (w, x, y, z), or None without a tool."""
+    if scene.tool is None or pos is None or quat is None:
+        return None
+    mujoco = mj()
+    _name, kind, index = scene.tool
+    if kind == "site":
+
+        def read_site(frame: int) -> None:
+            pos[frame] = data.site_xpos[index]
+            mujoco.mju_mat2Quat(quat[frame], data.site_xmat[index])
+
+        return read_site
+
+    def read_body(frame: int) -> None:
+        pos[frame] = data.xpos[index]
+        quat[frame] = data.xquat[index]
+
+    return read_body
+
+
+def tool_poses(
+    scene: Scene, q: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Forward kinematics of the tool: its world pose for each row of motor positions.
+
+    MuJoCo's own ``mj_kinematics`` on a scratch ``MjData`` of the scene's model, so that the
+    commanded and the measured poses come from one model in one world frame (the arm on its
+    box), with no second model to keep in step.
+
+    Args:
+        scene: a scene with a tool (:attr:`Scene.tool`).
+        q: (N, J) motor positions, rad (m), in ``scene.joints`` order.
+
+    Returns:
+        positions (N, 3), m, and orientations (N, 4), unit quaternions (w, x, y, z).
+    """
+    mujoco = mj()
+    import numpy as np
+
+    if scene.tool is None:
+        raise MotionToolError(f"{scene.robot.name} has no end effector (a free-flying robot)")
+    model = scene.model
+    data = mujoco.MjData(model)
+    rows = np.asarray(q, dtype=np.float64).reshape(-1, len(scene.joints))
+    pos = np.zeros((len(rows), 3))
+    quat = np.zeros((len(rows), 4))
+    read = _tool_reader(scene, data, pos, quat)
+    assert read is not None
+    for i, row in enumerate(rows):
+        data.qpos[scene.qpos_adr] = row
+        mujoco.mj_kinematics(model, data)
+        read(i)
+    return pos, quat
+
+
+def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
+    """Foot-floor contacts into ``foot_contact``; every other robot contact into events."""
+    cls = scene.geom_class
+    seen: dict[tuple[str, str, str], float] = {}
+    for (g1, g2), d in zip(data.contact.geom.tolist(), data.contact.dist.tolist(), strict=True):
+        if cls[g1] not in ROBOT_CLASSES:
+            g1, g2 = g2, g1
+        if cls[g1] not in ROBOT_CLASSES:
+            continue  # scene-scene
+        if cls[g1] == GeomClass.FOOT and cls[g2] == GeomClass.FLOOR:
+            trace.foot_contact[frame, int((scene.foot_geoms == g1).argmax())] = True
+            continue
+        key = _contact_event_key(scene, g1, g2)
+        seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
+    for (kind, body, other), depth in seen.items():
+        trace.events.append(ContactEvent(frame, kind, body, other, depth))  # type: ignore[arg-type]
+
+
+def _contact_event_key(scene: Scene, robot_geom: int, other_geom: int) -> tuple[str, str, str]:
+    """(kind, robot body, other) of a contact between a robot geom and another geom that is not
+    a foot on the floor (see :class:`~motiontool.sim.trace.ContactEvent`)."""
+    model = scene.model
+    body = scene.body_name(int(model.geom_bodyid[robot_geom]))
+    other_class = scene.geom_class[other_geom]
+    if other_class in ROBOT_CLASSES:  # the model collides the robot with itself (Webots' UR5e)
+        other = scene.body_name(int(model.geom_bodyid[other_geom]))
+        return "touch", min(body, other), max(body, other)
+    if other_class == GeomClass.FLOOR:
+        return ("scene" if not scene.floating else "ground"), body, "floor"
+    return "scene", body, scene.geom_name(other_geom)
+
+
+def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
+    mujoco = mj()
+
+    assert scene.probe is not None
+    probe, probe_data = scene.probe
+    probe_data.qpos[:] = data.qpos
+    mujoco.mj_kinematics(probe, probe_data)
+    mujoco.mj_collision(probe, probe_data)
+    if not probe_data.ncon:
+        return
+    seen: dict[tuple[str, str], float] = {}
+    for (g1, g2), d in zip(
+        probe_data.contact.geom.tolist(), probe_data.contact.dist.tolist(), strict=True
+    ):
+        a = scene.body_name(int(probe.geom_bodyid[g1]))
+        b = scene.body_name(int(probe.geom_bodyid[g2]))
+        key = (a, b) if a < b else (b, a)
+        seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
+    for (a, b), depth in seen.items():
+        trace.events.append(ContactEvent(frame, "self", a, b, depth))
