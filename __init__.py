@@ -1,4 +1,29 @@
 """motiontool: lint, transform and simulate Webots ``.motion`` files."""
 
-__version__ = "0.1.0"
+from __future__ import annotations
+
+import tomllib
+from importlib import metadata
+from pathlib import Path
+
 __all__ = ["__version__"]
+
+
+def _version() -> str:
+    """The version in ``pyproject.toml``, its one home: read from the file beside this one in a
+    checkout or an sdist (so an editable install never reports a stale number), else from the
+    installed distribution's metadata, which the build wrote from it."""
+    pyproject = Path(__file__).with_name("pyproject.toml")
+    try:
+        project = tomllib.loads(pyproject.read_text(encoding="utf-8")).get("project", {})
+    except (OSError, ValueError):
+        project = {}
+    if project.get("name") == "motiontool" and isinstance(project.get("version"), str):
+        return str(project["version"])
+    try:
+        return metadata.version("motiontool")
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
+
+
+__version__ = _version()

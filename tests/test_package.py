@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import importlib
+import os
 import re
+import shutil
 import subprocess
 import sys
+import tarfile
 import tomllib
 import zipfile
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import ROOT
@@ -25,6 +29,11 @@ HEAVY_DISTS = {
     "ray": "ray",
     "pyarrow": "fast",
 }
+
+
+#: Folders of data only (no ``__init__.py``) that the wheel ships as packages of their own:
+#: setuptools warns about a data folder that is not listed.
+DATA_PACKAGES = {"motiontool.kinematics.models"}
 
 
 def _dist_name(requirement: str) -> str:
@@ -54,7 +63,9 @@ def test_explicit_package_list_covers_every_code_folder() -> None:
         for p in ROOT.glob("*/**/__init__.py")
         if not {"tests", "benchmarks", ".venv", "build"} & set(p.relative_to(ROOT).parts)
     }
-    assert listed == found
+    assert listed == found | DATA_PACKAGES
+    # A data folder is listed as a package of its own, with its files as its package data.
+    assert set(config["tool"]["setuptools"]["package-data"]) >= DATA_PACKAGES
 
 
 @pytest.mark.parametrize(
@@ -118,34 +129,142 @@ def test_limits_and_velocity_checks_import_no_heavy_library(tmp_path: Path) -> N
     assert not loaded & set(HEAVY), f"{argv} imported {sorted(loaded & set(HEAVY))}"
 
 
-def test_built_wheel_contains_every_subpackage(tmp_path: Path) -> None:
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "pip",
-            "wheel",
-            "--no-deps",
-            "--no-build-isolation",
-            "-q",
-            "-w",
-            str(tmp_path),
-            str(ROOT),
-        ],
-        check=True,
+_BUILD = """
+import sys
+from setuptools import build_meta
+print(getattr(build_meta, sys.argv[1])(sys.argv[2]))
+"""
+
+
+def _build(source: Path, hook: str, out: Path) -> tuple[Path, str]:
+    """Run setuptools' PEP 517 ``hook`` (as ``python -m build`` or pip would) in ``source``;
+    the file it wrote and everything it printed (warnings shown, whatever the environment)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    proc = subprocess.run(
+        [sys.executable, "-W", "always", "-c", _BUILD, hook, str(out)],
+        cwd=source,
+        env=env,
         capture_output=True,
+        text=True,
+        check=False,
     )
-    (wheel,) = tmp_path.glob("motiontool-*.whl")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    return out / proc.stdout.splitlines()[-1], proc.stdout + proc.stderr
+
+
+def _checkout_files() -> list[str]:
+    """What a clone has: the tracked files (and new ones not yet committed, not ignored)."""
+    listed = subprocess.run(
+        ["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
+        cwd=ROOT,
+        capture_output=True,
+        check=True,
+    ).stdout.decode()
+    return sorted(n for n in set(listed.split("\0")) if n and (ROOT / n).is_file())
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """An sdist built from a copy of the checkout, and the wheel built from that sdist (what
+    ``pip install motiontool-*.tar.gz`` does), with what each build printed."""
+    tmp = tmp_path_factory.mktemp("build")
+    source = tmp / "checkout"
+    files = _checkout_files()
+    for name in files:
+        (source / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, source / name)
+    sdist, sdist_log = _build(source, "build_sdist", tmp / "dist")
+    with tarfile.open(sdist) as tar:
+        tar.extractall(tmp / "unpacked", filter="data")
+    (unpacked,) = (tmp / "unpacked").iterdir()
+    wheel, wheel_log = _build(unpacked, "build_wheel", tmp / "dist")
+    return {"files": files, "sdist": sdist, "wheel": wheel, "log": sdist_log + wheel_log}
+
+
+def test_the_build_prints_no_setuptools_warning(built: dict[str, Any]) -> None:
+    warnings = [line for line in built["log"].splitlines() if re.search(r"(?i)warning|^!!$", line)]
+    assert warnings == [], "\n".join(warnings)
+
+
+def test_the_sdist_holds_every_file_of_a_checkout(built: dict[str, Any]) -> None:
+    with tarfile.open(built["sdist"]) as tar:
+        names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
+    missing = sorted(set(built["files"]) - names - {".gitignore"})
+    assert missing == [], f"MANIFEST.in (or, for code, [tool.setuptools] packages): {missing}"
+    for must in ("LICENSE", ".pre-commit-hooks.yaml", "docs/ci.md", "tests/conftest.py"):
+        assert must in names
+    assert not any("__pycache__" in n or n.endswith(".pyc") for n in names)
+
+
+def test_metadata_license_classifiers_and_no_url_that_does_not_exist(
+    built: dict[str, Any],
+) -> None:
+    with zipfile.ZipFile(built["wheel"]) as zf:
+        (meta_name,) = [n for n in zf.namelist() if n.endswith(".dist-info/METADATA")]
+        meta = zf.read(meta_name).decode()
+        assert any(n.endswith(".dist-info/licenses/LICENSE") for n in zf.namelist())
+    assert "License-Expression: Apache-2.0" in meta.splitlines()
+    assert (ROOT / "LICENSE").read_text().lstrip().startswith("Apache License\n")
+    assert "END OF TERMS AND CONDITIONS" in (ROOT / "LICENSE").read_text()
+    classifiers = {
+        line.split(": ", 1)[1] for line in meta.splitlines() if line.startswith("Classifier:")
+    }
+    assert "Topic :: Scientific/Engineering :: Robotics" in classifiers
+    assert "Programming Language :: Python :: 3.11" in classifiers
+    # The repository is not hosted yet: a Project-URL would point nowhere.
+    assert not [line for line in meta.splitlines() if line.startswith("Project-URL:")]
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    assert f"Version: {version}" in meta.splitlines()
+
+
+def test_the_version_has_one_home() -> None:
+    import motiontool
+
+    version = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
+    assert motiontool.__version__ == version
+    import ast
+
+    literal = [
+        f"{path.relative_to(ROOT)}:{node.lineno}"
+        for package in ("", "cli", "motionfmt", "kinematics", "sim")
+        for path in sorted((ROOT / package).glob("*.py" if not package else "**/*.py"))
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        if isinstance(node, ast.Constant) and node.value == version
+    ]
+    assert literal == [], "read it from pyproject.toml / the package metadata"
+
+
+def test_rerun_sdk_is_bounded_to_the_minor_the_recordings_are_tested_with() -> None:
+    from importlib import metadata
+
+    from packaging.requirements import Requirement
+    from packaging.version import Version
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"
+    ]
+    (rerun,) = [Requirement(r) for r in extras["rerun"] if r.startswith("rerun-sdk")]
+    installed = Version(metadata.version("rerun-sdk"))
+    assert installed in rerun.specifier
+    upper = [s for s in rerun.specifier if s.operator == "<"]
+    assert [s.version for s in upper] == [f"0.{installed.minor + 1}"], rerun
+
+
+def test_built_wheel_contains_every_subpackage(built: dict[str, Any], tmp_path: Path) -> None:
+    wheel = built["wheel"]
     names = set(zipfile.ZipFile(wheel).namelist())
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())
-    for package in config["tool"]["setuptools"]["packages"]:
+    for package in set(config["tool"]["setuptools"]["packages"]) - DATA_PACKAGES:
         assert package.replace(".", "/") + "/__init__.py" in names
     schema_files = sorted((ROOT / "cli" / "schemas").glob("*.schema.json"))
     assert schema_files
     for schema in schema_files:  # package data: the JSON Schemas of the reports
         assert f"motiontool/cli/schemas/{schema.name}" in names
+    for model in sorted((ROOT / "kinematics" / "models").iterdir()):  # the robots
+        assert f"motiontool/kinematics/models/{model.name}" in names
     assert not any(
-        n.startswith(("motiontool/tests/", "motiontool/benchmarks/", "tests/")) for n in names
+        n.startswith(("motiontool/tests/", "motiontool/benchmarks/", "motiontool/docs/", "tests/"))
+        for n in names
     )
     # The core's metadata: numpy and typer; every heavy library only behind an extra.
     (meta_name,) = [n for n in names if n.endswith(".dist-info/METADATA")]
