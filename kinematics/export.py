@@ -1,7 +1,8 @@
 """A robot's model file, for MuJoCo / Pinocchio users: ``motiontool robots export``.
 
 MJCF is the built-in robots' own format: ``nao`` and ``ur5e`` export their model file byte for
-byte; ``nao-v5`` exports ``nao.xml`` with the real robot's limits written into it.
+byte; ``nao-v5`` exports ``nao.xml`` with the real robot's limits written into it
+(:mod:`motiontool.kinematics.mjcf_limits`, through an XML parser).
 
 URDF is written from the Pinocchio model (:func:`urdf_bytes`), so it holds what Pinocchio read:
 kinematic tree, joint limits, masses, centres of mass, inertias and collision primitives. URDF
@@ -14,10 +15,10 @@ names of the feet.
 from __future__ import annotations
 
 import math
-import re
 from typing import Any
 from xml.sax.saxutils import quoteattr
 
+from motiontool.kinematics.mjcf_limits import write_limits
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
 
@@ -43,23 +44,9 @@ def mjcf_bytes(spec: RobotSpec, *, urdf_option: str | None = None) -> bytes:
             "or let MuJoCo convert it (mujoco.MjModel.from_xml_path, then "
             "mujoco.mj_saveLastXML)"
         )
-    raw = spec.model_path.read_bytes()
     if spec.overrides_path is None:
-        return raw
-    text = raw.decode("utf-8")
-    for joint in spec.joints:
-        name = re.escape(joint.name)
-        frc = f"{_g(-joint.max_torque)} {_g(joint.max_torque)}"
-        vel = f"{_g(-joint.max_velocity)} {_g(joint.max_velocity)}"
-        text = _set_attrs(
-            text, rf'<joint name="{name}"[^>]*/>', {"range": f"{_g(joint.lower)} {_g(joint.upper)}"}
-        )
-        text = _set_attrs(text, rf'<joint name="{name}"[^>]*/>', {"actuatorfrcrange": frc})
-        text = _set_attrs(
-            text,
-            rf'<velocity name="{name}"[^>]*/>',
-            {"ctrlrange": vel, "forcerange": frc},
-        )
+        return spec.model_path.read_bytes()
+    text = write_limits(spec.model_path, spec.joints)
     groups: dict[str, list[str]] = {}
     for leader, follower in spec.coupled_joints:
         groups.setdefault(leader, [leader]).append(follower)
@@ -73,20 +60,6 @@ def mjcf_bytes(spec: RobotSpec, *, urdf_option: str | None = None) -> bytes:
     )
     head, _, rest = text.partition("\n")
     return (head + "\n" + note + rest).encode("utf-8")
-
-
-def _set_attrs(text: str, element: str, attrs: dict[str, str]) -> str:
-    """Set attributes of the one element matching the regex ``element``."""
-    match = re.search(element, text)
-    if match is None:
-        return text
-    tag = match.group(0)
-    for key, value in attrs.items():
-        if re.search(rf'\s{key}="[^"]*"', tag):
-            tag = re.sub(rf'(\s){key}="[^"]*"', rf'\g<1>{key}="{value}"', tag)
-        else:
-            tag = tag[:-2].rstrip() + f' {key}="{value}" />'
-    return text[: match.start()] + tag + text[match.end() :]
 
 
 def urdf_bytes(spec: RobotSpec) -> bytes:

@@ -3,6 +3,8 @@ reads back as the same robot."""
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +15,7 @@ from motiontool.kinematics.builtin_robots import BUILTIN_ROBOTS, BuiltinRobot
 from motiontool.kinematics.collision import scan_self_collisions
 from motiontool.kinematics.erd import from_pinocchio
 from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
+from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
 
 pin = pytest.importorskip("pinocchio")
@@ -103,3 +106,66 @@ def test_urdf_reads_back_as_the_same_robot(tmp_path: Path, robot: str, floating:
         assert contacts2[key] <= depth + 1e-6
         if depth < 0.003:
             assert contacts2[key] == pytest.approx(depth, abs=1e-6)
+
+
+def _nao_v5_from(tmp_path: Path, edit: Callable[[str], str]) -> RobotSpec:
+    """nao-v5 with its model file replaced by an edited copy of nao.xml."""
+    model = tmp_path / "nao.xml"
+    model.write_text(edit((models_dir() / "nao.xml").read_text()))
+    return dataclasses.replace(load_robot("nao-v5"), model_path=model)
+
+
+def test_nao_v5_limits_are_written_whatever_the_attribute_order(tmp_path: Path) -> None:
+    # Any valid spelling of the element: name not first, other spacing, single quotes.
+    spec = _nao_v5_from(
+        tmp_path,
+        lambda t: t.replace(
+            '<joint name="RElbowRoll" type="hinge"', "<joint  type='hinge'\n    name='RElbowRoll'"
+        ).replace(
+            '<velocity name="RElbowRoll" joint="RElbowRoll"',
+            '<velocity joint="RElbowRoll" name="RElbowRoll"',
+        ),
+    )
+    path = tmp_path / "nao-v5.xml"
+    path.write_bytes(mjcf_bytes(spec))
+    mujoco = pytest.importorskip("mujoco")
+    model = mujoco.MjModel.from_xml_path(str(path))
+    v5 = load_robot("nao-v5").joint("RElbowRoll")
+    elbow = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "RElbowRoll")
+    assert model.jnt_range[elbow].tolist() == pytest.approx([v5.lower, v5.upper])
+    actuator = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, "RElbowRoll")
+    assert model.actuator_ctrlrange[actuator].tolist() == pytest.approx(
+        [-v5.max_velocity, v5.max_velocity]
+    )
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda t: t.replace('name="RElbowRoll" type="hinge"', 'name="RElbowRol" type="hinge"'),
+            r'no <joint name="RElbowRoll"> element; cannot write joint RElbowRoll',
+        ),
+        (
+            lambda t: t.replace('<velocity name="HeadYaw"', '<velocity name="HeadYw"'),
+            r'no <velocity name="HeadYaw"> element',
+        ),
+        (
+            lambda t: t.replace(
+                "</actuator>", '<velocity name="HeadYaw" joint="HeadYaw"/></actuator>'
+            ),
+            r'2 <velocity name="HeadYaw"> elements',
+        ),
+        (
+            lambda t: t.replace("</actuator>", "</actuatr>"),
+            r"nao.xml:\d+:\d+: not valid XML: mismatched tag",
+        ),
+    ],
+    ids=["joint-missing", "actuator-missing", "actuator-twice", "not-xml"],
+)
+def test_a_limit_that_cannot_be_written_is_an_error(
+    tmp_path: Path, edit: Callable[[str], str], message: str
+) -> None:
+    spec = _nao_v5_from(tmp_path, edit)
+    with pytest.raises(MotionToolError, match=message):
+        mjcf_bytes(spec)
