@@ -23,6 +23,7 @@ from typer.core import TyperGroup
 from motiontool import __version__
 from motiontool.cli import (
     batch,
+    cache,
     codes,
     concat,
     diff,
@@ -183,6 +184,7 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("generate", generate.generate_command),
     ("play", play.play_command),
     ("batch", batch.batch_command),
+    ("cache", cache.cache_command),
     ("expect", expect.expect_command),
     ("diff", diff.diff_command),
     ("resample", resample.resample_command),

@@ -97,6 +97,16 @@ _CacheDir = Annotated[
     Path | None,
     typer.Option("--cache-dir", help="Result cache (default ~/.cache/motiontool/batch)."),
 ]
+_CacheMaxMb = Annotated[
+    float,
+    typer.Option(
+        "--cache-max-mb",
+        min=0,
+        callback=finite,
+        help="After the batch, prune the cache to this many MB, least recently used results "
+        "first ('motiontool cache clean' empties it).",
+    ),
+]
 
 
 def batch_command(
@@ -122,6 +132,7 @@ def batch_command(
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     no_cache: _NoCache = False,
     cache_dir: _CacheDir = None,
+    cache_max_mb: _CacheMaxMb = 500.0,
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
@@ -129,6 +140,7 @@ def batch_command(
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
     from motiontool.sim.batch import check_robots, default_cache_dir, parse_perturbation
+    from motiontool.sim.cache import BYTES_PER_MB
     from motiontool.sim.expect import parse_expectations
     from motiontool.sim.physics import physics_run_options
 
@@ -168,6 +180,7 @@ def batch_command(
         jobs=jobs,
         timeout=timeout,
         cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
+        cache_max_bytes=round(cache_max_mb * BYTES_PER_MB),
         ray_address=ray_address,
     )
     _write_reports(batch, profile, json_out=json_out, markdown=markdown, junit=junit)
@@ -298,6 +311,7 @@ def _run(
     jobs: int,
     timeout: float | None,
     cache_dir: Path | None,
+    cache_max_bytes: int,
     ray_address: str | None,
 ) -> BatchResult:
     """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
@@ -343,6 +357,7 @@ def _run(
             jobs=jobs,
             timeout_s=timeout,
             cache_dir=cache_dir,
+            cache_max_bytes=cache_max_bytes,
             ray_address=ray_address,
             outputs=run_outputs,
             progress=progress,

@@ -27,8 +27,9 @@ from typing import Any, Literal
 from motiontool import __version__
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 
 __all__ = [
@@ -39,6 +40,7 @@ __all__ = [
     "RunSpec",
     "RunStatus",
     "check_robots",
+    "default_cache_dir",
     "parse_perturbation",
     "plan",
     "recording_stems",
@@ -287,38 +289,17 @@ def _judged(result: RunResult) -> RunResult:
     return _verdict(result.spec, report, result.wall_s, result.cached)
 
 
-def default_cache_dir() -> Path:
-    """``$XDG_CACHE_HOME/motiontool/batch`` (``~/.cache/motiontool/batch``)."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "motiontool" / "batch"
+def _load(cache: ResultCache | None, spec: RunSpec, key: str) -> RunResult | None:
+    doc = cache.load(key) if cache is not None else None
+    if doc is None or doc.get("status") not in CACHED_STATUSES:
+        return None
+    return RunResult(spec, doc["status"], doc.get("reason", ""), doc.get("report"), 0.0, True)
 
 
-@dataclass(frozen=True)
-class _Cache:
-    """Raw results on disk, one JSON file per cache key; ``directory`` None: no cache."""
-
-    directory: Path | None
-
-    def _path(self, key: str) -> Path | None:
-        return None if self.directory is None else self.directory / key[:2] / f"{key}.json"
-
-    def load(self, spec: RunSpec, key: str) -> RunResult | None:
-        path = self._path(key)
-        try:
-            doc: dict[str, Any] = json.loads(path.read_text()) if path else {}
-        except (OSError, ValueError):
-            return None
-        if doc.get("status") not in CACHED_STATUSES:
-            return None
-        return RunResult(spec, doc["status"], doc["reason"], doc["report"], 0.0, True)
-
-    def store(self, result: RunResult, key: str) -> None:
-        path = self._path(key)
-        if path is None or result.status not in CACHED_STATUSES:
-            return
+def _store(cache: ResultCache | None, result: RunResult, key: str) -> None:
+    if cache is not None and result.status in CACHED_STATUSES:
         payload = {"status": result.status, "reason": result.reason, "report": result.report}
-        path.parent.mkdir(parents=True, exist_ok=True)
-        atomic_write(path, json.dumps(payload, sort_keys=True).encode())
+        cache.store(key, payload)
 
 
 def run_batch(
@@ -330,6 +311,7 @@ def run_batch(
     jobs: int = 2,
     timeout_s: float | None = None,
     cache_dir: Path | None = None,
+    cache_max_bytes: int | None = DEFAULT_MAX_MB * BYTES_PER_MB,
     ray_address: str | None = None,
     outputs: Callable[[RunSpec], Sequence[Path]] | None = None,
     progress: Callable[[RunResult, int, int], None] | None = None,
@@ -345,6 +327,9 @@ def run_batch(
         jobs: parallel runs (local workers, or Ray tasks in flight).
         timeout_s: wall-clock limit of one run in seconds.
         cache_dir: where results are cached; None disables the cache.
+        cache_max_bytes: the cache is pruned to this size (bytes) after the batch, least
+            recently used results first (:class:`motiontool.sim.cache.ResultCache`); None: no
+            limit.
         ray_address: Ray cluster address (``auto``, ``ray://...``); None starts a local one.
         outputs: the files a run writes besides its report (its recording,
             :func:`motiontool.sim.runs.run_outputs`): a cached run one of whose files is
@@ -357,7 +342,7 @@ def run_batch(
         )
     t0 = time.monotonic()
     run = get_executor(executor, ray_address=ray_address)
-    cache = _Cache(cache_dir)
+    cache = None if cache_dir is None else ResultCache(cache_dir, cache_max_bytes)
     keys = [s.cache_key(model_hash(s.robot)) for s in specs]
     results: list[RunResult | None] = [None] * len(specs)
     done = 0
@@ -371,7 +356,7 @@ def run_batch(
 
     todo = []
     for i, spec in enumerate(specs):
-        hit = cache.load(spec, keys[i]) if _outputs_exist(spec, outputs) else None
+        hit = _load(cache, spec, keys[i]) if _outputs_exist(spec, outputs) else None
         if hit is None:
             todo.append(i)
         else:
@@ -379,8 +364,10 @@ def run_batch(
     for outcome in run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s):
         i = todo[outcome.index]
         result = _classify(specs[i], outcome)
-        cache.store(result, keys[i])
+        _store(cache, result, keys[i])
         finish(i, result)
+    if cache is not None:
+        cache.prune()
     final = [r for r in results if r is not None]
     assert len(final) == len(specs), "every run has a result"
     return BatchResult(final, time.monotonic() - t0, executor, jobs)
