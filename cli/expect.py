@@ -3,18 +3,21 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from motiontool.cli.output import emit, refuse_overwrite
 from motiontool.motionfmt.errors import MotionToolError
 
+if TYPE_CHECKING:
+    from motiontool.kinematics.robots import RobotSpec
+
 __all__ = ["expect_command"]
 
 
-def _floating(path: Path) -> bool | None:
-    """Whether the robot ``path``'s joints belong to is free-flying (None: no robot fits).
+def _robot(path: Path) -> RobotSpec | None:
+    """The built-in robot ``path``'s joints belong to (None: no robot fits).
 
     Raises:
         MotionToolError: ``PATH:LINE:COL: not a motion file Webots loads: REASON`` for a file
@@ -31,8 +34,7 @@ def _floating(path: Path) -> bool | None:
             f"{path}:{where}: not a motion file Webots loads{': ' + why if why else ''}; "
             "expect --infer proposes expectations for motion files"
         )
-    spec = pick_robot(AUTO, result.joints)
-    return None if spec is None else spec.floating_base
+    return pick_robot(AUTO, result.joints)
 
 
 def expect_command(
@@ -54,13 +56,16 @@ def expect_command(
 ) -> None:
     """Propose expectations (a motions.toml sidecar) from motion names, for people to review:
     Forwards -> dx>0, TurnLeft60 -> yaw=60±9, SideStepRight -> dy<0, StandUpFromFront ->
-    upright from lying-front, Fall -> fell, HandWave -> feet-planted, else upright. For a file,
-    its robot counts too (an arm gets no-self-collision). Nothing is measured: review it."""
+    upright from lying-front, DiveLeft -> fell to the left, KickSideLeft -> no-fall, HandWave
+    -> feet-planted, else upright. For a file, its robot counts too (an arm gets
+    no-self-collision), and a stand-up that does not say front or back is played from both to
+    find the start it needs. Review it."""
     if not infer:
         raise MotionToolError("expect needs --infer (propose expectations from the names)")
     from motiontool.motionfmt.fileio import collect_motion_files
     from motiontool.sim.infer import infer as infer_name
     from motiontool.sim.infer import render_toml
+    from motiontool.sim.infer_start import find_start
 
     inputs: list[Path] = []
     entries: list[tuple[str, Path | None]] = []
@@ -81,9 +86,11 @@ def expect_command(
         if name in seen:
             continue
         seen[name] = file
-        floating = _floating(file) if file is not None else None
-        inference = infer_name(name, floating_base=floating)
-        if file is not None and floating is None:
+        robot = _robot(file) if file is not None else None
+        inference = infer_name(name, floating_base=None if robot is None else robot.floating_base)
+        if file is not None and robot is None:
             inference.notes.append("no built-in robot fits its joints: batch it with --robot")
+        if file is not None and robot is not None:
+            find_start(inference, file, robot)
         inferences.append(inference)
     emit(render_toml(inferences), output)

@@ -7,7 +7,8 @@ warning; an expectation says what the motion must also *do*. Two forms:
   tolerance: ``±TOL[UNIT]``, also written ``+-TOL``, or ``±P%`` of the value; a unit after
   the tolerance alone applies to the value too: ``torso_height=33±1cm``), e.g.
   ``dx>=0.3``, ``yaw=60±10``, ``final_tilt<10``, ``torso_height>30cm``,
-  ``tracking_error[HeadYaw]<0.2``. A value without a unit is in the quantity's unit
+  ``tracking_error[HeadYaw]<0.2``, ``fall_direction=90±45`` (a direction: ``=`` takes the
+  short way round, 180±45 holds for -170). A value without a unit is in the quantity's unit
   (:data:`QUANTITIES`); units: ``m`` ``cm`` ``mm``, ``deg`` ``°`` ``rad``, ``s`` ``ms``.
 - an arm's end effector (the report's ``end_effector``): ``ee_error[KEYFRAME]<5mm``,
   ``ee_lag[KEYFRAME]<400ms`` (no keyframe: the worst one), ``ee_deviation<50mm``, and its
@@ -16,10 +17,13 @@ warning; an expectation says what the motion must also *do*. Two forms:
   ``ee@2.5s=[0.40,0.10,0.30]±0.02``. A keyframe name that several keyframes share (a
   repeated name, ``--loop``) takes the worst of them.
 - a flag (:data:`FLAGS`): ``upright``, ``fell``, ``no-fall``, ``no-self-collision``,
-  ``feet-planted``.
+  ``feet-planted``. ``upright`` is the play report's fall detector (the root below
+  ``fall_height_m`` or tilted past ``fall_tilt_deg``, :class:`motiontool.sim.play.PlayOptions`):
+  no fall and up at the end; a stance that leans 11 degrees by design is upright.
 
-An expectation that names the fall (``fell``, ``no-fall``, ``fell_at``) decides about the fall
-itself: a robot that falls where ``fell`` is expected is a clean run (Webots' ``Fall.motion``).
+An expectation that names the fall (``fell``, ``no-fall``, ``fell_at``, ``fall_direction``)
+decides about the fall itself: a robot that falls where ``fell`` is expected is a clean run
+(Webots' ``Fall.motion``).
 
 Stdlib only: no simulator is imported here.
 """
@@ -43,7 +47,6 @@ __all__ = [
     "FEET_PLANTED_MM",
     "FLAGS",
     "QUANTITIES",
-    "UPRIGHT_TILT_DEG",
     "Expectation",
     "ExpectationError",
     "ExpectationResult",
@@ -53,9 +56,6 @@ __all__ = [
     "parse_expectation",
     "parse_expectations",
 ]
-
-UPRIGHT_TILT_DEG = 10.0
-"""``upright``: no fall, up at the end, and the final tilt (degrees) below this."""
 
 FEET_PLANTED_MM = 5.0
 """``feet-planted``: no foot moves further than this (mm, horizontal) from where it started."""
@@ -85,6 +85,8 @@ class Quantity:
         per_keyframe: whether it takes a keyframe, ``QUANTITY[KEYFRAME]`` (an arm's tool).
         point: whether it is a position, compared with ``=[x, y, z]±TOL`` (the distance is
             measured), at a keyframe ``[KEYFRAME]`` or a time ``@T``.
+        periodic: whether it is a direction in degrees, (-180, 180]: ``=`` compares the
+            wrapped difference (``fall_direction=180±45`` holds for -170).
     """
 
     name: str
@@ -95,6 +97,7 @@ class Quantity:
     decides_fall: bool = False
     per_keyframe: bool = False
     point: bool = False
+    periodic: bool = False
 
 
 _UNITS: dict[str, tuple[str, float]] = {  # unit -> (kind, value in SI)
@@ -131,11 +134,19 @@ def _base_value(key: str) -> Measure:
             why = {
                 "yaw_change_deg": "the robot was never upright",
                 "fell_at_s": "it did not fall",
+                "fall_direction_deg": "it did not fall",
             }.get(key, "no value")
             return None, why
         return float(value), ""
 
     return measure
+
+
+def _fall_direction(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
+    measured, why = _base_value("fall_direction_deg")(report, e)
+    if measured is None and report.base is not None and report.base.fell:
+        return None, "the report does not say which way (made before fall_direction existed)"
+    return measured, why
 
 
 def _heading(axis: int) -> Measure:
@@ -304,6 +315,15 @@ QUANTITIES: dict[str, Quantity] = {
             "fell_at", "s", "when the robot fell", _base_value("fell_at_s"), decides_fall=True
         ),
         Quantity(
+            "fall_direction",
+            "deg",
+            "which way it fell, from its heading before the fall (0 forward, 90 left, "
+            "-90 right, 180 back)",
+            _fall_direction,
+            decides_fall=True,
+            periodic=True,
+        ),
+        Quantity(
             "feet_slip",
             "mm",
             "largest horizontal slip of a foot while on the floor",
@@ -386,7 +406,7 @@ QUANTITIES: dict[str, Quantity] = {
 per-joint ones take the worst commanded joint unless a joint is named in brackets)."""
 
 FLAGS: dict[str, str] = {
-    "upright": f"no fall, up at the end and final tilt < {UPRIGHT_TILT_DEG:g} deg",
+    "upright": "no fall and up at the end (the fall detector: root height and tilt)",
     "fell": "the robot falls (the fall is then expected: not a failure)",
     "no-fall": "the robot does not fall",
     "no-self-collision": "no two robot bodies collide",
@@ -710,21 +730,23 @@ def _flag(e: Expectation, report: PlayReport) -> ExpectationResult:
     if name == "no-fall":
         reason = f"expected no fall, {fell_at}" if base.fell else ""
         return ExpectationResult(e, not base.fell, base.fell_at_s, "s", reason)
-    # upright
+    # upright: the fall detector's verdict (final tilt measured, for the reader)
     tilt = base.final_tilt_deg
     if base.fell:
         problem = fell_at
     elif not base.upright_at_end:
         problem = "down at the end" + (" (started down)" if base.started_down else "")
-    elif not tilt < UPRIGHT_TILT_DEG:
-        problem = f"final tilt {_fmt(tilt, 'deg')}"
     else:
         return ExpectationResult(e, True, tilt, "deg")
-    reason = f"expected upright (no fall, final tilt < {UPRIGHT_TILT_DEG:g} deg), {problem}"
+    reason = f"expected upright (no fall, up at the end), {problem}"
     return ExpectationResult(e, False, tilt, "deg", reason)
 
 
-def _compare(op: str, measured: float, value: float, tolerance: float) -> bool:
+def _compare(
+    op: str, measured: float, value: float, tolerance: float, periodic: bool = False
+) -> bool:
+    if op == "=" and periodic:  # directions, degrees: the short way round
+        return abs((measured - value + 180.0) % 360.0 - 180.0) <= tolerance
     if op == "<":
         return measured < value
     if op == "<=":
@@ -756,7 +778,9 @@ def evaluate(
             ok = math.isfinite(measured) and measured <= e.tolerance
             reason = "" if ok else f"expected {e.describe()}, measured {note}"
         else:
-            ok = math.isfinite(measured) and _compare(e.op, measured, e.value, e.tolerance)
+            ok = math.isfinite(measured) and _compare(
+                e.op, measured, e.value, e.tolerance, quantity.periodic
+            )
             shown = _fmt(measured, quantity.unit) + (f" ({note})" if note else "")
             reason = "" if ok else f"expected {e.describe()}, measured {shown}"
         out.append(ExpectationResult(e, ok, measured, quantity.unit, reason))

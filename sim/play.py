@@ -494,6 +494,16 @@ def _down(trace: Trace, opts: PlayOptions) -> npt.NDArray[np.bool_]:
     return down
 
 
+def _fall_direction_deg(quat: npt.NDArray[np.float64], heading_deg: float) -> float:
+    """Which way a root with orientation ``quat`` (w, x, y, z) leans, in degrees from
+    ``heading_deg`` (the heading it had while up), in (-180, 180]: 0 forward, 90 left, -90
+    right, 180 back (the horizontal direction of its z axis)."""
+    w, x, y, z = (float(v) for v in quat)
+    lean = math.degrees(math.atan2(2.0 * (y * z - w * x), 2.0 * (x * z + w * y)))
+    turned = (lean - heading_deg + 180.0) % 360.0 - 180.0
+    return 180.0 if turned == -180.0 else turned
+
+
 def _base(trace: Trace, opts: PlayOptions) -> BaseStats:
     import numpy as np
 
@@ -505,10 +515,13 @@ def _base(trace: Trace, opts: PlayOptions) -> BaseStats:
         steps = np.diff(heading[up])
         yaw = float(np.sum((steps + 180.0) % 360.0 - 180.0))
     fell_at: float | None = None
+    direction: float | None = None
     if len(up):
         after = np.flatnonzero(down[up[0] :])
         if len(after):
-            fell_at = float(trace.time_s[up[0] + after[0]])
+            k = up[0] + after[0]  # the first frame down; k - 1 was up
+            fell_at = float(trace.time_s[k])
+            direction = _fall_direction_deg(trace.base_quat[k], float(heading[k - 1]))
     d = trace.base_pos[-1] - trace.base_pos[0]
     return BaseStats(
         dx_m=float(d[0]),
@@ -523,6 +536,7 @@ def _base(trace: Trace, opts: PlayOptions) -> BaseStats:
         fell=fell_at is not None,
         fell_at_s=fell_at,
         upright_at_end=not bool(down[-1]),
+        fall_direction_deg=direction,
     )
 
 

@@ -25,7 +25,10 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
         "yaw_change_deg",                    # heading change over the upright part (unwrapped)
         "max_tilt_deg", "final_tilt_deg",    # angle between the root's z axis and the vertical
         "min_height_m", "final_height_m",    # root height above the floor
-        "started_down", "fell", "fell_at_s", "upright_at_end"},
+        "started_down", "fell", "fell_at_s", "upright_at_end",
+        "fall_direction_deg"},               # which way it fell, from its heading just before:
+                                             #   0 forward, 90 left, -90 right, 180 back
+                                             #   (null: it did not fall)
       "end_effector": null | {                                   # fixed-base robots only
         "frame", "kind" ("site"|"body"),     # the tool: a site named tool/tcp/ee/flange/...,
                                              #   else the last body of the chain
@@ -162,6 +165,7 @@ class BaseStats:
     fell: bool
     fell_at_s: float | None
     upright_at_end: bool
+    fall_direction_deg: float | None = None
 
 
 @dataclass(frozen=True)

@@ -183,9 +183,32 @@ def test_a_failed_expectation_fails_the_run_and_an_expected_fall_passes(
     late = apply_expectations(fallen, ["fell_at>1"])
     assert late["reason"] == "expected fell_at > 1 s, measured 0.50 s"
     assert apply_expectations(fallen, ["upright"])["reason"] == (
-        "fell at 0.50 s; expected upright (no fall, final tilt < 10 deg), fell at 0.50 s"
+        "fell at 0.50 s; expected upright (no fall, up at the end), fell at 0.50 s"
     )
     assert apply_expectations(fallen, ["no-fall"])["reason"] == "expected no fall, fell at 0.50 s"
+
+
+def test_fall_direction_takes_the_short_way_round_and_says_why_it_is_not_measured(
+    nod_report: PlayReport,
+) -> None:
+    doc = nod_report.to_json()
+    fallen = json.loads(json.dumps(doc))
+    fallen["base"].update(fell=True, fell_at_s=0.5, upright_at_end=False)
+    fallen["base"]["fall_direction_deg"] = -170.0  # back, a little to the right
+    judged = apply_expectations(fallen, ["fall_direction=180±45"])
+    assert judged["clean"] is True  # -170 is 10 deg from 180: the expected fall
+    assert judged["expectations"][0]["measured"] == {"value": -170.0, "unit": "deg"}
+    assert apply_expectations(fallen, ["fall_direction=90±45"])["reason"] == (
+        "expected fall_direction = 90 ± 45 deg, measured -170.0 deg"
+    )
+    assert apply_expectations(fallen, ["fall_direction=-135±40"])["clean"] is True
+    assert apply_expectations(fallen, ["fall_direction<0"])["clean"] is True
+    (standing,) = evaluate(["fall_direction=0±45"], nod_report)  # it did not fall
+    assert standing.reason == "expected fall_direction = 0 ± 45 deg, not measured: it did not fall"
+    del fallen["base"]["fall_direction_deg"]  # a cached report made before it existed
+    assert apply_expectations(fallen, ["fall_direction=180±45"])["reason"].endswith(
+        "not measured: the report does not say which way (made before fall_direction existed)"
+    )
 
 
 def test_report_json_round_trips(nod_report: PlayReport) -> None:
