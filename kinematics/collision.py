@@ -353,26 +353,11 @@ def scan_self_collisions(
     """
     import numpy as np
 
-    q = np.asarray(q_motors, dtype=np.float64)
-    if q.ndim != 2 or q.shape[1] != len(spec.joints):
-        raise MotionToolError(
-            f"robot {spec.name}: expected configurations of shape (N, {len(spec.joints)}), "
-            f"got {q.shape}"
-        )
+    q = _checked(spec, q_motors)
     if q.shape[0] == 0:
         return []
-    if not np.isfinite(q).all():
-        raise MotionToolError(f"robot {spec.name}: a configuration holds a non-finite value")
     tables = _pinocchio.kinematic_tables(spec)
-    index_of: dict[bytes, int] = {}  # identical configurations are checked once
-    firsts: list[int] = []
-    inverse = np.empty(q.shape[0], dtype=np.int64)
-    for i, row in enumerate(q):
-        k = index_of.setdefault(row.tobytes(), len(firsts))
-        if k == len(firsts):
-            firsts.append(i)
-        inverse[i] = k
-    unique = q[firsts]
+    unique, inverse = _unique_rows(q)
     moving = (unique != 0.0).any(axis=0)
     tolerance = max(penetration_tolerance_m, 0.0)
     reach = tables.geom_radius[tables.pair_first] + tables.geom_radius[tables.pair_second]
@@ -392,9 +377,58 @@ def scan_self_collisions(
     # penetration read as 29 mm); the projected-overlap bound is a true upper bound.
     depth = np.minimum(-_pinocchio.pair_signed_distances(spec, unique, rows, pairs), bound)
     hit = (depth > 0.0) & (depth >= penetration_tolerance_m)
-    deepest: dict[tuple[int, str, str], float] = {}
     bodies = tables.geom_limb if fingers_in_hand else tables.geom_body
-    for row, k, d in zip(rows[hit], pairs[hit], depth[hit], strict=True):
+    by_row = _deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
+    contacts: list[Contact] = []
+    for config, row in enumerate(inverse.tolist()):
+        contacts.extend(Contact(config, a, b, d) for a, b, d in by_row.get(row, ()))
+    return contacts
+
+
+def _checked(spec: RobotSpec, q_motors: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    """``q_motors`` as an (N, M) float64 array, or an error naming the expected shape."""
+    import numpy as np
+
+    q = np.asarray(q_motors, dtype=np.float64)
+    if q.ndim != 2 or q.shape[1] != len(spec.joints):
+        raise MotionToolError(
+            f"robot {spec.name}: expected configurations of shape (N, {len(spec.joints)}), "
+            f"got {q.shape}"
+        )
+    if not np.isfinite(q).all():
+        raise MotionToolError(f"robot {spec.name}: a configuration holds a non-finite value")
+    return q
+
+
+def _unique_rows(
+    q: npt.NDArray[np.float64],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
+    """The distinct rows of ``q`` in first-seen order, and each row's index among them
+    (identical configurations are checked once)."""
+    import numpy as np
+
+    index_of: dict[bytes, int] = {}
+    firsts: list[int] = []
+    inverse = np.empty(q.shape[0], dtype=np.int64)
+    for i, row in enumerate(q):
+        k = index_of.setdefault(row.tobytes(), len(firsts))
+        if k == len(firsts):
+            firsts.append(i)
+        inverse[i] = k
+    return q[firsts], inverse
+
+
+def _deepest_by_row(
+    tables: KinematicTables,
+    bodies: tuple[str, ...],
+    rows: npt.NDArray[np.int64],
+    pairs: npt.NDArray[np.int64],
+    depth: npt.NDArray[np.float64],
+) -> dict[int, list[tuple[str, str, float]]]:
+    """Per configuration, the deepest depth (m) of each pair of bodies, sorted by bodies; a
+    pair whose two geometries count as one body is not a contact."""
+    deepest: dict[tuple[int, str, str], float] = {}
+    for row, k, d in zip(rows, pairs, depth, strict=True):
         a = bodies[tables.pair_first[k]]
         b = bodies[tables.pair_second[k]]
         if a == b:
@@ -404,7 +438,4 @@ def scan_self_collisions(
     by_row: dict[int, list[tuple[str, str, float]]] = {}
     for (row, a, b), d in sorted(deepest.items()):
         by_row.setdefault(row, []).append((a, b, d))
-    contacts: list[Contact] = []
-    for config, row in enumerate(inverse.tolist()):
-        contacts.extend(Contact(config, a, b, d) for a, b, d in by_row.get(row, ()))
-    return contacts
+    return by_row

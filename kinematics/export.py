@@ -126,7 +126,23 @@ class _Urdf:
         return np.eye(4) if fid < 0 else np.asarray(self.frames[fid].placement.homogeneous)
 
     def text(self) -> str:
-        spec, model = self.spec, self.model
+        links: dict[str, list[str]] = {}  # link name -> its XML lines, in order of appearance
+        joints_xml = self._moving_links(links) + self._fixed_links(links)
+        self._collision_links(links)
+        out = self._header()
+        for name, body in links.items():
+            if body:
+                out.append(f"  <link name={quoteattr(name)}>")
+                out.extend("    " + line for line in body)
+                out.append("  </link>")
+            else:
+                out.append(f"  <link name={quoteattr(name)}/>")
+        out.extend(joints_xml)
+        out.append("</robot>")
+        return "\n".join(out) + "\n"
+
+    def _header(self) -> list[str]:
+        spec = self.spec
         out = [
             '<?xml version="1.0" encoding="utf-8"?>',
             "<!--",
@@ -138,39 +154,37 @@ class _Urdf:
                 f"  The root link '{self.link_of_joint(1)}' is free-flying: load this file with a "
                 "free-flyer root joint (pinocchio.JointModelFreeFlyer())."
             )
-        out += [
+        return [
+            *out,
             "  URDF has no capsule: each capsule is written as its exact equivalent, a cylinder",
             "  and two end spheres. Not written (no URDF equivalent): MuJoCo actuators and",
             "  options, sites, the Webots time step and the names of the feet.",
             "-->",
             f"<robot name={quoteattr(spec.name)}>",
         ]
-        links: dict[str, list[str]] = {}
-        order: list[str] = []
-        joints_xml: list[str] = []
 
-        def link(name: str) -> list[str]:
-            if name not in links:
-                links[name] = []
-                order.append(name)
-            return links[name]
-
+    def _moving_links(self, links: dict[str, list[str]]) -> list[str]:
+        """The link of each model joint (with its inertial) into ``links``; the joints' XML."""
+        joints_xml = []
         for jid in sorted(self.main):
-            name = self.link_of_joint(jid)
-            body = link(name)
-            inertia = model.inertias[jid]
+            body = links.setdefault(self.link_of_joint(jid), [])
+            inertia = self.model.inertias[jid]
             if jid >= self.root_joint and float(inertia.mass) > 0.0 and self.main[jid] >= 0:
                 body.append(self._inertial(inertia))
-            if jid <= self.root_joint:
-                continue
-            joints_xml.append(self._joint(jid))
-        # Fixed bodies (e.g. the Nao's foot force-sensor boxes) and their fixed joints.
+            if jid > self.root_joint:
+                joints_xml.append(self._joint(jid))
+        return joints_xml
+
+    def _fixed_links(self, links: dict[str, list[str]]) -> list[str]:
+        """Fixed bodies (e.g. the Nao's foot force-sensor boxes) into ``links``; the XML of
+        their fixed joints."""
+        joints_xml = []
         mains = set(self.main.values())
         for fid, frame in enumerate(self.frames):
             if str(frame.type) != "BODY" or fid in mains:
                 continue
             parent_fid = self._parent_body(fid)
-            link(frame.name)
+            links.setdefault(frame.name, [])
             rel = self.np.linalg.inv(self.placement(parent_fid)) @ self.placement(fid)
             joint_name = self.frames[frame.parentFrame].name
             joints_xml.append(
@@ -178,24 +192,17 @@ class _Urdf:
                 f"<parent link={quoteattr(self._body_name(parent_fid))}/>"
                 f"<child link={quoteattr(frame.name)}/>{origin(rel[:3, :3], rel[:3, 3])}</joint>"
             )
+        return joints_xml
+
+    def _collision_links(self, links: dict[str, list[str]]) -> None:
+        """Each collision geometry into the link of the body that holds it."""
         for obj in self.geoms.geometryObjects:
             body_fid = obj.parentFrame
             name = self.frames[body_fid].name if body_fid > 0 else self.link_of_joint(0)
             rel = self.np.linalg.inv(self.placement(body_fid if body_fid > 0 else -1)) @ (
                 self.np.asarray(obj.placement.homogeneous)
             )
-            link(name).extend(self._collisions(obj, rel))
-        for name in order:
-            body = links[name]
-            if body:
-                out.append(f"  <link name={quoteattr(name)}>")
-                out.extend("    " + line for line in body)
-                out.append("  </link>")
-            else:
-                out.append(f"  <link name={quoteattr(name)}/>")
-        out.extend(joints_xml)
-        out.append("</robot>")
-        return "\n".join(out) + "\n"
+            links.setdefault(name, []).extend(self._collisions(obj, rel))
 
     def _parent_body(self, fid: int) -> int:
         """The BODY frame a fixed body hangs from (-1: the world)."""
@@ -219,12 +226,12 @@ class _Urdf:
         )
 
     def _joint(self, jid: int) -> str:
-        from motiontool.kinematics._pinocchio import _joint_motion
+        from motiontool.kinematics._pinocchio import joint_motion
 
         model = self.model
         name = model.names[jid]
         joint = model.joints[jid]
-        kind, axis = _joint_motion(joint, joint.shortname())
+        kind, axis = joint_motion(joint, joint.shortname())
         if kind == self.fixed or name not in self.spec:
             raise MotionToolError(
                 f"cannot write robot {self.spec.name} as URDF: joint '{name}' "

@@ -214,6 +214,52 @@ def _pose_of(oMf: Any) -> Pose:
     return Pose(np.array(oMf.translation), np.array(oMf.rotation))
 
 
+def _descend(
+    model: pin.Model,
+    data: pin.Data,
+    fid: int,
+    goal: Any,
+    chain: _Chain,
+    q: Any,
+    target: Pose,
+    tolerances: tuple[float, float],
+    max_iterations: int,
+) -> tuple[Any, float, float, int]:
+    """Levenberg–Marquardt from ``q`` (the chain's motors within their limits) until the frame
+    is within ``tolerances`` (m, rad) of ``target``, the damping runs away, or
+    ``max_iterations``: the last accepted q, its position (m) and orientation (rad) errors and
+    the iterations used."""
+    import numpy as np
+
+    x = q[chain.idx_q]
+    error, jac = _residual(model, data, q, fid, goal, chain)
+    cost = float(error @ error)
+    lam = _LAMBDA_START
+    identity = np.eye(len(chain.names))
+    iterations = 0
+    position_error, orientation_error = _pose_of(data.oMf[fid]).errors_to(target)
+    while position_error > tolerances[0] or orientation_error > tolerances[1]:
+        if lam > _LAMBDA_MAX or iterations >= max_iterations:
+            break
+        iterations += 1
+        step = -np.linalg.solve(jac.T @ jac + lam * identity, jac.T @ error)
+        largest = float(np.max(np.abs(step)))
+        if largest > MAX_STEP:
+            step *= MAX_STEP / largest
+        x_new = np.clip(x + step, chain.lower, chain.upper)
+        q_new = q.copy()
+        q_new[chain.idx_q] = x_new
+        error_new, jac_new = _residual(model, data, q_new, fid, goal, chain)
+        cost_new = float(error_new @ error_new)
+        if cost_new < cost:
+            x, q, error, jac, cost = x_new, q_new, error_new, jac_new, cost_new
+            lam = max(lam / 10.0, _LAMBDA_MIN)
+            position_error, orientation_error = _pose_of(data.oMf[fid]).errors_to(target)
+        else:
+            lam *= 10.0
+    return q, position_error, orientation_error, iterations
+
+
 # --------------------------------------------------------------------------- public functions
 
 
@@ -295,52 +341,32 @@ def solve_ik(
     fid = _frame_id(model, spec, frame)
     chain = _Chain(model, spec, joints)
     goal = pin.SE3(np.array(target.rotation), np.array(target.position))
-
     q = _configuration(model, spec, seed)
-    x = np.clip(q[chain.idx_q], chain.lower, chain.upper)
-    q[chain.idx_q] = x
-    error, jac = _residual(model, data, q, fid, goal, chain)
-    cost = float(error @ error)
-    lam = _LAMBDA_START
-    identity = np.eye(len(chain.names))
-    iterations = 0
-    position_error, orientation_error = _pose_of(data.oMf[fid]).errors_to(target)
-    while True:
-        if (
-            position_error <= position_tolerance_m
-            and orientation_error <= orientation_tolerance_rad
-        ):
-            q_by_joint = _motor_values(model, spec, q)
-            _log.debug(
-                "IK %s: converged in %d iterations (%.3g m, %.3g rad)",
-                frame,
-                iterations,
-                position_error,
-                orientation_error,
-            )
-            return IKSolution(q_by_joint, position_error, orientation_error, iterations)
-        if lam > _LAMBDA_MAX or iterations >= max_iterations:
-            break
-        iterations += 1
-        step = -np.linalg.solve(jac.T @ jac + lam * identity, jac.T @ error)
-        largest = float(np.max(np.abs(step)))
-        if largest > MAX_STEP:
-            step *= MAX_STEP / largest
-        x_new = np.clip(x + step, chain.lower, chain.upper)
-        q_new = q.copy()
-        q_new[chain.idx_q] = x_new
-        error_new, jac_new = _residual(model, data, q_new, fid, goal, chain)
-        cost_new = float(error_new @ error_new)
-        if cost_new < cost:
-            x, q, error, jac, cost = x_new, q_new, error_new, jac_new, cost_new
-            lam = max(lam / 10.0, _LAMBDA_MIN)
-            position_error, orientation_error = _pose_of(data.oMf[fid]).errors_to(target)
-        else:
-            lam *= 10.0
-    raise MotionToolError(
+    q[chain.idx_q] = np.clip(q[chain.idx_q], chain.lower, chain.upper)
+    tolerances = (position_tolerance_m, orientation_tolerance_rad)
+    search = _descend(model, data, fid, goal, chain, q, target, tolerances, max_iterations)
+    q, position_error, orientation_error, iterations = search
+    if position_error <= position_tolerance_m and orientation_error <= orientation_tolerance_rad:
+        _log.debug(
+            "IK %s: converged in %d iterations (%.3g m, %.3g rad)",
+            frame,
+            iterations,
+            position_error,
+            orientation_error,
+        )
+        q_by_joint = _motor_values(model, spec, q)
+        return IKSolution(q_by_joint, position_error, orientation_error, iterations)
+    raise _no_convergence(spec, frame, target, (position_error, orientation_error), iterations)
+
+
+def _no_convergence(
+    spec: RobotSpec, frame: str, target: Pose, errors: tuple[float, float], iterations: int
+) -> MotionToolError:
+    """The error of a search that stopped ``errors`` (m, rad) away from ``target``."""
+    return MotionToolError(
         f"inverse kinematics for frame '{frame}' of robot {spec.name} did not converge to "
         f"position ({target.position[0]:.4f}, {target.position[1]:.4f}, "
-        f"{target.position[2]:.4f}) m: still {position_error * 1000:.1f} mm and "
-        f"{math.degrees(orientation_error):.2f} deg away after {iterations} iterations "
+        f"{target.position[2]:.4f}) m: still {errors[0] * 1000:.1f} mm and "
+        f"{math.degrees(errors[1]):.2f} deg away after {iterations} iterations "
         f"(out of reach, beyond a joint limit, or on another branch than the seed)"
     )

@@ -55,6 +55,13 @@ def test_core_is_light_and_each_heavy_library_is_an_extra() -> None:
     assert "motiontool[all]" in extras["test"]
 
 
+#: Code folders left out of the wheel on purpose: build-time tools that run from a checkout.
+NOT_SHIPPED = {
+    # Writes kinematics/models from tests/data/robot_facts, which the wheel does not hold either.
+    "motiontool.kinematics._modelgen",
+}
+
+
 def test_explicit_package_list_covers_every_code_folder() -> None:
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())
     listed = set(config["tool"]["setuptools"]["packages"])
@@ -63,7 +70,8 @@ def test_explicit_package_list_covers_every_code_folder() -> None:
         for p in ROOT.glob("*/**/__init__.py")
         if not {"tests", "benchmarks", ".venv", "build"} & set(p.relative_to(ROOT).parts)
     }
-    assert listed == found | DATA_PACKAGES
+    assert found >= NOT_SHIPPED
+    assert listed == (found - NOT_SHIPPED) | DATA_PACKAGES
     # A data folder is listed as a package of its own, with its files as its package data.
     assert set(config["tool"]["setuptools"]["package-data"]) >= DATA_PACKAGES
 
@@ -256,6 +264,8 @@ def test_built_wheel_contains_every_subpackage(built: dict[str, Any], tmp_path: 
     config = tomllib.loads((ROOT / "pyproject.toml").read_text())
     for package in set(config["tool"]["setuptools"]["packages"]) - DATA_PACKAGES:
         assert package.replace(".", "/") + "/__init__.py" in names
+    for tool in NOT_SHIPPED:
+        assert not any(n.startswith(tool.replace(".", "/") + "/") for n in names)
     schema_files = sorted((ROOT / "cli" / "schemas").glob("*.schema.json"))
     assert schema_files
     for schema in schema_files:  # package data: the JSON Schemas of the reports
@@ -335,10 +345,24 @@ def test_imports_follow_the_layers() -> None:
     assert not wrong, "\n".join(wrong)
 
 
+def test_no_library_module_imports_a_build_time_tool() -> None:
+    # The wheel lacks them: an import from the library would fail only once installed.
+    tools = tuple(NOT_SHIPPED)
+    wrong = [
+        f"{path.relative_to(ROOT)}:{line}: {name}"
+        for package in ("cli", "motionfmt", "kinematics", "sim")
+        for path in sorted((ROOT / package).rglob("*.py"))
+        if not any(path.is_relative_to(ROOT.joinpath(*t.split(".")[1:])) for t in tools)
+        for line, name in _imports(path)
+        if name.startswith(tools)
+    ]
+    assert wrong == []
+
+
 #: String literals of the library packages that may name a CLI flag: a script's own argparse
 #: option, and text the CLI's option help owns or writes into a generated file.
 _FLAGS_ALLOWED = {
-    ("kinematics/_modelgen.py", "--check"),  # the model generator script's own option
+    ("kinematics/_modelgen/main.py", "--check"),  # the model generator script's own option
     ("sim/batch.py", "--friction"),  # a perturbation's help: what 1 means
     ("sim/infer.py", "--infer"),  # the header of the motions.toml that 'expect --infer' writes
 }

@@ -14,7 +14,9 @@ import pytest
 from conftest import ROBOT_FACTS
 
 import motiontool.kinematics as kin
-from motiontool.kinematics import _modelgen, _pinocchio
+from motiontool.kinematics import _modelgen
+from motiontool.kinematics._modelgen.inertia import balanced
+from motiontool.kinematics._pinocchio.hull import convex_hull, signed_distance
 from motiontool.kinematics.builtin_robots import BUILTIN_ROBOTS
 from motiontool.kinematics.robots import (
     AUTO,
@@ -85,9 +87,9 @@ def test_generator_takes_the_robot_facts_folder_as_an_argument(tmp_path, capsys)
 
 def test_triangle_inequality_correction_is_minimal():
     valid = {"ixx": 2.0, "iyy": 3.0, "izz": 4.0, "ixy": 0.0, "ixz": 0.0, "iyz": 0.0}
-    assert _modelgen._balanced(valid) == ([2.0, 3.0, 4.0, 0.0, 0.0, 0.0], False)
+    assert balanced(valid) == ([2.0, 3.0, 4.0, 0.0, 0.0, 0.0], False)
     broken = {"ixx": 1.0, "iyy": 3.0, "izz": 5.0, "ixy": 0.0, "ixz": 0.0, "iyz": 0.0}
-    full, corrected = _modelgen._balanced(broken)
+    full, corrected = balanced(broken)
     assert corrected
     assert full[:3] == pytest.approx([2.0, 3.0, 5.0], abs=1e-8)
 
@@ -531,12 +533,12 @@ def test_balance_needs_feet():
 
 
 def test_signed_distance_against_a_square():
-    hull = _pinocchio._convex_hull([(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5), (1, 0.5)])
+    hull = convex_hull([(0, 0), (1, 0), (1, 1), (0, 1), (0.5, 0.5), (1, 0.5)])
     assert hull == [(0, 0), (1, 0), (1, 1), (0, 1)]
-    assert _pinocchio._signed_distance((0.5, 0.25), hull) == pytest.approx(0.25)
-    assert _pinocchio._signed_distance((2.0, 0.5), hull) == pytest.approx(-1.0)
-    assert _pinocchio._signed_distance((0.0, 0.0), [(3.0, 4.0)]) == pytest.approx(-5.0)
-    assert _pinocchio._signed_distance((0.5, 1.0), [(0.0, 0.0), (1.0, 0.0)]) == pytest.approx(-1.0)
+    assert signed_distance((0.5, 0.25), hull) == pytest.approx(0.25)
+    assert signed_distance((2.0, 0.5), hull) == pytest.approx(-1.0)
+    assert signed_distance((0.0, 0.0), [(3.0, 4.0)]) == pytest.approx(-5.0)
+    assert signed_distance((0.5, 1.0), [(0.0, 0.0), (1.0, 0.0)]) == pytest.approx(-1.0)
 
 
 # --------------------------------------------------------------------------- package hygiene
