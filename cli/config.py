@@ -18,7 +18,8 @@ Keys (``cli/schemas/config.schema.json`` is their JSON Schema, shipped in the pa
 - ``checks``: the robot checks (``["limits", "velocity"]``);
 - ``timestep``: the controller time step in ms;
 - ``exclude``, ``extend-exclude``: files and folders left out when a folder is searched;
-- ``max-findings``: findings shown at most (the summary still counts every one).
+- ``max-findings``: findings shown at most (the summary still counts every one);
+- ``group``: consecutive per-pose findings of one code and joint as one finding (default true).
 
 A key that does not exist or a value of the wrong type is one error naming the file, the line
 and the key, with a did-you-mean.
@@ -97,6 +98,7 @@ class Settings:
     exclude: tuple[str, ...] = ()
     extend_exclude: tuple[str, ...] = ()
     max_findings: int | None = None
+    group: bool = True
 
     def robot_for(self, path: Path) -> str:
         """The robot for ``path``: the first ``robots`` glob that matches it, else ``robot``."""
@@ -187,6 +189,7 @@ KEYS: dict[str, tuple[Any, str]] = {
         lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 1,
         "a whole number >= 1",
     ),
+    "group": (lambda v: isinstance(v, bool), "true or false"),
 }
 """Every configuration key, with the check of its value and what that value must be."""
 
@@ -311,6 +314,7 @@ def _settings(path: Path, values: dict[str, Any]) -> Settings:
         exclude=tuple(values.get("exclude", ())),
         extend_exclude=tuple(values.get("extend_exclude", ())),
         max_findings=values.get("max_findings"),
+        group=values.get("group", True),
     )
 
 

@@ -1,9 +1,10 @@
 """One ``validate`` run with the project's configuration: each file with the settings of the
 closest configuration file (``cli/config.py``), the command line over them.
 
-Files that share a robot, checks and time step are validated together (one set of robot checks
-each); findings are then kept or left out per file (``select``, ``ignore``, ``per-file-ignores``),
-and ``strict`` applies per file.
+Files that share a robot, checks, time step and grouping (``group``: consecutive per-pose
+findings as one) are validated together (one set of robot checks each); findings are then kept
+or left out per file (``select``, ``ignore``, ``per-file-ignores``), and ``strict`` applies per
+file.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ class Overrides:
     strict: bool | None = None
     ignore: tuple[str, ...] = ()
     collision_tolerance_mm: float | None = None
+    group: bool | None = None
 
 
 @dataclass
@@ -95,13 +97,16 @@ def collect(paths: Sequence[Path], resolver: Resolver) -> list[Path]:
     return files
 
 
-def _group_key(
-    f: Path, s: Settings, o: Overrides
-) -> tuple[str, tuple[str, ...] | None, int | None]:
+_Key = tuple[str, tuple[str, ...] | None, int | None, bool]
+"""What files validated together share: robot, checks, time step and grouping."""
+
+
+def _group_key(f: Path, s: Settings, o: Overrides) -> _Key:
     robot = o.robot if o.robot is not None else s.robot_for(f)
     checks = o.checks if o.checks is not None else s.checks
     timestep = o.timestep if o.timestep is not None else s.timestep
-    return robot, checks, timestep
+    group = o.group if o.group is not None else s.group
+    return robot, checks, timestep, group
 
 
 def lint(
@@ -116,19 +121,20 @@ def lint(
     words its hints); ``checks`` None means the default checks (skipped with a note where a
     library is missing), a tuple means checks asked for by name.
     """
-    groups: dict[tuple[str, tuple[str, ...] | None, int | None], list[Path]] = {}
+    groups: dict[_Key, list[Path]] = {}
     settings = {f: resolver.for_file(f) for f in files}
     for f in files:
         groups.setdefault(_group_key(f, settings[f], overrides), []).append(f)
     by_name: dict[str, FileReport] = {}
     checked: Checked | None = None
-    for (robot, checks, timestep), group in groups.items():
+    for (robot, checks, timestep, grouped), group in groups.items():
         checker = None if robot == NONE else make_checker(robot, checks, timestep)
         part = validate_paths(
             group,
             timestep_ms=timestep,
             checks=[checker] if checker is not None else [],
             ignore=overrides.ignore,
+            group=grouped,
         )
         for f, fr in zip(group, part.files, strict=True):
             s = settings[f]

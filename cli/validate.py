@@ -202,6 +202,16 @@ _Strict = Annotated[
         show_default=False,
     ),
 ]
+_Group = Annotated[
+    bool | None,
+    typer.Option(
+        "--group/--no-group",
+        help="Report consecutive per-pose findings of one code and joint (a limit, a velocity) "
+        "as one finding with a count, a line range and the worst value; --no-group: one "
+        "finding per pose (default: the configuration's, else group).",
+        show_default=False,
+    ),
+]
 _ShowSettings = Annotated[
     bool,
     typer.Option(
@@ -265,6 +275,7 @@ def validate_command(
     ignore: _Ignore = None,
     sort: _Sort = Order.file,
     statistics: _Statistics = False,
+    group: _Group = None,
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
     show_settings: _ShowSettings = False,
@@ -291,6 +302,7 @@ def validate_command(
         timestep=timestep,
         strict=strict,
         ignore=tuple(c for item in ignore or [] for c in item.split(",")),
+        group=group,
     )
     files = collect(paths, resolver)
     refuse_overwrite(output, files, "-o")

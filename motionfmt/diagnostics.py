@@ -17,7 +17,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
-__all__ = ["CODES", "Code", "Diagnostic", "Severity"]
+__all__ = ["CODES", "Code", "Diagnostic", "PoseFinding", "Run", "Severity", "Worst"]
 
 
 class Severity(enum.IntEnum):
@@ -102,6 +102,61 @@ CODES: dict[str, Code] = _codes(
 )
 
 
+@dataclass(frozen=True, slots=True)
+class PoseFinding:
+    """What lets a finding about one pose be grouped with the same finding at the poses next
+    to it (:func:`motiontool.motionfmt.grouping.group_findings`).
+
+    Attributes:
+        pose: the 0-based index of the pose (of a keyframe segment: its end pose).
+        subject: what every finding of a group says, the joint included
+            (``RShoulderRoll above its upper limit 0.314159 rad``); findings of one code group
+            only with findings of the same subject.
+        value: the quantity the finding is about (the position, the speed), in ``unit``.
+        unit: its unit (``rad``, ``m``, ``rad/s``).
+        excess: how far ``value`` is past what is allowed (any unit, the same for the whole
+            subject): the group's worst finding is the one with the largest.
+        noun: what one finding is about, for the count (``pose``, ``segment``).
+        hint: the group's hint; None: the first finding's.
+    """
+
+    pose: int
+    subject: str
+    value: float
+    unit: str
+    excess: float
+    noun: str = "pose"
+    hint: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class Worst:
+    """The worst finding of a group: its value (in ``unit``) and where it is."""
+
+    value: float
+    unit: str
+    line: int
+    column: int
+    time_ms: int | None
+
+
+@dataclass(frozen=True, slots=True)
+class Run:
+    """What a grouped finding stands for: ``count`` findings at consecutive poses, from the
+    finding's own line to ``end_line``, the worst of them ``worst``.
+
+    Attributes:
+        identity: what identifies the group across edits of the file (its subject and first
+            pose time, not its lines or count): what report fingerprints hash.
+    """
+
+    count: int
+    end_line: int
+    worst: Worst
+    noun: str
+    identity: str
+
+
 @dataclass(frozen=True)
 class Diagnostic:
     """One finding in one file.
@@ -117,6 +172,9 @@ class Diagnostic:
         joint: the joint (column) concerned, or ``None``.
         time_ms: the pose time concerned, in milliseconds, or ``None``.
         end_column: 1-based column one past the last byte of the token, or ``None``.
+        pose: what lets it be grouped with the same finding at the next poses (the robot
+            checks' per-pose findings), or ``None``.
+        run: for a grouped finding, the findings it stands for (``None``: one finding).
     """
 
     code: str
@@ -129,11 +187,24 @@ class Diagnostic:
     joint: str | None = None
     time_ms: int | None = None
     end_column: int | None = field(default=None, compare=False)
+    pose: PoseFinding | None = field(default=None, compare=False, repr=False)
+    run: Run | None = field(default=None, compare=False)
 
     @property
     def title(self) -> str:
         """The code's one-line title."""
         return CODES[self.code].title
+
+    @property
+    def count(self) -> int:
+        """How many findings this one stands for: 1, or a group's count."""
+        return 1 if self.run is None else self.run.count
+
+    @property
+    def identity(self) -> str:
+        """What identifies the finding when lines are added above it: its message, or for a
+        grouped finding its subject and first pose time (its message names lines)."""
+        return self.message if self.run is None else self.run.identity
 
     def format(self) -> str:
         """``path:line:col: severity CODE: message`` — one line, compiler style."""

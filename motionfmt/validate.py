@@ -11,6 +11,7 @@ from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
 from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES, Fix, plan_fixes
+from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 __all__ = ["Check", "FileReport", "ValidationReport", "validate_bytes", "validate_paths"]
@@ -111,13 +112,19 @@ def validate_bytes(
     timestep_ms: int | None = None,
     checks: Sequence[Check] = (),
     ignore: Iterable[str] = (),
+    group: bool = False,
 ) -> FileReport:
-    """Validate one file's bytes: Webots' reading, then ``checks`` if Webots accepts the file."""
+    """Validate one file's bytes: Webots' reading, then ``checks`` if Webots accepts the file.
+
+    ``group``: each check's consecutive per-pose findings of one code and subject become one
+    finding (:func:`~motiontool.motionfmt.grouping.group_findings`), as each check returns
+    them, so that one file's findings are never all held ungrouped besides one check's."""
     result = read_bytes(data, path, timestep_ms=timestep_ms)
     diagnostics = list(result.diagnostics)
     if result.accepted and result.times_ms and result.joints:
         for check in checks:
-            diagnostics.extend(check(result))
+            found = check(result)
+            diagnostics.extend(group_findings(found) if group else found)
     skip = _check_codes(ignore)
     kept = sorted((d for d in diagnostics if d.code not in skip), key=Diagnostic.sort_key)
     return FileReport(path=path, read=result, diagnostics=kept, data=data)
@@ -129,9 +136,10 @@ def validate_paths(
     timestep_ms: int | None = None,
     checks: Sequence[Check] = (),
     ignore: Iterable[str] = (),
+    group: bool = False,
 ) -> ValidationReport:
     """Validate files and directories (every ``*.motion`` below a directory, recursively);
-    ``-`` reads standard input, named ``<stdin>``.
+    ``-`` reads standard input, named ``<stdin>``; ``group``: see :func:`validate_bytes`.
 
     Raises:
         MotionToolError: a path is missing or unreadable, or a directory has no motion file.
@@ -142,6 +150,8 @@ def validate_paths(
         data = read_file(p)
         name = source_name(p)
         report.files.append(
-            validate_bytes(data, name, timestep_ms=timestep_ms, checks=checks, ignore=ignore)
+            validate_bytes(
+                data, name, timestep_ms=timestep_ms, checks=checks, ignore=ignore, group=group
+            )
         )
     return report

@@ -180,15 +180,17 @@ def relative_path(path: str) -> Path | None:
 
 class Fingerprints:
     """Stable identities of findings across runs and commits: a hash of the code, the path
-    relative to the project and the message, and the finding's rank among identical ones; not
-    its line, so that a line added above a finding leaves it the same finding."""
+    relative to the project and the message (of a grouped finding, which names lines: its
+    subject and first pose time, :attr:`Diagnostic.identity`), and the finding's rank among
+    identical ones; not its line, so that a line added above a finding leaves it the same
+    finding."""
 
     def __init__(self) -> None:
         self._seen: Counter[str] = Counter()
 
     def __call__(self, d: Diagnostic) -> str:
         rel = relative_path(d.path)
-        key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.message}"
+        key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.identity}"
         self._seen[key] += 1
         data = f"{key}\0{self._seen[key]}".encode("utf-8", "surrogateescape")
         return hashlib.sha256(data).hexdigest()

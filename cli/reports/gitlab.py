@@ -14,7 +14,7 @@ from motiontool.cli.reports.common import (
     relative_path,
     with_hint,
 )
-from motiontool.motionfmt.diagnostics import CODES, Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.validate import ValidationReport
 
 __all__ = ["render_gitlab"]
@@ -30,9 +30,18 @@ def _path(path: str) -> str:
     return path if rel is None else rel.as_posix()
 
 
+def _lines(d: Diagnostic) -> dict[str, int]:
+    """``begin``, and for a grouped finding ``end``: its last pose's line."""
+    lines = {"begin": max(d.line, 1)}
+    if d.run is not None:
+        lines["end"] = d.run.end_line
+    return lines
+
+
 def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
     """A JSON array of Code Quality issues: ``description``, ``check_name`` (the code),
-    ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``).
+    ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``; ``lines.end``
+    for a grouped finding).
 
     A fingerprint identifies one finding across runs and commits
     (:class:`~motiontool.cli.reports.common.Fingerprints`: not its line). A run's notes (about
@@ -52,7 +61,7 @@ def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
                 "content": {"body": title},
                 "fingerprint": fingerprint(d),
                 "severity": _SEVERITY[d.severity],
-                "location": {"path": path, "lines": {"begin": max(d.line, 1)}},
+                "location": {"path": path, "lines": _lines(d)},
             }
         )
     clean, _count = escape_undecodable(issues)  # a name that is not UTF-8: \xNN

@@ -16,6 +16,24 @@ __all__ = ["JSON_SCHEMA_VERSION", "render_json"]
 JSON_SCHEMA_VERSION = 1
 
 
+def _run_json(d: Diagnostic) -> dict[str, Any]:
+    """A grouped finding's ``count``, ``end_line`` and ``worst`` (nothing for one finding)."""
+    if d.run is None:
+        return {}
+    w = d.run.worst
+    return {
+        "count": d.run.count,
+        "end_line": d.run.end_line,
+        "worst": {
+            "value": w.value,
+            "unit": w.unit,
+            "line": w.line,
+            "column": w.column,
+            "time_ms": w.time_ms,
+        },
+    }
+
+
 def _diagnostic_json(d: Diagnostic, f: FileReport) -> dict[str, Any]:
     return {
         "code": d.code,
@@ -28,6 +46,7 @@ def _diagnostic_json(d: Diagnostic, f: FileReport) -> dict[str, Any]:
         "joint": d.joint,
         "time_ms": d.time_ms,
         "fix": fix_json(f.fix_of(d)),
+        **_run_json(d),
     }
 
 

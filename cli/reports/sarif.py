@@ -89,7 +89,28 @@ def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[s
         "locations": [{"physicalLocation": {"artifactLocation": location, "region": region}}],
         "partialFingerprints": {FINGERPRINT_KEY: fingerprint},
         **_fixes(f, d, location),
+        **_run(f, d, location),
     }
+
+
+def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, Any]:
+    """A grouped finding's worst pose as a related location, and its ``count``, ``endLine``
+    and ``worst`` in the result's properties (nothing for one finding)."""
+    if d.run is None:
+        return {}
+    w = d.run.worst
+    region = {
+        "startLine": w.line,
+        "startColumn": text_column(f.source_line(w.line), w.column, utf16=True),
+    }
+    worst = {"value": w.value, "unit": w.unit, "line": w.line, "timeMs": w.time_ms}
+    related = {
+        "id": 1,
+        "message": {"text": f"worst: {w.value:.6g} {w.unit}"},
+        "physicalLocation": {"artifactLocation": location, "region": region},
+    }
+    properties = {"count": d.run.count, "endLine": d.run.end_line, "worst": worst}
+    return {"relatedLocations": [related], "properties": properties}
 
 
 def _replacement(f: FileReport, fix: Fix) -> dict[str, Any]:

@@ -1,4 +1,9 @@
-"""``validate --statistics``: how many findings of each code, most frequent first (as ruff)."""
+"""``validate --statistics``: how many findings of each code, most frequent first (as ruff).
+
+Two counts per code, named in the header: ``findings``, as the report lists them (a grouped
+finding counts once), and ``per pose``, what they stand for (a grouped finding counts each of
+its poses: ``--no-group``'s findings).
+"""
 
 from __future__ import annotations
 
@@ -10,16 +15,28 @@ from motiontool.motionfmt.validate import ValidationReport
 
 __all__ = ["render_statistics"]
 
+_HEADER = ("findings", "per pose")
+
 
 def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str:
-    """One line per code: count, code, default severity and title; then the summary line."""
-    counts = Counter(d.code for d in report.diagnostics)
-    rows = sorted(counts.items(), key=lambda item: (-item[1], item[0]))
-    width = max((len(str(n)) for _code, n in rows), default=1)
+    """A header, then one line per code: its findings, the per-pose findings they stand for,
+    the code, its default severity and title (the most per-pose findings first); then the
+    summary line."""
+    findings: Counter[str] = Counter()
+    per_pose: Counter[str] = Counter()
+    for d in report.diagnostics:
+        findings[d.code] += 1
+        per_pose[d.code] += d.count
+    rows = sorted(findings, key=lambda code: (-per_pose[code], -findings[code], code))
+    w1 = max([len(_HEADER[0])] + [len(f"{findings[c]:,}") for c in rows])
+    w2 = max([len(_HEADER[1])] + [len(f"{per_pose[c]:,}") for c in rows])
     lines = [context.robot_line.rstrip("\n")] if context.robot_line else []
-    for code, n in rows:
+    lines.append(f"{_HEADER[0]:>{w1}}  {_HEADER[1]:>{w2}}  code   severity  title")
+    for code in rows:
         info = CODES.get(code)
         severity, title = (str(info.severity), info.title) if info else ("", "")
-        lines.append(f"{n:>{width}}  {code}  {severity:<7}  {title}")
+        lines.append(
+            f"{findings[code]:>{w1},}  {per_pose[code]:>{w2},}  {code}  {severity:<8}  {title}"
+        )
     lines.append(summary(report))
     return "\n".join(lines) + "\n"

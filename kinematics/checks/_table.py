@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics.robots import RobotSpec, fmt_name
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 
@@ -249,8 +249,10 @@ def cell(
     hint: str | None = None,
     *,
     time_ms: int | None = None,
+    grouping: PoseFinding | None = None,
 ) -> Diagnostic:
-    """A diagnostic on the cell of ``pose`` in file column ``col`` (its time token if None)."""
+    """A diagnostic on the cell of ``pose`` in file column ``col`` (its time token if None);
+    ``grouping``: what lets it be grouped with the same finding at the next poses."""
     result = table.result
     line, column, end = result.cell_span(pose, col)
     return Diagnostic(
@@ -264,6 +266,7 @@ def cell(
         joint=None if col is None else result.joints[col],
         time_ms=int(table.times[pose]) if time_ms is None else time_ms,
         end_column=end,
+        pose=grouping,
     )
 
 

@@ -20,7 +20,7 @@ from motiontool.kinematics.checks._table import (
     fmt_span,
 )
 from motiontool.kinematics.robots import JointSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.reader import ReadResult
 
 if TYPE_CHECKING:
@@ -77,15 +77,19 @@ class Limits(RobotCheck):
             if self.spec.overrides_path is not None
             else f"Webots clamps the target to the motor's range {rng}, and warns"
         )
+        name = fmt_name(joint.name)
         return cell(
             table,
             "MT302",
             Severity.ERROR,
             pose,
             table.col(pose, k),
-            f"{fmt_name(joint.name)} = {fmt_num(value)} {u} at {int(table.times[pose])} ms is "
+            f"{name} = {fmt_num(value)} {u} at {int(table.times[pose])} ms is "
             f"{where} limit {fmt_num(bound)} {u} by {fmt_num(abs(value - bound))} {u}",
             hint,
+            grouping=PoseFinding(
+                pose, f"{name} {where} limit {fmt_num(bound)} {u}", value, u, abs(value - bound)
+            ),
         )
 
     @staticmethod
@@ -163,6 +167,15 @@ class Limits(RobotCheck):
             f"robot's limit at that yaw, by {fmt_num(abs(p - bound))} rad",
             f"at HeadYaw = {fmt_num(y)} rad the real NAO's head pitches within "
             f"[{fmt_num(lo)}, {fmt_num(hi)}] rad (its shell hits the shoulders beyond)",
+            grouping=PoseFinding(
+                pose,
+                f"HeadPitch {where} the real robot's limit at the HeadYaw it holds",
+                p,
+                "rad",
+                abs(p - bound),
+                hint="the real NAO's head pitch range narrows as HeadYaw turns (its shell "
+                "hits the shoulders beyond)",
+            ),
         )
 
     def _coupled(
@@ -229,14 +242,16 @@ class _Coupling:
             f"{fmt_name(members[i])} = {fmt_num(float(q[pose, i]))}" for i in differing
         )
         if len(members) > 2:  # fingers: the real hand opens and closes as one
+            names = fmt_span(members)
             severity = Severity.WARNING
             what = (
-                f"the real robot's hand has one motor for {fmt_span(members)}: it opens "
+                f"the real robot's hand has one motor for {names}: it opens "
                 "and closes all the fingers together"
             )
         else:
+            names = " and ".join(members)
             severity = Severity.ERROR
-            what = f"one motor drives {' and '.join(members)} on the real robot"
+            what = f"one motor drives {names} on the real robot"
         return cell(
             self.table,
             "MT306",
@@ -248,4 +263,5 @@ class _Coupling:
             f"{fmt_name(members[0])} = {fmt_num(lead)} rad by up to {fmt_num(spread)} rad: {what}",
             f"write the same value in the {len(members)} columns"
             + ("" if None not in self.ks else " (a joint missing from the file sits at 0)"),
+            grouping=PoseFinding(pose, f"{names} at different values", spread, "rad", spread),
         )

@@ -17,7 +17,7 @@ from motiontool.kinematics.checks._table import (
     fmt_num,
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 
@@ -88,6 +88,17 @@ class Velocity(RobotCheck):
             f"{fmt_ms(round(need_ms, 1))} and falls {fmt_ms(round(need_ms - (t1 - t0), 1))} behind",
             "Webots caps the motor's speed at maxVelocity, so the joint arrives late; "
             f"give this move at least {math.ceil(need_ms)} ms",
+            grouping=PoseFinding(
+                seg + 1,
+                f"{fmt_name(joint.name)} faster than its maximum velocity {fmt_num(vmax)} {u}/s",
+                speed,
+                f"{u}/s",
+                speed - vmax,
+                noun="segment",
+                hint="Webots caps the motor's speed at maxVelocity, so the joint arrives "
+                "late; give each of these moves more time (one finding per segment says how "
+                "much)",
+            ),
         )
 
     def _stream(
@@ -200,6 +211,7 @@ class Velocity(RobotCheck):
         delta = speed * step / 1000.0
         lag = delta / vmax * 1000.0 - step
         if gap > 1:
+            subject = f"{name}'s target jumps after '*'"
             what = (
                 f"{name} gets no command from {e0 + step} ms to {e1 - step} ms ('*'), then "
                 f"its target jumps by {fmt_num(delta)} {u} at {e1} ms, within one {step} ms "
@@ -207,6 +219,7 @@ class Velocity(RobotCheck):
             )
             hint = "write values instead of '*' so that the joint moves there gradually"
         else:
+            subject = f"{name}'s target moves"
             what = (
                 f"at the {step} ms controller step, {name}'s target moves {fmt_num(delta)} {u} "
                 f"from {e0} ms to {e1} ms"
@@ -222,4 +235,12 @@ class Velocity(RobotCheck):
             f"by {fmt_num(speed - vmax)} {u}/s; the motor falls {fmt_ms(round(lag, 1))} behind",
             hint,
             time_ms=e1,
+            grouping=PoseFinding(
+                pose,
+                f"{subject} faster than its maximum velocity {fmt_num(vmax)} {u}/s at the "
+                f"{step} ms controller step",
+                speed,
+                f"{u}/s",
+                speed - vmax,
+            ),
         )
