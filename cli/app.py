@@ -26,6 +26,7 @@ from motiontool.cli import (
     cache,
     codes,
     concat,
+    convert,
     diff,
     expect,
     generate,
@@ -194,6 +195,7 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("trim", trim.trim_command),
     ("scale", scale.scale_command),
     ("plot", plot.plot_command),
+    ("convert", convert.convert_command),
 ]
 for _name, _command in _COMMANDS:
     app.command(_name)(_guard(_command))

@@ -1,0 +1,132 @@
+"""The robot checks of ``motiontool convert``: every export is checked against the robot before
+anything is written.
+
+The motion is checked as ``validate`` checks it (unknown joints MT301, limits MT302/MT305/MT306,
+velocities MT303/MT304 at the control step), on the input file itself for a ``.motion`` and on
+the motion it holds for the other formats, each finding placed at the input's line and column
+(a CSV row has the line its pose would have in a ``.motion``; a ``.npz`` has no lines: the pose
+and joint are named). An error stops the export; so does a warning when the file drives a real
+robot. An unknown joint is one error at its header cell where the robot was named or the file
+drives a robot (:func:`refuse_unknown_joints`). What the export sends (a URScript's
+``servoj`` targets, NAOqi's keys as NAOqi interpolates them) is checked too: within the limits,
+and no faster than maxVelocity from one target to the next.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from motiontool.kinematics.checks import Limits, UnknownJoints, Velocity
+from motiontool.kinematics.robots import RobotSpec, fmt_name, unknown_joint_message
+from motiontool.motionfmt.convert.base import Imported, RobotStream
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.reader import read_bytes
+from motiontool.motionfmt.writer import format_motion
+
+if TYPE_CHECKING:
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["motion_findings", "refuse_unknown_joints", "stream_findings"]
+
+#: Relative slack on the velocity of a stream, for a step that sits exactly at the limit.
+_VELOCITY_SLACK = 1e-9
+
+
+def _where(d: Diagnostic, imported: Imported, motion: Motion) -> str:
+    """``path:line:col`` of a finding in the input file (a synthetic .motion's pose line is
+    the CSV row's line), or ``path: pose N (T ms)`` where the format has no lines."""
+    if imported.cells is None and imported.read is not None:
+        return f"{d.path}:{d.line}:{d.column}"
+    pose = d.line - 2
+    joint = motion.column(d.joint) if d.joint in motion.joints else None
+    if imported.cells is not None and imported.header is not None and joint is not None:
+        if pose < 0:
+            return f"{imported.path}:1:{int(imported.header[joint])}"
+        line, col = (int(x) for x in imported.cells[pose, joint])
+        return f"{imported.path}:{line}:{col}"
+    if pose < 0:
+        return f"{imported.path}: header"
+    return f"{imported.path}: pose {pose} ({int(motion.times_ms[pose])} ms)"
+
+
+def refuse_unknown_joints(imported: Imported, spec: RobotSpec) -> None:
+    """Raise at the first joint of the input that is not a motor of ``spec``: one line at its
+    header cell (``wave.csv:1:9: unknown joint 'HeadYw' for robot nao; did you mean
+    'HeadYaw'?``), or naming the file where the format has no lines (``.npz``)."""
+    for j, name in enumerate(imported.motion.joints):
+        if name in spec:
+            continue
+        message = unknown_joint_message(fmt_name(name), spec)
+        if imported.read is not None:
+            column = imported.read.header_spans()[j][0]
+            raise MotionSyntaxError(message, imported.path, 1, column)
+        if imported.header is not None:
+            raise MotionSyntaxError(message, imported.path, 1, int(imported.header[j]))
+        raise MotionToolError(f"'{imported.path}': {message}")
+
+
+def motion_findings(
+    imported: Imported, spec: RobotSpec, timestep_ms: int, *, for_robot: bool
+) -> tuple[list[str], list[str]]:
+    """validate's limit, velocity and joint checks on the motion to export.
+
+    Returns:
+        (blocking, other): one ``where: severity CODE: message`` line per finding; blocking
+        ones stop the export (errors, and warnings when ``for_robot``).
+    """
+    motion = imported.motion
+    source = imported.read
+    if source is None:
+        text = format_motion(motion).encode("utf-8", "surrogateescape")
+        source = read_bytes(text, imported.path)
+    findings: list[Diagnostic] = []
+    for check in (UnknownJoints(spec), Limits(spec), Velocity(spec, timestep_ms)):
+        findings.extend(check(source))
+    blocking: list[str] = []
+    other: list[str] = []
+    for d in findings:
+        line = f"{_where(d, imported, motion)}: {d.severity} {d.code}: {d.message}"
+        stops = d.severity is Severity.ERROR or (for_robot and d.severity is Severity.WARNING)
+        (blocking if stops else other).append(line)
+    return blocking, other
+
+
+def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str]:
+    """What the export sends, against ``spec``: every target within the joint's limits and
+    reached from the previous one no faster than maxVelocity. One line per joint at fault,
+    naming its worst target and time (ms of Webots' playback time)."""
+    import numpy as np
+
+    out: list[str] = []
+    t = stream.times_ms.astype(np.float64) / 1000.0
+    for k, name in enumerate(stream.joints):
+        if name not in spec:
+            out.append(f"{what}: {name} is not a motor of robot {spec.name}")
+            continue
+        joint = spec.joint(name)
+        q = stream.targets[:, k]
+        sent = ~np.isnan(q)
+        with np.errstate(invalid="ignore"):
+            beyond = sent & ((q < joint.lower) | (q > joint.upper))
+        if beyond.any():
+            i = int(np.argmax(beyond))
+            out.append(
+                f"{what}: {name} = {q[i]!r} {joint.unit} at {stream.times_ms[i]} ms is outside "
+                f"[{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
+            )
+        if not math.isfinite(joint.max_velocity) or q.shape[0] < 2:
+            continue
+        both = sent[1:] & sent[:-1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            speed = np.where(both, np.abs(np.diff(q)) / np.diff(t), 0.0)
+        fast = speed > joint.max_velocity * (1 + _VELOCITY_SLACK)
+        if fast.any():
+            i = int(np.argmax(np.where(fast, speed, -1.0)))
+            out.append(
+                f"{what}: {name} moves at {speed[i]:.6g} {joint.unit}/s from "
+                f"{stream.times_ms[i]} ms to {stream.times_ms[i + 1]} ms, faster than its "
+                f"maxVelocity {joint.max_velocity:.6g} {joint.unit}/s"
+            )
+    return out

@@ -1,0 +1,61 @@
+"""Other formats a motion goes to and comes from: one module per format, one row each in
+:data:`FORMATS`, the table ``motiontool convert`` and its tests iterate over.
+
+* :mod:`.motion_file`: Webots' ``.motion`` (read exactly as Webots reads it).
+* :mod:`.wide_csv`: ``time_ms`` then one column per joint; both ways, lossless.
+* :mod:`.npz`: NumPy arrays ``times_ms``, ``names``, ``positions``, ``commanded``; both ways,
+  lossless.
+
+A format for a real robot writes what reproduces Webots' command stream there and says how far
+it is from it (:class:`~.base.Deviation`); the robot checks of an export are the caller's (the
+robot layer), before it writes anything. To add a format: one module with a ``read`` and/or a
+``write`` function (:class:`~.base.Format`), and one row in :data:`FORMATS`.
+
+Pure: the standard library and numpy. Import each format from its module.
+"""
+
+from __future__ import annotations
+
+from motiontool.motionfmt.convert.base import Format
+from motiontool.motionfmt.convert.motion_file import read_motion_file, write_motion_file
+from motiontool.motionfmt.convert.npz import read_npz, write_npz
+from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
+
+__all__ = ["FORMATS", "Format", "format_named", "format_of"]
+
+FORMATS: tuple[Format, ...] = (
+    Format(
+        "motion",
+        (".motion",),
+        "Webots .motion file",
+        read=read_motion_file,
+        write=write_motion_file,
+    ),
+    Format(
+        "csv",
+        (".csv",),
+        "wide CSV: time_ms, then one column per joint (an empty cell: no command)",
+        read=read_csv,
+        write=write_csv,
+    ),
+    Format(
+        "npz",
+        (".npz",),
+        "NumPy arrays times_ms, names, positions, commanded (and pose_names)",
+        read=read_npz,
+        write=write_npz,
+    ),
+)
+"""Every format, in the order the help lists them."""
+
+
+def format_named(name: str) -> Format | None:
+    """The format called ``name`` (case-insensitive), or None."""
+    return next((f for f in FORMATS if f.name == name.lower()), None)
+
+
+def format_of(path: str) -> Format | None:
+    """The format a file name selects by its ending (the longest that matches), or None."""
+    lower = path.lower()
+    matches = [(len(s), f) for f in FORMATS for s in f.suffixes if lower.endswith(s)]
+    return max(matches, key=lambda m: m[0])[1] if matches else None

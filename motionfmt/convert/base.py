@@ -1,0 +1,155 @@
+"""What every format of :mod:`motiontool.motionfmt.convert` is made of: how it reads a file into
+a :class:`~motiontool.motionfmt.motion.Motion` (:class:`Imported`), how it writes one
+(:class:`Exported`, with :class:`ExportOptions`), and its row in the registry (:class:`Format`).
+
+Pure: robot knowledge (the motor order of an arm, its name for a comment) comes in as plain
+data in :class:`ExportOptions`; the robot checks of an export are the caller's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+    from motiontool.motionfmt.reader import ReadResult
+
+__all__ = [
+    "DEFAULT_LEAD_IN_MS",
+    "Deviation",
+    "ExportOptions",
+    "Exported",
+    "Format",
+    "Imported",
+    "RobotStream",
+]
+
+DEFAULT_LEAD_IN_MS = 1000
+"""Milliseconds a real robot gets to reach the first pose from wherever it stands, before the
+motion starts (NAOqi's first time must be > 0; Webots jumps to the first pose at 0 ms)."""
+
+
+@dataclass(frozen=True)
+class ExportOptions:
+    """What a writer needs besides the motion.
+
+    Attributes:
+        timestep_ms: the controller time step, ms: the command stream that is reproduced is
+            Webots' at this step.
+        source: the input, as the user named it (for comments and metadata).
+        robot: the robot the export is for (for comments), or None.
+        joint_order: the robot's motors in its own order (a UR arm's six joints), or None.
+        lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
+        keyframes: one move per keyframe instead of the stream at every step (URScript).
+    """
+
+    timestep_ms: int = 32
+    source: str = "<motion>"
+    robot: str | None = None
+    joint_order: tuple[str, ...] | None = None
+    lead_in_ms: int = DEFAULT_LEAD_IN_MS
+    keyframes: bool = False
+
+
+@dataclass(frozen=True)
+class Deviation:
+    """The worst difference between what the exported file makes the robot do (as modelled)
+    and Webots' command stream.
+
+    Attributes:
+        max_rad: the largest |difference|, rad (m for linear joints); 0.0 when identical.
+        joint: where it is largest (None when nothing was compared).
+        at_ms: its playback time in Webots' stream, ms (None when nothing was compared).
+        compared: how many targets were compared, and at which times (for a report).
+    """
+
+    max_rad: float
+    joint: str | None
+    at_ms: int | None
+    compared: str
+
+
+@dataclass(frozen=True)
+class RobotStream:
+    """The targets an export sends to the robot, for the robot checks before it is written.
+
+    Attributes:
+        joints: the N motors.
+        times_ms: int64 (S,): when each row is sent, ms of Webots' playback time.
+        targets: float64 (S, N), rad (m for linear joints); NaN where nothing is sent.
+    """
+
+    joints: tuple[str, ...]
+    times_ms: npt.NDArray[np.int64]
+    targets: npt.NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Exported:
+    """A written file, and what it holds.
+
+    Attributes:
+        data: the file's bytes.
+        poses: how many poses (rows, keyframes or commands) it holds.
+        detail: what they are, for ``wrote X (N poses, DETAIL)``.
+        deviation: how far it is from Webots' stream (None for a lossless format).
+        companions: (suffix, bytes) of files written beside it (a script that sends it).
+        stream: what it sends to the robot, for the robot checks (None for a data format).
+    """
+
+    data: bytes
+    poses: int
+    detail: str
+    deviation: Deviation | None = None
+    companions: tuple[tuple[str, bytes], ...] = ()
+    stream: RobotStream | None = None
+
+
+@dataclass(frozen=True)
+class Imported:
+    """A motion read from a file.
+
+    Attributes:
+        motion: the motion.
+        path: the file, as diagnostics name it.
+        read: the :class:`~motiontool.motionfmt.reader.ReadResult` of a ``.motion`` file (its
+            diagnostics point at its own cells), else None.
+        cells: (line, column) of each value cell, int64 (P, J, 2), 1-based, where the format
+            has lines (CSV); None otherwise.
+        header: the 1-based column of each joint's name on line 1, int64 (J,), with ``cells``.
+    """
+
+    motion: Motion
+    path: str
+    read: ReadResult | None = None
+    cells: npt.NDArray[np.int64] | None = None
+    header: npt.NDArray[np.int64] | None = None
+
+
+@dataclass(frozen=True)
+class Format:
+    """One row of the registry: a format, what it is for, and what it can do.
+
+    Attributes:
+        name: what the user types (``csv``).
+        suffixes: file name endings that select it (``.csv``), lower case.
+        summary: one line, for the help.
+        read: bytes and the file's name -> :class:`Imported`; None if it cannot be read.
+        write: motion and options -> :class:`Exported`; None if it cannot be written.
+        for_robot: whether the file drives a real robot (its export must pass the robot
+            checks, warnings included) rather than hold data.
+        default_robot: the robot it is for when none is named (``ur5e``), or None.
+    """
+
+    name: str
+    suffixes: tuple[str, ...]
+    summary: str
+    read: Callable[[bytes, str], Imported] | None = None
+    write: Callable[[Motion, ExportOptions], Exported] | None = None
+    for_robot: bool = False
+    default_robot: str | None = None

@@ -1,0 +1,84 @@
+"""``motiontool convert`` end to end: formats by ending, robot checks before anything is
+written, one-line errors, never over the input."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from conftest import ROOT
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+from motiontool.motionfmt import read_bytes, read_motion, sample
+
+runner = CliRunner()
+WAVE = ROOT / "motions" / "nao" / "wave_right.motion"
+
+
+def _run(*args: str | Path) -> tuple[int, str, str]:
+    result = runner.invoke(app, ["convert", *map(str, args)])
+    return result.exit_code, result.stdout, result.stderr
+
+
+def test_motion_to_csv_to_motion(tmp_path: Path) -> None:
+    code, _, err = _run(WAVE, tmp_path / "w.csv")
+    assert code == 0, err
+    assert err.startswith(f"wrote {tmp_path / 'w.csv'} (9 poses, 4 joints")
+    assert "checked against robot nao: clean" in err
+    code, _, err = _run(tmp_path / "w.csv", tmp_path / "w.motion")
+    assert code == 0, err
+    a, b = sample(read_motion(str(WAVE)), 20), sample(read_motion(str(tmp_path / "w.motion")), 20)
+    assert np.array_equal(a.targets.view(np.int64), b.targets.view(np.int64))
+
+
+def test_stdout_needs_a_format_and_gets_the_bytes(tmp_path: Path) -> None:
+    code, _, err = _run(WAVE, "-")
+    assert code == 2 and "cannot tell the format of '-' from its name; give --to" in err
+    code, out, err = _run(WAVE, "-", "--to", "csv")
+    assert code == 0, err
+    assert out.startswith("time_ms,RShoulderPitch,")
+    assert err.startswith("wrote stdout (9 poses")
+
+
+def test_unknown_joint_of_a_named_robot_is_one_error_at_its_cell(tmp_path: Path) -> None:
+    src = tmp_path / "bad.csv"
+    src.write_text("time_ms,HeadYw,HeadPitch\n0,0.1,0\n100,0.2,\n")
+    code, _, err = _run(src, tmp_path / "out.motion", "--robot", "nao")
+    assert code == 2
+    assert err == (
+        f"motiontool: error: {src}:1:9: unknown joint 'HeadYw' for robot nao; "
+        "did you mean 'HeadYaw'?\n"
+    )
+    assert not (tmp_path / "out.motion").exists()
+
+
+def test_a_limit_error_writes_nothing(tmp_path: Path) -> None:
+    src = tmp_path / "fast.csv"
+    src.write_text("time_ms,HeadYaw,HeadPitch\n0,0.1,0\n1000,3,0\n")
+    code, _, err = _run(src, tmp_path / "out.motion")
+    assert code == 1
+    assert "not written: the motion fails the checks of robot nao:" in err
+    assert f"{src}:3:6: error MT302: HeadYaw = 3 rad at 1000 ms is above its upper limit" in err
+    assert not (tmp_path / "out.motion").exists()
+
+
+def test_never_over_the_input(tmp_path: Path) -> None:
+    src = tmp_path / "w.csv"
+    assert _run(WAVE, src)[0] == 0
+    before = src.read_bytes()
+    code, _, err = _run(src, src, "--to", "csv")
+    assert code == 2 and "is the input file" in err
+    assert src.read_bytes() == before
+
+
+def test_npz_round_trip_through_the_command(tmp_path: Path) -> None:
+    assert _run(WAVE, tmp_path / "w.npz")[0] == 0
+    code, _, err = _run(tmp_path / "w.npz", tmp_path / "w.motion")
+    assert code == 0, err
+    assert read_bytes((tmp_path / "w.motion").read_bytes(), "w").motion == read_motion(str(WAVE))
+
+
+def test_bad_format_names_the_choices(tmp_path: Path) -> None:
+    code, _, err = _run(WAVE, tmp_path / "x.out", "--to", "xls")
+    assert code == 2 and "--to 'xls': unknown format; choose one of motion, csv, npz" in err
