@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -28,6 +27,7 @@ from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.mirror import Mirrored, mirror
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.stamps import stamps
 
 __all__ = ["mirror_command"]
 
@@ -54,6 +54,17 @@ def _map_json(m: MirrorMap) -> list[dict[str, Any]]:
         }
         for p in m.pairs
     ]
+
+
+def _map_doc(m: MirrorMap) -> dict[str, Any]:
+    """The JSON report of ``mirror --show-map`` alone (``motiontool.mirror_map``)."""
+    return {
+        "schema": "motiontool.mirror_map",
+        "schema_version": 1,
+        "stamps": stamps(m.model_hash),
+        "robot": m.robot,
+        "map": _map_json(m),
+    }
 
 
 def _text(
@@ -142,7 +153,7 @@ def mirror_command(
             raise MotionToolError("--show-map without a motion file needs --robot NAME (e.g. nao)")
         m = mirror_map(resolve_robot(robot))
         if format is Format.json:
-            typer.echo(json.dumps({"robot": m.robot, "map": _map_json(m)}, indent=2))
+            typer.echo(jsontext.dumps(_map_doc(m)), nl=False)
         else:
             typer.echo("\n".join(_map_lines(m)))
         return

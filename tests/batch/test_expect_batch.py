@@ -45,7 +45,7 @@ def test_a_wrong_expectation_fails_with_its_reason_in_every_report(tmp_path: Pat
     assert "1 clean, 1 not clean" in stdout
 
     doc = json.loads(Path(f"{out}.json").read_text())
-    jsonschema.validate(doc, schemas.load("batch"))
+    jsonschema.validate(doc, schemas.load("batch"), registry=schemas.registry())
     runs = {Path(r["spec"]["path"]).name: r for r in doc["runs"]}
     assert runs["nod.motion"]["spec"]["expect"] == ["upright", "dx>=0.3", "feet-planted"]
     assert runs["shake.motion"]["spec"]["expect"] == ["feet-planted"]  # --expect: every motion

@@ -14,6 +14,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli import schemas
 from motiontool.cli.app import app
+from motiontool.kinematics.robots import builtin_robots
 
 runner = CliRunner()
 
@@ -27,7 +28,7 @@ OUT_OF_LIMITS = b"#WEBOTS_MOTION,V1.0,HeadYaw,NotAJoint\n0,A,0,0\n500,B,3,1\n"
 def errors(doc: Any, name: str) -> list[str]:
     """Every way ``doc`` breaks schema ``name`` (empty when it conforms)."""
     schema = schemas.load(name)
-    validator = jsonschema.Draft202012Validator(schema)
+    validator = jsonschema.Draft202012Validator(schema, registry=schemas.registry())
     return [f"{list(e.absolute_path)}: {e.message}" for e in validator.iter_errors(doc)]
 
 
@@ -61,8 +62,33 @@ def test_every_schema_is_a_valid_draft_2020_12_schema(name: str) -> None:
 
 
 def test_load_names_the_schemas_on_a_typo() -> None:
-    with pytest.raises(ValueError, match="schemas: validate, info, sample, diff, play, batch"):
+    with pytest.raises(ValueError, match="schemas: validate, info, sample, diff, play, batch, "):
         schemas.load("valdate")
+
+
+def test_the_registry_holds_every_shipped_schema_by_its_id() -> None:
+    shipped = sorted(p.name for p in Path(schemas.__file__).parent.glob("*.schema.json"))
+    names = (*schemas.NAMES, schemas.CONFIG, schemas.DEFS)
+    assert shipped == sorted(schemas.path_of(n) for n in names)
+    registry = schemas.registry()
+    for name in names:
+        schema = schemas.load(name)
+        assert registry.contents(schema["$id"]) == schema
+    # Every $ref of every schema resolves (to a shipped schema or within the same one).
+    for name in names:
+        jsonschema.Draft202012Validator.check_schema(schemas.load(name))
+        resolver = registry.resolver(base_uri=schemas.load(name)["$id"])
+        for ref in _refs(schemas.load(name)):
+            resolver.lookup(ref)
+
+
+def _refs(node: Any) -> list[str]:
+    if isinstance(node, dict):
+        own = [node["$ref"]] if "$ref" in node else []
+        return own + [r for v in node.values() for r in _refs(v)]
+    if isinstance(node, list):
+        return [r for v in node for r in _refs(v)]
+    return []
 
 
 @pytest.mark.parametrize(
@@ -203,9 +229,85 @@ def test_batch_json_conforms(files: Path) -> None:
     (run,) = doc["runs"]
     assert run["status"] == "clean"
     assert errors(run["report"], "play") == []  # each report is a play report
+    # batch's schema checks each run's report against play's, through its $id.
+    broken = copy.deepcopy(doc)
+    broken["runs"][0]["report"]["control_steps"] = "many"
+    assert any("control_steps" in e or "'many'" in e for e in errors(broken, "batch"))
+    broken["runs"][0]["report"] = None  # a run that did not play
+    assert errors(broken, "batch") == []
 
 
 def test_the_docs_point_at_every_schema() -> None:
     doc = (DATA.parent.parent / "docs" / "json-report.md").read_text()
     for name in schemas.NAMES:
         assert f"`{name}.schema.json`" in doc
+
+
+@pytest.mark.parametrize("robot", builtin_robots())
+def test_robots_show_json_conforms(robot: str) -> None:
+    doc = run_json("robots", "show", robot, "--format", "json", exit_codes=(0,))
+    assert doc["name"] == robot and doc["joints"]
+    assert errors(doc, "robot") == []
+    broken = copy.deepcopy(doc)
+    broken["joints"][0]["kind"] = "ball"
+    assert errors(broken, "robot")
+
+
+FAST = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n40,B,1.0,0.1\n80,C,0,0\n"
+
+
+@pytest.mark.parametrize(
+    ("name", "args"),
+    [
+        ("resample", ["nod2.motion", "--step", "20"]),
+        ("resample", ["nod2.motion", "--max-error", "0.01"]),
+        ("retime", ["nod.motion", "--speed", "0.5"]),
+        ("retime", ["fast.motion", "--fit-limits", "--accel", "50"]),
+        ("mirror", ["nod2.motion"]),
+        ("scale", ["nod.motion", "--amplitude", "30"]),
+        ("scale", ["fast.motion", "--amplitude", "2", "--robot", "none"]),
+        ("trim", ["nod2.motion", "--from", "20", "--to", "60"]),
+        ("concat", ["nod.motion", "nod2.motion"]),
+        ("concat", ["nod.motion", "fast.motion", "--transition", "100", "--robot", "none"]),
+    ],
+)
+def test_authoring_json_conforms(files: Path, name: str, args: list[str]) -> None:
+    Path("fast.motion").write_bytes(FAST)
+    doc = run_json(name, *args, "--format", "json", "-o", "out.motion")
+    assert doc["output"] == "out.motion" and Path("out.motion").is_file()
+    assert errors(doc, name) == []
+    # -o -: the motion on stdout, the report on stderr, its output null.
+    result = runner.invoke(app, [name, *args, "--format", "json", "-o", "-"])
+    assert result.exit_code in (0, 1), result.output
+    doc = json.loads(result.stderr)
+    assert doc["output"] is None
+    assert errors(doc, name) == []
+    broken = copy.deepcopy(doc)
+    del broken["stamps"]["model_sha256"]
+    assert errors(broken, name)
+
+
+def test_authoring_json_details_conform(files: Path) -> None:
+    Path("fast.motion").write_bytes(FAST)
+    retimed = run_json("retime", "fast.motion", "--fit-limits", "-f", "json", "-o", "r.motion")
+    assert {s["reason"] for s in retimed["stretches"]} == {"velocity"}
+    scaled = run_json("scale", "nod.motion", "-k", "30", "-f", "json", "-o", "s.motion")
+    assert scaled["clipped"] > 0 and scaled["clips"]
+    concat = run_json("concat", "nod.motion", "nod2.motion", "-f", "json", "-o", "c.motion")
+    assert concat["reordered"] and concat["transitions"][0]["fitted"] is True
+    for doc, name, key in [
+        (retimed, "retime", "stretches"),
+        (scaled, "scale", "clips"),
+        (concat, "concat", "transitions"),
+    ]:
+        broken = copy.deepcopy(doc)
+        del broken[key][0][next(iter(broken[key][0]))]
+        assert errors(broken, name), name
+
+
+def test_mirror_show_map_json_conforms() -> None:
+    doc = run_json("mirror", "--show-map", "--robot", "nao", "--format", "json", exit_codes=(0,))
+    assert doc["schema"] == "motiontool.mirror_map" and doc["robot"] == "nao"
+    assert errors(doc, "mirror_map") == []
+    doc["map"][0]["sign"] = 0
+    assert errors(doc, "mirror_map")
