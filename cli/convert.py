@@ -20,7 +20,7 @@ from motiontool.cli.text import num, plural
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot, resolve_robot
 from motiontool.motionfmt.convert import FORMATS, Format, format_named, format_of
-from motiontool.motionfmt.convert.base import Exported, ExportOptions
+from motiontool.motionfmt.convert.base import DEFAULT_LEAD_IN_MS, Exported, ExportOptions
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin, is_stdout, read_file, source_name
 
@@ -110,19 +110,30 @@ def convert_command(
     robot: Annotated[
         str | None,
         robot_option(
-            "Robot the export is checked against (default: the format's own, else auto)",
+            "Robot the export is checked against (default: the format's own, nao-v5 for naoqi, "
+            "else auto)",
             none="no checks (data formats only)",
         ),
     ] = None,
     timestep: Annotated[
         int | None, timestep_option(use="the command stream reproduced and checked")
     ] = None,
+    lead_in: Annotated[
+        int,
+        typer.Option(
+            "--lead-in",
+            min=1,
+            help="ms the real robot gets to reach the first pose before the motion starts "
+            "(naoqi: every NAOqi time is the Webots time plus this).",
+        ),
+    ] = DEFAULT_LEAD_IN_MS,
 ) -> None:
-    """Convert a motion to CSV or NPZ, or a CSV or NPZ back to a motion.
+    """Convert a motion to CSV, NPZ or NAOqi, or a CSV or NPZ back to a motion.
 
     The output is checked against the robot first (validate's limit, velocity and joint
-    checks); nothing is written if it fails (exit 1). The command stream Webots plays is kept
-    bit-identical through CSV and NPZ.
+    checks, and what a robot format sends); nothing is written if it fails (exit 1). The
+    command stream Webots plays is kept bit-identical through CSV and NPZ; a robot format says
+    how far it is from it (rad).
     """
     fmt_in = _format(source, from_ or ("motion" if is_stdin(source) else None), "--from", "read")
     fmt_out = _format(target, to, "--to", "write")
@@ -143,6 +154,8 @@ def convert_command(
         source=source_name(source),
         robot=None if spec is None else spec.name,
         joint_order=None if spec is None else spec.joint_names,
+        lead_in_ms=lead_in,
+        target_name=None if is_stdout(target) else target.name,
     )
     exported = fmt_out.write(motion, options)  # type: ignore[misc]
     if spec is not None and exported.stream is not None:

@@ -15,12 +15,20 @@ names of the feet.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
 
 from motiontool.kinematics.mjcf_limits import write_limits
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.kinematics._pinocchio.api import GeometryObject, Inertia
+
+    Matrix = npt.NDArray[np.float64]
 
 __all__ = ["mjcf_bytes", "urdf_bytes"]
 
@@ -86,7 +94,6 @@ class _Urdf:
 
         self.spec = spec
         self.model, self.geoms = build_model(spec)
-        self.np = np
         self.fixed, self.prismatic = FIXED, PRISMATIC
         model = self.model
         self.frames = list(model.frames)
@@ -120,9 +127,10 @@ class _Urdf:
         fid = self.main[jid]
         return "world" if fid < 0 else self.frames[fid].name
 
-    def placement(self, fid: int) -> Any:
+    def placement(self, fid: int) -> Matrix:
         """Placement (4x4) of frame ``fid`` in its joint's frame (identity for 'world')."""
-        np = self.np
+        import numpy as np
+
         return np.eye(4) if fid < 0 else np.asarray(self.frames[fid].placement.homogeneous)
 
     def text(self) -> str:
@@ -178,6 +186,8 @@ class _Urdf:
     def _fixed_links(self, links: dict[str, list[str]]) -> list[str]:
         """Fixed bodies (e.g. the Nao's foot force-sensor boxes) into ``links``; the XML of
         their fixed joints."""
+        import numpy as np
+
         joints_xml = []
         mains = set(self.main.values())
         for fid, frame in enumerate(self.frames):
@@ -185,7 +195,7 @@ class _Urdf:
                 continue
             parent_fid = self._parent_body(fid)
             links.setdefault(frame.name, [])
-            rel = self.np.linalg.inv(self.placement(parent_fid)) @ self.placement(fid)
+            rel = np.linalg.inv(self.placement(parent_fid)) @ self.placement(fid)
             joint_name = self.frames[frame.parentFrame].name
             joints_xml.append(
                 f'  <joint name={quoteattr(joint_name)} type="fixed">'
@@ -196,12 +206,13 @@ class _Urdf:
 
     def _collision_links(self, links: dict[str, list[str]]) -> None:
         """Each collision geometry into the link of the body that holds it."""
+        import numpy as np
+
         for obj in self.geoms.geometryObjects:
             body_fid = obj.parentFrame
             name = self.frames[body_fid].name if body_fid > 0 else self.link_of_joint(0)
-            rel = self.np.linalg.inv(self.placement(body_fid if body_fid > 0 else -1)) @ (
-                self.np.asarray(obj.placement.homogeneous)
-            )
+            parent = np.linalg.inv(self.placement(body_fid if body_fid > 0 else -1))
+            rel = np.asarray(parent @ obj.placement.homogeneous, dtype=np.float64)
             links.setdefault(name, []).extend(self._collisions(obj, rel))
 
     def _parent_body(self, fid: int) -> int:
@@ -216,11 +227,13 @@ class _Urdf:
     def _body_name(self, fid: int) -> str:
         return "world" if fid < 0 else self.frames[fid].name
 
-    def _inertial(self, inertia: Any) -> str:
+    def _inertial(self, inertia: Inertia) -> str:
+        import numpy as np
+
         i = inertia.inertia
         com = inertia.lever
         return (
-            f'<inertial>{origin(self.np.eye(3), com)}<mass value="{_g(inertia.mass)}"/>'
+            f'<inertial>{origin(np.eye(3), com)}<mass value="{_g(inertia.mass)}"/>'
             f'<inertia ixx="{_g(i[0, 0])}" ixy="{_g(i[0, 1])}" ixz="{_g(i[0, 2])}" '
             f'iyy="{_g(i[1, 1])}" iyz="{_g(i[1, 2])}" izz="{_g(i[2, 2])}"/></inertial>'
         )
@@ -259,11 +272,12 @@ class _Urdf:
             f'<axis xyz="{" ".join(_g(a) for a in axis)}"/><limit {" ".join(attrs)}/></joint>'
         )
 
-    def _collisions(self, obj: Any, rel: Any) -> list[str]:
-        np = self.np
+    def _collisions(self, obj: GeometryObject, rel: Matrix) -> list[str]:
+        import numpy as np
+
         geometry = obj.geometry
         kind = type(geometry).__name__
-        shapes: list[tuple[Any, str]] = []
+        shapes: list[tuple[Matrix, str]] = []
         if kind == "Sphere":
             shapes.append((rel, f'<sphere radius="{_g(geometry.radius)}"/>'))
         elif kind == "Box":
@@ -291,7 +305,7 @@ class _Urdf:
         ]
 
 
-def _rpy(rotation: Any) -> tuple[float, float, float]:
+def _rpy(rotation: Matrix) -> tuple[float, float, float]:
     """URDF roll, pitch, yaw (rad) of a rotation matrix (R = Rz(yaw) Ry(pitch) Rx(roll))."""
     r = [[float(rotation[i][j]) for j in range(3)] for i in range(3)]
     pitch = math.asin(max(-1.0, min(1.0, -r[2][0])))
@@ -304,7 +318,7 @@ def _rpy(rotation: Any) -> tuple[float, float, float]:
     return roll, pitch, yaw
 
 
-def origin(rotation: Any, translation: Any) -> str:
+def origin(rotation: Matrix, translation: Matrix) -> str:
     """A URDF ``<origin>`` element for a placement (rotation matrix, translation in m)."""
     xyz = " ".join(_g(float(v)) for v in translation)
     rpy = " ".join(_g(v) for v in _rpy(rotation))

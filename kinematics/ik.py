@@ -27,16 +27,16 @@ import logging
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from motiontool.kinematics._pinocchio.api import SE3, Data, Model, Pinocchio, pin_module
+from motiontool.kinematics._pinocchio.configuration import configuration
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
-    import pinocchio as pin
 
 __all__ = [
     "IKSolution",
@@ -125,14 +125,14 @@ class IKSolution:
 # --------------------------------------------------------------------------- internals
 
 
-def _pin() -> Any:
-    return require("pinocchio", "kinematics", "inverse kinematics (motiontool generate)")
+def _pin() -> Pinocchio:
+    return pin_module("inverse kinematics (motiontool generate)")
 
 
 class _Chain:
     """The motors the solver moves: their indices in Pinocchio's q and v vectors, and limits."""
 
-    def __init__(self, model: pin.Model, spec: RobotSpec, joints: Sequence[str] | None) -> None:
+    def __init__(self, model: Model, spec: RobotSpec, joints: Sequence[str] | None) -> None:
         import numpy as np
 
         names = list(spec.joint_names if joints is None else joints)
@@ -156,7 +156,7 @@ class _Chain:
         self.upper = np.array([spec.joint(n).upper for n in names], dtype=np.float64)
 
 
-def _frame_id(model: pin.Model, spec: RobotSpec, frame: str) -> int:
+def _frame_id(model: Model, spec: RobotSpec, frame: str) -> int:
     fid = int(model.getFrameId(frame))
     if fid >= model.nframes:
         names = ", ".join(f.name for f in model.frames if f.name != "universe")
@@ -164,25 +164,7 @@ def _frame_id(model: pin.Model, spec: RobotSpec, frame: str) -> int:
     return fid
 
 
-def _configuration(model: pin.Model, spec: RobotSpec, q_by_joint: Mapping[str, float]) -> Any:
-    """Pinocchio q, shape (nq,) float64: neutral, then the given motor positions."""
-    pin = _pin()
-    q = pin.neutral(model)
-    for name, value in q_by_joint.items():
-        if name not in spec:
-            raise MotionToolError(unknown_joint_message(name, spec))
-        value = float(value)
-        if not math.isfinite(value):
-            raise MotionToolError(f"joint '{name}' of robot {spec.name}: {value} is not a position")
-        joint = model.joints[model.getJointId(name)]
-        if joint.nq == 2:  # continuous joint stored as (cos, sin)
-            q[joint.idx_q : joint.idx_q + 2] = (math.cos(value), math.sin(value))
-        else:
-            q[joint.idx_q] = value
-    return q
-
-
-def _motor_values(model: pin.Model, spec: RobotSpec, q: Any) -> dict[str, float]:
+def _motor_values(model: Model, spec: RobotSpec, q: npt.NDArray[np.float64]) -> dict[str, float]:
     out = {}
     for name in spec.joint_names:
         joint = model.joints[model.getJointId(name)]
@@ -194,7 +176,12 @@ def _motor_values(model: pin.Model, spec: RobotSpec, q: Any) -> dict[str, float]
 
 
 def _residual(
-    model: pin.Model, data: pin.Data, q: Any, fid: int, target: Any, chain: _Chain
+    model: Model,
+    data: Data,
+    q: npt.NDArray[np.float64],
+    fid: int,
+    target: SE3,
+    chain: _Chain,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """``e = log6(oMf^-1 · oMdes)`` (6,) and ``de/dx`` (6, n) for the chain's motors x."""
     import numpy as np
@@ -208,23 +195,23 @@ def _residual(
     return error, -np.asarray(pin.Jlog6(fMd.inverse()) @ jac, dtype=np.float64)
 
 
-def _pose_of(oMf: Any) -> Pose:
+def _pose_of(oMf: SE3) -> Pose:
     import numpy as np
 
     return Pose(np.array(oMf.translation), np.array(oMf.rotation))
 
 
 def _descend(
-    model: pin.Model,
-    data: pin.Data,
+    model: Model,
+    data: Data,
     fid: int,
-    goal: Any,
+    goal: SE3,
     chain: _Chain,
-    q: Any,
+    q: npt.NDArray[np.float64],
     target: Pose,
     tolerances: tuple[float, float],
     max_iterations: int,
-) -> tuple[Any, float, float, int]:
+) -> tuple[npt.NDArray[np.float64], float, float, int]:
     """Levenberg–Marquardt from ``q`` (the chain's motors within their limits) until the frame
     is within ``tolerances`` (m, rad) of ``target``, the damping runs away, or
     ``max_iterations``: the last accepted q, its position (m) and orientation (rad) errors and
@@ -272,7 +259,7 @@ def forward_pose(spec: RobotSpec, q_by_joint: Mapping[str, float], frame: str) -
     model, _geoms = build_model(spec)
     data = model.createData()
     fid = _frame_id(model, spec, frame)
-    pin.forwardKinematics(model, data, _configuration(model, spec, q_by_joint))
+    pin.forwardKinematics(model, data, configuration(model, spec, q_by_joint))
     return _pose_of(pin.updateFramePlacement(model, data, fid))
 
 
@@ -294,7 +281,7 @@ def frame_jacobian(
     data = model.createData()
     chain = _Chain(model, spec, joints)
     fid = _frame_id(model, spec, frame)
-    q = _configuration(model, spec, q_by_joint)
+    q = configuration(model, spec, q_by_joint)
     jac = pin.computeFrameJacobian(model, data, q, fid, pin.LOCAL_WORLD_ALIGNED)
     return np.array(jac[:, chain.idx_v], dtype=np.float64)
 
@@ -341,7 +328,7 @@ def solve_ik(
     fid = _frame_id(model, spec, frame)
     chain = _Chain(model, spec, joints)
     goal = pin.SE3(np.array(target.rotation), np.array(target.position))
-    q = _configuration(model, spec, seed)
+    q = configuration(model, spec, seed)
     q[chain.idx_q] = np.clip(q[chain.idx_q], chain.lower, chain.upper)
     tolerances = (position_tolerance_m, orientation_tolerance_rad)
     search = _descend(model, data, fid, goal, chain, q, target, tolerances, max_iterations)

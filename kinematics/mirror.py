@@ -40,6 +40,7 @@ from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np
+    import numpy.typing as npt
 
 __all__ = [
     "AXIS_TOLERANCE",
@@ -99,8 +100,8 @@ class JointFrame:
     """
 
     name: str
-    axis: np.ndarray
-    anchor: np.ndarray
+    axis: npt.NDArray[np.float64]
+    anchor: npt.NDArray[np.float64]
     kind: str
 
 
@@ -148,7 +149,7 @@ class MirrorMap:
         return max((p.offset_m for p in self.pairs), default=0.0)
 
 
-def _quat_matrix(w: float, x: float, y: float, z: float) -> np.ndarray:
+def _quat_matrix(w: float, x: float, y: float, z: float) -> npt.NDArray[np.float64]:
     import numpy as np
 
     n = math.sqrt(w * w + x * x + y * y + z * z)
@@ -164,7 +165,7 @@ def _quat_matrix(w: float, x: float, y: float, z: float) -> np.ndarray:
     )
 
 
-def _rpy_matrix(r: float, p: float, y: float) -> np.ndarray:
+def _rpy_matrix(r: float, p: float, y: float) -> npt.NDArray[np.float64]:
     import numpy as np
 
     cr, sr, cp, sp, cy, sy = (
@@ -178,11 +179,11 @@ def _rpy_matrix(r: float, p: float, y: float) -> np.ndarray:
     rx = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
     ry = np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]])
     rz = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
-    out: np.ndarray = rz @ ry @ rx  # URDF: fixed-axis roll, then pitch, then yaw
+    out: npt.NDArray[np.float64] = rz @ ry @ rx  # URDF: fixed-axis roll, then pitch, then yaw
     return out
 
 
-def _vec(text: str | None, default: tuple[float, float, float]) -> np.ndarray:
+def _vec(text: str | None, default: tuple[float, float, float]) -> npt.NDArray[np.float64]:
     import numpy as np
 
     if text is None:
@@ -193,7 +194,7 @@ def _vec(text: str | None, default: tuple[float, float, float]) -> np.ndarray:
     return np.array([float(v) for v in parts], dtype=np.float64)
 
 
-def _unit(v: np.ndarray, what: str) -> np.ndarray:
+def _unit(v: npt.NDArray[np.float64], what: str) -> npt.NDArray[np.float64]:
     import numpy as np
 
     n = float(np.linalg.norm(v))
@@ -212,7 +213,9 @@ def _mjcf_frames(path: Path) -> Iterator[JointFrame]:
     if base is None:
         raise MotionToolError(f"{path}: no body under <worldbody>")
 
-    def walk(body: ET.Element, rot: np.ndarray, pos: np.ndarray) -> Iterator[JointFrame]:
+    def walk(
+        body: ET.Element, rot: npt.NDArray[np.float64], pos: npt.NDArray[np.float64]
+    ) -> Iterator[JointFrame]:
         for attr in ("euler", "axisangle", "xyaxes", "zaxis"):
             if body.get(attr) is not None:
                 raise MotionToolError(
@@ -266,7 +269,9 @@ def _urdf_frames(path: Path) -> Iterator[JointFrame]:
     if not roots:
         raise MotionToolError(f"{path}: no root link")
 
-    def walk(link: str, rot: np.ndarray, pos: np.ndarray) -> Iterator[JointFrame]:
+    def walk(
+        link: str, rot: npt.NDArray[np.float64], pos: npt.NDArray[np.float64]
+    ) -> Iterator[JointFrame]:
         for joint in children.get(link, []):
             origin = joint.find("origin")
             xyz = _vec(None if origin is None else origin.get("xyz"), (0.0, 0.0, 0.0))

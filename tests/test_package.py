@@ -412,6 +412,8 @@ def _function_bodies(path: Path) -> list[tuple[str, str]]:
         body = node.body
         if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
             body = body[1:]
+        if all(isinstance(b, ast.Expr) and getattr(b.value, "value", None) is ... for b in body):
+            continue  # declared, not written: a Protocol's or an overload's `...`
         where = f"{path.relative_to(ROOT).as_posix()}:{node.lineno} {node.name}"
         out.append((where, ast.dump(node.args) + "".join(ast.dump(b) for b in body)))
     return out

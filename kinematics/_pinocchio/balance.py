@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.kinematics._pinocchio.api import pin_module
 from motiontool.kinematics._pinocchio.configuration import configuration
 from motiontool.kinematics._pinocchio.hull import convex_hull, signed_distance
-from motiontool.kinematics._pinocchio.model import built, pin_module
+from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
 
@@ -40,7 +41,9 @@ class Balance(NamedTuple):
 _BOX_SIGNS = [[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
 
 
-def _foot_corners(spec: RobotSpec, q_by_joint: Mapping[str, float]) -> tuple[Any, dict[str, Any]]:
+def _foot_corners(
+    spec: RobotSpec, q_by_joint: Mapping[str, float]
+) -> tuple[npt.NDArray[np.float64], dict[str, npt.NDArray[np.float64]]]:
     """(com (3,), {foot geometry name: its 8 box corners, shape (8, 3)}) in metres."""
     import numpy as np
 

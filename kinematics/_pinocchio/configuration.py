@@ -4,21 +4,23 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from motiontool.kinematics._pinocchio.model import built, pin_module
+from motiontool.kinematics._pinocchio.api import Model, pin_module
+from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
 from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
-    import pinocchio as pin
 
 __all__ = ["body_positions", "configuration", "configurations"]
 
 
-def configuration(model: pin.Model, spec: RobotSpec, q_by_joint: Mapping[str, float]) -> Any:
+def configuration(
+    model: Model, spec: RobotSpec, q_by_joint: Mapping[str, float]
+) -> npt.NDArray[np.float64]:
     """Pinocchio configuration vector, shape (nq,) float64, for the named motor positions."""
     pin = pin_module()
     q = pin.neutral(model)

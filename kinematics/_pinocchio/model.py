@@ -7,21 +7,19 @@ import functools
 import math
 import threading
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Literal
 
+from motiontool.kinematics._pinocchio.api import (
+    Data,
+    GeometryData,
+    GeometryModel,
+    Model,
+    pin_module,
+)
 from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
 
-if TYPE_CHECKING:
-    import pinocchio as pin
-
-__all__ = ["Built", "build", "build_model", "built", "joint_table", "model_key", "pin_module"]
-
-
-def pin_module() -> Any:
-    """The ``pinocchio`` module, or a :class:`MissingExtraError` naming the extra."""
-    return require("pinocchio", "kinematics", "collision, balance and URDF/MJCF robot models")
+__all__ = ["Built", "build", "build_model", "built", "joint_table", "model_key"]
 
 
 def _load_error(path: Path, exc: Exception) -> MotionToolError:
@@ -31,7 +29,7 @@ def _load_error(path: Path, exc: Exception) -> MotionToolError:
 
 
 @functools.lru_cache(maxsize=32)
-def _model(path: Path, fmt: str, floating_base: bool | None, stamp: int) -> pin.Model:
+def _model(path: Path, fmt: str, floating_base: bool | None, stamp: int) -> Model:
     """Kinematic/dynamic model of a file (``stamp`` = mtime, so an edited file is reloaded)."""
     pin = pin_module()
     try:
@@ -113,17 +111,17 @@ class Built:
 
     __slots__ = ("_local", "geoms", "model")
 
-    def __init__(self, model: pin.Model, geoms: pin.GeometryModel) -> None:
+    def __init__(self, model: Model, geoms: GeometryModel) -> None:
         self.model = model
         self.geoms = geoms
         self._local = threading.local()
 
-    def buffers(self) -> tuple[pin.Data, pin.GeometryData]:
-        local = self._local
-        if not hasattr(local, "data"):
-            local.data = self.model.createData()
-            local.geom_data = pin_module().GeometryData(self.geoms)
-        return local.data, local.geom_data
+    def buffers(self) -> tuple[Data, GeometryData]:
+        found: tuple[Data, GeometryData] | None = getattr(self._local, "buffers", None)
+        if found is None:
+            found = (self.model.createData(), pin_module().GeometryData(self.geoms))
+            self._local.buffers = found
+        return found
 
 
 @functools.lru_cache(maxsize=16)
@@ -143,7 +141,7 @@ def build(path: Path, fmt: str, floating_base: bool | None, stamp: int) -> Built
     return Built(model, geoms)
 
 
-def build_model(spec: RobotSpec) -> tuple[pin.Model, pin.GeometryModel]:
+def build_model(spec: RobotSpec) -> tuple[Model, GeometryModel]:
     """Pinocchio model and collision geometry of ``spec``, built once per process.
 
     The geometry model already holds the self-collision pairs that :func:`self_collisions`
@@ -170,7 +168,7 @@ def model_key(spec: RobotSpec) -> tuple[Path, str, bool | None, int]:
     return spec.model_path, spec.model_format, floating, _stamp(spec.model_path)
 
 
-def _add_self_collision_pairs(model: pin.Model, geoms: pin.GeometryModel) -> None:
+def _add_self_collision_pairs(model: Model, geoms: GeometryModel) -> None:
     pin = pin_module()
     objects = geoms.geometryObjects
     with_geometry = {obj.parentJoint for obj in objects}

@@ -7,8 +7,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
+from motiontool.kinematics._pinocchio.api import pin_module
 from motiontool.kinematics._pinocchio.configuration import configuration, configurations
-from motiontool.kinematics._pinocchio.model import built, pin_module
+from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics._pinocchio.tables import kinematic_tables
 from motiontool.kinematics.robots import RobotSpec
 

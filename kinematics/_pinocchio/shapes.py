@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import math
-from typing import Any
+
+from motiontool.kinematics._pinocchio.api import CollisionGeometry
 
 __all__ = ["BOX", "CAPSULE", "CYLINDER", "OTHER", "SPHERE", "bounding_sphere", "shape"]
 
@@ -11,7 +12,7 @@ __all__ = ["BOX", "CAPSULE", "CYLINDER", "OTHER", "SPHERE", "bounding_sphere", "
 OTHER, SPHERE, BOX, CAPSULE, CYLINDER = 0, 1, 2, 3, 4
 
 
-def shape(geometry: Any) -> tuple[int, tuple[float, float, float]]:
+def shape(geometry: CollisionGeometry) -> tuple[int, tuple[float, float, float]]:
     """(shape code, sizes in m) of a coal geometry, as :class:`KinematicTables` holds them."""
     kind = type(geometry).__name__
     if kind == "Sphere":
@@ -25,7 +26,7 @@ def shape(geometry: Any) -> tuple[int, tuple[float, float, float]]:
     return OTHER, (0.0, 0.0, 0.0)
 
 
-def bounding_sphere(geometry: Any) -> tuple[tuple[float, float, float], float]:
+def bounding_sphere(geometry: CollisionGeometry) -> tuple[tuple[float, float, float], float]:
     """(centre in the geometry frame, radius), m, of a sphere enclosing a coal geometry."""
     kind = type(geometry).__name__
     origin = (0.0, 0.0, 0.0)

@@ -11,8 +11,9 @@ import functools
 import math
 import re
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.kinematics._pinocchio.api import GeometryModel, JointModel, Model
 from motiontool.kinematics._pinocchio.model import build, model_key
 from motiontool.kinematics._pinocchio.shapes import OTHER, bounding_sphere, shape
 from motiontool.kinematics.robots import RobotSpec
@@ -20,7 +21,6 @@ from motiontool.kinematics.robots import RobotSpec
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
-    import pinocchio as pin
 
 __all__ = ["FIXED", "PRISMATIC", "REVOLUTE", "KinematicTables", "joint_motion", "kinematic_tables"]
 
@@ -185,7 +185,7 @@ def _tables(
     )
 
 
-def _joint_arrays(model: pin.Model, motors: tuple[str, ...]) -> _Joints:
+def _joint_arrays(model: Model, motors: tuple[str, ...]) -> _Joints:
     """The tree: each joint's parent, placement, and motion if it is one of ``motors``."""
     import numpy as np
 
@@ -218,9 +218,7 @@ def _joint_arrays(model: pin.Model, motors: tuple[str, ...]) -> _Joints:
     return _Joints(parent, rotation, translation, axis, kind, motor, exact)
 
 
-def _geometry_arrays(
-    model: pin.Model, geoms: pin.GeometryModel, parent: npt.NDArray[np.int64]
-) -> _Geoms:
+def _geometry_arrays(model: Model, geoms: GeometryModel, parent: npt.NDArray[np.int64]) -> _Geoms:
     """Each collision geometry's joint, placement, shape, bounding sphere, body and limb."""
     import numpy as np
 
@@ -248,8 +246,8 @@ def _geometry_arrays(
 
 
 def _limbs(
-    model: pin.Model,
-    geoms: pin.GeometryModel,
+    model: Model,
+    geoms: GeometryModel,
     body: tuple[str, ...],
     parent: npt.NDArray[np.int64],
 ) -> tuple[str, ...]:
@@ -269,7 +267,7 @@ def _limbs(
 
 
 def _pair_arrays(
-    geoms: pin.GeometryModel, geom_joint: npt.NDArray[np.int64], joints: _Joints, n_motors: int
+    geoms: GeometryModel, geom_joint: npt.NDArray[np.int64], joints: _Joints, n_motors: int
 ) -> _Pairs:
     """The self-collision pairs, the motors that move each, and their (joint, joint) groups."""
     import numpy as np
@@ -322,7 +320,7 @@ def _joint_spheres(
     return joint_center, joint_radius
 
 
-def joint_motion(joint: Any, short: str) -> tuple[int, tuple[float, float, float]]:
+def joint_motion(joint: JointModel, short: str) -> tuple[int, tuple[float, float, float]]:
     """(kind, unit axis) of a 1-DoF Pinocchio joint; (FIXED, 0) for anything else."""
     for prefix, kind in (
         ("JointModelRUB", REVOLUTE),

@@ -12,7 +12,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypeVar
 
 from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
@@ -22,6 +22,9 @@ from motiontool.motionfmt.reader import ReadResult
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
+
+#: The cell type of a (P, K) table: float64 values or bool flags.
+_Cell = TypeVar("_Cell", "np.float64", "np.bool_")
 
 __all__ = [
     "EPS",
@@ -145,7 +148,7 @@ class Table:
         """The file column of motor ``k``'s cell at ``pose``."""
         return int(self.source[pose, k])
 
-    def _at_source(self, cells: npt.NDArray[np.generic]) -> npt.NDArray[np.generic]:
+    def _at_source(self, cells: npt.NDArray[_Cell]) -> npt.NDArray[_Cell]:
         import numpy as np
 
         return np.take_along_axis(cells, self.source, axis=1)
@@ -153,18 +156,18 @@ class Table:
     @functools.cached_property
     def values(self) -> npt.NDArray[np.float64]:
         """(P, K) float64: each motor's cell value (rad, m for linear joints), NaN for '*'."""
-        return self._at_source(self.raw)  # type: ignore[return-value]
+        return self._at_source(self.raw)
 
     @functools.cached_property
     def defined(self) -> npt.NDArray[np.bool_]:
         """(P, K) bool: a column of the motor holds a number (a command) at the pose."""
-        return self._at_source(self.raw_defined)  # type: ignore[return-value]
+        return self._at_source(self.raw_defined)
 
     @functools.cached_property
     def commanded(self) -> npt.NDArray[np.bool_]:
         """(P, K) bool: a column of the motor sends its value at (or right after) the pose
         (:func:`sent_cells`)."""
-        return self._at_source(self.raw_sent)  # type: ignore[return-value]
+        return self._at_source(self.raw_sent)
 
     @functools.cached_property
     def held(self) -> npt.NDArray[np.float64]:

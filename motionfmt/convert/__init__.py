@@ -5,6 +5,8 @@
 * :mod:`.wide_csv`: ``time_ms`` then one column per joint; both ways, lossless.
 * :mod:`.npz`: NumPy arrays ``times_ms``, ``names``, ``positions``, ``commanded``; both ways,
   lossless.
+* :mod:`.naoqi`: a real NAO: ``ALMotion.angleInterpolationBezier``'s arguments as JSON and a
+  script that sends them.
 
 A format for a real robot writes what reproduces Webots' command stream there and says how far
 it is from it (:class:`~.base.Deviation`); the robot checks of an export are the caller's (the
@@ -18,6 +20,7 @@ from __future__ import annotations
 
 from motiontool.motionfmt.convert.base import Format
 from motiontool.motionfmt.convert.motion_file import read_motion_file, write_motion_file
+from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
 from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
 
@@ -44,6 +47,14 @@ FORMATS: tuple[Format, ...] = (
         "NumPy arrays times_ms, names, positions, commanded (and pose_names)",
         read=read_npz,
         write=write_npz,
+    ),
+    Format(
+        "naoqi",
+        (".naoqi.json",),
+        "a real NAO: ALMotion.angleInterpolationBezier arguments (JSON) and a qi script",
+        write=write_naoqi,
+        for_robot=True,
+        default_robot="nao-v5",
     ),
 )
 """Every format, in the order the help lists them."""

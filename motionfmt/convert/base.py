@@ -46,6 +46,7 @@ class ExportOptions:
         joint_order: the robot's motors in its own order (a UR arm's six joints), or None.
         lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
         keyframes: one move per keyframe instead of the stream at every step (URScript).
+        target_name: the output file's name (a companion script refers to it), or None.
     """
 
     timestep_ms: int = 32
@@ -54,6 +55,7 @@ class ExportOptions:
     joint_order: tuple[str, ...] | None = None
     lead_in_ms: int = DEFAULT_LEAD_IN_MS
     keyframes: bool = False
+    target_name: str | None = None
 
 
 @dataclass(frozen=True)

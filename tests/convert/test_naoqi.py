@@ -1,0 +1,169 @@
+"""NAOqi export: the JSON's keys, evaluated as NAOqi's documentation describes its Bézier
+curves, give back Webots' command stream at every control step; times are > 0; the script
+sends exactly the JSON's arguments."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import runpy
+import sys
+import types
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from conftest import ROOT, corpus_params
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+from motiontool.kinematics import detect_robot
+from motiontool.motionfmt import read_bytes
+from motiontool.motionfmt.convert.base import ExportOptions
+from motiontool.motionfmt.convert.held import held_stream
+from motiontool.motionfmt.convert.naoqi import NAOQI_NAMES, write_naoqi
+from motiontool.motionfmt.convert.naoqi_curve import curve_at
+from motiontool.motionfmt.motion import Motion
+
+NAO_FILES = sorted((ROOT / "motions" / "nao").glob("*.motion"))
+ROUNDING = 1e-12  # rad: what floating-point evaluation of a straight line may leave
+
+
+def _export(motion: Motion, lead_in_ms: int = 1000) -> tuple[dict[str, Any], Any]:
+    out = write_naoqi(motion, ExportOptions(timestep_ms=20, lead_in_ms=lead_in_ms))
+    return json.loads(out.data), out
+
+
+def _worst_from_json(motion: Motion, doc: dict[str, Any]) -> float:
+    """The deviation recomputed from the JSON alone: its keys through the curve model, against
+    the targets Webots' player holds at every step."""
+    held = held_stream(motion, doc["timestep_ms"])
+    t_s = (held.elapsed_ms + doc["lead_in_ms"]) / 1000.0
+    curves = {
+        name: curve_at(times, [(a, tuple(h1), tuple(h2)) for a, h1, h2 in keys], t_s)
+        for name, times, keys in zip(doc["names"], doc["times"], doc["keys"], strict=True)
+    }
+    worst = 0.0
+    for k, motor in enumerate(held.motors):
+        want = held.targets[:, k]
+        got = curves.get(NAOQI_NAMES.get(motor, motor))
+        if got is None:
+            assert np.isnan(want).all()  # never commanded: left out
+            continue
+        live = ~np.isnan(want)
+        worst = max(worst, float(np.max(np.abs(got[live] - want[live]), initial=0.0)))
+    return worst
+
+
+def _coupled_joints_agree(motion: Motion) -> bool:
+    """Whether the joints one motor drives on a real NAO (the fingers of a hand, the two
+    HipYawPitch) hold the same targets: otherwise no export can play it there."""
+    held = held_stream(motion, 20)
+    by_name = {m: held.targets[:, k] for k, m in enumerate(held.motors)}
+    for motor, target in by_name.items():
+        leader = {"LHand": "LPhalanx1", "RHand": "RPhalanx1"}.get(NAOQI_NAMES.get(motor, ""))
+        other = by_name.get(leader or NAOQI_NAMES.get(motor, motor))
+        if other is not None and not np.allclose(target, other, atol=1e-3, equal_nan=True):
+            return False
+    return True
+
+
+def _nao_params() -> list[object]:
+    out: list[object] = list(NAO_FILES)
+    for p in corpus_params():
+        path = getattr(p, "values", [None])[0] if not isinstance(p, Path) else p
+        out.append(p if path is None else path)
+    return out
+
+
+@pytest.mark.parametrize("path", _nao_params())
+def test_keys_give_webots_stream_back(path: Path) -> None:
+    motion = read_bytes(path.read_bytes(), str(path)).motion
+    if detect_robot(motion.joints) not in ("nao", "nao-v5"):
+        pytest.skip("not a Nao motion")
+    if not np.isfinite(motion.values[motion.commanded]).all():
+        pytest.skip("a nan/inf command cannot be sent")
+    if not _coupled_joints_agree(motion):
+        pytest.skip("fingers or hips one motor drives apart: refused (test below)")
+    doc, out = _export(motion)
+    assert out.deviation is not None and out.deviation.max_rad <= ROUNDING
+    assert _worst_from_json(motion, doc) <= ROUNDING
+    for times, keys in zip(doc["times"], doc["keys"], strict=True):
+        assert times[0] > 0 and all(b > a for a, b in itertools.pairwise(times))
+        assert len(keys) == len(times)
+        for angle, h1, h2 in keys:
+            assert isinstance(angle, float) and h1[0] == h2[0] == 3
+            assert h1[1] <= 0 <= h2[1]  # each handle inside its segment
+
+
+def test_a_first_pose_at_zero_gets_the_lead_in() -> None:
+    motion = read_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0.5\n100,B,0\n", "m").motion
+    doc, _ = _export(motion, lead_in_ms=700)
+    assert doc["times"] == [[0.7, 0.8]]
+    assert doc["keys"][0][0] == [0.5, [3, -0.7 / 3, 0.0], [3, (0.8 - 0.7) / 3, -0.5 / 3]]
+
+
+def test_a_star_stretch_is_held_then_jumps_as_webots_plays_it() -> None:
+    # HeadYaw: 0 at 0 ms, '*' at 100 ms: nothing is sent until after 200 ms (the motor holds
+    # 0), then the segment 200 -> 300 ms is played from its first step (220 ms: 0.8).
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n100,B,*,0.2\n200,C,1,0.2\n300,D,0,0\n"
+    motion = read_bytes(data, "m").motion
+    doc, out = _export(motion)
+    assert doc["names"] == ["HeadYaw", "HeadPitch"]
+    assert doc["times"][0] == [1.0, 1.2, 1.22, 1.3]
+    assert [k[0] for k in doc["keys"][0]] == [0.0, 0.0, 0.8, 0.0]
+    assert out.deviation.max_rad <= ROUNDING
+
+
+def test_handles_off_the_line_are_measured_not_hidden() -> None:
+    # Choregraphe's flat handles ([3, +-dt/3, 0]): a smooth curve, not Webots' straight lines.
+    motion = read_bytes(NAO_FILES[0].read_bytes(), "m").motion
+    doc, _ = _export(motion)
+    doc["keys"] = [[[a, [3, h1[1], 0.0], [3, h2[1], 0.0]] for a, h1, h2 in j] for j in doc["keys"]]
+    assert _worst_from_json(motion, doc) > 0.01
+
+
+def test_the_script_sends_the_json(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    target = tmp_path / "wave.naoqi.json"
+    result = CliRunner().invoke(
+        app, ["convert", str(ROOT / "motions" / "nao" / "wave_right.motion"), str(target)]
+    )
+    assert result.exit_code == 0, result.stderr
+    assert "worst deviation from Webots' command stream: " in result.stderr
+    assert "(the script that sends it)" in result.stderr
+    calls: list[tuple[str, tuple[Any, ...]]] = []
+
+    class Service:
+        def __getattr__(self, name: str) -> Any:
+            return lambda *args: calls.append((name, args))
+
+    class Session:
+        def connect(self, url: str) -> None:
+            calls.append(("connect", (url,)))
+
+        def service(self, name: str) -> Service:
+            assert name == "ALMotion"
+            return Service()
+
+    monkeypatch.setitem(sys.modules, "qi", types.SimpleNamespace(Session=Session))
+    monkeypatch.setattr(sys, "argv", ["wave_send.py", "--ip", "10.0.0.5"])
+    runpy.run_path(str(tmp_path / "wave_send.py"), run_name="__main__")
+    doc = json.loads(target.read_text())
+    assert calls[0] == ("connect", ("tcp://10.0.0.5:9559",))
+    assert calls[-1] == ("angleInterpolationBezier", (doc["names"], doc["times"], doc["keys"]))
+
+
+def test_a_hand_the_real_robot_cannot_do_is_refused(tmp_path: Path) -> None:
+    # salute.motion moves RPhalanx7/8 apart from RPhalanx1: one motor drives them on a NAO.
+    result = CliRunner().invoke(
+        app,
+        [
+            "convert",
+            str(ROOT / "motions" / "nao" / "salute.motion"),
+            str(tmp_path / "s.naoqi.json"),
+        ],
+    )
+    assert result.exit_code == 1
+    assert "warning MT306" in result.stderr and "not written" in result.stderr
+    assert list(tmp_path.iterdir()) == []
