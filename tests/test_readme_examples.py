@@ -1,0 +1,178 @@
+"""The README's examples run as written from a fresh clone (issue 17 item 8): every motion file
+a ``motiontool`` example reads is in the repository, a transcript (``$ motiontool ...`` and what
+follows) is what the command prints, and the library example runs."""
+
+from __future__ import annotations
+
+import re
+import shlex
+from dataclasses import dataclass
+from pathlib import Path
+from string import Template
+
+import pytest
+from conftest import ROOT
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+
+README = ROOT / "README.md"
+
+PLACEHOLDERS: frozenset[str] = frozenset()
+"""Motion files README's examples name that are not in the repository on purpose, each declared
+a placeholder in README. None: every example names a file of the clone (``motions/``, or Webots'
+files vendored in ``tests/data/corpus/webots``)."""
+
+OUTPUT_OPTIONS = frozenset({"-o", "--output"})
+"""Options whose value is a file the command writes, not one it reads."""
+
+_ASSIGNMENT = re.compile(r"([A-Z_][A-Z0-9_]*)=(\S+)")
+
+
+@dataclass(frozen=True)
+class Block:
+    """A fenced code block of README: its info string, the line number of its first line, its
+    lines."""
+
+    info: str
+    line: int
+    lines: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Example:
+    """A command line of a code block that runs ``motiontool``, continuation lines joined,
+    ``$NAME`` replaced by the block's ``NAME=value``; ``cwd`` where the block's ``cd`` left it."""
+
+    line: int
+    tokens: tuple[str, ...]
+    cwd: Path
+
+
+def blocks(text: str) -> list[Block]:
+    """Every fenced code block of ``text``."""
+    out: list[Block] = []
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        if lines[i].startswith("```"):
+            end = next(j for j in range(i + 1, len(lines)) if lines[j].startswith("```"))
+            out.append(Block(lines[i][3:].strip(), i + 2, tuple(lines[i + 1 : end])))
+            i = end
+        i += 1
+    return out
+
+
+def _joined(block: Block) -> list[tuple[int, str]]:
+    """The block's lines, a line ending in a backslash joined with the next; ``$ `` (a prompt)
+    dropped."""
+    out: list[tuple[int, str]] = []
+    pending = ""
+    for number, line in enumerate(block.lines, block.line):
+        text = line.removeprefix("$ ")
+        if text.endswith("\\"):
+            pending += text[:-1] + " "
+            continue
+        out.append((number, pending + text))
+        pending = ""
+    return out
+
+
+def block_examples(block: Block) -> list[Example]:
+    """Every ``motiontool`` command line of ``block``."""
+    found: list[Example] = []
+    variables: dict[str, str] = {}
+    cwd = ROOT
+    for number, line in _joined(block):
+        if match := _ASSIGNMENT.fullmatch(line.strip()):
+            variables[match[1]] = match[2]
+            continue
+        try:
+            tokens = shlex.split(Template(line).safe_substitute(variables), comments=True)
+        except ValueError:  # not shell (TOML, Python): no example there
+            continue
+        if tokens[:1] == ["cd"]:
+            cwd = cwd / tokens[1]
+        elif any(t == "motiontool" or t.endswith("/motiontool") for t in tokens):
+            found.append(Example(number, tuple(t.strip("[]") for t in tokens), cwd))
+    return found
+
+
+def examples(text: str) -> list[Example]:
+    """Every ``motiontool`` command line of ``text``'s code blocks."""
+    return [example for block in blocks(text) for example in block_examples(block)]
+
+
+def motion_inputs(example: Example) -> list[str]:
+    """The ``.motion`` files an example reads: its arguments ending in ``.motion`` but the
+    value of ``-o`` / ``--output``."""
+    tokens = example.tokens
+    return [
+        t
+        for i, t in enumerate(tokens)
+        if t.endswith(".motion") and not (i and tokens[i - 1] in OUTPUT_OPTIONS)
+    ]
+
+
+def test_the_extraction_finds_the_examples() -> None:
+    found = examples(README.read_text(encoding="utf-8"))
+    assert len(found) >= 40
+    inputs = {name for example in found for name in motion_inputs(example)}
+    corpus = "tests/data/corpus/webots/projects/robots/softbank"
+    assert f"{corpus}/nao/motions/StandUpFromFront.motion" in inputs  # $NAO expanded
+    assert "motions/nao/*.motion" in inputs
+    assert not any(name.startswith("out/") for name in inputs)  # -o's value is an output
+    sample = "```sh\nW=a/b\nmotiontool play $W/x.motion \\\n  -o y.motion [--rrd z.motion]\n```\n"
+    (example,) = examples(sample)
+    assert motion_inputs(example) == ["a/b/x.motion", "z.motion"]
+
+
+def test_every_motion_file_an_example_reads_is_in_the_repository() -> None:
+    missing = []
+    for example in examples(README.read_text(encoding="utf-8")):
+        for name in motion_inputs(example):
+            if name in PLACEHOLDERS:
+                continue
+            found = list(example.cwd.glob(name)) if "*" in name else [example.cwd / name]
+            if not found or not all(path.is_file() for path in found):
+                missing.append(f"README.md:{example.line}: {name} (from {example.cwd})")
+    assert missing == [], "files that are not in the repository:\n" + "\n".join(missing)
+
+
+def transcripts(text: str) -> list[tuple[Example, str]]:
+    """Every ``$ motiontool ...`` line of a code block with the lines that follow it (up to the
+    next ``$`` line or the block's end): what the command prints."""
+    out: list[tuple[Example, str]] = []
+    for block in blocks(text):
+        if not any(line.startswith("$ motiontool ") for line in block.lines):
+            continue
+        by_line = {e.line: e for e in block_examples(block)}
+        for i, line in enumerate(block.lines):
+            if not line.startswith("$ motiontool "):
+                continue
+            rest = block.lines[i + 1 :]
+            end = next((j for j, r in enumerate(rest) if r.startswith("$ ")), len(rest))
+            out.append((by_line[block.line + i], "".join(f"{r}\n" for r in rest[:end])))
+    return out
+
+
+def test_every_transcript_is_what_the_command_prints(monkeypatch: pytest.MonkeyPatch) -> None:
+    found = transcripts(README.read_text(encoding="utf-8"))
+    assert found
+    for example, printed in found:
+        monkeypatch.chdir(example.cwd)
+        args = list(example.tokens[example.tokens.index("motiontool") + 1 :])
+        result = CliRunner().invoke(app, args)
+        assert result.output == printed, f"README.md:{example.line}"
+
+
+def test_the_library_example_runs_from_the_repository_root(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    (code,) = [
+        "\n".join(b.lines)
+        for b in blocks(README.read_text(encoding="utf-8"))
+        if b.info == "python" and "from motiontool" in "\n".join(b.lines)
+    ]
+    monkeypatch.chdir(ROOT)
+    exec(compile(code, str(README), "exec"), {})  # README's own example
