@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
 from motiontool.motionfmt.extras import require
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -225,7 +226,7 @@ def plot_motion(
 
     placed, rows, cols = _layout(groups)
     fig = _figure(rows, cols)
-    t_s = motion.times_ms.astype(np.float64) / 1000.0
+    t_s = motion.times_ms.astype(np.float64) / MS_PER_S
     n_limit = n_fast = 0
     axes = fig.subplots(rows, cols, squeeze=False)
     used = set()
@@ -266,7 +267,7 @@ def plot_motion(
                 held_span = ~commanded
                 held_span[:-1] |= ~commanded[1:]
                 dotted = np.where(held_span, h, np.nan)
-                ax.plot(elapsed / 1000.0, dotted, color=color, lw=1.0, ls=":", zorder=2)
+                ax.plot(elapsed / MS_PER_S, dotted, color=color, lw=1.0, ls=":", zorder=2)
             jl = limits.get(name)
             if jl is None:
                 continue
@@ -334,7 +335,7 @@ def plot_diff(
     rows = max(-(-len(joints) // cols), 1)
     fig = _figure(rows, cols)
     axes = fig.subplots(rows, cols, squeeze=False)
-    t = elapsed_ms / 1000.0
+    t = elapsed_ms / MS_PER_S
     for i in range(rows * cols):
         ax = axes[i // cols][i % cols]
         if i >= len(joints):

@@ -11,7 +11,13 @@ from motiontool.cli.color import rich_no_color
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import collect
 from motiontool.cli.options import Timestep, finite, robot_option
-from motiontool.cli.output import emit, refuse_overwrite, refuse_shared_outputs, require_folder
+from motiontool.cli.output import (
+    emit,
+    refuse_overwrite,
+    refuse_shared_outputs,
+    require_folder,
+    say_wrote,
+)
 from motiontool.cli.physics_options import (
     FrictionOption,
     PhysicsStepOption,
@@ -19,6 +25,7 @@ from motiontool.cli.physics_options import (
     ProfileOption,
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
+from motiontool.cli.text import plural
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdin
@@ -183,7 +190,9 @@ def batch_command(
         cache_max_bytes=round(cache_max_mb * BYTES_PER_MB),
         ray_address=ray_address,
     )
-    _write_reports(batch, profile, json_out=json_out, markdown=markdown, junit=junit)
+    _write_reports(
+        batch, profile, json_out=json_out, markdown=markdown, junit=junit, rrd_dir=rrd_dir
+    )
     if batch.failures:
         raise typer.Exit(1)
 
@@ -258,11 +267,11 @@ def _plan(
         expected, sidecar_start = expectations_for(
             f, expect, sidecar=sidecar, roots=roots, cache=sidecars
         )
-        start_state = start.value if start is not None else sidecar_start
+        start_state = start if start is not None else sidecar_start
         file_options = dict(options)
         file_options["timestep_ms"] = timesteps[f]
-        if start_state not in (None, "standing"):
-            file_options["start"] = start_state
+        if start_state is not None and Start(start_state).lying:
+            file_options["start"] = str(start_state)
         if rrd_dir is not None:
             file_options["rrd_dir"] = str(rrd_dir)
             file_options["rrd_name"] = rrd_names[str(f)]
@@ -371,8 +380,9 @@ def _write_reports(
     json_out: Path | None,
     markdown: Path | None,
     junit: Path | None,
+    rrd_dir: Path | None,
 ) -> None:
-    """The summary on stdout, then the reports asked for."""
+    """The summary on stdout, then the reports asked for, each said in one line on stderr."""
     from motiontool.cli.batch_reports import (
         render_json,
         render_markdown,
@@ -391,3 +401,8 @@ def _write_reports(
         emit(render_markdown(batch), markdown)
     if junit is not None:
         write_junit(batch, junit)
+    runs = plural(len(batch.runs), "run")
+    say_wrote(json_out, f"batch report, JSON, {runs}")
+    say_wrote(markdown, f"Markdown summary, {runs}")
+    say_wrote(junit, f"JUnit XML, {runs}")
+    say_wrote(rrd_dir, f"a folder of Rerun recordings, one per run: {runs}")

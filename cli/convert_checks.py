@@ -23,6 +23,7 @@ from motiontool.motionfmt.convert.base import Imported, RobotStream
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.motionfmt.units import MS_PER_S
 from motiontool.motionfmt.writer import format_motion
 
 if TYPE_CHECKING:
@@ -100,7 +101,7 @@ def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str
     import numpy as np
 
     out: list[str] = []
-    t = stream.times_ms.astype(np.float64) / 1000.0
+    t = stream.times_ms.astype(np.float64) / MS_PER_S
     for k, name in enumerate(stream.joints):
         if name not in spec:
             out.append(f"{what}: {name} is not a motor of robot {spec.name}")
@@ -113,7 +114,7 @@ def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str
         if beyond.any():
             i = int(np.argmax(beyond))
             out.append(
-                f"{what}: {name} = {q[i]!r} {joint.unit} at {stream.times_ms[i]} ms is outside "
+                f"{what}: {name} = {float(q[i])!r} {joint.unit} at {stream.times_ms[i]} ms is outside "
                 f"[{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
             )
         if not math.isfinite(joint.max_velocity) or q.shape[0] < 2:

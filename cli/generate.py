@@ -7,10 +7,11 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.output import emit
+from motiontool.cli.output import emit, say_wrote, written_motion
 from motiontool.kinematics.robots import RobotSpec, load_robot
 from motiontool.kinematics.ur5e_tasks import ROBOT, Task, generate, peak_speeds
 from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.units import MS_PER_S
 from motiontool.motionfmt.writer import format_motion
 from motiontool.stamps import stamps
 
@@ -23,7 +24,7 @@ def _report(task: Task, motion: Motion, spec: RobotSpec, target: str) -> str:
     ratios = [s / v for s, v in zip(speeds, limits, strict=True)]
     worst = max(range(motion.n_joints), key=ratios.__getitem__)
     lines = [
-        f"{task.value} -> {target}: {motion.n_poses} poses, {motion.duration_ms / 1000:.3f} s",
+        f"{task.value} -> {target}: {motion.n_poses} poses, {motion.duration_ms / MS_PER_S:.3f} s",
         f"max joint speed {speeds[worst]:.3f} rad/s ({motion.joints[worst]}; limit "
         f"{limits[worst]:g} rad/s, {100 * ratios[worst]:.0f} %)",
     ]
@@ -63,6 +64,7 @@ def generate_command(
     spec = load_robot(ROBOT)
     to_file = output is not None and str(output) != "-"
     emit(text, output)
+    say_wrote(output, written_motion(motion.n_poses, motion.duration_ms))
     typer.echo(
         _report(task, motion, spec, str(output) if to_file else "stdout"), nl=False, err=not to_file
     )

@@ -12,6 +12,7 @@ from motiontool.cli.options import MotionFile, TextOrJson, TextOrJsonOption
 from motiontool.cli.text import plural
 from motiontool.motionfmt.fileio import read_file, source_name
 from motiontool.motionfmt.summary import MotionSummary, summarize
+from motiontool.motionfmt.units import MS_PER_S
 from motiontool.stamps import stamps
 
 __all__ = ["info_command"]
@@ -36,7 +37,7 @@ def _text(s: MotionSummary, arg: str) -> str:
         ),
         ("joints", f"{len(s.joints)}: {', '.join(s.joints)}"),
         ("poses", str(s.poses)),
-        ("duration", f"{s.duration_ms} ms ({s.duration_ms / 1000:.3f} s)"),
+        ("duration", f"{s.duration_ms} ms ({s.duration_ms / MS_PER_S:.3f} s)"),
         ("first pose", f"{s.first_ms} ms"),
     ]
     if s.spacing_ms is None:

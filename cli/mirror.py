@@ -18,7 +18,7 @@ from motiontool.cli._authoring import (
     say,
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
-from motiontool.cli.output import emit_bytes
+from motiontool.cli.output import emit_bytes, say_wrote, written_motion
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
@@ -27,6 +27,7 @@ from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.mirror import Mirrored, mirror
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.motionfmt.units import MM_PER_M
 from motiontool.stamps import stamps
 
 __all__ = ["mirror_command"]
@@ -38,7 +39,8 @@ def _map_lines(m: MirrorMap) -> list[str]:
         sign = "keeps its sign" if p.sign > 0 else "negated"
         lines.append(f"  {p.joint} -> {p.partner}: {sign} ((M a).b = {p.dot:+.6g})")
     lines.append(
-        f"largest anchor asymmetry: {m.largest_offset_m * 1000:.1f} mm (0 for a symmetric model)"
+        f"largest anchor asymmetry: {m.largest_offset_m * MM_PER_M:.1f} mm"
+        " (0 for a symmetric model)"
     )
     return lines
 
@@ -167,6 +169,7 @@ def mirror_command(
     after = limits(read_bytes(result.data, result.path))  # the one read of the result
     new = after if len(after) > len(before) else []
     emit_bytes(result.data, target)
+    say_wrote(target, written_motion(doc.n_poses, doc.motion.duration_ms))  # mirror keeps the times
     if format is Format.json:
         say(_json(result, m, path, target, new), target)
     else:

@@ -11,7 +11,13 @@ import typer
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import MAX_LOOPS, Timestep, finite, robot_option
-from motiontool.cli.output import emit, emit_stderr, refuse_overwrite, refuse_shared_outputs
+from motiontool.cli.output import (
+    emit,
+    emit_stderr,
+    refuse_overwrite,
+    refuse_shared_outputs,
+    say_wrote,
+)
 from motiontool.cli.physics_options import (
     FrictionOption,
     PhysicsStepOption,
@@ -24,6 +30,7 @@ from motiontool.kinematics.robots import resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdin, is_stdout, source_name
+from motiontool.motionfmt.units import MM_PER_M
 from motiontool.stamps import stamps
 
 if TYPE_CHECKING:
@@ -43,7 +50,7 @@ def _contacts(title: str, rows: list[ContactSummary], limit: int = 8) -> list[st
     for c in rows[:limit]:
         lines.append(
             f"  {c.body_a} / {c.body_b}: from {c.first_s:.2f} s, {c.duration_s:.2f} s in all, "
-            f"max depth {c.max_depth_m * 1000:.1f} mm"
+            f"max depth {c.max_depth_m * MM_PER_M:.1f} mm"
         )
     if len(rows) > limit:
         lines.append(f"  ... and {len(rows) - limit} more (see --json)")
@@ -109,9 +116,9 @@ def render_text(report: PlayReport) -> str:
     for foot in report.feet:
         lines.append(
             f"foot {foot.name}: on the floor {foot.contact_s:.2f} s, "
-            f"slip {foot.slip_m * 1000:.1f} mm, "
-            f"moved {foot.max_displacement_m * 1000:.1f} mm at most, "
-            f"{foot.final_displacement_m * 1000:.1f} mm at the end"
+            f"slip {foot.slip_m * MM_PER_M:.1f} mm, "
+            f"moved {foot.max_displacement_m * MM_PER_M:.1f} mm at most, "
+            f"{foot.final_displacement_m * MM_PER_M:.1f} mm at the end"
         )
     lines += _end_effector(report)
     lines += _contacts("self-collisions", report.self_collisions)
@@ -235,7 +242,7 @@ def play_command(
     use_sidecar = not no_sidecar and len(files) == 1 and not is_stdin(files[0])
     expected, sidecar_start = expectations_for(files[0], expect or [], sidecar=use_sidecar)
     expectations = parse_expectations(expected)  # a bad one: exit 2 before anything runs
-    start_state = start.value if start is not None else (sidecar_start or "standing")
+    start_state = start if start is not None else Start(sidecar_start or Start.STANDING)
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
     robot = robot if robot is not None else settings.robot_for(files[0])
     timestep = timestep if timestep is not None else settings.timestep
@@ -248,7 +255,7 @@ def play_command(
             timestep_ms=timestep,
             loops=loop,
             reverse=reverse,
-            start=start_state,  # type: ignore[arg-type]  # checked by PlayOptions.check
+            start=start_state,
             hold_s=hold,
             seed=seed,
             physics_step_ms=physics_step,
@@ -266,6 +273,8 @@ def play_command(
 
             props = {k: "" if v is None else str(v) for k, v in doc_stamps.items()}
             write_failure(rrd, str(exc), props, " + ".join(f.name for f in files))
+        say_wrote(json_path, "play report, JSON: the run could not start")
+        say_wrote(rrd, "Rerun recording: the run could not start")
         raise
     for name in report.ignored_joints:
         typer.echo(
@@ -281,4 +290,6 @@ def play_command(
         emit_stderr(text)
     else:
         emit(text, None)
+    say_wrote(json_path, f"play report, JSON, {report.simulated_s:.2f} s simulated")
+    say_wrote(rrd, f"Rerun recording, {report.simulated_s:.2f} s simulated")
     raise typer.Exit(report.exit_code)

@@ -3,20 +3,17 @@
 
 from __future__ import annotations
 
-import enum
 from typing import Any
 
 import typer
 
+from motiontool.sim.start import StartState
+
 __all__ = ["NO_SIDECAR", "Start", "expect_option", "start_option"]
 
 
-class Start(enum.StrEnum):
-    """Start states of a run."""
-
-    standing = "standing"
-    lying_front = "lying-front"
-    lying_back = "lying-back"
+Start = StartState
+"""``--start``'s choices: the start states (:class:`motiontool.sim.start.StartState`)."""
 
 
 def start_option(sidecar_start: str) -> Any:

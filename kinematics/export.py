@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 from xml.sax.saxutils import quoteattr
 
 from motiontool.kinematics.mjcf_limits import write_limits
+from motiontool.kinematics.mjcf_limits import xml_number as _g
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
 
@@ -31,10 +32,6 @@ if TYPE_CHECKING:
     Matrix = npt.NDArray[np.float64]
 
 __all__ = ["mjcf_bytes", "urdf_bytes"]
-
-
-def _g(x: float) -> str:
-    return repr(float(x))
 
 
 def mjcf_bytes(spec: RobotSpec, *, urdf_option: str | None = None) -> bytes:

@@ -17,10 +17,11 @@ from pathlib import Path
 from motiontool.kinematics.robot_spec import JointSpec
 from motiontool.motionfmt.errors import MotionToolError
 
-__all__ = ["write_limits"]
+__all__ = ["write_limits", "xml_number"]
 
 
-def _g(x: float) -> str:
+def xml_number(x: float) -> str:
+    """A number as a model file writes it: the shortest text that reads back exactly."""
     return repr(float(x))
 
 
@@ -50,7 +51,7 @@ def _one(root: ET.Element, tag: str, name: str, path: Path) -> ET.Element:
     if len(found) != 1:
         what = "no" if not found else f"{len(found)}"
         raise MotionToolError(
-            f"{path}: {what} <{tag} name=\"{name}\"> element{'s' if found else ''}; "
+            f'{path}: {what} <{tag} name="{name}"> element{"s" if found else ""}; '
             f"cannot write joint {name}'s limits into the model"
         )
     return found[0]
@@ -69,11 +70,13 @@ def write_limits(path: Path, joints: Iterable[JointSpec]) -> str:
     start = _root_offset(raw, path)
     root = ET.fromstring(raw, parser=ET.XMLParser(target=ET.TreeBuilder(insert_comments=True)))
     for joint in joints:
-        force = f"{_g(-joint.max_torque)} {_g(joint.max_torque)}"
+        force = f"{xml_number(-joint.max_torque)} {xml_number(joint.max_torque)}"
         element = _one(root, "joint", joint.name, path)
-        element.set("range", f"{_g(joint.lower)} {_g(joint.upper)}")
+        element.set("range", f"{xml_number(joint.lower)} {xml_number(joint.upper)}")
         element.set("actuatorfrcrange", force)
         actuator = _one(root, "velocity", joint.name, path)
-        actuator.set("ctrlrange", f"{_g(-joint.max_velocity)} {_g(joint.max_velocity)}")
+        actuator.set(
+            "ctrlrange", f"{xml_number(-joint.max_velocity)} {xml_number(joint.max_velocity)}"
+        )
         actuator.set("forcerange", force)
     return raw[:start].decode("utf-8") + ET.tostring(root, encoding="unicode") + "\n"

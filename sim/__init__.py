@@ -14,7 +14,6 @@ from motiontool.sim.expect import (
 from motiontool.sim.motor import DEFAULT_P_GAIN, MotorLimits, velocity_command
 from motiontool.sim.play import (
     LIMIT_TOLERANCE,
-    STARTS,
     TORQUE_CAP_FRACTION,
     Marker,
     PlayOptions,
@@ -34,14 +33,15 @@ from motiontool.sim.report import (
     KeyframePose,
     PlayReport,
 )
+from motiontool.sim.start import LYING_STARTS, StartState
 from motiontool.sim.trace import BodyShapes, ContactEvent, Shape, Trace
 
 __all__ = [
     "DEFAULT_P_GAIN",
     "LIMIT_TOLERANCE",
+    "LYING_STARTS",
     "SCHEMA",
     "SCHEMA_VERSION",
-    "STARTS",
     "TORQUE_CAP_FRACTION",
     "BaseStats",
     "BodyShapes",
@@ -60,6 +60,7 @@ __all__ = [
     "PlayOptions",
     "PlayReport",
     "Shape",
+    "StartState",
     "Trace",
     "command_matrix",
     "evaluate",

@@ -18,6 +18,7 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
 from motiontool.sim.report import EndEffectorStats, KeyframePose
 
 if TYPE_CHECKING:
@@ -56,7 +57,7 @@ def _keyframe_steps(
                 k = -(-played_ms // timestep_ms)
                 step = start + loop * cycle + k
                 time_ms = (start + loop * cycle) * timestep_ms + played_ms
-                out.append((f, p, time_ms / 1000.0, step))
+                out.append((f, p, time_ms / MS_PER_S, step))
         start += length
     return out
 
@@ -95,7 +96,7 @@ def measure_end_effector(
 
     if scene.tool is None or trace.tool_pos is None or trace.tool_quat is None:
         return None
-    tolerance_m = reach_tolerance_mm / 1000.0
+    tolerance_m = reach_tolerance_mm / MM_PER_M
     frames = len(trace.time_s)
     lim = scene.limits
     targets = np.clip(trace.targets, lim.lower, lim.upper)  # (S', J), S' = steps simulated
@@ -129,7 +130,9 @@ def measure_end_effector(
                 break
         dist = np.linalg.norm(trace.tool_pos[step : end + 1] - kf_pos[i], axis=1)
         within = np.flatnonzero(dist <= tolerance_m)
-        lag = None if not len(within) else (float(trace.time_s[step + within[0]]) - time_s) * 1000.0
+        lag = (
+            None if not len(within) else (float(trace.time_s[step + within[0]]) - time_s) * MS_PER_S
+        )
         keyframes.append(
             KeyframePose(
                 file_index=f,
@@ -139,7 +142,8 @@ def measure_end_effector(
                 commanded_quat_wxyz=_vec4(kf_quat[i]),
                 measured_position_m=_vec3(trace.tool_pos[step]),
                 measured_quat_wxyz=_vec4(trace.tool_quat[step]),
-                position_error_mm=float(np.linalg.norm(trace.tool_pos[step] - kf_pos[i])) * 1000.0,
+                position_error_mm=float(np.linalg.norm(trace.tool_pos[step] - kf_pos[i]))
+                * MM_PER_M,
                 orientation_error_deg=_angle_deg(kf_quat[i], trace.tool_quat[step]),
                 lag_ms=lag,
             )
@@ -158,7 +162,7 @@ def measure_end_effector(
         kind=scene.tool[1],
         reach_tolerance_mm=reach_tolerance_mm,
         keyframes=tuple(keyframes),
-        max_deviation_mm=float(deviation[worst]) * 1000.0 if worst >= 0 else 0.0,
+        max_deviation_mm=float(deviation[worst]) * MM_PER_M if worst >= 0 else 0.0,
         max_deviation_at_s=float(trace.time_s[worst]) if worst >= 0 else 0.0,
         trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
         trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
     from motiontool.sim.report import PlayReport
@@ -166,7 +167,7 @@ def _feet(key: str) -> Measure:
     def measure(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
         if not report.feet:
             return None, f"{report.robot} has no feet"
-        return max(float(getattr(f, key)) for f in report.feet) * 1000.0, ""
+        return max(float(getattr(f, key)) for f in report.feet) * MM_PER_M, ""
 
     return measure
 
@@ -286,7 +287,7 @@ def _ee_position(report: PlayReport, e: Expectation | None) -> tuple[float | Non
     distances = [(math.dist(p, e.point), p, where) for p, where in points]
     distance, p, where = max(distances)
     shown = ", ".join(f"{v:.4f}" for v in p)
-    return distance, f"[{shown}] m {where}, {distance * 1000.0:.1f} mm away"
+    return distance, f"[{shown}] m {where}, {distance * MM_PER_M:.1f} mm away"
 
 
 QUANTITIES: dict[str, Quantity] = {
@@ -693,7 +694,7 @@ class ExpectationResult:
             return f"FAIL {self.reason}"
         shown = "" if self.measured is None else f": {_fmt(self.measured, self.unit)}"
         if self.expectation.point is not None and self.measured is not None:
-            shown = f": {self.measured * 1000.0:.1f} mm away"
+            shown = f": {self.measured * MM_PER_M:.1f} mm away"
         return f"ok   {self.expectation.describe()}{shown}"
 
 

@@ -39,6 +39,8 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from motiontool.sim.start import StartState
+
 __all__ = [
     "FALL_DIRECTION_TOLERANCE_DEG",
     "MIN_PROGRESS_M",
@@ -94,7 +96,7 @@ class Inference:
 
     name: str
     expect: list[str] = field(default_factory=list)
-    start: str | None = None
+    start: StartState | None = None
     notes: list[str] = field(default_factory=list)
     needs_start: bool = False
 
@@ -138,9 +140,9 @@ def _turn(ws: list[str]) -> tuple[int, int | None]:
 def _stand_up(out: Inference, ws: list[str]) -> None:
     out.expect = ["upright"]
     if {"front", "belly", "prone"} & set(ws):
-        out.start = "lying-front"
+        out.start = StartState.LYING_FRONT
     elif {"back", "supine"} & set(ws):
-        out.start = "lying-back"
+        out.start = StartState.LYING_BACK
     else:
         out.needs_start = True
         out.notes.append("the name does not say front or back: set start")

@@ -15,22 +15,19 @@ Without the simulator (the ``sim`` extra) nothing is played and the proposal say
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.sim.start import LYING_STARTS, StartState
 
 if TYPE_CHECKING:
     from motiontool.kinematics.robots import RobotSpec
     from motiontool.sim.infer import Inference
 
-__all__ = ["LYING_STARTS", "LyingStart", "find_start"]
-
-LyingStart = Literal["lying-front", "lying-back"]
-LYING_STARTS: tuple[LyingStart, ...] = ("lying-front", "lying-back")
-"""The starts a stand-up is played from, in this order."""
+__all__ = ["find_start"]
 
 
-def _got_up(path: Path, robot: RobotSpec, start: LyingStart) -> bool:
+def _got_up(path: Path, robot: RobotSpec, start: StartState) -> bool:
     from motiontool.sim.play import PlayOptions, play
 
     base = play([path], robot=robot, options=PlayOptions(start=start)).base

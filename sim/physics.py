@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
@@ -57,8 +58,32 @@ WEBOTS_PROFILE_NOTE = (
 """The line a report made with ``--profile webots`` carries when it ran with Webots' numbers
 (:func:`profile_note` says what ran when ``--friction`` / ``--physics-step`` override them)."""
 
-_STEP_TOLERANCE = 1e-9
-"""Relative slack when checking that the physics step divides the control step."""
+STEP_RATIO_SLACK = 1e-9
+"""Relative rounding slack when dividing the control step by the physics step: a 20 ms step
+over 2 ms is 10 substeps even where the float quotient comes out a hair off 10."""
+
+
+def substeps_at_most(control_step_ms: float, physics_step_ms: float) -> int:
+    """Physics steps per control step: the fewest whose step is at most ``physics_step_ms``.
+
+    Raises:
+        MotionToolError: a step that is not a positive number.
+    """
+    if not control_step_ms > 0:
+        raise MotionToolError(f"control step must be positive, got {control_step_ms} ms")
+    if not physics_step_ms > 0:
+        raise MotionToolError(f"physics step must be positive, got {physics_step_ms} ms")
+    return max(1, math.ceil(control_step_ms / physics_step_ms - STEP_RATIO_SLACK))
+
+
+def substeps_dividing(control_step_ms: float, physics_step_ms: float) -> int | None:
+    """Physics steps per control step where ``physics_step_ms`` divides the control step
+    (within :data:`STEP_RATIO_SLACK`), else None."""
+    ratio = control_step_ms / physics_step_ms
+    substeps = round(ratio)
+    if substeps < 1 or abs(ratio - substeps) > STEP_RATIO_SLACK * ratio:
+        return None
+    return substeps
 
 
 @dataclass(frozen=True)
@@ -152,16 +177,16 @@ def resolve_physics(
         if profile == "webots":
             substeps = 1
         else:
-            substeps = max(1, math.ceil(control_step_ms / DEFAULT_PHYSICS_STEP_MS - 1e-9))
+            substeps = substeps_at_most(control_step_ms, DEFAULT_PHYSICS_STEP_MS)
     else:
-        ratio = control_step_ms / physics_step_ms
-        substeps = round(ratio)
-        if substeps < 1 or abs(ratio - substeps) > _STEP_TOLERANCE * ratio:
+        divides = substeps_dividing(control_step_ms, physics_step_ms)
+        if divides is None:
             raise MotionToolError(
                 f"physics step {physics_step_ms:g} ms does not divide the control step of "
                 f"{control_step_ms} ms; choose one that does, e.g. "
                 f"{_divisors_ms(control_step_ms)} ms"
             )
+        substeps = divides
     base = friction
     if base is None:
         base = WEBOTS_FRICTION if profile == "webots" else DEFAULT_FRICTION
@@ -232,7 +257,7 @@ def read_back(scene: Scene) -> tuple[float, float]:
     ``scene`` has them: ``opt.timestep`` and the sliding friction of the ``floor`` geom (which
     wins over the robot's, having the higher priority)."""
     model = scene.model
-    return float(model.opt.timestep) * 1000.0, float(model.geom("floor").friction[0])
+    return float(model.opt.timestep) * MS_PER_S, float(model.geom("floor").friction[0])
 
 
 def physics_run_options(

@@ -24,7 +24,9 @@ from motiontool.motionfmt import Motion, read_bytes, read_file, sample
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.player import Held, hold_targets
+from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
 from motiontool.sim.arm import measure_end_effector
+from motiontool.sim.motor import DEFAULT_P_GAIN
 from motiontool.sim.physics import check_physics, read_back, resolve_physics
 from motiontool.sim.report import (
     BaseStats,
@@ -34,6 +36,7 @@ from motiontool.sim.report import (
     JointStats,
     PlayReport,
 )
+from motiontool.sim.start import StartState
 
 if TYPE_CHECKING:
     import numpy as np
@@ -46,7 +49,6 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LIMIT_TOLERANCE",
-    "STARTS",
     "TORQUE_CAP_FRACTION",
     "Marker",
     "PlayOptions",
@@ -57,18 +59,11 @@ __all__ = [
 
 log = logging.getLogger("motiontool")
 
-STARTS = ("standing", "lying-front", "lying-back")
-"""Start states: ``standing`` (zero pose, upright), ``lying-front`` (face down) and
-``lying-back`` (face up), lying with the joints at the first motion's first pose."""
-
 TORQUE_CAP_FRACTION = 0.999
 """A motor counts as torque-limited when its torque reaches this fraction of maxTorque."""
 
 LIMIT_TOLERANCE = 0.01
 """How far past a motor limit (rad, or m) a position must be to count as beyond the limits."""
-
-MS_PER_S = 1000.0
-"""Milliseconds in a second."""
 
 
 @dataclass(frozen=True)
@@ -109,9 +104,9 @@ class PlayOptions:
     timestep_ms: int | None = None
     loops: int = 1
     reverse: bool = False
-    start: Literal["standing", "lying-front", "lying-back"] = "standing"
+    start: StartState = StartState.STANDING
     physics_step_ms: float | None = None
-    p_gain: float = 10.0
+    p_gain: float = DEFAULT_P_GAIN
     hold_s: float = 1.0
     floor_friction: float | None = None
     friction_scale: float = 1.0
@@ -132,8 +127,7 @@ class PlayOptions:
             raise MotionToolError(f"the time step must be >= 1 ms, got {self.timestep_ms}")
         if self.loops < 1:
             raise MotionToolError(f"loops must be >= 1, got {self.loops}")
-        if self.start not in STARTS:
-            raise MotionToolError(f"start {self.start!r}: choose {', '.join(STARTS)}")
+        StartState.parse(self.start)
         for name in ("p_gain", "mass_scale", "torque_scale"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
@@ -355,7 +349,7 @@ def _start_joints(
     import numpy as np
 
     start_joints = {j: 0.0 for j in spec.joint_names}
-    if opts.start in ("lying-front", "lying-back"):
+    if StartState(opts.start).lying:  # lying: the joints at the first motion's first pose
         stream = sample(first, timestep_ms, reverse=opts.reverse)
         for name, value, sent in zip(
             stream.joints, stream.targets[0].tolist(), stream.commanded[0].tolist(), strict=True
@@ -603,7 +597,7 @@ def _counted(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactEvent]:
     contact between robot bodies that the simulation itself collides."""
     if kind != "self":
         return [e for e in trace.events if e.kind == kind]
-    floor = opts.collision_tolerance_mm / 1000.0
+    floor = opts.collision_tolerance_mm / MM_PER_M
     return [
         e for e in trace.events if e.kind == "touch" or (e.kind == "self" and e.depth_m >= floor)
     ]

@@ -34,10 +34,10 @@ from pathlib import Path, PurePath
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.sim.expect import ExpectationError, parse_expectation
+from motiontool.sim.start import StartState
 
 __all__ = [
     "SIDECAR_NAME",
-    "START_CHOICES",
     "Section",
     "Sidecar",
     "SidecarEntry",
@@ -51,9 +51,6 @@ __all__ = [
 
 SIDECAR_NAME = "motions.toml"
 """The file name of a sidecar."""
-
-START_CHOICES = ("standing", "lying-front", "lying-back")
-"""Values of ``start`` (:data:`motiontool.sim.play.STARTS`)."""
 
 _KEYS = ("expect", "start")
 
@@ -208,10 +205,10 @@ def load_sidecar(path: str | Path) -> Sidecar:
             except ExpectationError as exc:
                 raise SidecarError(f"{path}:{_line_of(lines, line, e)}: {exc}") from None
         start = table.get("start")
-        if start is not None and start not in START_CHOICES:
+        if start is not None and start not in set(StartState):
             where = _line_of(lines, line, "start")
             raise SidecarError(
-                f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(START_CHOICES)}"
+                f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(StartState)}"
             )
         sections.append(Section(key, line, tuple(expect), start))
     return Sidecar(path, tuple(sections))

@@ -32,7 +32,7 @@ from motiontool.sim._mujoco.build import (
     FALLBACK_MAX_VELOCITY,
     build_scene,
 )
-from motiontool.sim._mujoco.scene import TOOL_SITE_PATTERN, GeomClass, Scene, Start
+from motiontool.sim._mujoco.scene import TOOL_SITE_PATTERN, GeomClass, Scene
 from motiontool.sim._mujoco.shapes import scene_shapes
 from motiontool.sim._mujoco.start import SPAWN_CLEARANCE_M
 from motiontool.sim._mujoco.stepping import run, tool_poses
@@ -45,7 +45,6 @@ __all__ = [
     "TOOL_SITE_PATTERN",
     "GeomClass",
     "Scene",
-    "Start",
     "build_scene",
     "mujoco_version",
     "run",

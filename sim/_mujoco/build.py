@@ -10,27 +10,21 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim._mujoco._lib import mj
 from motiontool.sim._mujoco.probe import self_collision_probe
-from motiontool.sim._mujoco.scene import GeomClass, Scene, Start
+from motiontool.sim._mujoco.scene import GeomClass, Scene
 from motiontool.sim._mujoco.start import set_start_state
 from motiontool.sim._mujoco.topology import in_subtree, limbs, tool_frame
-from motiontool.sim.motor import MotorLimits
+from motiontool.sim.motor import DEFAULT_P_GAIN, MotorLimits
+from motiontool.sim.physics import substeps_at_most
+from motiontool.sim.start import StartState
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
     from motiontool.kinematics.robots import RobotSpec
-
-
-MS_PER_S = 1000.0
-"""Milliseconds in a second."""
-
-
-STEP_RATIO_SLACK = 1e-9
-"""Rounding slack when dividing the control step by the physics step: a 20 ms step over 2 ms is
-10 substeps even where the float quotient comes out a hair above 10."""
 
 
 FALLBACK_MAX_VELOCITY = 10.0
@@ -103,13 +97,13 @@ def build_scene(
     control_step_ms: int,
     *,
     physics_step_ms: float = 2.0,
-    start: Start = "standing",
+    start: StartState = StartState.STANDING,
     start_joints: dict[str, float] | None = None,
     floor_friction: float = 1.0,
     mass_scale: float = 1.0,
     torque_scale: float = 1.0,
     start_yaw_deg: float = 0.0,
-    p_gain: float = 10.0,
+    p_gain: float = DEFAULT_P_GAIN,
 ) -> Scene:
     """Compile the scene of ``robot`` at its start state.
 
@@ -117,8 +111,7 @@ def build_scene(
         robot: the robot (its ``model_path`` is read with :meth:`mujoco.MjSpec.from_file`).
         control_step_ms: the control period (Webots' basicTimeStep), ms.
         physics_step_ms: the largest MuJoCo step, ms; the step used divides the control step.
-        start: ``standing`` (zero pose, upright), ``lying-front`` (face down) or
-            ``lying-back`` (face up; lying: free-flying robots only).
+        start: the start state (lying: free-flying robots only).
         start_joints: initial motor positions, rad (m), overriding the zero pose.
         floor_friction: Coulomb friction coefficient between the robot and the floor (pyramidal
             cone); 1.0 walks (docs/simulation.md; Webots' coulombFriction 7 makes MuJoCo's
@@ -128,7 +121,7 @@ def build_scene(
         start_yaw_deg: heading of the robot at start, degrees about +z.
         p_gain: P gain of the position controller, 1/s.
     """
-    substeps = _substeps(control_step_ms, physics_step_ms)
+    substeps = substeps_at_most(control_step_ms, physics_step_ms)
     dt = control_step_ms / MS_PER_S / substeps
     spec = _load_spec(robot, dt)
     roots, floating = _robot_roots(spec, robot)
@@ -140,19 +133,10 @@ def build_scene(
     _add_motors(spec, robot.joint_names, limits.max_torque, dt)
     model = _compile_as_designed(spec, robot)
     scene = _scene(model, robot, limits, substeps, roots, floating)
-    set_start_state(scene, start, start_joints or {}, start_yaw_deg)
+    set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg)
     scene.probe = self_collision_probe(spec, model, scene)
     scene.tool = None if floating else tool_frame(model, scene.root_body, scene.robot_bodies)
     return scene
-
-
-def _substeps(control_step_ms: int, physics_step_ms: float) -> int:
-    """Physics steps per control step: the fewest whose step is at most ``physics_step_ms``."""
-    if control_step_ms <= 0:
-        raise MotionToolError(f"control step must be positive, got {control_step_ms} ms")
-    if not physics_step_ms > 0:
-        raise MotionToolError(f"physics step must be positive, got {physics_step_ms} ms")
-    return max(1, math.ceil(control_step_ms / physics_step_ms - STEP_RATIO_SLACK))
 
 
 def _load_spec(robot: RobotSpec, dt: float) -> Any:

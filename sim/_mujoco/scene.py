@@ -6,7 +6,7 @@ from __future__ import annotations
 import enum
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 from motiontool.sim.motor import MotorLimits
 
@@ -15,9 +15,6 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
     from motiontool.kinematics.robots import RobotSpec
-
-
-Start = Literal["standing", "lying-front", "lying-back"]
 
 
 TOOL_SITE_PATTERN = re.compile(

@@ -9,7 +9,8 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.sim._mujoco._lib import mj
-from motiontool.sim._mujoco.scene import Scene, Start
+from motiontool.sim._mujoco.scene import Scene
+from motiontool.sim.start import StartState
 
 if TYPE_CHECKING:
     pass
@@ -21,7 +22,7 @@ spawns its torso at 0.334 m, its FSR soles being 0.3339 m below the torso origin
 
 
 def set_start_state(
-    scene: Scene, start: Start, start_joints: dict[str, float], start_yaw_deg: float
+    scene: Scene, start: StartState, start_joints: dict[str, float], start_yaw_deg: float
 ) -> None:
     """Put ``scene.data`` at the start state: the motors at ``start_joints``; a free-flying
     robot turned by the yaw, laid down if asked, its lowest point :data:`SPAWN_CLEARANCE_M`
@@ -33,7 +34,7 @@ def set_start_state(
             data.qpos[scene.qpos_adr[scene.joints.index(name)]] = value
     if scene.floating:
         _place_free_robot(scene, start, start_yaw_deg)
-    elif start != "standing":
+    elif start.lying:
         raise MotionToolError(
             f"start {start} needs a free-flying robot; {scene.robot.name} is fixed"
         )
@@ -42,16 +43,16 @@ def set_start_state(
     mujoco.mj_forward(model, data)
 
 
-def _place_free_robot(scene: Scene, start: Start, start_yaw_deg: float) -> None:
+def _place_free_robot(scene: Scene, start: StartState, start_yaw_deg: float) -> None:
     """Orient the free joint (yaw, then lying face down or up) and lower the robot onto the
     floor."""
     mujoco = mj()
     model, data = scene.model, scene.data
     free_adr = int(model.jnt_qposadr[model.body_jntadr[scene.root_body]])
     quat = _quat_about_z(math.radians(start_yaw_deg))
-    if start == "lying-front":  # face down: the torso's x axis points to the floor
+    if start is StartState.LYING_FRONT:  # face down: the torso's x axis points to the floor
         quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
-    elif start == "lying-back":  # face up: the torso's x axis points to the sky
+    elif start is StartState.LYING_BACK:  # face up: the torso's x axis points to the sky
         quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, -math.sin(math.pi / 4), 0.0))
     data.qpos[free_adr + 3 : free_adr + 7] = quat
     mujoco.mj_kinematics(model, data)

@@ -1,0 +1,119 @@
+"""One fact, one home (issue #16 item 2): the start states, the unit conversions, the substep rule
+and its slack, the motor gain. Each test looks for the stray spellings a second home would
+bring back (string and number constants in the code, not in docstrings or comments)."""
+
+from __future__ import annotations
+
+import ast
+import inspect
+from collections.abc import Iterator
+
+import pytest
+from conftest import ROOT
+
+PACKAGES = ("motionfmt", "kinematics", "sim", "cli")
+
+
+def sources() -> Iterator[tuple[str, ast.Module]]:
+    for package in PACKAGES:
+        for path in sorted((ROOT / package).rglob("*.py")):
+            rel = path.relative_to(ROOT).as_posix()
+            yield rel, ast.parse(path.read_text(encoding="utf-8"), rel)
+
+
+def constants(tree: ast.Module) -> Iterator[ast.Constant]:
+    """Every constant of ``tree`` but docstrings."""
+    docs = {
+        id(node.body[0].value)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Module | ast.ClassDef | ast.FunctionDef | ast.AsyncFunctionDef)
+        and node.body
+        and isinstance(node.body[0], ast.Expr)
+        and isinstance(node.body[0].value, ast.Constant)
+    }
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and id(node) not in docs:
+            yield node
+
+
+def test_the_start_states_are_spelt_in_one_place() -> None:
+    names = {"standing", "lying-front", "lying-back"}
+    stray = [
+        f"{rel}:{c.lineno}: {c.value!r}"
+        for rel, tree in sources()
+        if rel != "sim/start.py"
+        for c in constants(tree)
+        if c.value in names
+    ]
+    assert not stray, "use motiontool.sim.start.StartState:\n" + "\n".join(stray)
+
+
+def _scaled_by_1000(tree: ast.Module) -> Iterator[int]:
+    """Lines where 1000 multiplies or divides something: a unit conversion spelt by hand."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mult | ast.Div):
+            for side in (node.left, node.right):
+                if isinstance(side, ast.Constant) and side.value in (1000, 1000.0):
+                    yield node.lineno
+
+
+#: The folders whose conversions go through the units module (motionfmt's time fields are
+#: Webots' C int arithmetic on "MM:SS:mmm", and stay integer).
+UNIT_SCOPE = ("sim/", "cli/")
+
+
+def test_unit_conversions_come_from_the_units_module() -> None:
+    stray = [
+        f"{rel}:{line}"
+        for rel, tree in sources()
+        if rel.startswith(UNIT_SCOPE)
+        for line in _scaled_by_1000(tree)
+    ]
+    assert not stray, "use motiontool.motionfmt.units (MS_PER_S, MM_PER_M):\n" + "\n".join(stray)
+    homes = [
+        rel
+        for rel, tree in sources()
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if isinstance(target, ast.Name) and target.id in ("MS_PER_S", "MM_PER_M")
+    ]
+    assert homes == ["motionfmt/units.py", "motionfmt/units.py"]
+
+
+def test_the_substep_slack_has_one_home() -> None:
+    slack = [
+        f"{rel}:{c.lineno}"
+        for rel, tree in sources()
+        if rel.startswith("sim/")
+        for c in constants(tree)
+        if c.value == 1e-9
+    ]
+    assert len(slack) == 1 and slack[0].startswith("sim/physics.py:"), slack
+
+
+@pytest.mark.parametrize("control_ms", [8, 20, 25, 32, 40, 7])
+def test_the_scene_and_the_report_count_the_same_substeps(control_ms: int) -> None:
+    """The physics profile and the MuJoCo scene split a control step by one rule."""
+    pytest.importorskip("mujoco")
+    from motiontool.kinematics.robots import load_robot
+    from motiontool.sim import _mujoco
+    from motiontool.sim.physics import DEFAULT_PHYSICS_STEP_MS, resolve_physics
+
+    physics = resolve_physics(control_ms)
+    scene = _mujoco.build_scene(load_robot("ur5e"), control_ms)
+    assert scene.control_substeps == physics.substeps
+    assert scene.physics_step_s * 1e3 <= DEFAULT_PHYSICS_STEP_MS + 1e-12
+
+
+def test_the_motor_gain_default_is_the_motor_module_s() -> None:
+    from motiontool.sim import _mujoco
+    from motiontool.sim.motor import DEFAULT_P_GAIN, MotorLimits
+    from motiontool.sim.play import PlayOptions
+
+    defaults = {
+        "PlayOptions.p_gain": PlayOptions().p_gain,
+        "build_scene(p_gain)": inspect.signature(_mujoco.build_scene).parameters["p_gain"].default,
+        "MotorLimits.p_gain": inspect.signature(MotorLimits).parameters["p_gain"].default,
+    }
+    assert all(v is DEFAULT_P_GAIN for v in defaults.values()), defaults
