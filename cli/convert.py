@@ -84,6 +84,7 @@ def _report(
     d = exported.deviation
     if d is not None:
         where = "" if d.joint is None else f" ({d.joint} at {d.at_ms} ms)"
+        where = " (bit-identical)" if d.max_rad == 0 else where
         lines.append(f"worst deviation from Webots' command stream: {num(d.max_rad)} rad{where}")
         lines.append(f"  compared: {d.compared}")
     return "".join(f"{line}\n" for line in lines)
@@ -110,8 +111,8 @@ def convert_command(
     robot: Annotated[
         str | None,
         robot_option(
-            "Robot the export is checked against (default: the format's own, nao-v5 for naoqi, "
-            "else auto)",
+            "Robot the export is checked against (default: the format's own: nao-v5 for naoqi, "
+            "ur5e for urscript; else auto)",
             none="no checks (data formats only)",
         ),
     ] = None,
@@ -127,8 +128,16 @@ def convert_command(
             "(naoqi: every NAOqi time is the Webots time plus this).",
         ),
     ] = DEFAULT_LEAD_IN_MS,
+    keyframes: Annotated[
+        bool,
+        typer.Option(
+            "--keyframes",
+            help="urscript: one movej per keyframe (time = the segment, blend 0) instead of "
+            "servoj at every control step.",
+        ),
+    ] = False,
 ) -> None:
-    """Convert a motion to CSV, NPZ or NAOqi, or a CSV or NPZ back to a motion.
+    """Convert a motion to CSV, NPZ, NAOqi or URScript, or a CSV or NPZ back to a motion.
 
     The output is checked against the robot first (validate's limit, velocity and joint
     checks, and what a robot format sends); nothing is written if it fails (exit 1). The
@@ -155,6 +164,7 @@ def convert_command(
         robot=None if spec is None else spec.name,
         joint_order=None if spec is None else spec.joint_names,
         lead_in_ms=lead_in,
+        keyframes=keyframes,
         target_name=None if is_stdout(target) else target.name,
     )
     exported = fmt_out.write(motion, options)  # type: ignore[misc]

@@ -114,8 +114,8 @@ def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str
         if beyond.any():
             i = int(np.argmax(beyond))
             out.append(
-                f"{what}: {name} = {float(q[i])!r} {joint.unit} at {stream.times_ms[i]} ms is outside "
-                f"[{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
+                f"{what}: {name} = {float(q[i])!r} {joint.unit} at {stream.times_ms[i]} ms is "
+                f"outside [{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
             )
         if not math.isfinite(joint.max_velocity) or q.shape[0] < 2:
             continue

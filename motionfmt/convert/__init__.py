@@ -7,6 +7,7 @@
   lossless.
 * :mod:`.naoqi`: a real NAO: ``ALMotion.angleInterpolationBezier``'s arguments as JSON and a
   script that sends them.
+* :mod:`.urscript`: a real UR arm: ``servoj`` at every control step (or ``movej`` per keyframe).
 
 A format for a real robot writes what reproduces Webots' command stream there and says how far
 it is from it (:class:`~.base.Deviation`); the robot checks of an export are the caller's (the
@@ -22,6 +23,7 @@ from motiontool.motionfmt.convert.base import Format
 from motiontool.motionfmt.convert.motion_file import read_motion_file, write_motion_file
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
+from motiontool.motionfmt.convert.urscript import write_urscript
 from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
 
 __all__ = ["FORMATS", "Format", "format_named", "format_of"]
@@ -55,6 +57,14 @@ FORMATS: tuple[Format, ...] = (
         write=write_naoqi,
         for_robot=True,
         default_robot="nao-v5",
+    ),
+    Format(
+        "urscript",
+        (".script", ".urscript"),
+        "a real UR arm: servoj at every control step (or movej per keyframe), URScript",
+        write=write_urscript,
+        for_robot=True,
+        default_robot="ur5e",
     ),
 )
 """Every format, in the order the help lists them."""

@@ -33,6 +33,7 @@ from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stre
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
 from motiontool.motionfmt.convert.naoqi_script import script
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -116,7 +117,7 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
     columns = _joints(held)
     if not columns:
         raise MotionToolError("no joint of the motion is ever commanded: nothing to send")
-    t_s = (held.elapsed_ms.astype(np.float64) + options.lead_in_ms) / 1000.0
+    t_s = (held.elapsed_ms.astype(np.float64) + options.lead_in_ms) / MS_PER_S
     names, times, keys = [], [], []
     model: dict[str, Any] = {}
     for name, k in columns.items():

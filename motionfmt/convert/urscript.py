@@ -1,0 +1,165 @@
+"""URScript (a real UR arm): a program that sends Webots' exact command stream with ``servoj``
+at the control step, or one ``movej`` per keyframe.
+
+The program first moves to the first pose slowly (``movej``, :data:`HOME_SPEED_RAD_S`,
+:data:`HOME_ACCEL_RAD_S2`), wherever the arm stands. Then, by default, one ``servoj`` per
+control step with the six targets Webots' player holds at that step (:mod:`.held`), ``t`` the
+step: the numbers are Webots' own, written in the shortest positional decimal that reads back
+to the same double (``repr``'s digits, never an exponent, which URScript may not read).
+``lookahead_time`` and ``gain`` are UR's defaults (0.1 s, 300): how the arm tracks the targets
+is UR's servo controller. With ``keyframes``: one ``movej`` per keyframe, ``t`` the segment's
+duration and blend radius ``r = 0`` (the arm reaches, and stops at, every keyframe: UR's joint
+profile between them, not Webots' straight lines; no deviation is claimed).
+
+Every one of the arm's joints (``ExportOptions.joint_order``, the robot's motor order) needs a
+target from the first step on: ``servoj`` sets all six.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
+from motiontool.motionfmt.convert.held import held_stream
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.nonfinite import refuse_non_finite
+from motiontool.motionfmt.player import hold_targets
+from motiontool.motionfmt.units import MS_PER_S
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = [
+    "HOME_ACCEL_RAD_S2",
+    "HOME_SPEED_RAD_S",
+    "SERVO_GAIN",
+    "SERVO_LOOKAHEAD_S",
+    "number",
+    "write_urscript",
+]
+
+HOME_SPEED_RAD_S = 0.2
+"""Joint speed of the move to the first pose, rad/s: slow, from wherever the arm stands."""
+HOME_ACCEL_RAD_S2 = 0.5
+"""Joint acceleration of the move to the first pose, rad/s²."""
+SERVO_LOOKAHEAD_S = 0.1
+"""``servoj``'s lookahead_time, s (UR's default)."""
+SERVO_GAIN = 300
+"""``servoj``'s gain (UR's default)."""
+
+
+def number(x: float) -> str:
+    """``x`` in the shortest digits that read back to the same double, positional (no
+    exponent): ``1e-05`` -> ``0.00001``."""
+    import numpy as np
+
+    return np.format_float_positional(x, unique=True, trim="0")
+
+
+def _vector(row: npt.NDArray[np.float64]) -> str:
+    return "[" + ", ".join(number(float(v)) for v in row) + "]"
+
+
+def _columns(motors: tuple[str, ...], order: tuple[str, ...]) -> list[int]:
+    extra = [m for m in motors if m not in order]
+    if extra:
+        raise MotionToolError(
+            f"not a joint of the arm: {', '.join(extra)} (its joints: {', '.join(order)})"
+        )
+    missing = [j for j in order if j not in motors]
+    if missing:
+        raise MotionToolError(
+            f"the motion has no column for {', '.join(missing)}: URScript sets every joint of "
+            "the arm at once"
+        )
+    return [motors.index(j) for j in order]
+
+
+def _first_command(
+    targets: npt.NDArray[np.float64], order: tuple[str, ...], when: npt.NDArray[np.int64]
+) -> None:
+    import numpy as np
+
+    unset = np.isnan(targets)
+    if unset.any():
+        k = int(np.argwhere(unset)[0][1])
+        last = int(np.nonzero(unset[:, k])[0][-1])
+        since = "ever" if last + 1 == when.shape[0] else f"before {int(when[last + 1])} ms"
+        raise MotionToolError(
+            f"{order[k]} has no target {since} ('*'): URScript sets "
+            "every joint at once; give it a number in the first pose"
+        )
+
+
+def _program(options: ExportOptions, order: tuple[str, ...], first: str, body: list[str]) -> bytes:
+    mode = (
+        "one movej per keyframe (t = its segment, r = 0: the arm stops at every keyframe)"
+        if options.keyframes
+        else f"servoj every {options.timestep_ms} ms: Webots' command stream"
+    )
+    lines = [
+        f"# motiontool convert: {options.source} for {options.robot or 'a UR arm'}",
+        f"# {mode}",
+        f"# joint targets in rad, in the order {', '.join(order)}",
+        "def motiontool_motion():",
+        f"  # to the first pose, slowly ({HOME_SPEED_RAD_S} rad/s, {HOME_ACCEL_RAD_S2} rad/s^2)",
+        f"  movej({first}, a={HOME_ACCEL_RAD_S2}, v={HOME_SPEED_RAD_S})",
+        *body,
+        "  stopj(2.0)",
+        "end",
+    ]
+    return ("\n".join(lines) + "\n").encode("utf-8", "surrogateescape")
+
+
+def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
+    """The URScript program (see the module); raises :class:`MotionToolError` where an arm
+    joint has no column or no target from the start."""
+    import numpy as np
+
+    order = options.joint_order
+    if order is None:
+        raise MotionToolError("URScript needs the arm's joints in its order: name the robot")
+    if options.keyframes:
+        return _keyframes(motion, options, order)
+    held = held_stream(motion, options.timestep_ms)
+    targets = held.targets[:, _columns(held.motors, order)]
+    _first_command(targets, order, held.elapsed_ms)
+    t = number(options.timestep_ms / MS_PER_S)
+    tail = f"t={t}, lookahead_time={number(SERVO_LOOKAHEAD_S)}, gain={SERVO_GAIN})"
+    body = [f"  servoj({_vector(row)}, {tail}" for row in targets]
+    data = _program(options, order, _vector(targets[0]), body)
+    written = np.array([[float(x) for x in _SERVOJ.findall(line)[0].split(",")] for line in body])
+    err = np.abs(written - targets)
+    k = np.unravel_index(int(np.argmax(err)), err.shape)
+    deviation = Deviation(
+        float(err[k]),
+        order[int(k[1])],
+        int(held.elapsed_ms[int(k[0])]),
+        f"{err.size} servoj targets as written, against Webots' stream at every step",
+    )
+    stream = RobotStream(order, held.elapsed_ms, targets)
+    detail = f"servoj every {options.timestep_ms} ms, after a movej to the first pose"
+    return Exported(data, len(body), detail, deviation, stream=stream)
+
+
+_SERVOJ = re.compile(r"servoj\(\[([^\]]*)\]")
+
+
+def _keyframes(motion: Motion, options: ExportOptions, order: tuple[str, ...]) -> Exported:
+    refuse_non_finite(motion)
+    motors = tuple(dict.fromkeys(motion.joints))
+    held = hold_targets(motion.values, motion.commanded, motion.joints, motors).targets
+    targets = held[:, _columns(motors, order)]
+    _first_command(targets, order, motion.times_ms)
+    body = []
+    for i in range(1, motion.n_poses):
+        seconds = number(int(motion.times_ms[i] - motion.times_ms[i - 1]) / MS_PER_S)
+        body.append(f"  movej({_vector(targets[i])}, t={seconds}, r=0)")
+    data = _program(options, order, _vector(targets[0]), body)
+    stream = RobotStream(order, motion.times_ms, targets)
+    detail = "one movej per keyframe (t = the segment, blend r = 0), after a movej to the first"
+    return Exported(data, motion.n_poses, detail, stream=stream)
