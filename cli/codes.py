@@ -6,10 +6,14 @@ import typer
 
 from motiontool.motionfmt.diagnostics import CODES
 
-__all__ = ["codes_command"]
+__all__ = ["codes_command", "codes_text"]
+
+
+def codes_text() -> str:
+    """One line per code: the code, its default severity and its title."""
+    return "".join(f"{code.id}  {code.severity!s:<7}  {code.title}\n" for code in CODES.values())
 
 
 def codes_command() -> None:
     """List every diagnostic code with its default severity and meaning."""
-    for code in CODES.values():
-        typer.echo(f"{code.id}  {code.severity!s:<7}  {code.title}")
+    typer.echo(codes_text(), nl=False)

@@ -19,9 +19,14 @@ from motiontool.kinematics.robots import NONE, RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.errors import MissingExtraError
 from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
-from motiontool.motionfmt.validate import FileReport, ValidationReport, validate_paths
+from motiontool.motionfmt.validate import (
+    FileReport,
+    ValidationReport,
+    validate_bytes,
+    validate_paths,
+)
 
-__all__ = ["Checked", "LintRun", "Overrides", "collect", "keep_first", "lint"]
+__all__ = ["Checked", "LintRun", "Overrides", "collect", "keep_first", "lint", "lint_document"]
 
 
 @dataclass(frozen=True)
@@ -153,6 +158,31 @@ def lint(
         if (overrides.strict if overrides.strict is not None else settings[f].strict)
     }
     return LintRun(report, checked, strict)
+
+
+def lint_document(
+    path: Path,
+    data: bytes,
+    resolver: Resolver,
+    overrides: Overrides,
+    make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
+) -> tuple[FileReport, RobotSpec | None]:
+    """``data`` linted as :func:`lint` lints the file at ``path`` (its settings, robot, checks
+    and grouping): what an editor shows for the text it holds (``motiontool server``). Also
+    the robot it was checked against (None: syntax level only)."""
+    settings = resolver.for_file(path)
+    robot, checks, timestep, grouped = _group_key(path, settings, overrides)
+    checker = None if robot == NONE else make_checker(robot, checks, timestep)
+    report = validate_bytes(
+        data,
+        str(path),
+        timestep_ms=timestep,
+        checks=[checker] if checker is not None else [],
+        ignore=overrides.ignore,
+        group=grouped,
+    )
+    report.diagnostics = [d for d in report.diagnostics if settings.reports(d.code, path)]
+    return report, None if checker is None else checker.used.get(str(path))
 
 
 def keep_first(report: ValidationReport, limit: int) -> None:

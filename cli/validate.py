@@ -314,7 +314,7 @@ def validate_command(
         typer.echo(
             f"motiontool: {fix_files(files, unsafe=unsafe_fixes, write=True).line()}", err=True
         )
-    run = lint(files, resolver, overrides, partial(_checker, tolerance=collision_tolerance))
+    run = lint(files, resolver, overrides, partial(robot_checks, tolerance=collision_tolerance))
     project = resolver.for_file(Path("-"))
     if project.max_findings is not None:
         keep_first(run.report, project.max_findings)
@@ -352,7 +352,7 @@ def _settings_text(paths: list[Path], resolver: Resolver) -> str:
     return dumps(docs[0] if len(docs) == 1 else {"files": docs})
 
 
-def _checker(
+def robot_checks(
     robot: str, checks: tuple[str, ...] | None, timestep: int | None, *, tolerance: float
 ) -> RobotChecks:
     """The robot checks of ``validate``, their hints in the CLI's words; checks named (with

@@ -26,6 +26,7 @@ EXTRAS: dict[str, tuple[tuple[str, ...], str]] = {
     "erd": (("example_robot_data",), "example-robot-data robots (erd:<name>)"),
     "ray": (("ray",), "the Ray executor of batch"),
     "fast": (("pyarrow",), "pyarrow: faster reading of motion files of 1 MB or more"),
+    "lsp": (("pygls", "lsprotocol"), "pygls: motiontool server, findings in the editor"),
 }
 
 #: How people call the library a module belongs to.
@@ -39,6 +40,8 @@ _LIBRARIES = {
     "example_robot_data": "example-robot-data",
     "ray": "Ray",
     "pyarrow": "pyarrow",
+    "pygls": "pygls",
+    "lsprotocol": "lsprotocol (pygls' LSP types)",
 }
 
 

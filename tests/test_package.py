@@ -17,6 +17,8 @@ from typing import Any
 import pytest
 from conftest import ROOT
 
+from motiontool.motionfmt.extras import EXTRAS
+
 HEAVY = ("mujoco", "pinocchio", "rerun", "coal", "example_robot_data", "ray")
 #: The distributions behind the heavy parts: each belongs to an extra, never to the core.
 HEAVY_DISTS = {
@@ -292,7 +294,7 @@ def test_built_wheel_contains_every_subpackage(built: dict[str, Any], tmp_path: 
         for line in meta.splitlines()
         if line.startswith("Provides-Extra:")
     }
-    assert provided == {"kinematics", "sim", "rerun", "plot", "erd", "ray", "fast", "all", "test"}
+    assert provided == {*EXTRAS, "all", "test"}  # the extras helper is the one list
     # The wheel alone, first on the path, imports and runs.
     target = tmp_path / "site"
     with zipfile.ZipFile(wheel) as zf:

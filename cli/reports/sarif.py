@@ -20,6 +20,7 @@ from motiontool.cli.reports.common import (
 )
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fixes import Fix
+from motiontool.motionfmt.rules import RULES
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
@@ -47,14 +48,17 @@ def _rule(code: str) -> dict[str, Any]:
     info = CODES.get(code)
     title = info.title if info else code
     level = _SARIF_LEVEL[info.severity] if info else "warning"
+    explained = RULES.get(code)
+    webots = f" {explained.webots}" if explained else ""
+    fix = f" Fix: {explained.fix}." if explained else ""
     help_text = (
-        f"{code}: {title}. Default severity: {level}. 'motiontool codes' lists every code; "
-        f"the motiontool README (section 'validate') explains each one. Leave this one out "
-        f"with 'motiontool validate --ignore {code}'."
+        f"{code}: {title}.{webots}{fix} Default severity: {level}. 'motiontool rule {code}' "
+        f"shows an example and its fix. Leave this one out with "
+        f"'motiontool validate --ignore {code}'."
     )
     help_markdown = (
-        f"**{code}**: {title}.\n\nDefault severity: `{level}`. `motiontool codes` lists every "
-        f"code; the motiontool README (section *validate*) explains each one.\n\n"
+        f"**{code}**: {title}.\n\n{webots.strip()}\n\n{fix.strip()}\n\n"
+        f"Default severity: `{level}`. `motiontool rule {code}` shows an example and its fix.\n\n"
         f"Leave this one out with `motiontool validate --ignore {code}`."
     )
     return {

@@ -39,6 +39,7 @@ NAMES = (
     "retime",
     "scale",
     "trim",
+    "rule",
 )
 """The reports that have a schema (``motiontool.<name>``)."""
 

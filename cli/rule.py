@@ -1,0 +1,115 @@
+"""``motiontool rule [CODE]``: what a diagnostic code means, with an example and its fix."""
+
+from __future__ import annotations
+
+import shlex
+import textwrap
+from typing import Annotated, Any
+
+import typer
+
+from motiontool.cli.codes import codes_text
+from motiontool.cli.jsontext import dumps
+from motiontool.cli.options import TextOrJson, TextOrJsonOption
+from motiontool.motionfmt.rules import RULES, Example, Rule, rule
+
+__all__ = ["rule_command"]
+
+_WIDTH = 100
+_SHOWN = 60
+"""Characters of a longer example line shown before it is cut."""
+_AUTOFIX = {
+    "safe": "yes, a safe fix (Webots then sends exactly the same commands)",
+    "unsafe": "only with --unsafe-fixes (it changes what the robot does)",
+    None: "no",
+}
+
+_Code = Annotated[
+    str | None,
+    typer.Argument(help="A diagnostic code (MT303); none: list every code.", show_default=False),
+]
+
+
+def _line(raw: bytes) -> str:
+    """One line of an example as text: bytes that are not UTF-8 and control characters as
+    ``\\xNN``, a line longer than the terminal cut with its length in bytes."""
+    text = raw.decode("utf-8", "backslashreplace")
+    text = "".join(f"\\x{ord(c):02x}" if ord(c) < 0x20 or c == "\x7f" else c for c in text)
+    if len(text) > _WIDTH - 2:
+        return f"{text[:_SHOWN]}... ({len(raw):,} bytes)"
+    return text
+
+
+def _file_text(data: bytes) -> list[str]:
+    """A file shown indented, line by line (``(an empty file)`` for none)."""
+    if not data:
+        return ["  (an empty file)"]
+    lines = data.split(b"\n")
+    if lines[-1] == b"":
+        lines.pop()
+    return [f"  {_line(raw)}" for raw in lines]
+
+
+def _command(example: Example) -> str:
+    return shlex.join(["motiontool", "validate", *example.args, example.name])
+
+
+def _wrapped(label: str, text: str) -> list[str]:
+    return textwrap.wrap(f"{label} {text}", _WIDTH, subsequent_indent="  ")
+
+
+def _text(entry: Rule) -> str:
+    example = entry.example
+    out = [f"{entry.code}  {entry.severity}  {entry.title}", ""]
+    out += _wrapped("Webots:", entry.webots)
+    without = "".join(f", {m} not installed" for m in example.missing)
+    out.append(f"Example ({_command(example)}{without}):")
+    out += _file_text(example.data)
+    for name, data in example.siblings:
+        out.append(f"Beside it, {name}:")
+        out += _file_text(data)
+    out += _wrapped("Fix:", entry.fix)
+    if entry.fixed is not None:
+        out.append("Fixed:")
+        out += _file_text(entry.fixed)
+    out.append(f"validate --fix: {_AUTOFIX[entry.autofix]}")
+    return "\n".join(out) + "\n"
+
+
+def _show(data: bytes) -> str:
+    """A file's bytes for the JSON report, which writes each undecodable byte as ``\\xNN``
+    and counts them in ``escaped_bytes`` (:func:`~motiontool.cli.jsontext.dumps`)."""
+    return data.decode("utf-8", "surrogateescape")
+
+
+def _json(entry: Rule) -> dict[str, Any]:
+    example = entry.example
+    return {
+        "code": entry.code,
+        "severity": str(entry.severity),
+        "title": entry.title,
+        "webots": entry.webots,
+        "example": {
+            "name": example.name,
+            "file": _show(example.data),
+            "command": _command(example),
+            "siblings": [{"name": n, "file": _show(d)} for n, d in example.siblings],
+            "missing": list(example.missing),
+        },
+        "fix": entry.fix,
+        "fixed": None if entry.fixed is None else _show(entry.fixed),
+        "autofix": entry.autofix,
+    }
+
+
+def rule_command(code: _Code = None, format: TextOrJsonOption = TextOrJson.text) -> None:
+    """Explain a diagnostic code: its severity, what Webots does, an example that triggers it,
+    its fix, and whether validate --fix applies it. Without a code, list every code."""
+    entries = list(RULES.values()) if code is None else [rule(code)]
+    if format is TextOrJson.json:
+        doc = {"schema": "motiontool.rule", "schema_version": 1}
+        typer.echo(dumps({**doc, "rules": [_json(e) for e in entries]}), nl=False)
+    elif code is None:
+        typer.echo(codes_text(), nl=False)
+    else:
+        typer.echo(_text(entries[0]), nl=False)

@@ -1,0 +1,38 @@
+"""``motiontool server``: the Language Server on stdio (:mod:`motiontool.cli.lsp`)."""
+
+from __future__ import annotations
+
+from functools import partial
+from pathlib import Path
+
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.lint_run import Overrides, lint_document
+from motiontool.cli.validate import robot_checks
+from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
+from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.extras import require
+from motiontool.motionfmt.validate import FileReport
+
+__all__ = ["server_command"]
+
+
+def server_command(config: ConfigOption = None, isolated: IsolatedOption = False) -> None:
+    """Run the Language Server on stdin/stdout, for editors: the findings of ``validate`` as you
+    type (with the project's configuration, the closest to each file), hover on a cell (joint,
+    time, value, limits) and the fixes of ``validate --fix`` as code actions.
+
+    Editors start it themselves (README: Neovim, VS Code, Helix); it needs
+    ``pip install 'motiontool[lsp]'``.
+    """
+    require("pygls", "lsp", "motiontool server")
+    from motiontool.cli import lsp
+
+    checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM)
+    Resolver(config=config, isolated=isolated)  # a bad --config fails now, not in the editor
+
+    def lint(path: Path, data: bytes) -> tuple[FileReport, RobotSpec | None]:
+        # Read afresh each time: an edited pyproject.toml applies to the next keystroke.
+        resolver = Resolver(config=config, isolated=isolated)
+        return lint_document(path, data, resolver, Overrides(), checks)
+
+    lsp.build_server(lint).start_io()

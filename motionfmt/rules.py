@@ -1,0 +1,39 @@
+"""Every diagnostic code explained, one :class:`~motiontool.motionfmt.rule.Rule` each: the one
+home of what ``motiontool rule CODE`` prints (MT1xx :mod:`.rules_syntax`, MT2xx
+:mod:`.rules_traps`, MT3xx and MT9xx :mod:`.rules_robot`)."""
+
+from __future__ import annotations
+
+import difflib
+
+from motiontool.motionfmt.diagnostics import CODES
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.rule import Example, Rule
+from motiontool.motionfmt.rules_robot import ROBOT_RULES
+from motiontool.motionfmt.rules_syntax import SYNTAX_RULES
+from motiontool.motionfmt.rules_traps import TRAP_RULES
+
+__all__ = ["RULES", "Example", "Rule", "UnknownCodeError", "rule"]
+
+RULES: dict[str, Rule] = {
+    r.code: r for r in sorted((*SYNTAX_RULES, *TRAP_RULES, *ROBOT_RULES), key=lambda r: r.code)
+}
+"""Every code's explanation, by code, in the order of :data:`CODES`."""
+
+
+class UnknownCodeError(MotionToolError):
+    """A code that is not one of :data:`CODES`; the message has a did-you-mean."""
+
+
+def rule(code: str) -> Rule:
+    """The explanation of ``code`` (any case, spaces around it ignored).
+
+    Raises:
+        UnknownCodeError: ``unknown code 'MT33'; did you mean 'MT303'?``
+    """
+    key = code.strip().upper()
+    if key in RULES:
+        return RULES[key]
+    close = difflib.get_close_matches(key, list(CODES), n=1)
+    hint = f"; did you mean '{close[0]}'?" if close else "; 'motiontool rule' lists them"
+    raise UnknownCodeError(f"unknown code '{code}'{hint}")

@@ -1,0 +1,217 @@
+"""``motiontool server`` (issue #17 item 5), driven by a real LSP client over stdio: pygls'
+``LanguageClient`` starts ``motiontool server`` as a subprocess, as an editor does, then
+initialize, didOpen, didChange, publishDiagnostics, hover, codeAction, shutdown.
+
+The published findings must be exactly those of ``motiontool validate`` on the same file with the
+same configuration (robot per glob, an ignored code)."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import shutil
+import sys
+from collections.abc import Awaitable, Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+
+pytest.importorskip("pygls")
+
+from lsprotocol import types as lsp
+from pygls.lsp.client import LanguageClient
+from pygls.uris import from_fs_path
+
+MOTION = (
+    "#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n"
+    "00:00:000,Pose1,0,0\n"
+    "00:00:040,Pose2,2rad,0.1\n"  # MT203 (safe fix)
+    "00:01:000,Pose3,3.0,-0.1\n"  # MT302: HeadYaw past its limit (robot nao)
+)
+PYPROJECT = '[tool.motiontool]\nrobot = "none"\nextend-ignore = ["MT206"]\n[tool.motiontool.robots]\n"nao/**" = "nao"\n'
+
+
+def motiontool() -> str:
+    found = shutil.which("motiontool", path=str(Path(sys.executable).parent))
+    assert found, "motiontool is installed beside this Python (pip install -e .)"
+    return found
+
+
+class Session:
+    """A client talking to a running server; published diagnostics by URI, latest first."""
+
+    def __init__(self, client: LanguageClient) -> None:
+        self.client = client
+        self.published: dict[str, asyncio.Queue[lsp.PublishDiagnosticsParams]] = {}
+
+    def queue(self, uri: str) -> asyncio.Queue[lsp.PublishDiagnosticsParams]:
+        return self.published.setdefault(uri, asyncio.Queue())
+
+    async def diagnostics(self, uri: str) -> list[lsp.Diagnostic]:
+        params = await asyncio.wait_for(self.queue(uri).get(), timeout=60)
+        return list(params.diagnostics)
+
+
+def run_session(root: Path, body: Callable[[Session], Awaitable[None]], *args: str) -> None:
+    async def main() -> None:
+        client = LanguageClient("test-client", "1")
+        session = Session(client)
+
+        @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+        def published(params: lsp.PublishDiagnosticsParams) -> None:
+            session.queue(params.uri).put_nowait(params)
+
+        await client.start_io(motiontool(), "server", *args, cwd=str(root))
+        await client.initialize_async(
+            lsp.InitializeParams(
+                capabilities=lsp.ClientCapabilities(), root_uri=from_fs_path(str(root))
+            )
+        )
+        client.initialized(lsp.InitializedParams())
+        try:
+            await body(session)
+        finally:
+            await client.shutdown_async(None)
+            client.exit(None)
+            await client.stop()
+
+    asyncio.run(main())
+
+
+def open_doc(session: Session, path: Path, text: str, version: int = 1) -> str:
+    uri = from_fs_path(str(path))
+    assert uri is not None
+    session.client.text_document_did_open(
+        lsp.DidOpenTextDocumentParams(
+            lsp.TextDocumentItem(uri=uri, language_id="webots-motion", version=version, text=text)
+        )
+    )
+    return uri
+
+
+def validate_json(path: Path, cwd: Path, monkeypatch: pytest.MonkeyPatch) -> list[dict[str, Any]]:
+    monkeypatch.chdir(cwd)
+    result = CliRunner().invoke(app, ["validate", str(path), "-f", "json"])
+    return json.loads(result.stdout)["files"][0]["diagnostics"]  # type: ignore[no-any-return]
+
+
+@pytest.fixture
+def project(tmp_path: Path) -> Path:
+    (tmp_path / "pyproject.toml").write_text(PYPROJECT)
+    (tmp_path / "nao").mkdir()
+    (tmp_path / "nao" / "look.motion").write_text(MOTION)
+    (tmp_path / "other.motion").write_text(MOTION)
+    return tmp_path
+
+
+def test_the_editor_sees_what_validate_reports(
+    project: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    got: dict[str, list[lsp.Diagnostic]] = {}
+
+    async def body(session: Session) -> None:
+        for name in ("nao/look.motion", "other.motion"):
+            uri = open_doc(session, project / name, MOTION)
+            got[name] = await session.diagnostics(uri)
+
+    run_session(project, body)
+    for name, diagnostics in got.items():
+        want = validate_json(project / name, project, monkeypatch)
+        assert [
+            (d.code, d.range.start.line + 1, d.range.start.character + 1) for d in diagnostics
+        ] == [(w["code"], w["line"], w["column"]) for w in want]
+        assert all(d.source == "motiontool" for d in diagnostics)
+        assert [d.message.split("\nhint: ")[0] for d in diagnostics] == [w["message"] for w in want]
+    # The configuration applies: nao/ is checked against the Nao (MT302), other.motion is not.
+    assert "MT302" in {d.code for d in got["nao/look.motion"]}
+    assert "MT302" not in {d.code for d in got["other.motion"]}
+    assert "MT206" not in {d.code for d in got["nao/look.motion"]}
+
+
+def test_changes_are_linted_as_typed_and_fixes_are_code_actions(project: Path) -> None:
+    async def body(session: Session) -> None:
+        path = project / "other.motion"
+        uri = open_doc(session, path, MOTION)
+        first = await session.diagnostics(uri)
+        assert "MT203" in {d.code for d in first}
+        # The user types a NUL-free fix by hand on line 3, then adds a blank line (MT201).
+        fixed = MOTION.replace("2rad", "2") + "\n00:01:500,Pose4,0,0\n"
+        session.client.text_document_did_change(
+            lsp.DidChangeTextDocumentParams(
+                text_document=lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
+                content_changes=[lsp.TextDocumentContentChangeWholeDocument(text=fixed)],
+            )
+        )
+        second = await session.diagnostics(uri)
+        assert "MT203" not in {d.code for d in second} and "MT201" in {d.code for d in second}
+        # Back to the original text: the MT203 fix is a code action with the exact edit.
+        session.client.text_document_did_change(
+            lsp.DidChangeTextDocumentParams(
+                text_document=lsp.VersionedTextDocumentIdentifier(uri=uri, version=3),
+                content_changes=[lsp.TextDocumentContentChangeWholeDocument(text=MOTION)],
+            )
+        )
+        third = await session.diagnostics(uri)
+        mt203 = next(d for d in third if d.code == "MT203")
+        actions = await session.client.text_document_code_action_async(
+            lsp.CodeActionParams(
+                text_document=lsp.TextDocumentIdentifier(uri=uri),
+                range=mt203.range,
+                context=lsp.CodeActionContext(diagnostics=[mt203]),
+            )
+        )
+        assert actions is not None
+        quick = [
+            a for a in actions if isinstance(a, lsp.CodeAction) and a.title.startswith("MT203")
+        ]
+        assert len(quick) == 1 and quick[0].is_preferred
+        assert quick[0].edit is not None and quick[0].edit.changes is not None
+        (edit,) = quick[0].edit.changes[uri]
+        assert (edit.range.start.line, edit.range.start.character) == (2, 17)
+        assert (edit.range.end.character, edit.new_text) == (20, "")
+        fix_all = [
+            a
+            for a in actions
+            if isinstance(a, lsp.CodeAction) and a.kind == lsp.CodeActionKind.SourceFixAll
+        ]
+        assert len(fix_all) == 1 and fix_all[0].edit is not None and fix_all[0].edit.changes
+        (whole,) = fix_all[0].edit.changes[uri]
+        assert whole.new_text == MOTION.replace("2rad", "2")
+
+    run_session(project, body)
+
+
+def test_hover_names_the_joint_time_value_and_limits(project: Path) -> None:
+    async def body(session: Session) -> None:
+        uri = open_doc(session, project / "nao" / "look.motion", MOTION)
+        await session.diagnostics(uri)
+        hover = await session.client.text_document_hover_async(
+            lsp.HoverParams(
+                text_document=lsp.TextDocumentIdentifier(uri=uri),
+                position=lsp.Position(line=3, character=17),  # the 3.0 of Pose3
+            )
+        )
+        assert hover is not None and isinstance(hover.contents, lsp.MarkupContent)
+        text = hover.contents.value
+        assert "**HeadYaw** = 3.0" in text and "Pose3" in text and "1000 ms" in text
+        assert "nao: -2.08" in text and "rad" in text
+        header = await session.client.text_document_hover_async(
+            lsp.HoverParams(
+                text_document=lsp.TextDocumentIdentifier(uri=uri),
+                position=lsp.Position(line=0, character=30),  # HeadPitch in the header
+            )
+        )
+        assert header is not None and isinstance(header.contents, lsp.MarkupContent)
+        assert header.contents.value.startswith("**HeadPitch**: nao:")
+
+    run_session(project, body)
+
+
+def test_a_bad_config_is_one_error_line(tmp_path: Path) -> None:
+    result = CliRunner().invoke(app, ["server", "--config", str(tmp_path / "missing.toml")])
+    assert result.exit_code == 2
+    assert result.stderr.startswith("motiontool: error: cannot read")
