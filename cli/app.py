@@ -40,6 +40,7 @@ from motiontool.cli import (
     rule,
     sample,
     scale,
+    server,
     trim,
     validate,
 )
@@ -198,6 +199,7 @@ _COMMANDS: list[tuple[str, Callable[..., Any]]] = [
     ("scale", scale.scale_command),
     ("plot", plot.plot_command),
     ("convert", convert.convert_command),
+    ("server", server.server_command),
 ]
 for _name, _command in _COMMANDS:
     app.command(_name)(_guard(_command))
