@@ -1,0 +1,80 @@
+"""What the steps of one read share: the file's lines, what the header said, and the one way to
+record a finding (:meth:`ReadState.report`).
+
+The reader (:mod:`.reader`) drives the steps; each step is a function of its own module that
+takes this state: the header (:mod:`.header`), a pose line (:mod:`.pose_fast`,
+:mod:`.pose_line`), the checks on the whole motion (:mod:`.motion_checks`).
+"""
+
+from __future__ import annotations
+
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.read_result import ReadResult
+
+__all__ = ["ReadState"]
+
+
+class ReadState:
+    """One pass over one file.
+
+    Attributes:
+        data, path: the file's bytes and how diagnostics name it.
+        timestep_ms: the controller time step (ms) for MT209 and MT115, or None.
+        result: what the read found so far.
+        lines: the physical lines, without their ``\\n`` (none after a final newline: ``fgets``
+            returns NULL there).
+        joint_tokens, n_joints: the header's joint names as bytes, and how many (0 until the
+            header is read).
+        header_end: 1-based (line, column) just after the header's last token.
+        star_seen: a ``*`` (or the no-value marker) was read: the MT207 check has work to do.
+        pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut).
+    """
+
+    def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
+        self.data = data
+        self.path = path
+        self.timestep_ms = timestep_ms
+        self.result = ReadResult(path=path, _data=data)
+        self.lines = data.split(b"\n")
+        self.has_final_newline = data.endswith(b"\n")
+        if self.has_final_newline:
+            self.lines.pop()  # fgets returns NULL after the last newline
+        self.joint_tokens: list[bytes] = []
+        self.n_joints = 0
+        self.star_seen = False
+        self.header_end = (1, 1)
+        self.pose_cols0: list[int] = self.result._cols0
+
+    def report(
+        self,
+        code: str,
+        line: int,
+        column: int,
+        message: str,
+        hint: str | None = None,
+        *,
+        joint: str | None = None,
+        time_ms: int | None = None,
+        end_column: int | None = None,
+        severity: Severity | None = None,
+        rejects: bool | None = None,
+    ) -> None:
+        """Record a finding; ``severity`` and ``rejects`` default to the code's (see
+        :class:`~motiontool.motionfmt.diagnostics.Code`), the first rejecting one is where
+        Webots stops."""
+        spec = CODES[code]
+        diag = Diagnostic(
+            code=code,
+            severity=spec.severity if severity is None else severity,
+            path=self.path,
+            line=line,
+            column=column,
+            message=message,
+            hint=hint,
+            joint=joint,
+            time_ms=time_ms,
+            end_column=end_column,
+        )
+        self.result.diagnostics.append(diag)
+        if (spec.rejects if rejects is None else rejects) and self.result.rejected_at is None:
+            self.result.rejected_at = diag

@@ -1,0 +1,133 @@
+"""How Webots cuts a ``.motion`` file into lines and cells: ``fgets`` and ``strtok``.
+
+``wbu_motion_new`` reads the file with ``fgets(buffer, 4096, file)`` (at most 4095 bytes a
+piece: a longer line is read as several) and cuts each piece with ``strtok(piece, ",\\n\\r")``,
+which skips empty cells and ends at a NUL byte. ``docs/webots-format.md`` is the reference.
+
+Columns are 1-based byte offsets in the physical line (lines split on ``\\n``).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterator
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from motiontool.motionfmt._read_state import ReadState
+
+__all__ = [
+    "FGETS_PIECE",
+    "Piece",
+    "PoseLine",
+    "check_utf8",
+    "decode_name",
+    "fgets_pieces",
+    "show",
+    "token_spans",
+]
+
+FGETS_PIECE = 4095
+"""Webots reads lines with ``fgets(buffer, 4096, file)``: at most 4095 bytes a piece."""
+
+_TOKEN = re.compile(rb"[^,\r\n]+")
+
+
+def token_spans(piece: bytes) -> list[tuple[int, int]]:
+    """(start, end) 0-based byte offsets of the tokens ``strtok(piece, ",\\n\\r")`` finds:
+    the one cell tokeniser of motiontool (a C string ends at a NUL byte)."""
+    nul = piece.find(b"\0")
+    if nul >= 0:
+        piece = piece[:nul]
+    return [m.span() for m in _TOKEN.finditer(piece)]
+
+
+def show(token: bytes, limit: int = 40) -> str:
+    """A token as a quoted, printable string for messages (non-UTF-8 bytes escaped)."""
+    text = token.decode("utf-8", "backslashreplace")
+    if len(text) > limit:
+        text = text[: limit - 3] + "..."
+    return repr(text)
+
+
+def decode_name(raw: bytes) -> str:
+    """Names keep undecodable bytes as surrogates, so they survive a round trip."""
+    return raw.decode("utf-8", "surrogateescape")
+
+
+@dataclass(frozen=True)
+class Piece:
+    """What one ``fgets`` call returns: part of a physical line."""
+
+    line: int  # 1-based physical line
+    col0: int  # byte offset of the piece in its physical line
+    data: bytes  # without the newline
+
+
+class PoseLine:
+    """A pose line's piece cut into its tokens, for the exact path.
+
+    Attributes:
+        raw: the piece's bytes; line: its 1-based physical line.
+        spans, tokens: the tokens (:func:`token_spans`) and their bytes.
+        c0: add to a 0-based offset in the piece to get a 1-based column in the line.
+    """
+
+    __slots__ = ("c0", "line", "raw", "spans", "tokens")
+
+    def __init__(self, piece: Piece, spans: list[tuple[int, int]]) -> None:
+        self.raw = piece.data
+        self.line = piece.line
+        self.c0 = piece.col0 + 1
+        self.spans = spans
+        self.tokens = [piece.data[a:b] for a, b in spans]
+
+
+def fgets_pieces(state: ReadState) -> Iterator[Piece]:
+    """The lines as Webots' ``fgets`` returns them, with long lines cut into pieces (MT111)."""
+    lines = state.lines
+    last = len(lines) - 1
+    for i, content in enumerate(lines):
+        has_newline = i < last or state.has_final_newline
+        full_length = len(content) + (1 if has_newline else 0)
+        if full_length <= FGETS_PIECE:
+            yield Piece(i + 1, 0, content)
+            continue
+        state.report(
+            "MT111",
+            i + 1,
+            FGETS_PIECE + 1,
+            f"line is {len(content)} bytes long; Webots reads at most {FGETS_PIECE - 1} bytes"
+            f" of a line (plus its newline) at a time and reads the rest as a new line",
+            "split the motion into fewer joints, or shorten pose names and numbers",
+            end_column=len(content) + 1,
+        )
+        for start in range(0, full_length, FGETS_PIECE):
+            yield Piece(i + 1, start, content[start : start + FGETS_PIECE])
+
+
+def check_utf8(state: ReadState) -> None:
+    """MT208 at the first byte of each line that is not UTF-8."""
+    try:
+        state.data.decode("utf-8")
+    except UnicodeDecodeError:
+        pass
+    else:
+        return
+    for i, content in enumerate(state.lines):
+        try:
+            content.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            bad = content[exc.start]
+            where = "a joint name" if i == 0 else "this line"
+            consequence = (
+                "; no motor name will match it" if i == 0 else "; other tools may not read it"
+            )
+            state.report(
+                "MT208",
+                i + 1,
+                exc.start + 1,
+                f"byte 0x{bad:02X} in {where} is not UTF-8{consequence}",
+                "save the file as UTF-8",
+            )

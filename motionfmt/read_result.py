@@ -1,0 +1,121 @@
+"""What one read of a ``.motion`` file found: :class:`ReadResult`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.errors import MotionSyntaxError
+from motiontool.motionfmt.lines import FGETS_PIECE, token_spans
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["ReadResult"]
+
+
+@dataclass
+class ReadResult:
+    """Everything a read found.
+
+    Attributes:
+        path: the file as the user named it.
+        diagnostics: every finding, in file order.
+        rejected_at: the error at which Webots' loader stops, or ``None`` when Webots loads the
+            file (it may still mis-read it: see the warnings).
+        joints: header joint names (undecodable bytes kept as surrogates).
+        pose_names, times_ms, rows: the poses Webots reads, in file order; ``rows[p][j]`` is NaN
+            for ``*`` and the -9999999.9 marker (no command), and for a literal ``nan`` (a
+            command: see ``nan_commands``).
+        nan_commands: (pose, column) of every cell that holds a literal ``nan``: NaN in
+            ``rows``, but a value Webots sends to the motor, unlike ``*``.
+        pose_lines: 1-based physical line of each pose.
+        end_line: the blank line that ends the motion early, or ``None``.
+    """
+
+    path: str
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    rejected_at: Diagnostic | None = None
+    joints: list[str] = field(default_factory=list)
+    pose_names: list[str] = field(default_factory=list)
+    times_ms: list[int] = field(default_factory=list)
+    rows: list[list[float]] = field(default_factory=list)
+    pose_lines: list[int] = field(default_factory=list)
+    nan_commands: list[tuple[int, int]] = field(default_factory=list)
+    end_line: int | None = None
+    _motion: Motion | None = field(default=None, repr=False)
+    _data: bytes = field(default=b"", repr=False)
+    _cols0: list[int] = field(default_factory=list, repr=False)
+    _line_starts: list[int] = field(default_factory=list, repr=False)
+    _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
+
+    def header_spans(self) -> list[tuple[int, int]]:
+        """1-based (column, end column) of each joint name in the header (line 1)."""
+        end = self._data.find(b"\n")
+        line = self._data[: end if end >= 0 else len(self._data)][:FGETS_PIECE]
+        return [(a + 1, b + 1) for a, b in token_spans(line)[2:]]
+
+    def cell_span(self, pose: int, joint: int | None = None) -> tuple[int, int, int]:
+        """(line, column, end column), 1-based, of a pose's value cell for column ``joint``
+        (0-based), or of its time token when ``joint`` is None — for diagnostics on cells."""
+        line = self.pose_lines[pose]
+        col0 = self._cols0[pose] if self._cols0 else 0
+        if not self._line_starts:
+            starts = [0]
+            find = self._data.find
+            pos = find(b"\n")
+            while pos >= 0:
+                starts.append(pos + 1)
+                pos = find(b"\n", pos + 1)
+            self._line_starts = starts
+        spans = self._span_cache.get(pose)
+        if spans is None:  # tokenised once per pose, however many diagnostics it gets
+            start = self._line_starts[line - 1]
+            end = self._data.find(b"\n", start)
+            content = self._data[start : end if end >= 0 else len(self._data)]
+            spans = self._span_cache[pose] = token_spans(content[col0 : col0 + FGETS_PIECE])
+        a, b = spans[0 if joint is None else 2 + joint]
+        return line, col0 + a + 1, col0 + b + 1
+
+    @property
+    def commanded(self) -> npt.NDArray[np.bool_]:
+        """(P, J) bool: True where the cell is a command (a number, ``nan`` and ``inf``
+        included), False for ``*`` and the -9999999.9 marker."""
+        import numpy as np
+
+        rows = np.asarray(self.rows, dtype=np.float64).reshape(len(self.times_ms), len(self.joints))
+        mask = ~np.isnan(rows)
+        for p, j in self.nan_commands:
+            mask[p, j] = True
+        return mask
+
+    @property
+    def accepted(self) -> bool:
+        """Whether Webots' ``wbu_motion_new`` loads this file."""
+        return self.rejected_at is None
+
+    @property
+    def errors(self) -> list[Diagnostic]:
+        return [d for d in self.diagnostics if d.severity is Severity.ERROR]
+
+    @property
+    def motion(self) -> Motion:
+        """The motion Webots plays; raises :class:`MotionSyntaxError` if Webots rejects it."""
+        if self.rejected_at is not None:
+            d = self.rejected_at
+            raise MotionSyntaxError(f"{d.message} [{d.code}]", d.path, d.line, d.column)
+        if self._motion is None:
+            from motiontool.motionfmt.motion import Motion
+
+            self._motion = Motion(
+                joints=tuple(self.joints),
+                pose_names=tuple(self.pose_names),
+                times_ms=self.times_ms,  # type: ignore[arg-type]
+                values=self.rows,  # type: ignore[arg-type]
+                commanded=self.commanded,
+            )
+        return self._motion
