@@ -470,8 +470,6 @@ OVERSIZED = {
     "motionfmt/ops/concat.py::concat",
     "motionfmt/ops/scale.py::scale",
     "motionfmt/ops/trim.py::trim",
-    "motionfmt/transform.py",
-    "motionfmt/transform.py::fit_limits",
 }
 
 

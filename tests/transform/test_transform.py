@@ -284,7 +284,7 @@ def test_fit_limits_never_violates_and_is_idempotent(
     again = fit_limits(r.times_ms, joints, values, limits, margin=margin, max_acceleration=accel)
     assert again.times_ms == r.times_ms and again.stretches == ()
     if accel is not None:
-        from motiontool.motionfmt.transform import _accel_ratio
+        from motiontool.motionfmt.fit_limits import _accel_ratio
 
         cols = [j for j, name in enumerate(joints) if name in limits]
         if len(times) > 1 and cols:

@@ -1,0 +1,214 @@
+"""Fit a motion to its joints' limits: stretch every segment that is too fast for a joint (its
+maximum velocity, and optionally an acceleration limit) to the shortest whole-ms duration that is
+not. Values never change. Pure numpy: velocity limits come in as ``{joint name: max velocity}``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.retime import Retimed, Stretch, require_in_range
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["DEFAULT_MARGIN", "fit_limits"]
+
+DEFAULT_MARGIN = 0.9
+"""Fraction of a joint's maximum velocity that :func:`fit_limits` allows by default."""
+
+_ACCEL_ROUNDS = 400  # rounds of _fit_acceleration; the second half slows down uniformly
+
+
+def _velocity_ok(delta: float, duration_ms: int, vmax: float) -> bool:
+    """|delta| moved in ``duration_ms`` stays within ``vmax`` (units per second)."""
+    return delta / (duration_ms / 1000.0) <= vmax
+
+
+def fit_limits(
+    times_ms: Sequence[int],
+    joints: Sequence[str],
+    values: npt.ArrayLike,
+    max_velocity: Mapping[str, float],
+    *,
+    margin: float = DEFAULT_MARGIN,
+    max_acceleration: float | None = None,
+) -> Retimed:
+    """Stretch every segment that is too fast for a joint, to the shortest duration that is not.
+
+    Args:
+        times_ms: P pose times, ms, strictly increasing.
+        joints: J column names (a name may repeat; every column is held to its limit).
+        values: (P, J) float64 joint targets, rad (m), NaN for ``*``.
+        max_velocity: ``{joint: maximum velocity}``, rad/s (m/s); a column not in it, or with an
+            infinite limit, is not constrained (and listed in ``unconstrained``).
+        margin: the fraction of the maximum velocity allowed, in (0, 1].
+        max_acceleration: optional limit (rad/s²) on the change of a joint's segment velocity
+            at each pose, taken over the half segments on either side
+            (``|w[k] - w[k-1]| <= A * (d[k-1] + d[k]) / 2``), the motion starting and ending at
+            rest. Segments touching ``*`` are not constrained.
+
+    Returns:
+        a :class:`Retimed`: a segment already within the limits keeps its duration; the first
+        pose keeps its time; durations are whole ms, rounded up so that no limit is exceeded.
+        Applying it again changes nothing.
+
+    Raises:
+        TimeOverflowError: the stretched motion would end past :data:`MAX_TIME_MS`.
+    """
+    import numpy as np
+
+    if not (0 < margin <= 1):
+        raise MotionToolError(f"the margin must be in (0, 1], got {margin}")
+    if max_acceleration is not None and not (max_acceleration > 0):
+        raise MotionToolError(f"the acceleration limit must be > 0 rad/s², got {max_acceleration}")
+    old = [int(t) for t in times_ms]
+    v = np.asarray(values, dtype=np.float64).reshape(len(old), len(joints))
+    limits = np.array([max_velocity.get(name, math.inf) for name in joints], dtype=np.float64)
+    unconstrained = tuple(
+        dict.fromkeys(n for n, lim in zip(joints, limits, strict=True) if not math.isfinite(lim))
+    )
+    if len(old) < 2:
+        return Retimed(tuple(old), tuple(old), (), unconstrained)
+    cols = np.flatnonzero(np.isfinite(limits))
+    reason: dict[int, tuple[str, str]] = {}
+    dur = _fit_velocity(
+        old, v[:, cols], limits[cols] * margin, [joints[int(c)] for c in cols], reason
+    )
+    if max_acceleration is not None:
+        dur = _fit_acceleration(dur, v[:, cols], max_acceleration, joints, cols, reason)
+    return _retimed(old, dur, reason, unconstrained)
+
+
+def _retimed(
+    old: list[int],
+    dur: list[int],
+    reason: dict[int, tuple[str, str]],
+    unconstrained: tuple[str, ...],
+) -> Retimed:
+    """The pose times from the first one and the new segment durations ``dur`` (ms), and the
+    segments that changed, each with its ``reason``."""
+    import numpy as np
+
+    new = [old[0]]
+    for d in dur:
+        new.append(new[-1] + int(d))
+    require_in_range(new, "fitting the velocity limits")
+    old_dur = np.diff(np.asarray(old)).tolist()
+    stretches = tuple(
+        Stretch(s, int(old_dur[s]), int(dur[s]), *reason[s])
+        for s in range(len(dur))
+        if dur[s] != old_dur[s]
+    )
+    return Retimed(tuple(old), tuple(new), stretches, unconstrained)
+
+
+def _fit_velocity(
+    old: list[int],
+    v: npt.NDArray[np.float64],
+    vlim: npt.NDArray[np.float64],
+    names: list[str],
+    reason: dict[int, tuple[str, str]],
+) -> list[int]:
+    """Segment durations (ms) after stretching each to the shortest whole ms in which every
+    constrained column ``v`` (P, C) stays within its velocity ``vlim`` (C,); the joint that
+    needed the most goes into ``reason``."""
+    import numpy as np
+
+    with np.errstate(invalid="ignore"):
+        delta = np.abs(np.diff(v, axis=0))  # (P-1, C), NaN where a '*' end
+    delta = np.where(np.isfinite(delta), delta, 0.0)
+    dur: list[int] = np.diff(np.asarray(old, dtype=np.int64)).tolist()
+    for s in range(len(dur)):
+        need = dur[s]
+        joint = ""
+        for c in range(len(names)):
+            d_c = float(delta[s, c])
+            if d_c == 0.0:
+                continue
+            k = _shortest_ms(d_c, float(vlim[c]))
+            if k > need:
+                need, joint = k, names[c]
+        if need > dur[s]:
+            dur[s] = need
+            reason[s] = (joint, "velocity")
+    return dur
+
+
+def _shortest_ms(delta: float, vmax: float) -> int:
+    """The fewest whole ms (at least 1) in which moving ``delta`` stays within ``vmax`` (units
+    per second), exactly as :func:`_velocity_ok` decides it."""
+    k = max(1, math.ceil(delta * 1000.0 / vmax))
+    while not _velocity_ok(delta, k, vmax):
+        k += 1
+    while k > 1 and _velocity_ok(delta, k - 1, vmax):
+        k -= 1
+    return k
+
+
+def _accel_ratio(
+    dur: npt.NDArray[np.float64], dq: npt.NDArray[np.float64], amax: float
+) -> npt.NDArray[np.float64]:
+    """(P, C) ratio |Δw| / allowed at each pose (boundaries: from and to rest); <= 1 is fine.
+
+    ``dq`` is (P-1, C) signed segment displacements, NaN where a segment touches ``*``.
+    """
+    import numpy as np
+
+    w = dq * 1000.0 / dur[:, None]  # (S, C) segment velocities, unit/s
+    zeros = np.zeros((1, w.shape[1]))
+    w_in = np.vstack([zeros, w])  # velocity before pose k (rest before the first)
+    w_out = np.vstack([w, zeros])  # velocity after pose k (rest after the last)
+    half = np.concatenate([[0.0], dur]) + np.concatenate([dur, [0.0]])  # ms, d[k-1] + d[k]
+    allowed = amax * half / 2000.0  # unit/s
+    with np.errstate(invalid="ignore"):
+        ratio = np.abs(w_out - w_in) / allowed[:, None]
+    return np.where(np.isnan(ratio), 0.0, ratio)
+
+
+def _fit_acceleration(
+    dur_ms: list[int],
+    v: npt.NDArray[np.float64],
+    amax: float,
+    joints: Sequence[str],
+    cols: npt.NDArray[np.intp],
+    reason: dict[int, tuple[str, str]],
+) -> list[int]:
+    """Lengthen segments (whole ms, never shorten) until every pose's velocity change is within
+    ``amax``: a violated pose stretches both its segments by sqrt(ratio), which brings its own
+    ratio to 1 (velocities scale by 1/f, the allowed change by f); neighbours are re-checked. If
+    that does not settle, the whole motion is slowed uniformly, which always does."""
+    import numpy as np
+
+    with np.errstate(invalid="ignore"):
+        dq = np.diff(v, axis=0)
+    dur = np.asarray(dur_ms, dtype=np.float64)
+    start = dur.copy()
+    blame: dict[int, str] = {}
+    for attempt in range(_ACCEL_ROUNDS):
+        ratio = _accel_ratio(dur, dq, amax)
+        worst = ratio.max(axis=1) if ratio.shape[1] else np.zeros(ratio.shape[0])
+        bad = np.flatnonzero(worst > 1.0)
+        if bad.shape[0] == 0:
+            break
+        factor = np.ones(dur.shape[0])
+        for k in bad.tolist():
+            f = math.sqrt(float(worst[k])) * (1.0 + 1e-6)
+            joint = joints[int(cols[int(np.argmax(ratio[k]))])]
+            for s in (k - 1, k):
+                if 0 <= s < dur.shape[0]:
+                    factor[s] = max(factor[s], f)
+                    blame.setdefault(s, joint)
+        if attempt >= _ACCEL_ROUNDS // 2:  # uniform slow-down: every ratio scales by 1/f**2
+            factor[:] = factor.max()
+        dur = np.ceil(dur * factor)
+    else:  # pragma: no cover - the uniform slow-down converges geometrically
+        raise MotionToolError("could not fit the acceleration limit")
+    fallback = joints[int(cols[0])] if cols.shape[0] else ""
+    for s in np.flatnonzero(dur > start).tolist():
+        reason[s] = (blame.get(s, fallback), "acceleration")
+    return [int(d) for d in dur]
