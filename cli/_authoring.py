@@ -12,7 +12,13 @@ from typing import Any
 
 import typer
 
-from motiontool.cli.output import emit_bytes, refuse_overwrite, same_file
+from motiontool.cli.output import (
+    emit_bytes,
+    refuse_overwrite,
+    same_file,
+    say_wrote,
+    written_motion,
+)
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
@@ -73,8 +79,10 @@ def load_input(path: Path) -> MotionDocument:
 
 
 def write_result(doc: MotionDocument, target: Path | None) -> None:
-    """Write ``doc`` atomically to ``target``, or to stdout when None."""
+    """Write ``doc`` atomically to ``target``, or to stdout when None; a file written is said
+    on stderr (:func:`~motiontool.cli.output.say_wrote`)."""
     emit_bytes(doc.to_bytes(), target)
+    say_wrote(target, written_motion(doc.n_poses, doc.motion.duration_ms))
 
 
 def say(text: str, target: Path | None) -> None:

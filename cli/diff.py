@@ -10,8 +10,8 @@ import typer
 
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import Format, FormatOption, finite, timestep_option
-from motiontool.cli.output import refuse_overwrite
-from motiontool.cli.text import file_name, num
+from motiontool.cli.output import refuse_overwrite, say_wrote
+from motiontool.cli.text import file_name, num, plural
 from motiontool.motionfmt.compare import (
     DEFAULT_TOLERANCE_RAD,
     JointDiff,
@@ -136,6 +136,7 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
         comment=json.dumps(stamps(), sort_keys=True),
     )
     atomic_write(out, png)
+    say_wrote(out, f"PNG plot, {plural(len(joints), 'joint')}")
 
 
 def diff_command(

@@ -7,7 +7,8 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from motiontool.cli.output import emit, refuse_overwrite
+from motiontool.cli.output import emit, refuse_overwrite, say_wrote
+from motiontool.cli.text import plural
 from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
@@ -94,3 +95,4 @@ def expect_command(
             find_start(inference, file, robot)
         inferences.append(inference)
     emit(render_toml(inferences), output)
+    say_wrote(output, f"TOML, expectations of {plural(len(inferences), 'motion')}")

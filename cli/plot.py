@@ -9,12 +9,12 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
-from motiontool.cli.output import emit_bytes, refuse_overwrite
+from motiontool.cli.output import emit_bytes, refuse_overwrite, say_wrote
 from motiontool.cli.text import file_name, plural
 from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import read_file, source_name
+from motiontool.motionfmt.fileio import is_stdout, read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps
 
@@ -91,9 +91,7 @@ def plot_command(
             f"{plural(n_limit, 'keyframe value')} outside the limits, "
             f"{plural(n_fast, 'segment')} above maxVelocity"
         )
-    grouped = plural(len(groups), "group")
-    where = "stdout" if str(output) == "-" else output
-    typer.echo(
-        f"wrote {where}: {len(names)} joints in {grouped}; {who}; {findings}",
-        err=str(output) == "-",
-    )
+    summary = f"{plural(len(names), 'joint')} in {plural(len(groups), 'group')}; {who}; {findings}"
+    if is_stdout(output):  # the PNG on stdout: what it shows on stderr
+        typer.echo(f"PNG on stdout: {summary}", err=True)
+    say_wrote(output, f"PNG: {summary}")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import partial
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -12,12 +11,12 @@ import typer
 
 from motiontool.cli import jsontext
 from motiontool.cli.options import TextOrJson, TextOrJsonOption
-from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs
+from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs, say_wrote
 from motiontool.kinematics.builtin_robots import describe
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import atomic_write, is_stdout
+from motiontool.motionfmt.fileio import atomic_write
 from motiontool.stamps import stamps
 
 __all__ = ["build_app", "export_command", "list_robots", "show_command"]
@@ -204,16 +203,15 @@ def export_command(
         require("pinocchio", "kinematics", "motiontool robots export --urdf")
     spec = load_robot(robot)
     outputs: list[tuple[Path | None, Callable[[RobotSpec], bytes]]] = [
-        (mjcf, partial(mjcf_bytes, urdf_option="--urdf")),
+        (mjcf, mjcf_bytes),
         (urdf, urdf_bytes),
     ]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]
     refuse_shared_outputs({"--mjcf": mjcf, "--urdf": urdf})
-    to_stdout = any(is_stdout(path) for path, _ in blobs)
     for path, data in blobs:
         atomic_write(path, data)
-        where = "stdout" if is_stdout(path) else path
-        typer.echo(f"wrote {where} ({len(data)} bytes, robot {spec.name})", err=to_stdout)
+        kind = "MJCF" if path is mjcf else "URDF"
+        say_wrote(path, f"{kind}, {len(data)} bytes, robot {spec.name}")
 
 
 def build_app(guard: Callable[[Callable[..., Any]], Callable[..., Any]]) -> typer.Typer:

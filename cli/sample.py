@@ -16,8 +16,9 @@ from typing import Annotated
 import typer
 
 from motiontool.cli.options import MAX_LOOPS, MotionFile, timestep_option
-from motiontool.cli.output import refuse_overwrite
+from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.sample_text import csv_header, csv_rows, json_document
+from motiontool.cli.text import plural
 from motiontool.motionfmt import read_file
 from motiontool.motionfmt.clock import clock_overflow
 from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
@@ -139,3 +140,5 @@ def sample_command(
     with open_output(STDOUT if output is None else output) as sink:
         for text in _chunks(motion, name, timestep, format, reverse, loop):
             sink.write(text.encode("utf-8", "surrogateescape"))
+    if rows is not None:  # a stream that never ends is refused above
+        say_wrote(output, f"{format.value.upper()}, {plural(rows, 'row')} every {timestep} ms")

@@ -258,6 +258,8 @@ def test_plot_to_stdout_and_diff_plot_refuses_stdout(tmp_path: Path) -> None:
     result = runner.invoke(app, ["plot", str(path), "-o", "-"])
     assert result.exit_code == 0, result.output
     assert result.stdout_bytes.startswith(b"\x89PNG\r\n\x1a\n")
+    assert result.stderr.startswith("PNG on stdout: 1 joint in 1 group; robot nao (model ")
+    assert "wrote" not in result.stderr  # stdout is not a file written
     assert not (tmp_path / "-").exists() and not Path("-").exists()
     code, out, err = invoke("diff", str(path), str(path), "--plot", "-")
     assert (code, out) == (2, "")

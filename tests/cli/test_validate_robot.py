@@ -282,12 +282,12 @@ def test_mt309_hint_names_the_mirror_command_and_ignore_option() -> None:
 
 def test_robots_export_writes_model_files(tmp_path: Path) -> None:
     mjcf, urdf = tmp_path / "ur5e.xml", tmp_path / "ur5e.urdf"
-    code, out, _ = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf), "--urdf", str(urdf))
-    assert code == 0
+    code, out, err = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf), "--urdf", str(urdf))
+    assert code == 0 and out == ""
     assert mjcf.read_bytes() == load_robot("ur5e").model_path.read_bytes()
-    assert out.splitlines() == [
-        f"wrote {mjcf} ({mjcf.stat().st_size} bytes, robot ur5e)",
-        f"wrote {urdf} ({urdf.stat().st_size} bytes, robot ur5e)",
+    assert err.splitlines() == [
+        f"motiontool: wrote {mjcf} (MJCF, {mjcf.stat().st_size} bytes, robot ur5e)",
+        f"motiontool: wrote {urdf} (URDF, {urdf.stat().st_size} bytes, robot ur5e)",
     ]
     assert load_robot(str(urdf)).joints == load_robot("ur5e").joints
     code, _, err = invoke("robots", "export", str(urdf), "--mjcf", str(tmp_path / "u.xml"))

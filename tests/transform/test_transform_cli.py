@@ -367,19 +367,20 @@ def test_input_is_never_modified_without_in_place(here: Path, command: list[str]
 
 
 def test_plot_is_deterministic_and_reports(here: Path) -> None:
-    code, out, _ = invoke("plot", "fast.motion", "-o", "a.png")
+    code, out, err = invoke("plot", "fast.motion", "-o", "a.png")
     assert code == 0
-    assert out == (
-        f"wrote a.png: 2 joints in 1 group; robot nao (model {NAO}); "
-        "0 keyframe values outside the limits, 2 segments above maxVelocity\n"
+    assert (out, err) == (
+        "",
+        f"motiontool: wrote a.png (PNG: 2 joints in 1 group; robot nao (model {NAO}); "
+        "0 keyframe values outside the limits, 2 segments above maxVelocity)\n",
     )
     assert invoke("plot", "fast.motion", "-o", "b.png")[0] == 0
     a, b = (here / "a.png").read_bytes(), (here / "b.png").read_bytes()
     assert a.startswith(b"\x89PNG\r\n\x1a\n") and a == b
-    code, out, _ = invoke("plot", "head.motion", "-o", "c.png", "--robot", "none")
-    assert (
-        code == 0
-        and out == "wrote c.png: 2 joints in 1 group; no robot: no limits; no robot limits drawn\n"
+    code, _, err = invoke("plot", "head.motion", "-o", "c.png", "--robot", "none")
+    assert code == 0 and err == (
+        "motiontool: wrote c.png (PNG: 2 joints in 1 group; no robot: no limits; "
+        "no robot limits drawn)\n"
     )
     code, _, err = invoke("plot", "head.motion", "-o", "head.motion")
     assert code == 2 and "is the input file" in err
