@@ -16,10 +16,13 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.kinematics.checks.wording import Wording
+from motiontool.kinematics.export import NoMjcfError
 from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
+    "CLI_WORDING",
     "MAX_LOOPS",
     "MAX_TIMESTEP_MS",
     "ROBOT_OPTION",
@@ -61,7 +64,15 @@ def finite(value: Any) -> Any:
 
 
 ROBOT_OPTION = "--robot"
-"""How a user of the CLI names a robot (library hints get it as ``robot_option``)."""
+"""How a user of the CLI names a robot."""
+
+CLI_WORDING = Wording(
+    robot_option=ROBOT_OPTION,
+    ignore_option="--ignore",
+    mirror_command="motiontool mirror {source} -o {target}",
+)
+"""The CLI's words for the remedies the robot checks' hints name (the library's hints say
+"name the robot explicitly" without them)."""
 
 
 class Format(enum.StrEnum):
@@ -164,4 +175,6 @@ def error_line(exc: MotionToolError) -> str:
     the option that fixes it where the library only says what to do."""
     if isinstance(exc, NoRobotDetectedError):
         return f"{exc.reason}; name one with {ROBOT_OPTION} ({robot_choices()})"
+    if isinstance(exc, NoMjcfError):
+        return str(NoMjcfError(exc.spec, how="with --urdf"))
     return str(exc)

@@ -15,7 +15,7 @@ from motiontool.cli.fixing import fix_files
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.lint_run import Checked, Overrides, collect, keep_first, lint
 from motiontool.cli.options import (
-    ROBOT_OPTION,
+    CLI_WORDING,
     ReportOutput,
     finite,
     robot_option,
@@ -41,9 +41,6 @@ from motiontool.stamps import stamps
 __all__ = ["validate_command"]
 
 _CHECKS_OPTION = "--checks"
-_IGNORE_OPTION = "--ignore"
-_MIRROR_COMMAND = "motiontool mirror {source} -o {target}"
-"""How the robot checks' hints tell a user of the CLI to mirror a file (MT309)."""
 
 
 def _robots_used(checker: Checked) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
@@ -222,7 +219,10 @@ _ShowSettings = Annotated[
 ]
 _Ignore = Annotated[
     list[str] | None,
-    typer.Option(_IGNORE_OPTION, help="Diagnostic code to leave out (repeat, or comma-separate)."),
+    typer.Option(
+        CLI_WORDING.ignore_option or "--ignore",
+        help="Diagnostic code to leave out (repeat, or comma-separate).",
+    ),
 ]
 _Statistics = Annotated[
     bool,
@@ -365,9 +365,7 @@ def robot_checks(
             skip_missing=checks is None,
             timestep_ms=timestep,
             penetration_tolerance_mm=tolerance,
-            robot_option=ROBOT_OPTION,
-            ignore_option=_IGNORE_OPTION,
-            mirror_command=_MIRROR_COMMAND,
+            wording=CLI_WORDING,
         )
     except CheckUnavailableError as exc:
         raise MotionToolError(f"{exc}; leave '{exc.check}' out of {_CHECKS_OPTION}") from exc

@@ -31,24 +31,35 @@ if TYPE_CHECKING:
 
     Matrix = npt.NDArray[np.float64]
 
-__all__ = ["mjcf_bytes", "urdf_bytes"]
+__all__ = ["NoMjcfError", "mjcf_bytes", "urdf_bytes"]
 
 
-def mjcf_bytes(spec: RobotSpec, *, urdf_option: str | None = None) -> bytes:
-    """The MJCF file of ``spec``.
+class NoMjcfError(MotionToolError):
+    """An MJCF file was asked of a robot that comes from a URDF file.
 
-    Raises:
-        MotionToolError: ``spec`` comes from a URDF file; the message says to export it as URDF
-            (:func:`urdf_bytes`), with ``urdf_option`` where the caller's user gives one (the
-            CLI's ``--urdf``).
+    Attributes:
+        spec: the robot.
+        how: how to export it instead, in the library's words (``as URDF (urdf_bytes)``); a
+            front end words it its own way (the CLI: ``with --urdf``).
     """
-    if spec.model_format != "mjcf":
-        how = f"with {urdf_option}" if urdf_option else "as URDF (urdf_bytes)"
-        raise MotionToolError(
+
+    def __init__(self, spec: RobotSpec, how: str = "as URDF (urdf_bytes)") -> None:
+        self.spec = spec
+        super().__init__(
             f"robot {spec.name} comes from a URDF file ({spec.model_path}); export it {how}, "
             "or let MuJoCo convert it (mujoco.MjModel.from_xml_path, then "
             "mujoco.mj_saveLastXML)"
         )
+
+
+def mjcf_bytes(spec: RobotSpec) -> bytes:
+    """The MJCF file of ``spec``.
+
+    Raises:
+        NoMjcfError: ``spec`` comes from a URDF file.
+    """
+    if spec.model_format != "mjcf":
+        raise NoMjcfError(spec)
     if spec.overrides_path is None:
         return spec.model_path.read_bytes()
     text = write_limits(spec.model_path, spec.joints)

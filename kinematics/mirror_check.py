@@ -22,6 +22,7 @@ import re
 from pathlib import Path
 
 from motiontool.kinematics.checks._table import header_diagnostic
+from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
@@ -98,22 +99,13 @@ class UnmirroredCopy:
     """MT309 (info) for ``spec``: see the module docstring. A robot that cannot be mirrored
     joint by joint gets no note.
 
-    The hint says how to write the true mirror and how to leave the note out, in the caller's
-    words where it gives them: ``mirror_command`` (e.g. the CLI's ``motiontool mirror {source}
-    -o {target}``, with the sibling's and this file's names) and ``ignore_option`` (the CLI's
-    ``--ignore``); None: plain words.
+    The hint says how to write the true mirror and how to leave the note out, in the front
+    end's words (:class:`~motiontool.kinematics.checks.wording.Wording`).
     """
 
-    def __init__(
-        self,
-        spec: RobotSpec,
-        *,
-        ignore_option: str | None = None,
-        mirror_command: str | None = None,
-    ) -> None:
+    def __init__(self, spec: RobotSpec, wording: Wording = PLAIN_WORDING) -> None:
         self.spec = spec
-        self.ignore_option = ignore_option
-        self.mirror_command = mirror_command
+        self.wording = wording
         self._map: MirrorMap | None = None
         self._failed = False
 
@@ -159,12 +151,12 @@ class UnmirroredCopy:
 
     def _hint(self, sibling: str, name: str) -> str:
         """How to write the true mirror of ``sibling`` into ``name``, or to leave MT309 out."""
-        if self.mirror_command:
-            command = self.mirror_command.format(source=sibling, target=name)
+        command = self.wording.mirror(sibling, name)
+        if command:
             write = f"'{command}' writes the true mirror"
         else:
             write = f"the left/right mirror of {sibling} is the true one"
-        ignore = f"{self.ignore_option} MT309" if self.ignore_option else "leave MT309 out"
+        ignore = self.wording.ignore("MT309")
         return f"{write}; if the motion is meant to be asymmetric, {ignore}"
 
 

@@ -117,3 +117,18 @@ def test_the_motor_gain_default_is_the_motor_module_s() -> None:
         "MotorLimits.p_gain": inspect.signature(MotorLimits).parameters["p_gain"].default,
     }
     assert all(v is DEFAULT_P_GAIN for v in defaults.values()), defaults
+
+
+def test_the_cli_words_reach_the_library_as_one_object() -> None:
+    """No library function takes a CLI flag or command as its own parameter (``robot_option``,
+    ``mirror_command``, ...): the front end's words travel as one ``Wording``."""
+    stray = [
+        f"{rel}:{node.lineno} {node.name}({arg.arg})"
+        for rel, tree in sources()
+        if not rel.startswith("cli/")
+        for node in ast.walk(tree)
+        if isinstance(node, ast.FunctionDef)
+        for arg in [*node.args.args, *node.args.kwonlyargs]
+        if arg.arg.endswith(("_option", "_command", "_flag"))
+    ]
+    assert not stray, "\n".join(stray)

@@ -43,12 +43,14 @@ from motiontool.kinematics.checks.self_collision import (
     Collision,
 )
 from motiontool.kinematics.checks.velocity import Velocity
+from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 
 __all__ = [
     "CHECKS",
     "COUPLING_TOLERANCE",
     "DEFAULT_CHECKS",
     "DEFAULT_PENETRATION_TOLERANCE_MM",
+    "PLAIN_WORDING",
     "Balance",
     "CheckUnavailableError",
     "Collision",
@@ -56,6 +58,7 @@ __all__ = [
     "RobotChecks",
     "UnknownJoints",
     "Velocity",
+    "Wording",
     "parse_checks",
     "robot_checks",
 ]

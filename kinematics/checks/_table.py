@@ -37,7 +37,6 @@ __all__ = [
     "fmt_num",
     "fmt_span",
     "header_diagnostic",
-    "name_robot",
     "read_table",
     "runs",
     "sent_cells",
@@ -64,12 +63,6 @@ def fmt_span(names: Sequence[str]) -> str:
     if len(names) > 2 and all(n.startswith(stem) and n[len(stem) :].isdigit() for n in names):
         return f"{names[0]}..{names[-1][len(stem) :]}"
     return ", ".join(names)
-
-
-def name_robot(robot_option: str | None, which: str = "the") -> str:
-    """How a hint tells the user to name a robot: ``name the robot explicitly``, or ``name the
-    robot with --robot`` where the caller says how its user names one (``robot_option``)."""
-    return f"name {which} robot " + (f"with {robot_option}" if robot_option else "explicitly")
 
 
 def header_diagnostic(

@@ -8,8 +8,8 @@ from motiontool.kinematics.checks._table import (
     RobotCheck,
     fmt_name,
     header_diagnostic,
-    name_robot,
 )
+from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.reader import ReadResult
@@ -19,12 +19,11 @@ __all__ = ["UnknownJoints"]
 
 class UnknownJoints(RobotCheck):
     """MT301: header joints that are not motors of the robot (Webots ignores them); the hint
-    of a name with no close motor says how to name another robot (``robot_option``: what the
-    caller's user gives, e.g. the CLI's ``--robot``)."""
+    of a name with no close motor says how to name another robot, in the front end's words."""
 
-    def __init__(self, spec: RobotSpec, robot_option: str | None = None) -> None:
+    def __init__(self, spec: RobotSpec, wording: Wording = PLAIN_WORDING) -> None:
         super().__init__(spec)
-        self.robot_option = robot_option
+        self.wording = wording
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         return [
@@ -45,6 +44,6 @@ class UnknownJoints(RobotCheck):
             hint = (
                 f"Webots ignores this column (with a warning); robot {spec.name}'s motors: "
                 + ", ".join(spec.joint_names)
-                + f"; or {name_robot(self.robot_option, 'another')}"
+                + f"; or {self.wording.name_robot('another')}"
             )
         return header_diagnostic(result, j, "MT301", Severity.WARNING, message, hint)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Callable, Iterable
 
-from motiontool.kinematics.checks._table import header_diagnostic, name_robot
+from motiontool.kinematics.checks._table import header_diagnostic
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import Limits
@@ -15,6 +15,7 @@ from motiontool.kinematics.checks.self_collision import (
     Collision,
 )
 from motiontool.kinematics.checks.velocity import Velocity
+from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robots import (
     AUTO,
@@ -94,9 +95,7 @@ def robot_checks(
     *,
     timestep_ms: int | None = None,
     penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
-    robot_option: str | None = None,
-    ignore_option: str | None = None,
-    mirror_command: str | None = None,
+    wording: Wording = PLAIN_WORDING,
 ) -> list[_Check]:
     """The checks of ``spec`` for :func:`motiontool.motionfmt.validate_paths`.
 
@@ -108,10 +107,8 @@ def robot_checks(
         timestep_ms: controller time step (ms) of the sampled command stream checked by
             ``velocity``; the robot's ``default_timestep_ms`` if None.
         penetration_tolerance_mm: see :data:`DEFAULT_PENETRATION_TOLERANCE_MM` (mm, >= 0).
-        robot_option, ignore_option, mirror_command: how the user names a robot (the CLI:
-            ``--robot``), leaves a code out (``--ignore``) and mirrors a file
-            (``motiontool mirror {source} -o {target}``), for hints; None: plain words ("name
-            the robot explicitly").
+        wording: the front end's words for the hints' remedies (naming a robot, leaving a
+            code out, mirroring a file); plain words by default.
 
     Raises:
         MotionToolError: an unknown check name or a negative tolerance.
@@ -129,8 +126,10 @@ def robot_checks(
             f"robot {spec.name} has no feet: the balance check needs a humanoid model with "
             "sole geometries (nao, nao-v5)",
         )
-    mirrored = UnmirroredCopy(spec, ignore_option=ignore_option, mirror_command=mirror_command)
-    out: list[_Check] = [UnknownJoints(spec, robot_option), mirrored]  # MT309 is a note
+    out: list[_Check] = [
+        UnknownJoints(spec, wording),
+        UnmirroredCopy(spec, wording),
+    ]  # MT309 is a note
     if "limits" in names:
         out.append(Limits(spec))
     if "velocity" in names:
@@ -149,11 +148,10 @@ class RobotChecks:
     joints, at least half of them (:func:`~motiontool.kinematics.robots.pick_robot`; the others
     get MT301 with a did-you-mean, and the joints it has are checked); a file no built-in robot
     fits is checked at syntax level only and gets an MT901 note whose hint says how to name a
-    robot (``robot_option``: what the caller's user gives, the CLI's ``--robot``; None: "name
-    the robot explicitly") and the robots to choose from. ``'none'`` checks nothing. Any other
-    ``robot`` is loaded once (:func:`~motiontool.kinematics.load_robot`) and checks every
-    file. Robots and their models are loaded once per process. ``ignore_option`` and
-    ``mirror_command``: see :func:`robot_checks`.
+    robot (in the front end's ``wording``) and the robots to choose from. ``'none'`` checks
+    nothing. Any other ``robot`` is loaded once (:func:`~motiontool.kinematics.load_robot`)
+    and checks every file. Robots and their models are loaded once per process. ``wording``:
+    see :func:`robot_checks`.
 
     A check whose library is not installed (collision and balance need Pinocchio,
     ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note about
@@ -174,21 +172,17 @@ class RobotChecks:
         *,
         timestep_ms: int | None = None,
         penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
-        robot_option: str | None = None,
-        ignore_option: str | None = None,
-        mirror_command: str | None = None,
+        wording: Wording = PLAIN_WORDING,
         skip_missing: bool = True,
     ) -> None:
         self.robot = robot
         self.skip_missing = skip_missing
-        self.robot_option = robot_option
+        self.wording = wording
         self.checks = parse_checks(list(checks))
         self.used: dict[str, RobotSpec | None] = {}
         self.skipped: dict[str, MissingExtraError] = {}
         self.timestep_ms = timestep_ms
         self.penetration_tolerance_mm = penetration_tolerance_mm
-        self.ignore_option = ignore_option
-        self.mirror_command = mirror_command
         self._by_robot: dict[str, list[_Check]] = {}
         self._specs: dict[str, RobotSpec] = {}
         spec = None if robot == AUTO else pick_robot(robot)  # UnknownRobotError: exit early
@@ -206,9 +200,7 @@ class RobotChecks:
                 names,
                 timestep_ms=self.timestep_ms,
                 penetration_tolerance_mm=self.penetration_tolerance_mm,
-                robot_option=self.robot_option,
-                ignore_option=self.ignore_option,
-                mirror_command=self.mirror_command,
+                wording=self.wording,
             )
         return self._by_robot[spec.name]
 
@@ -224,7 +216,7 @@ class RobotChecks:
         spec = self.spec_for(result)
         self.used[result.path] = spec
         if spec is None:
-            return [_skipped(result, self.robot_option)]
+            return [_skipped(result, self.wording)]
         out = []
         for check in self._checks_for(spec):
             out.extend(self._run(check, result))
@@ -273,7 +265,7 @@ def _skipped_for_extra(name: str, exc: MissingExtraError) -> Diagnostic:
     )
 
 
-def _skipped(result: ReadResult, robot_option: str | None) -> Diagnostic:
+def _skipped(result: ReadResult, wording: Wording) -> Diagnostic:
     """MT901 for a file :func:`~motiontool.kinematics.detect_robot` finds no robot for: no
     built-in robot has half of its joints, or two robots with different motors have as many
     (:class:`~motiontool.kinematics.robots.NoRobotDetectedError` says which); the hint says
@@ -281,7 +273,7 @@ def _skipped(result: ReadResult, robot_option: str | None) -> Diagnostic:
     joints = result.joints
     why = NoRobotDetectedError(joints)
     message = f"robot checks skipped: {why.detail}; checked at syntax level only"
-    hint = f"{name_robot(robot_option)} ({robot_choices()})"
+    hint = f"{wording.name_robot()} ({robot_choices()})"
     if not joints:
         return Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message, hint)
     where = why.missing[0] if why.missing else 0

@@ -22,6 +22,7 @@ from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     CheckUnavailableError,
     RobotChecks,
+    Wording,
     parse_checks,
     robot_checks,
 )
@@ -324,10 +325,11 @@ def test_unknown_joint_without_a_close_name_lists_the_motors() -> None:
 def test_hints_name_the_callers_robot_option() -> None:
     # The CLI says how its user names a robot; the library only passes it on.
     data = b"#WEBOTS_MOTION,V1.0,wheel_left\n0,P,0\n"
-    checks = robot_checks(load_robot("ur5e"), robot_option="--robot")
+    wording = Wording(robot_option="--robot")
+    checks = robot_checks(load_robot("ur5e"), wording=wording)
     (d,) = validate_bytes(data, "t", checks=checks).diagnostics
     assert (d.hint or "").endswith("; or name another robot with --robot")
-    (note,) = RobotChecks("auto", robot_option="--robot")(read_bytes(data, "t"))
+    (note,) = RobotChecks("auto", wording=wording)(read_bytes(data, "t"))
     assert note.code == "MT901"
     assert note.hint == (
         "name the robot with --robot (nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>)"

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from conftest import CORPUS
 
-from motiontool.kinematics.checks import RobotChecks
+from motiontool.kinematics.checks import RobotChecks, Wording
 from motiontool.kinematics.mirror import mirror_map, partner_name
 from motiontool.kinematics.mirror_check import sibling_paths
 from motiontool.kinematics.robots import JointSpec, RobotSpec, load_robot
@@ -175,7 +175,8 @@ def test_mt309_hint_uses_the_callers_words_only_when_given() -> None:
     left = str(DANCING / "HandHighLeft.motion")
 
     def hint(**words: str) -> str | None:
-        report = validate_paths([left], checks=[RobotChecks("nao", ["limits"], **words)])
+        wording = Wording(**words)
+        report = validate_paths([left], checks=[RobotChecks("nao", ["limits"], wording=wording)])
         (note,) = [d for d in report.diagnostics if d.code == "MT309"]
         return note.hint
 
