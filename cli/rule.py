@@ -11,7 +11,8 @@ import typer
 from motiontool.cli.codes import codes_text
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import TextOrJson, TextOrJsonOption
-from motiontool.motionfmt.rules import RULES, Example, Rule, rule
+from motiontool.cli.rules import RULES, Example, Rule, rule
+from motiontool.motionfmt.diagnostics import CODES
 
 __all__ = ["rule_command"]
 
@@ -60,7 +61,8 @@ def _wrapped(label: str, text: str) -> list[str]:
 
 def _text(entry: Rule) -> str:
     example = entry.example
-    out = [f"{entry.code}  {entry.severity}  {entry.title}", ""]
+    info = CODES[entry.code]
+    out = [f"{entry.code}  {info.severity}  {info.title}", ""]
     out += _wrapped("Webots:", entry.webots)
     without = "".join(f", {m} not installed" for m in example.missing)
     out.append(f"Example ({_command(example)}{without}):")
@@ -86,8 +88,8 @@ def _json(entry: Rule) -> dict[str, Any]:
     example = entry.example
     return {
         "code": entry.code,
-        "severity": str(entry.severity),
-        "title": entry.title,
+        "severity": str(CODES[entry.code].severity),
+        "title": CODES[entry.code].title,
         "webots": entry.webots,
         "example": {
             "name": example.name,

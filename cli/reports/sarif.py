@@ -18,9 +18,9 @@ from motiontool.cli.reports.common import (
     text_column,
     with_hint,
 )
+from motiontool.cli.rules import RULES
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fixes import Fix
-from motiontool.motionfmt.rules import RULES
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 

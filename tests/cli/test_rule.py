@@ -1,4 +1,4 @@
-"""``motiontool rule``: every code explained (motionfmt/rules.py), and every explanation's
+"""``motiontool rule``: every code explained (cli/rules.py), and every explanation's
 example checked by ``validate`` itself, so that the docs cannot lie (issue 17 item 3b)."""
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from typer.testing import CliRunner
 
 from motiontool.cli import schemas
 from motiontool.cli.app import app
+from motiontool.cli.rules import RULES, Example
 from motiontool.motionfmt.diagnostics import CODES
 from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES
-from motiontool.motionfmt.rules import RULES, Example
 
 runner = CliRunner()
 

@@ -1,7 +1,7 @@
 """What one diagnostic code means: the entry ``motiontool rule CODE`` prints.
 
 Every code of :data:`~motiontool.motionfmt.diagnostics.CODES` has one :class:`Rule` in
-:data:`motiontool.motionfmt.rules.RULES`: what Webots does with such a file, an example that
+:data:`motiontool.cli.rules.RULES`: what Webots does with such a file, an example that
 triggers it, how to fix it and the example fixed. The tests run ``validate`` on every example
 and on every fixed example, so an explanation cannot say something ``validate`` does not do.
 """
@@ -10,7 +10,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from motiontool.motionfmt.diagnostics import CODES, Severity
 from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES
 
 __all__ = ["Example", "Rule"]
@@ -45,7 +44,8 @@ class Rule:
     """One code explained.
 
     Attributes:
-        code: a key of :data:`~motiontool.motionfmt.diagnostics.CODES`.
+        code: a key of :data:`~motiontool.motionfmt.diagnostics.CODES` (which gives its
+            severity and title).
         webots: what Webots does with a file that has it, in a few sentences.
         example: a file that triggers it.
         fix: how to fix it, for people.
@@ -59,14 +59,6 @@ class Rule:
     example: Example
     fix: str
     fixed: bytes | None = None
-
-    @property
-    def severity(self) -> Severity:
-        return CODES[self.code].severity
-
-    @property
-    def title(self) -> str:
-        return CODES[self.code].title
 
     @property
     def autofix(self) -> str | None:

@@ -1,17 +1,18 @@
-"""Every diagnostic code explained, one :class:`~motiontool.motionfmt.rule.Rule` each: the one
-home of what ``motiontool rule CODE`` prints (MT1xx :mod:`.rules_syntax`, MT2xx
-:mod:`.rules_traps`, MT3xx and MT9xx :mod:`.rules_robot`)."""
+"""Every diagnostic code explained, one :class:`~motiontool.cli.rule_model.Rule` each: the one
+home of what ``motiontool rule CODE`` prints and of SARIF's rule help (MT1xx
+:mod:`.rules_syntax`, MT2xx :mod:`.rules_traps`, MT3xx and MT9xx :mod:`.rules_robot`). They live
+in the CLI: the examples are ``validate`` command lines and the fixes name commands."""
 
 from __future__ import annotations
 
 import difflib
 
+from motiontool.cli.rule_model import Example, Rule
+from motiontool.cli.rules_robot import ROBOT_RULES
+from motiontool.cli.rules_syntax import SYNTAX_RULES
+from motiontool.cli.rules_traps import TRAP_RULES
 from motiontool.motionfmt.diagnostics import CODES
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.rule import Example, Rule
-from motiontool.motionfmt.rules_robot import ROBOT_RULES
-from motiontool.motionfmt.rules_syntax import SYNTAX_RULES
-from motiontool.motionfmt.rules_traps import TRAP_RULES
 
 __all__ = ["RULES", "Example", "Rule", "UnknownCodeError", "rule"]
 

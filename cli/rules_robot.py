@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from motiontool.motionfmt.rule import Example, Rule
+from motiontool.cli.rule_model import Example, Rule
 
 __all__ = ["ROBOT_RULES"]
 

@@ -3,7 +3,7 @@ written (docs/webots-format.md, *Reading*)."""
 
 from __future__ import annotations
 
-from motiontool.motionfmt.rule import Example, Rule
+from motiontool.cli.rule_model import Example, Rule
 
 __all__ = ["SYNTAX_RULES"]
 
