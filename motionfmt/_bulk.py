@@ -59,17 +59,11 @@ def read_clean_body(
         marker: Webots' 'no value' number; a file holding it takes the exact path.
         max_line: the longest line (bytes, newline excluded) that Webots reads in one piece.
     """
-    if not body or n_joints < 1:
-        return None
-    for needle in (b",,", b",\n", b",\r", b"\n,", b"\n\n", b"\n\r", b"\r\r", b"*", b"\0", b"_"):
-        if needle in body:
-            return None
-    if body.startswith((b",", b"\n", b"\r")) or body.count(b"\r") != body.count(b"\r\n"):
+    if not body or n_joints < 1 or not _plain(body):
         return None
     try:
         import numpy as np
         import pyarrow as pa
-        import pyarrow.csv as pacsv
     except ImportError:
         return None
     raw = np.frombuffer(body, dtype=np.uint8)
@@ -78,10 +72,46 @@ def read_clean_body(
     stops = np.concatenate((ends, [len(body)]))
     if int((stops - starts).max()) > max_line:
         return None
+    table = _table(body, n_joints)
+    if (
+        table is None
+        or table.num_columns != n_joints + 2
+        or any(c.null_count for c in table.columns)
+    ):
+        return None
+    values = np.column_stack([table.column(j + 2).to_numpy() for j in range(n_joints)])
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    if not bool(np.isfinite(values).all()) or bool((values == marker).any()):
+        return None
+    times = _times(table.column(0))
+    if times is None:
+        return None
+    try:
+        names: list[str] = table.column(1).cast(pa.string()).to_pylist()
+    except pa.ArrowInvalid:  # not UTF-8: keep the bytes as surrogates
+        names = [n.decode("utf-8", "surrogateescape") for n in table.column(1).to_pylist()]
+    return times, names, values
+
+
+def _plain(body: bytes) -> bool:
+    """No byte sequence that only the exact path reads right: an empty cell, a blank line, a
+    lone CR, ``*``, a NUL, ``_`` (Python's ``float`` reads ``1_0``)."""
+    for needle in (b",,", b",\n", b",\r", b"\n,", b"\n\n", b"\n\r", b"\r\r", b"*", b"\0", b"_"):
+        if needle in body:
+            return False
+    return not body.startswith((b",", b"\n", b"\r")) and body.count(b"\r") == body.count(b"\r\n")
+
+
+def _table(body: bytes, n_joints: int) -> pa.Table | None:
+    """The pose lines as columns t, n (bytes) and v0..v{J-1} (float64), or None if pyarrow's CSV
+    reader refuses them."""
+    import pyarrow as pa
+    import pyarrow.csv as pacsv
+
     columns = ["t", "n", *(f"v{j}" for j in range(n_joints))]
     types = {"t": pa.binary(), "n": pa.binary(), **{f"v{j}": pa.float64() for j in range(n_joints)}}
     try:
-        table = pacsv.read_csv(
+        return pacsv.read_csv(
             pa.py_buffer(body),
             read_options=pacsv.ReadOptions(column_names=columns, use_threads=True),
             parse_options=pacsv.ParseOptions(
@@ -96,17 +126,3 @@ def read_clean_body(
         )
     except (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError):
         return None
-    if table.num_columns != n_joints + 2 or any(c.null_count for c in table.columns):
-        return None
-    values = np.column_stack([table.column(j + 2).to_numpy() for j in range(n_joints)])
-    values = np.ascontiguousarray(values, dtype=np.float64)
-    if not bool(np.isfinite(values).all()) or bool((values == marker).any()):
-        return None
-    times = _times(table.column(0))
-    if times is None:
-        return None
-    try:
-        names: list[str] = table.column(1).cast(pa.string()).to_pylist()
-    except pa.ArrowInvalid:  # not UTF-8: keep the bytes as surrogates
-        names = [n.decode("utf-8", "surrogateescape") for n in table.column(1).to_pylist()]
-    return times, names, values

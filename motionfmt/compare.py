@@ -192,6 +192,73 @@ class MotionDiff:
         return best
 
 
+class _Extremes:
+    """Per common joint, over the steps compared so far: the largest |Δq| where both command it
+    (its step and the two values), the steps only one commands it, the first such step."""
+
+    def __init__(self, n: int) -> None:
+        import numpy as np
+
+        self.n = n
+        self.best = np.full(n, -1.0)
+        self.best_step = np.full(n, -1, dtype=np.int64)
+        self.best_old = np.full(n, np.nan)
+        self.best_new = np.full(n, np.nan)
+        self.old_only = np.zeros(n, dtype=np.int64)
+        self.new_only = np.zeros(n, dtype=np.int64)
+        self.presence_first = np.full(n, -1, dtype=np.int64)
+
+    def update(self, steps: npt.NDArray[np.int64], held_old: Held, held_new: Held) -> None:
+        """Take in the steps ``steps`` (S,), where the motions hold ``held_old``, ``held_new``."""
+        import numpy as np
+
+        (a, _, has_a), (b, _, has_b) = held_old, held_new
+        n = self.n
+        only_one = has_a != has_b
+        both = has_a & has_b
+        with np.errstate(invalid="ignore"):
+            same = (a == b) | (np.isnan(a) & np.isnan(b))  # equal infinities, two NaN commands
+            delta = np.where(same, 0.0, np.abs(a - b))
+        delta = np.where(both, delta, -1.0)
+        delta = np.where(np.isnan(delta), np.inf, delta)
+        if not delta.shape[1]:
+            return
+        k = np.argmax(delta, axis=0)
+        top = delta[k, np.arange(n)]
+        better = top > self.best
+        self.best = np.where(better, top, self.best)
+        self.best_step = np.where(better, steps[k], self.best_step)
+        self.best_old = np.where(better, a[k, np.arange(n)], self.best_old)
+        self.best_new = np.where(better, b[k, np.arange(n)], self.best_new)
+        counts = only_one.sum(axis=0)
+        first = np.where(counts > 0, steps[np.argmax(only_one, axis=0)], -1)
+        self.presence_first = np.where(
+            (self.presence_first < 0) & (counts > 0), first, self.presence_first
+        )
+        self.old_only += (has_a & ~has_b).sum(axis=0)
+        self.new_only += (~has_a & has_b).sum(axis=0)
+
+    def joint_diffs(self, names: Sequence[str], timestep_ms: int) -> list[JointDiff]:
+        """One :class:`JointDiff` per joint of ``names`` (the common joints, in order)."""
+        joints = []
+        for i, name in enumerate(names):
+            compared = self.best_step[i] >= 0
+            first = self.presence_first[i]
+            joints.append(
+                JointDiff(
+                    joint=name,
+                    max_delta=float(self.best[i]) if compared else 0.0,
+                    at_ms=int(self.best_step[i] * timestep_ms) if compared else None,
+                    old_value=float(self.best_old[i]) if compared else None,
+                    new_value=float(self.best_new[i]) if compared else None,
+                    old_only_steps=int(self.old_only[i]),
+                    new_only_steps=int(self.new_only[i]),
+                    presence_at_ms=int(first * timestep_ms) if first >= 0 else None,
+                )
+            )
+        return joints
+
+
 def compare_motions(
     old: Motion,
     new: Motion,
@@ -220,14 +287,7 @@ def compare_motions(
     common_in_new = [n for n in new_names if n in old_set]
     end = max(old.duration_ms, new.duration_ms)
     n_steps = -(-end // timestep_ms) + 1
-    n = len(common)
-    best = np.full(n, -1.0)
-    best_step = np.full(n, -1, dtype=np.int64)
-    best_old = np.full(n, np.nan)
-    best_new = np.full(n, np.nan)
-    old_only = np.zeros(n, dtype=np.int64)
-    new_only = np.zeros(n, dtype=np.int64)
-    presence_first = np.full(n, -1, dtype=np.int64)
+    extremes = _Extremes(len(common))
     held_old: Held | None = None
     held_new: Held | None = None
     for start in range(0, n_steps, _CHUNK_STEPS):
@@ -235,44 +295,8 @@ def compare_motions(
         elapsed = steps * timestep_ms
         held_old = _held(old, common, elapsed, held_old)
         held_new = _held(new, common, elapsed, held_new)
-        (a, _, has_a), (b, _, has_b) = held_old, held_new
-        only_one = has_a != has_b
-        both = has_a & has_b
-        with np.errstate(invalid="ignore"):
-            same = (a == b) | (np.isnan(a) & np.isnan(b))  # equal infinities, two NaN commands
-            delta = np.where(same, 0.0, np.abs(a - b))
-        delta = np.where(both, delta, -1.0)
-        delta = np.where(np.isnan(delta), np.inf, delta)
-        if delta.shape[1]:
-            k = np.argmax(delta, axis=0)
-            top = delta[k, np.arange(n)]
-            better = top > best
-            best = np.where(better, top, best)
-            best_step = np.where(better, steps[k], best_step)
-            best_old = np.where(better, a[k, np.arange(n)], best_old)
-            best_new = np.where(better, b[k, np.arange(n)], best_new)
-            counts = only_one.sum(axis=0)
-            first = np.where(counts > 0, steps[np.argmax(only_one, axis=0)], -1)
-            presence_first = np.where((presence_first < 0) & (counts > 0), first, presence_first)
-            old_only += (has_a & ~has_b).sum(axis=0)
-            new_only += (~has_a & has_b).sum(axis=0)
-    joints = []
-    for i, name in enumerate(common):
-        compared = best_step[i] >= 0
-        joints.append(
-            JointDiff(
-                joint=name,
-                max_delta=float(best[i]) if compared else 0.0,
-                at_ms=int(best_step[i] * timestep_ms) if compared else None,
-                old_value=float(best_old[i]) if compared else None,
-                new_value=float(best_new[i]) if compared else None,
-                old_only_steps=int(old_only[i]),
-                new_only_steps=int(new_only[i]),
-                presence_at_ms=(
-                    int(presence_first[i] * timestep_ms) if presence_first[i] >= 0 else None
-                ),
-            )
-        )
+        extremes.update(steps, held_old, held_new)
+    joints = extremes.joint_diffs(common, timestep_ms)
     return MotionDiff(
         timestep_ms=timestep_ms,
         tolerance=tolerance,

@@ -105,21 +105,41 @@ def scan_double(token: bytes) -> ScannedDouble | None:
         i += 1
         if i == n:
             return None
-    c = token[i] | 0x20  # ASCII lower case for letters
-    if c == ord("n"):
+    if token[i] | 0x20 in (ord("n"), ord("i")):  # ASCII lower case for letters
+        return _scan_nan_inf(token, start, i)
+    j, hexa = _collect_number(token, i)
+    run = token[start:j]
+    got_sign = i - start
+    if len(run) == got_sign or (hexa and len(run) == 2 + got_sign):
+        return None
+    converted = _strtod_prefix(run)
+    if converted is None:
+        return None
+    value, length = converted
+    return ScannedDouble(value, start + length)
+
+
+def _scan_nan_inf(token: bytes, start: int, i: int) -> ScannedDouble | None:
+    """``nan``, ``inf`` or ``infinity`` (any case) at ``i``, its sign from ``start``; None for a
+    partial word, on which glibc fails."""
+    if token[i] | 0x20 == ord("n"):
         if not _match_word(token, i, b"nan"):
             return None
         return ScannedDouble(float(token[start : i + 3]), i + 3)
-    if c == ord("i"):
-        if not _match_word(token, i, b"inf"):
-            return None
-        j = i + 3
-        if j < n and token[j] | 0x20 == ord("i"):
-            if not _match_word(token, j, b"inity"):
-                return None  # glibc fails on a partial "infinity"
-            j += 5
-        return ScannedDouble(float(token[start:j]), j)
-    # The numeric state machine of glibc's vfscanf: collect, then strtod.
+    if not _match_word(token, i, b"inf"):
+        return None
+    j = i + 3
+    if j < len(token) and token[j] | 0x20 == ord("i"):
+        if not _match_word(token, j, b"inity"):
+            return None  # glibc fails on a partial "infinity"
+        j += 5
+    return ScannedDouble(float(token[start:j]), j)
+
+
+def _collect_number(token: bytes, i: int) -> tuple[int, bool]:
+    """The numeric state machine of glibc's vfscanf: the end of the run that looks like a
+    number from ``i`` (after the sign), and whether it is a hex float; strtod converts it next."""
+    n = len(token)
     j = i
     hexa = got_digit = got_e = got_dot = False
     exp_char = ord("e")
@@ -144,15 +164,7 @@ def scan_double(token: bytes) -> ScannedDouble | None:
         else:
             break
         j += 1
-    run = token[start:j]
-    got_sign = i - start
-    if len(run) == got_sign or (hexa and len(run) == 2 + got_sign):
-        return None
-    converted = _strtod_prefix(run)
-    if converted is None:
-        return None
-    value, length = converted
-    return ScannedDouble(value, start + length)
+    return j, hexa
 
 
 def scan_time(token: bytes) -> ScannedTime | None:

@@ -463,9 +463,6 @@ OVERSIZED = {
     "cli/retime.py::retime_command",
     "cli/validate.py::validate_command",
     # issue 16: being split (motionfmt, next)
-    "motionfmt/_bulk.py::read_clean_body",
-    "motionfmt/compare.py::compare_motions",
-    "motionfmt/cscan.py::scan_double",
     "motionfmt/ops/_permute.py::permute_cells",
     "motionfmt/ops/concat.py::concat",
     "motionfmt/ops/scale.py::scale",
