@@ -466,7 +466,6 @@ OVERSIZED = {
     "motionfmt/ops/_permute.py::permute_cells",
     "motionfmt/ops/concat.py::concat",
     "motionfmt/ops/scale.py::scale",
-    "motionfmt/ops/trim.py::trim",
 }
 
 

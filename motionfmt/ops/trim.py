@@ -53,6 +53,21 @@ def _boundary_line(motion: Motion, at_ms: int, time_ms: int, style: TimeStyle, e
     return _pose_line(time_ms, f"Pose{time_ms}ms", row, style).encode("utf-8") + eol
 
 
+def _window(from_ms: int | None, to_ms: int | None, last: int) -> tuple[int, int]:
+    """(from, to) of the window kept, ms: the whole motion by default, ``to`` clamped to the
+    ``last`` pose time; raises :class:`MotionToolError` where nothing is left to keep."""
+    lo = 0 if from_ms is None else int(from_ms)
+    hi = last if to_ms is None else min(int(to_ms), last)
+    if lo < 0 or (to_ms is not None and to_ms < 0):
+        raise MotionToolError("trim times cannot be negative")
+    if lo >= hi:
+        raise MotionToolError(
+            f"nothing to keep between {lo} ms and {hi} ms (the motion ends at {last} ms): "
+            "the window must start before it ends and before the last pose"
+        )
+    return lo, hi
+
+
 def trim(
     doc: MotionDocument,
     from_ms: int | None = None,
@@ -80,16 +95,7 @@ def trim(
     motion = doc.motion
     refuse_non_finite(motion, doc.result, "trimming")
     times = motion.times_ms
-    last = int(times[-1])
-    lo = 0 if from_ms is None else int(from_ms)
-    hi = last if to_ms is None else min(int(to_ms), last)
-    if lo < 0 or (to_ms is not None and to_ms < 0):
-        raise MotionToolError("trim times cannot be negative")
-    if lo >= hi:
-        raise MotionToolError(
-            f"nothing to keep between {lo} ms and {hi} ms (the motion ends at {last} ms): "
-            "the window must start before it ends and before the last pose"
-        )
+    lo, hi = _window(from_ms, to_ms, int(times[-1]))
     shift = 0 if keep_times else lo
     lines = PoseLines.of(doc)
     style = doc.time_style
