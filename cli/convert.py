@@ -15,7 +15,7 @@ from motiontool.cli.convert_checks import (
     stream_findings,
 )
 from motiontool.cli.options import ROBOT_OPTION, robot_option, timestep_option
-from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite
+from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite, say_wrote
 from motiontool.cli.text import num, plural
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot, resolve_robot
@@ -65,22 +65,15 @@ def _refuse(lines: list[str], heading: str) -> None:
     raise typer.Exit(1)
 
 
-def _report(
-    target: Path,
-    exported: Exported,
-    companions: list[Path],
-    spec: RobotSpec | None,
-    notes: list[str],
-) -> str:
-    name = "stdout" if is_stdout(target) else str(target)
-    lines = [f"wrote {name} ({exported.poses} poses, {exported.detail})"]
+def _report(exported: Exported, spec: RobotSpec | None, notes: list[str]) -> str:
+    """What follows the ``wrote`` lines: the robot check, and a robot format's deviation."""
+    lines = []
     if spec is None:
         lines.append(f"not checked against a robot: none named or detected ({ROBOT_OPTION})")
     elif notes:
         lines += [f"checked against robot {spec.name}: {plural(len(notes), 'finding')}", *notes]
     else:
         lines.append(f"checked against robot {spec.name}: clean")
-    lines += [f"wrote {path} (the script that sends it)" for path in companions]
     d = exported.deviation
     if d is not None:
         where = "" if d.joint is None else f" ({d.joint} at {d.at_ms} ms)"
@@ -180,4 +173,7 @@ def convert_command(
     emit_bytes(exported.data, None if is_stdout(target) else target)
     for path, (_, data) in zip(companions, exported.companions, strict=True):
         emit_bytes(data, path)
-    emit_stderr(_report(target, exported, companions, spec, notes))
+    say_wrote(target, f"{plural(exported.poses, 'pose')}, {exported.detail}")
+    for path in companions:
+        say_wrote(path, "the script that sends it")
+    emit_stderr(_report(exported, spec, notes))

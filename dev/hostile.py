@@ -55,6 +55,9 @@ WRITERS = [
     ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
     ["robots", "export", "ur5e", "--mjcf", "OUT"],
     ["robots", "export", "ur5e", "--urdf", "OUT"],
+    ["convert", "in.motion", "OUT", "--to", "csv"],
+    ["convert", "in.motion", "OUT", "--to", "npz"],
+    ["convert", "in.motion", "OUT", "--to", "naoqi"],
 ]
 
 # Numbers no option may take: refused by its range, in one line.
@@ -86,6 +89,7 @@ STDOUT = [
     ["codes"],
     ["info", "in.motion"],
     ["mirror", "in.motion", "-o", "-"],
+    ["convert", "in.motion", "-", "--to", "csv"],
     ["robots"],
 ]
 

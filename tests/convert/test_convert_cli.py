@@ -24,7 +24,7 @@ def _run(*args: str | Path) -> tuple[int, str, str]:
 def test_motion_to_csv_to_motion(tmp_path: Path) -> None:
     code, _, err = _run(WAVE, tmp_path / "w.csv")
     assert code == 0, err
-    assert err.startswith(f"wrote {tmp_path / 'w.csv'} (9 poses, 4 joints")
+    assert err.startswith(f"motiontool: wrote {tmp_path / 'w.csv'} (9 poses, 4 joints")
     assert "checked against robot nao: clean" in err
     code, _, err = _run(tmp_path / "w.csv", tmp_path / "w.motion")
     assert code == 0, err
@@ -38,7 +38,7 @@ def test_stdout_needs_a_format_and_gets_the_bytes(tmp_path: Path) -> None:
     code, out, err = _run(WAVE, "-", "--to", "csv")
     assert code == 0, err
     assert out.startswith("time_ms,RShoulderPitch,")
-    assert err.startswith("wrote stdout (9 poses")
+    assert err.startswith("checked against robot nao: clean")  # no 'wrote' line for stdout
 
 
 def test_unknown_joint_of_a_named_robot_is_one_error_at_its_cell(tmp_path: Path) -> None:
