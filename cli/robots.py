@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import partial
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -204,7 +203,7 @@ def export_command(
         require("pinocchio", "kinematics", "motiontool robots export --urdf")
     spec = load_robot(robot)
     outputs: list[tuple[Path | None, Callable[[RobotSpec], bytes]]] = [
-        (mjcf, partial(mjcf_bytes, urdf_option="--urdf")),
+        (mjcf, mjcf_bytes),
         (urdf, urdf_bytes),
     ]
     blobs = [(path, make(spec)) for path, make in outputs if path is not None]
