@@ -367,6 +367,9 @@ _FLAGS_ALLOWED = {
     ("kinematics/_modelgen/main.py", "--check"),  # the model generator script's own option
     ("sim/batch.py", "--friction"),  # a perturbation's help: what 1 means
     ("sim/infer.py", "--infer"),  # the header of the motions.toml that 'expect --infer' writes
+    ("motionfmt/convert/naoqi_script.py", "--ip"),  # the generated NAOqi script's options
+    ("motionfmt/convert/naoqi_script.py", "--port"),
+    ("motionfmt/convert/naoqi_script.py", "--json"),
 }
 
 
