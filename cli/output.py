@@ -11,6 +11,7 @@ from pathlib import Path
 from motiontool.cli.text import plural
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import STDOUT, atomic_write, is_stdin, is_stdout, output_kind
+from motiontool.motionfmt.units import MS_PER_S
 
 __all__ = [
     "emit",
@@ -86,7 +87,7 @@ def say_wrote(output: Path | None, detail: str) -> None:
 
 def written_motion(poses: int, duration_ms: int) -> str:
     """The ``detail`` of :func:`say_wrote` for a motion file: ``339 poses, 6.76 s``."""
-    return f"{plural(poses, 'pose')}, {duration_ms / 1000:g} s"
+    return f"{plural(poses, 'pose')}, {duration_ms / MS_PER_S:g} s"
 
 
 def emit_bytes(data: bytes, output: Path | None) -> None:
