@@ -31,7 +31,9 @@ from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdin
 
 if TYPE_CHECKING:
-    from motiontool.sim.batch import BatchResult, Perturbation, RunResult, RunSpec
+    from rich.progress import Progress
+
+    from motiontool.sim.batch import BatchResult, RunResult, RunSpec
 
 __all__ = ["batch_command"]
 
@@ -146,53 +148,34 @@ def batch_command(
     """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
-    from motiontool.sim.batch import check_robots, default_cache_dir, parse_perturbation
-    from motiontool.sim.cache import BYTES_PER_MB
-    from motiontool.sim.expect import parse_expectations
-    from motiontool.sim.physics import physics_run_options
-
     resolver = Resolver(config=config, isolated=isolated)
     files = _inputs(paths, resolver, executor=executor, ray_address=ray_address)
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
-    _check_outputs(files, outputs, cache_dir=cache_dir)
-    _require_extras(junit=junit, rrd_dir=rrd_dir, executor=executor)
-    perturbations = [parse_perturbation(p) for p in perturb or []]
-    options = {
-        "timestep_ms": timestep,
-        **physics_run_options(profile.value, physics_step, friction),
-    }
-    settings = {f: resolver.for_file(f) for f in files}
-    robots = {f: robot or [settings[f].robot_for(f)] for f in files}
-    timesteps = {f: timestep or settings[f].timestep for f in files}
-    check_robots([r for rs in robots.values() for r in rs])  # an unknown robot: exit 2 now
-    parse_expectations(expect or [])  # a bad --expect: exit 2 before anything runs
+    _check_outputs(files, outputs, cache_dir=cache_dir, executor=executor)
     specs = _plan(
         files,
+        resolver,
         roots=[p for p in paths if p.is_dir()],
-        robots=robots,
-        timesteps=timesteps,
-        perturbations=perturbations,
-        samples=samples,
-        seed=seed,
-        options=options,
-        start=start,
+        robot=robot,
+        timestep=timestep,
+        physics=(profile, physics_step, friction),
+        sampling=(perturb or [], samples, seed),
         expect=expect or [],
+        start=start,
         sidecar=not no_sidecar,
         rrd_dir=rrd_dir,
     )
-    _check_physics(specs, profile, physics_step, friction)
     batch = _run(
         specs,
         executor=executor,
         jobs=jobs,
         timeout=timeout,
-        cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
-        cache_max_bytes=round(cache_max_mb * BYTES_PER_MB),
+        cache_dir=cache_dir,
+        no_cache=no_cache,
+        cache_max_mb=cache_max_mb,
         ray_address=ray_address,
     )
-    _write_reports(
-        batch, profile, json_out=json_out, markdown=markdown, junit=junit, rrd_dir=rrd_dir
-    )
+    _write_reports(batch, profile, outputs)
     if batch.failures:
         raise typer.Exit(1)
 
@@ -217,14 +200,16 @@ def _inputs(
 
 
 def _check_outputs(
-    files: list[Path], outputs: dict[str, Path | None], *, cache_dir: Path | None
+    files: list[Path], outputs: dict[str, Path | None], *, cache_dir: Path | None, executor: str
 ) -> None:
-    """No output over an input, no two reports on one file, folders that can be written."""
+    """No output over an input, no two reports on one file, folders that can be written, the
+    extras the options need installed."""
     for option, out in outputs.items():
         refuse_overwrite(out, files, option)
     refuse_shared_outputs({k: v for k, v in outputs.items() if k != "--rrd-dir"})
     require_folder(outputs["--rrd-dir"], "--rrd-dir")
     require_folder(cache_dir, "--cache-dir")
+    _require_extras(junit=outputs["--junit"], rrd_dir=outputs["--rrd-dir"], executor=executor)
 
 
 def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) -> None:
@@ -240,50 +225,51 @@ def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) 
 
 def _plan(
     files: list[Path],
+    resolver: Resolver,
     *,
     roots: list[Path],
-    robots: dict[Path, list[str]],
-    timesteps: dict[Path, int | None],
-    perturbations: list[Perturbation],
-    samples: int,
-    seed: int,
-    options: dict[str, object],
-    start: Start | None,
+    robot: list[str] | None,
+    timestep: int | None,
+    physics: tuple[Profile, float | None, float | None],
+    sampling: tuple[list[str], int, int],
     expect: list[str],
+    start: Start | None,
     sidecar: bool,
     rrd_dir: Path | None,
 ) -> list[RunSpec]:
-    """Every run of the batch (:func:`motiontool.sim.batch.plan`), file by file: each with its
-    sidecar's expectations and start, and its recording's name."""
-    from motiontool.sim.batch import plan, recording_stems
-    from motiontool.sim.sidecar import Sidecar, expectations_for
+    """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
+    each file's robots and time step from the configuration unless given; ``physics`` is the
+    profile, physics step (ms) and friction, ``sampling`` the perturbations, the samples and the
+    seed. A bad option,
+    robot, expectation, sidecar or physics step: exit 2 before anything runs."""
+    from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
+    from motiontool.sim.physics import physics_run_options
 
-    rrd_names = recording_stems(files)
-    if rrd_dir is not None:
-        rrd_dir.mkdir(parents=True, exist_ok=True)
-    sidecars: dict[Path, Sidecar] = {}
-    specs = []
-    for f in files:
-        expected, sidecar_start = expectations_for(
-            f, expect, sidecar=sidecar, roots=roots, cache=sidecars
-        )
-        start_state = start if start is not None else sidecar_start
-        file_options = dict(options)
-        file_options["timestep_ms"] = timesteps[f]
-        if start_state is not None and Start(start_state).lying:
-            file_options["start"] = str(start_state)
-        if rrd_dir is not None:
-            file_options["rrd_dir"] = str(rrd_dir)
-            file_options["rrd_name"] = rrd_names[str(f)]
-        specs += plan(
-            [f],
-            robots[f],
-            perturbations=perturbations,
-            samples=samples,
-            seed=seed,
-            options=file_options,
-            expect=expected,
-        )
+    perturb, samples, seed = sampling
+    perturbations = [parse_perturbation(p) for p in perturb]
+    profile, physics_step, friction = physics
+    options = {
+        "timestep_ms": timestep,
+        **physics_run_options(profile.value, physics_step, friction),
+    }
+    settings = {f: resolver.for_file(f) for f in files}
+    robots = {f: robot or [settings[f].robot_for(f)] for f in files}
+    check_robots([r for rs in robots.values() for r in rs])  # an unknown robot: exit 2 now
+    specs = plan_batch(
+        files,
+        robots,
+        options=options,
+        timesteps={f: timestep or settings[f].timestep for f in files},
+        expect=expect,
+        start=start,
+        sidecar=sidecar,
+        roots=roots,
+        rrd_dir=rrd_dir,
+        perturbations=perturbations,
+        samples=samples,
+        seed=seed,
+    )
+    _check_physics(specs, profile, physics_step, friction)
     return specs
 
 
@@ -320,36 +306,18 @@ def _run(
     jobs: int,
     timeout: float | None,
     cache_dir: Path | None,
-    cache_max_bytes: int,
+    no_cache: bool,
+    cache_max_mb: float,
     ray_address: str | None,
 ) -> BatchResult:
     """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
-    (a terminal only)."""
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeRemainingColumn,
-    )
-
-    from motiontool.sim.batch import run_batch
+    (a terminal only), cached in ``cache_dir`` (default: the user's) unless ``no_cache``."""
+    from motiontool.sim.batch import default_cache_dir, run_batch
+    from motiontool.sim.cache import BYTES_PER_MB
     from motiontool.sim.runs import run_outputs, run_spec
 
-    # Colour: rich follows NO_COLOR / FORCE_COLOR itself; --no-color is the root option.
-    console = Console(stderr=True, no_color=rich_no_color())
     failures = 0
-    with Progress(
-        TextColumn("[progress.description]{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TextColumn("{task.fields[rate]:.2f} runs/s, {task.fields[failures]} not clean"),
-        TimeRemainingColumn(),
-        console=console,
-        transient=True,
-        disable=not console.is_terminal,
-    ) as bar:
+    with _progress_bar() as bar:
         task = bar.add_task("batch", total=len(specs), rate=0.0, failures=0)
 
         def progress(result: RunResult, done: int, total: int) -> None:
@@ -365,24 +333,43 @@ def _run(
             executor=executor,
             jobs=jobs,
             timeout_s=timeout,
-            cache_dir=cache_dir,
-            cache_max_bytes=cache_max_bytes,
+            cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
+            cache_max_bytes=round(cache_max_mb * BYTES_PER_MB),
             ray_address=ray_address,
             outputs=run_outputs,
             progress=progress,
         )
 
 
-def _write_reports(
-    batch: BatchResult,
-    profile: Profile,
-    *,
-    json_out: Path | None,
-    markdown: Path | None,
-    junit: Path | None,
-    rrd_dir: Path | None,
-) -> None:
-    """The summary on stdout, then the reports asked for, each said in one line on stderr."""
+def _progress_bar() -> Progress:
+    """The batch's progress bar on stderr: runs done, runs per second, runs not clean, time
+    left; shown on a terminal only, gone when the batch is over."""
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeRemainingColumn,
+    )
+
+    # Colour: rich follows NO_COLOR / FORCE_COLOR itself; --no-color is the root option.
+    console = Console(stderr=True, no_color=rich_no_color())
+    return Progress(
+        TextColumn("[progress.description]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("{task.fields[rate]:.2f} runs/s, {task.fields[failures]} not clean"),
+        TimeRemainingColumn(),
+        console=console,
+        transient=True,
+        disable=not console.is_terminal,
+    )
+
+
+def _write_reports(batch: BatchResult, profile: Profile, outputs: dict[str, Path | None]) -> None:
+    """The summary on stdout, then the reports asked for (``outputs``: option -> path, None
+    where not asked for), each said in one line on stderr."""
     from motiontool.cli.batch_reports import (
         render_json,
         render_markdown,
@@ -390,6 +377,8 @@ def _write_reports(
         write_junit,
     )
 
+    json_out, markdown = outputs["--json"], outputs["--markdown"]
+    junit, rrd_dir = outputs["--junit"], outputs["--rrd-dir"]
     if profile is Profile.webots:
         from motiontool.sim.physics import WEBOTS_PROFILE_NOTE
 

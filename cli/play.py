@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated, Any
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -26,15 +26,14 @@ from motiontool.cli.physics_options import (
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name
-from motiontool.kinematics.robots import resolve_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.motionfmt.fileio import is_stdin, is_stdout, source_name
+from motiontool.motionfmt.fileio import is_stdout
 from motiontool.motionfmt.units import MM_PER_M
-from motiontool.stamps import stamps
 
 if TYPE_CHECKING:
     from motiontool.sim.report import ContactSummary, PlayReport
+    from motiontool.sim.session import PlayResult
 
 __all__ = ["play_command"]
 
@@ -86,6 +85,26 @@ def _end_effector(report: PlayReport, limit: int = 32) -> list[str]:
     return lines
 
 
+def _joint_table(report: PlayReport) -> list[str]:
+    """One row per commanded joint: tracking errors and time at the caps; none without one."""
+    rows = [j for j in report.joints if j.commanded]
+    if not rows:
+        return []
+    wj = max(5, *(len(j.name) for j in rows))
+    wl = max(4, *(len(j.limb) for j in rows))
+    lines = [
+        f"{'joint':<{wj}} {'limb':<{wl}} {'rms error':>11} {'max error':>11} "
+        f"{'at vel cap':>10} {'at torque cap':>13} {'clipped':>8}"
+    ]
+    for j in rows:
+        lines.append(
+            f"{j.name:<{wj}} {j.limb:<{wl}} {j.rms_error:>7.4f} {j.unit:<3} "
+            f"{j.max_error:>7.4f} {j.unit:<3} {j.velocity_cap_s:>8.2f} s "
+            f"{j.torque_cap_s:>11.2f} s {j.target_clipped_s:>6.2f} s"
+        )
+    return lines
+
+
 def render_text(report: PlayReport) -> str:
     """The summary for people: the outcome, the robot, the feet, contacts, then one row per
     commanded joint."""
@@ -131,84 +150,68 @@ def render_text(report: PlayReport) -> str:
     )
     if report.ignored_joints:
         lines.append("ignored (not motors of the robot): " + ", ".join(report.ignored_joints))
-    rows = [j for j in report.joints if j.commanded]
-    if rows:
-        wj = max(5, *(len(j.name) for j in rows))
-        wl = max(4, *(len(j.limb) for j in rows))
-        lines.append(
-            f"{'joint':<{wj}} {'limb':<{wl}} {'rms error':>11} {'max error':>11} "
-            f"{'at vel cap':>10} {'at torque cap':>13} {'clipped':>8}"
-        )
-        for j in rows:
-            lines.append(
-                f"{j.name:<{wj}} {j.limb:<{wl}} {j.rms_error:>7.4f} {j.unit:<3} "
-                f"{j.max_error:>7.4f} {j.unit:<3} {j.velocity_cap_s:>8.2f} s "
-                f"{j.torque_cap_s:>11.2f} s {j.target_clipped_s:>6.2f} s"
-            )
+    lines += _joint_table(report)
     if report.error:
         lines.append(f"error: {report.error}")
     return "\n".join(lines) + "\n"
 
 
-def _error_json(message: str, files: list[Path], doc_stamps: dict[str, Any]) -> str:
-    doc = {
-        "schema": "motiontool.play",
-        "schema_version": 1,
-        "stamps": doc_stamps,
-        "files": [{"path": source_name(f)} for f in files],
-        "clean": False,
-        "exit_code": 2,
-        "reason": message,
-        "error": message,
-    }
-    return dumps(doc, indent=1)
+_Files = Annotated[
+    list[Path],
+    typer.Argument(help="Motion files, played one after another ('-': stdin).", show_default=False),
+]
+_Headless = Annotated[
+    bool, typer.Option("--headless", help="Run without a viewer (the only mode there is).")
+]
+_Json = Annotated[
+    Path | None,
+    typer.Option("--json", help="Write the full report as JSON (schema motiontool.play)."),
+]
+_Rrd = Annotated[
+    Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
+]
+_Loop = Annotated[
+    int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play each motion N times.")
+]
+_Reverse = Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")]
+_Robot = Annotated[
+    str | None,
+    robot_option(
+        "Robot to play on (default: the configuration's robot for the first file, else "
+        "auto: of the joints of all the files)"
+    ),
+]
+_Start = Annotated[Start | None, start_option("the sidecar's start")]
+_Expect = Annotated[
+    list[str] | None,
+    expect_option("the run", "the motions.toml sidecar's, for a single file"),
+]
+_Hold = Annotated[
+    float,
+    typer.Option(
+        "--hold",
+        min=0.0,
+        callback=finite,
+        help="Seconds to keep simulating after the last motion.",
+    ),
+]
+_Seed = Annotated[int, typer.Option("--seed", help="Seed of random draws (stamped).")]
 
 
 def play_command(
-    files: Annotated[
-        list[Path],
-        typer.Argument(
-            help="Motion files, played one after another ('-': stdin).", show_default=False
-        ),
-    ],
-    headless: Annotated[
-        bool, typer.Option("--headless", help="Run without a viewer (the only mode there is).")
-    ] = False,
-    json_path: Annotated[
-        Path | None,
-        typer.Option("--json", help="Write the full report as JSON (schema motiontool.play)."),
-    ] = None,
-    rrd: Annotated[
-        Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
-    ] = None,
-    loop: Annotated[
-        int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play each motion N times.")
-    ] = 1,
-    reverse: Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")] = False,
+    files: _Files,
+    headless: _Headless = False,
+    json_path: _Json = None,
+    rrd: _Rrd = None,
+    loop: _Loop = 1,
+    reverse: _Reverse = False,
     timestep: Timestep = None,
-    robot: Annotated[
-        str | None,
-        robot_option(
-            "Robot to play on (default: the configuration's robot for the first file, else "
-            "auto: of the joints of all the files)"
-        ),
-    ] = None,
-    start: Annotated[Start | None, start_option("the sidecar's start")] = None,
-    expect: Annotated[
-        list[str] | None,
-        expect_option("the run", "the motions.toml sidecar's, for a single file"),
-    ] = None,
+    robot: _Robot = None,
+    start: _Start = None,
+    expect: _Expect = None,
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
-    hold: Annotated[
-        float,
-        typer.Option(
-            "--hold",
-            min=0.0,
-            callback=finite,
-            help="Seconds to keep simulating after the last motion.",
-        ),
-    ] = 1.0,
-    seed: Annotated[int, typer.Option("--seed", help="Seed of random draws (stamped).")] = 0,
+    hold: _Hold = 1.0,
+    seed: _Seed = 0,
     physics_step: PhysicsStepOption = None,
     friction: FrictionOption = None,
     profile: ProfileOption = Profile.default,
@@ -223,6 +226,31 @@ def play_command(
     MuJoCo raised a warning or an expectation (--expect, motions.toml) is not met, 2 on error.
     --json and --rrd are written in every case.
     """
+    _check_outputs(files, headless=headless, json_path=json_path, rrd=rrd)
+    from motiontool.sim.play import PlayOptions
+    from motiontool.sim.session import plan_play
+
+    planned = plan_play(files, expect=expect or [], start=start, sidecar=not no_sidecar)
+    settings = Resolver(config=config, isolated=isolated).for_file(files[0])
+    options = PlayOptions(
+        timestep_ms=timestep if timestep is not None else settings.timestep,
+        loops=loop,
+        reverse=reverse,
+        hold_s=hold,
+        seed=seed,
+        physics_step_ms=physics_step,
+        floor_friction=friction,
+        profile=profile.value,
+    )
+    robot = robot if robot is not None else settings.robot_for(files[0])
+    _render(planned.run(robot=robot, options=options, rrd=rrd), json_path, rrd)
+
+
+def _check_outputs(
+    files: list[Path], *, headless: bool, json_path: Path | None, rrd: Path | None
+) -> None:
+    """Only headless, no output over an input or over another, the extras installed: exit 2
+    before anything runs."""
     if not headless:
         raise MotionToolError(
             "only headless playback exists (there is no viewer); pass --headless, and --rrd "
@@ -234,55 +262,27 @@ def play_command(
     require("mujoco", "sim", "motiontool play")
     if rrd is not None:
         require("rerun", "rerun", "motiontool play --rrd")
-    from motiontool.sim.expect import evaluate, parse_expectations
-    from motiontool.sim.play import PlayOptions, play, read_playable
-    from motiontool.sim.sidecar import expectations_for
 
-    # A sidecar describes one motion: it applies when one file is played (not stdin).
-    use_sidecar = not no_sidecar and len(files) == 1 and not is_stdin(files[0])
-    expected, sidecar_start = expectations_for(files[0], expect or [], sidecar=use_sidecar)
-    expectations = parse_expectations(expected)  # a bad one: exit 2 before anything runs
-    start_state = start if start is not None else Start(sidecar_start or Start.STANDING)
-    settings = Resolver(config=config, isolated=isolated).for_file(files[0])
-    robot = robot if robot is not None else settings.robot_for(files[0])
-    timestep = timestep if timestep is not None else settings.timestep
-    doc_stamps: dict[str, Any] = dict(stamps())
-    try:
-        motions = [read_playable(f) for f in files]  # read once: play() takes the motions
-        spec = resolve_robot(robot, (j for m in motions for j in m.joints))
-        doc_stamps = dict(stamps(spec.model_hash))
-        options = PlayOptions(
-            timestep_ms=timestep,
-            loops=loop,
-            reverse=reverse,
-            start=start_state,
-            hold_s=hold,
-            seed=seed,
-            physics_step_ms=physics_step,
-            floor_friction=friction,
-            profile=profile.value,
-        )
-        names = [str(f) for f in files]
-        report = play(motions, names=names, robot=spec, options=options, rrd=rrd, stamps=doc_stamps)
-        report.expectations = evaluate(expectations, report)
-    except MotionToolError as exc:
+
+def _render(result: PlayResult, json_path: Path | None, rrd: Path | None) -> None:
+    """The JSON report, the warnings and the text report (on stderr where --json or --rrd is
+    standard output), a line for each file written; exit with the run's code, or raise the
+    error that kept it from starting."""
+    report = result.report
+    if report is None:
+        assert result.error is not None, "a result without a report has an error"
         if json_path is not None:
-            emit(_error_json(str(exc), files, doc_stamps), json_path)
-        if rrd is not None:
-            from motiontool.sim.recording import write_failure
-
-            props = {k: "" if v is None else str(v) for k, v in doc_stamps.items()}
-            write_failure(rrd, str(exc), props, " + ".join(f.name for f in files))
+            emit(dumps(result.to_json(), indent=1), json_path)
         say_wrote(json_path, "play report, JSON: the run could not start")
         say_wrote(rrd, "Rerun recording: the run could not start")
-        raise
+        raise result.error
     for name in report.ignored_joints:
         typer.echo(
             f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored",
             err=True,
         )
     if json_path is not None:
-        emit(dumps(report.to_json(), indent=1), json_path)
+        emit(dumps(result.to_json(), indent=1), json_path)
     # Names keep the file's bytes (no UnicodeEncodeError); where --json or --rrd is '-' (stdout),
     # the text report goes to stderr.
     text = render_text(report)

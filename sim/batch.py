@@ -19,7 +19,7 @@ import math
 import os
 import random
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -31,6 +31,9 @@ from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
+from motiontool.sim.expect import parse_expectations
+from motiontool.sim.sidecar import Sidecar
+from motiontool.sim.start import StartState
 
 __all__ = [
     "PERTURBATIONS",
@@ -43,6 +46,7 @@ __all__ = [
     "default_cache_dir",
     "parse_perturbation",
     "plan",
+    "plan_batch",
     "recording_stems",
     "run_batch",
 ]
@@ -230,6 +234,67 @@ def plan(
                     for p in sorted(perturbations, key=lambda p: p.name)
                 )
                 specs.append(RunSpec(str(raw), digest, robot, k, params, opts, tuple(expect)))
+    return specs
+
+
+def plan_batch(
+    files: Sequence[Path],
+    robots: Mapping[Path, Sequence[str]],
+    *,
+    options: Mapping[str, Any],
+    timesteps: Mapping[Path, int | None],
+    expect: Sequence[str] = (),
+    start: StartState | str | None = None,
+    sidecar: bool = True,
+    roots: Sequence[Path] = (),
+    rrd_dir: Path | None = None,
+    perturbations: Sequence[Perturbation] = (),
+    samples: int = 1,
+    seed: int = 0,
+) -> list[RunSpec]:
+    """Every run of a batch (:func:`plan`), file by file, each with what its sidecar and the
+    caller ask of it (:func:`motiontool.sim.session.plan_motion`: the sidecar's expectations,
+    then ``expect``; ``start``, else the sidecar's), and its recording's name.
+
+    Args:
+        robots: the robots each file is played on; timesteps: each file's control step, ms
+            (None: the robot's).
+        options: play options of every run (:func:`plan`); a lying start is added per file.
+        sidecar: read each motion's sidecar; roots: the batch's folders, where the search for
+            a sidecar stops (:func:`motiontool.sim.sidecar.search_boundary`).
+        rrd_dir: the folder of the runs' recordings (None: no recording), made here once the
+            given expectations parse.
+
+    Raises:
+        ExpectationError: an expectation of ``expect`` does not parse (before any sidecar is
+            read); SidecarError: a sidecar cannot be used; MotionToolError: a file cannot be
+            read.
+    """
+    from motiontool.sim.session import plan_motion
+
+    parse_expectations(expect)
+    rrd_names = recording_stems(files)
+    if rrd_dir is not None:
+        rrd_dir.mkdir(parents=True, exist_ok=True)
+    sidecars: dict[Path, Sidecar] = {}
+    specs = []
+    for f in files:
+        motion = plan_motion(f, expect, start=start, sidecar=sidecar, roots=roots, cache=sidecars)
+        file_options = {**options, "timestep_ms": timesteps[f]}
+        if motion.start is not None and motion.start.lying:
+            file_options["start"] = str(motion.start)
+        if rrd_dir is not None:
+            file_options["rrd_dir"] = str(rrd_dir)
+            file_options["rrd_name"] = rrd_names[str(f)]
+        specs += plan(
+            [f],
+            robots[f],
+            perturbations=perturbations,
+            samples=samples,
+            seed=seed,
+            options=file_options,
+            expect=motion.expect,
+        )
     return specs
 
 

@@ -457,11 +457,8 @@ OVERSIZED = {
     "sim/sidecar.py::load_sidecar",
     # issue 16: being split
     "cli/_plotting.py::plot_motion",
-    "cli/batch.py::batch_command",
     "cli/concat.py::concat_command",
     "cli/convert.py::convert_command",  # new, not yet committed when this list was written
-    "cli/play.py::render_text",
-    "cli/play.py::play_command",
     "cli/plot.py::plot_command",
     "cli/retime.py::retime_command",
     "cli/validate.py::validate_command",

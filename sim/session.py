@@ -1,0 +1,205 @@
+"""A play session: what a motion's sidecar and the caller ask of a run, then the run, judged.
+
+``motiontool play`` and ``motiontool batch`` parse their options and render what this module
+returns; the plumbing between (sidecar, expectations, start state, reading, robot, stamps,
+judging) is here, once:
+
+- :func:`plan_motion` joins what a motion's ``motions.toml`` sidecar says about it
+  (:mod:`motiontool.sim.sidecar`) with the expectations and start state the caller gives: the
+  sidecar's expectations first, then the given ones; the given start beats the sidecar's. A bad
+  expectation or sidecar raises before anything runs. ``batch`` plans each of its files with it
+  (:func:`motiontool.sim.batch.plan_batch`).
+- :func:`plan_play` plans a ``play`` of one or more files (a sidecar describes one motion: it is
+  read when one file, not standard input, is played), and :meth:`PlayPlan.run` plays it
+  (:func:`motiontool.sim.play.play`) and judges the expectations on the report
+  (:func:`motiontool.sim.expect.evaluate`). A run that cannot start (a file Webots rejects, no
+  robot, a bad option) comes back as a :class:`PlayResult` with its ``error``: its JSON is the
+  report of a run that could not start, and its recording (when asked for) says why.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from motiontool.kinematics.robots import AUTO, resolve_robot
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.fileio import is_stdin, source_name
+from motiontool.sim.expect import Expectation, evaluate, parse_expectations
+from motiontool.sim.play import PlayOptions, play, read_playable
+from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
+from motiontool.sim.sidecar import Sidecar, expectations_for
+from motiontool.sim.start import StartState
+from motiontool.stamps import stamps
+
+__all__ = ["MotionPlan", "PlayPlan", "PlayResult", "plan_motion", "plan_play"]
+
+NOT_STARTED_EXIT_CODE = 2
+"""The exit code a run that could not start reports (a usage or input error)."""
+
+
+@dataclass(frozen=True)
+class MotionPlan:
+    """What a run of one motion must do, and how it starts.
+
+    Attributes:
+        expect: the expectations as written: the sidecar's (in file order), then the given ones.
+        expectations: the same, parsed.
+        start: the given start state, else the sidecar's, else None (not set: standing).
+    """
+
+    expect: tuple[str, ...]
+    expectations: tuple[Expectation, ...]
+    start: StartState | None
+
+
+def plan_motion(
+    motion: str | Path,
+    expect: Sequence[str] = (),
+    *,
+    start: StartState | str | None = None,
+    sidecar: bool = True,
+    roots: Sequence[Path] = (),
+    cache: dict[Path, Sidecar] | None = None,
+) -> MotionPlan:
+    """What ``motion``'s sidecar and the caller (``expect``, ``start``) ask of its run.
+
+    Args:
+        sidecar: read the motion's sidecar (False: only what is given applies).
+        roots, cache: as for :func:`motiontool.sim.sidecar.lookup` (a batch's folders; parsed
+            sidecars kept between motions).
+
+    Raises:
+        SidecarError: the sidecar cannot be used. ExpectationError: an expectation does not
+            parse. MotionToolError: ``start`` is no start state.
+    """
+    expected, sidecar_start = expectations_for(
+        motion, tuple(expect), sidecar=sidecar, roots=tuple(roots), cache=cache
+    )
+    chosen = start if start is not None else sidecar_start
+    return MotionPlan(
+        expected,
+        tuple(parse_expectations(expected)),
+        None if chosen is None else StartState.parse(chosen),
+    )
+
+
+@dataclass
+class PlayResult:
+    """A play session's outcome: the report, or the error that stopped the run before it could
+    start.
+
+    Attributes:
+        files: the motion files as given (``-``: standard input).
+        stamps: the versions the report is stamped with (the model hash once the robot is
+            known; :func:`motiontool.stamps.stamps`).
+        report: the judged report (None when the run could not start).
+        error: why the run could not start (None when it ran).
+    """
+
+    files: list[Path]
+    stamps: dict[str, Any]
+    report: PlayReport | None = None
+    error: MotionToolError | None = None
+
+    @property
+    def exit_code(self) -> int:
+        """The report's exit code (0 clean, 1 not clean), 2 when the run could not start."""
+        return self.report.exit_code if self.report is not None else NOT_STARTED_EXIT_CODE
+
+    def to_json(self) -> dict[str, Any]:
+        """The report as JSON (``motiontool.play``); for a run that could not start, the stamps,
+        the files, ``clean`` false, ``exit_code`` 2 and the error as ``reason`` and ``error``."""
+        if self.report is not None:
+            return self.report.to_json()
+        message = str(self.error)
+        return {
+            "schema": SCHEMA,
+            "schema_version": SCHEMA_VERSION,
+            "stamps": self.stamps,
+            "files": [{"path": source_name(f)} for f in self.files],
+            "clean": False,
+            "exit_code": NOT_STARTED_EXIT_CODE,
+            "reason": message,
+            "error": message,
+        }
+
+
+@dataclass(frozen=True)
+class PlayPlan:
+    """A planned ``play``: its files, what the run must do and how it starts
+    (:func:`plan_play`)."""
+
+    files: tuple[Path, ...]
+    motion: MotionPlan
+
+    @property
+    def start(self) -> StartState:
+        """The start state of the run: the plan's, else standing."""
+        return self.motion.start or StartState.STANDING
+
+    def run(
+        self, *, robot: str = AUTO, options: PlayOptions | None = None, rrd: Path | None = None
+    ) -> PlayResult:
+        """Read the files, resolve ``robot`` on their joints, play them with ``options`` (its
+        ``start`` replaced by the plan's), judge the expectations on the report.
+
+        Args:
+            robot: a name for :func:`motiontool.kinematics.resolve_robot` (``auto``: the
+                built-in robot the joints of all the files fit).
+            rrd: write a Rerun recording there, also when the run could not start (then it
+                holds the stamps and the error).
+
+        Returns:
+            The result; a :class:`MotionToolError` before the simulation starts (a file Webots
+            rejects, no robot, a bad option) is its ``error``, not raised.
+        """
+        result = PlayResult(list(self.files), dict(stamps()))
+        opts = replace(options or PlayOptions(), start=self.start)
+        try:
+            motions = [read_playable(f) for f in self.files]  # read once: play() takes them
+            spec = resolve_robot(robot, (j for m in motions for j in m.joints))
+            result.stamps = dict(stamps(spec.model_hash))
+            names = [str(f) for f in self.files]
+            report = play(
+                motions, names=names, robot=spec, options=opts, rrd=rrd, stamps=result.stamps
+            )
+            report.expectations = evaluate(self.motion.expectations, report)
+        except MotionToolError as exc:
+            result.error = exc
+            if rrd is not None:
+                self._write_failure(rrd, exc, result.stamps)
+            return result
+        result.report = report
+        return result
+
+    def _write_failure(self, rrd: Path, error: MotionToolError, doc_stamps: dict[str, Any]) -> None:
+        """The recording of a run that could not start: the stamps and the error."""
+        from motiontool.sim.recording import write_failure
+
+        props = {k: "" if v is None else str(v) for k, v in doc_stamps.items()}
+        write_failure(rrd, str(error), props, " + ".join(f.name for f in self.files))
+
+
+def plan_play(
+    files: Sequence[Path],
+    *,
+    expect: Sequence[str] = (),
+    start: StartState | str | None = None,
+    sidecar: bool = True,
+) -> PlayPlan:
+    """Plan playing ``files`` one after another with the expectations ``expect`` and the start
+    state ``start`` (None: the sidecar's, else standing). A sidecar describes one motion: it is
+    read (``sidecar``) only when one file, not standard input, is played.
+
+    Raises:
+        MotionToolError: no file; a sidecar, an expectation or a start that cannot be used
+            (see :func:`plan_motion`): before anything runs.
+    """
+    if not files:
+        raise MotionToolError("no motion file to play")
+    one_file = len(files) == 1 and not is_stdin(files[0])
+    motion = plan_motion(files[0], expect, start=start, sidecar=sidecar and one_file)
+    return PlayPlan(tuple(files), motion)
