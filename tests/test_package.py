@@ -449,8 +449,6 @@ OVERSIZED = {
     # issue 16: being split
     "sim/arm.py::measure_end_effector",
     "sim/batch.py::run_batch",
-    "sim/expect.py",
-    "sim/expect.py::parse_expectation",
     "sim/physics.py::resolve_physics",
     "sim/play.py",
     "sim/play.py::play",
