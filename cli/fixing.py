@@ -5,14 +5,14 @@ from __future__ import annotations
 
 import difflib
 from collections import Counter
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from motiontool.cli.text import plural
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file
-from motiontool.motionfmt.fixes import fix_bytes
+from motiontool.motionfmt.fixes import RobotPlanner, fix_bytes
 
 __all__ = ["FixRun", "fix_files"]
 
@@ -36,9 +36,15 @@ class FixRun:
         return f"fixed {plural(total, 'finding')} in {plural(len(self.files), 'file')} ({codes})"
 
 
-def fix_files(files: Sequence[Path], *, unsafe: bool, write: bool) -> FixRun:
-    """Fix every file (``unsafe``: the unsafe fixes too); write each changed file atomically
-    with ``write``, else collect a unified diff of it.
+def fix_files(
+    files: Sequence[Path],
+    *,
+    unsafe: bool,
+    write: bool,
+    robot: Callable[[Path, bytes], RobotPlanner | None] | None = None,
+) -> FixRun:
+    """Fix every file (``unsafe``: the unsafe fixes too, and those of ``robot(path, data)``'s
+    planner); write each changed file atomically with ``write``, else collect a unified diff.
 
     Raises:
         MotionToolError: standard input with ``write`` (a diff is fine), or a file that cannot
@@ -49,7 +55,8 @@ def fix_files(files: Sequence[Path], *, unsafe: bool, write: bool) -> FixRun:
         if is_stdin(path) and write:
             raise MotionToolError("--fix writes files back: for standard input use --diff")
         data = read_file(path)
-        result = fix_bytes(data, str(path), unsafe=unsafe)
+        planner = robot(path, data) if unsafe and robot is not None else None
+        result = fix_bytes(data, str(path), unsafe=unsafe, robot=planner)
         if result.data == data:
             continue
         run.files.append(str(path))

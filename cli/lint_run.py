@@ -14,11 +14,14 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from motiontool.cli.config import Resolver, Settings
-from motiontool.kinematics.checks import RobotChecks
-from motiontool.kinematics.robots import NONE, RobotSpec
+from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_checks
+from motiontool.kinematics.robot_fixes import planner
+from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.errors import MissingExtraError
 from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
+from motiontool.motionfmt.fixes import RobotPlanner
+from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
     FileReport,
     ValidationReport,
@@ -26,7 +29,16 @@ from motiontool.motionfmt.validate import (
     validate_paths,
 )
 
-__all__ = ["Checked", "LintRun", "Overrides", "collect", "keep_first", "lint", "lint_document"]
+__all__ = [
+    "Checked",
+    "LintRun",
+    "Overrides",
+    "collect",
+    "keep_first",
+    "lint",
+    "lint_document",
+    "robot_planner",
+]
 
 
 @dataclass(frozen=True)
@@ -144,6 +156,8 @@ def lint(
         for f, fr in zip(group, part.files, strict=True):
             s = settings[f]
             fr.diagnostics = [d for d in fr.diagnostics if s.reports(d.code, f)]
+            spec = None if checker is None else checker.used.get(fr.path)
+            fr.robot_fixes = _planner(spec, f, s, checks, overrides)
             by_name[str(f)] = fr
         if checker is not None:
             checked = checked or Checked()
@@ -182,7 +196,50 @@ def lint_document(
         group=grouped,
     )
     report.diagnostics = [d for d in report.diagnostics if settings.reports(d.code, path)]
-    return report, None if checker is None else checker.used.get(str(path))
+    spec = None if checker is None else checker.used.get(str(path))
+    report.robot_fixes = _planner(spec, path, settings, checks, overrides)
+    return report, spec
+
+
+_FIXED_BY_CHECK = {"MT302": "limits", "MT303": "velocity"}
+"""The robot fixes, by the check that finds what they fix."""
+
+
+def _planner(
+    spec: RobotSpec | None,
+    path: Path,
+    settings: Settings,
+    checks: tuple[str, ...] | None,
+    overrides: Overrides,
+) -> RobotPlanner | None:
+    """The robot fixes for ``path`` against ``spec``: those whose finding its settings report
+    and whose check runs (None: no robot, or none of them)."""
+    if spec is None:
+        return None
+    ran = DEFAULT_CHECKS if checks is None else parse_checks(checks)
+    ignored = {c.strip().upper() for c in overrides.ignore}
+    codes = {
+        code
+        for code, check in _FIXED_BY_CHECK.items()
+        if check in ran and code not in ignored and settings.reports(code, path)
+    }
+    if not codes:
+        return None
+    plan = planner(spec, str(path))
+    return lambda data: [f for f in plan(data) if f.code in codes]
+
+
+def robot_planner(
+    path: Path, data: bytes, resolver: Resolver, overrides: Overrides
+) -> RobotPlanner | None:
+    """The robot fixes ``validate --fix --unsafe-fixes`` applies to ``path`` (whose bytes are
+    ``data``): against the robot its settings name or the one its joints fit."""
+    settings = resolver.for_file(path)
+    robot, checks, _timestep, _grouped = _group_key(path, settings, overrides)
+    if robot == NONE:
+        return None
+    spec = pick_robot(robot, read_bytes(data, str(path)).joints)
+    return _planner(spec, path, settings, checks, overrides)
 
 
 def keep_first(report: ValidationReport, limit: int) -> None:

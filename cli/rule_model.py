@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES
+from motiontool.motionfmt.fixes import ROBOT_CODES, SAFE_CODES, UNSAFE_CODES
 
 __all__ = ["Example", "Rule"]
 
@@ -66,4 +66,4 @@ class Rule:
         or None (no automatic fix: see :attr:`fix`)."""
         if self.code in SAFE_CODES:
             return "safe"
-        return "unsafe" if self.code in UNSAFE_CODES else None
+        return "unsafe" if self.code in UNSAFE_CODES | ROBOT_CODES else None

@@ -36,7 +36,8 @@ ROBOT_RULES = (
         "Webots clamps a target outside [minPosition, maxPosition] to the range, and warns at "
         "every step: the joint stops at its limit, not where the file says.",
         Example(RSR + b"00:01:000,P2,0.5\n", args=NAO),
-        "keep the value within the joint's limits (motiontool robots show ROBOT lists them)",
+        "keep the value within the joint's limits (motiontool robots show ROBOT lists them; "
+        "'validate --fix --unsafe-fixes' clamps it to the limit, where the motor stops anyway)",
         RSR + b"00:01:000,P2,0.3\n",
     ),
     Rule(
@@ -44,8 +45,8 @@ ROBOT_RULES = (
         "The motor's speed is capped at maxVelocity: a keyframe segment that asks for more is "
         "played slower, and the joint arrives late.",
         Example(RSR + b"00:00:100,P2,-1.2\n", args=NAO),
-        "give the move more time ('motiontool retime --fit-limits' stretches every segment "
-        "that is too fast)",
+        "give the move more time ('motiontool retime --fit-limits', or 'validate --fix "
+        "--unsafe-fixes', stretches every segment that is too fast)",
         RSR + b"00:00:200,P2,-1.2\n",
     ),
     Rule(

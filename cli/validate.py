@@ -13,7 +13,14 @@ from motiontool.cli.color import color_enabled
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.fixing import fix_files
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.lint_run import Checked, Overrides, collect, keep_first, lint
+from motiontool.cli.lint_run import (
+    Checked,
+    Overrides,
+    collect,
+    keep_first,
+    lint,
+    robot_planner,
+)
 from motiontool.cli.options import (
     CLI_WORDING,
     ReportOutput,
@@ -306,14 +313,14 @@ def validate_command(
     )
     files = collect(paths, resolver)
     refuse_overwrite(output, files, "-o")
+    robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
     if diff:
-        changes = fix_files(files, unsafe=unsafe_fixes, write=False)
+        changes = fix_files(files, unsafe=unsafe_fixes, write=False, robot=robot_fixes)
         emit_bytes(b"".join(changes.diff), output)
         raise typer.Exit(1 if changes.diff else 0)
     if fix:
-        typer.echo(
-            f"motiontool: {fix_files(files, unsafe=unsafe_fixes, write=True).line()}", err=True
-        )
+        fixed = fix_files(files, unsafe=unsafe_fixes, write=True, robot=robot_fixes)
+        typer.echo(f"motiontool: {fixed.line()}", err=True)
     run = lint(files, resolver, overrides, partial(robot_checks, tolerance=collision_tolerance))
     project = resolver.for_file(Path("-"))
     if project.max_findings is not None:

@@ -15,7 +15,11 @@ An **unsafe** fix changes what the robot does, to what the author evidently mean
 
 - MT201 a blank line that ends the motion early goes (the poses after it play);
 - MT202 an empty cell ``,,`` becomes ``,*,`` (no command, instead of the next values shifting
-  one joint left).
+  one joint left);
+- with a robot (:data:`ROBOT_CODES`, planned by :mod:`motiontool.kinematics.robot_fixes` and
+  given to :func:`fix_bytes` as a :data:`RobotPlanner`): MT302 a value past its joint's limit
+  becomes the limit (where the motor stops anyway), MT303 the segments too fast for a joint's
+  maxVelocity are stretched, as ``retime`` fits a motion to its robot's limits.
 
 Edits are on physical lines (``line``, 1-based; ``column`` .. ``end_column``, 1-based byte
 columns, end exclusive), so a fix never touches a byte outside its span.
@@ -23,17 +27,20 @@ columns, end exclusive), so a fix never touches a byte outside its span.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
 
 __all__ = [
+    "ROBOT_CODES",
+    "ROBOT_FIX_TITLES",
     "SAFE_CODES",
     "UNSAFE_CODES",
     "Fix",
     "FixResult",
+    "RobotPlanner",
     "fix_bytes",
     "fixable",
     "plan_fixes",
@@ -44,6 +51,17 @@ SAFE_CODES = frozenset({"MT203", "MT204", "MT205"})
 """Codes a safe fix covers (the command stream stays bit-identical)."""
 UNSAFE_CODES = frozenset({"MT201", "MT202"})
 """Codes an unsafe fix covers (what the robot does changes, to what was evidently meant)."""
+ROBOT_CODES = frozenset({"MT302", "MT303"})
+"""Codes whose (unsafe) fix needs the robot's limits: a :data:`RobotPlanner` plans it."""
+
+ROBOT_FIX_TITLES = {
+    "MT302": "clamp the value to the joint's limit (where the motor stops anyway)",
+    "MT303": "stretch the segments too fast for maxVelocity, as retime fits a motion",
+}
+"""What the fix of each of :data:`ROBOT_CODES` does, for people."""
+
+RobotPlanner = Callable[[bytes], "list[Fix]"]
+"""Plans the fixes of :data:`ROBOT_CODES` for a file's bytes (the caller knows the robot)."""
 
 _MERGE_PROOF_CELLS = 20_000_000
 """Largest (milliseconds x joints) for which a column merge (MT205) is proved equal at every
@@ -60,6 +78,7 @@ class Fix:
         code: the diagnostic it fixes.
         safe: True when Webots' command stream stays bit-identical.
         title: what it does, for people (``write '2'``).
+        joint: the joint (column) it edits, where it edits one joint's cell.
     """
 
     code: str
@@ -69,6 +88,7 @@ class Fix:
     replacement: bytes | None
     safe: bool
     title: str
+    joint: str | None = None
 
 
 def fixable(d: Diagnostic, *, unsafe: bool = False) -> bool:
@@ -216,6 +236,8 @@ def _apply(data: bytes, fixes: Sequence[Fix]) -> bytes:
 _ROUNDS = (("MT203", "MT204"), ("MT205",), ("MT202",), ("MT201",))
 """Fixes are applied a group of codes at a time, each group planned on the bytes the previous
 one left (a merge rewrites whole lines; a removed line moves the ones after it)."""
+_ROBOT_ROUNDS = (("MT302",), ("MT303",))
+"""The robot's rounds, last: on the file as Webots then reads it (values, then times)."""
 
 
 def _disjoint(fixes: Sequence[Fix]) -> list[Fix]:
@@ -233,17 +255,30 @@ def _disjoint(fixes: Sequence[Fix]) -> list[Fix]:
     return kept
 
 
-def fix_bytes(data: bytes, path: str = "<string>", *, unsafe: bool = False) -> FixResult:
-    """``data`` with every fix applied (the unsafe ones too with ``unsafe``), round after
-    round until none is left; each round of safe fixes is proved to play exactly as before
-    (:func:`same_stream`) and refused otherwise; unsafe ones must leave a file Webots loads."""
+def fix_bytes(
+    data: bytes,
+    path: str = "<string>",
+    *,
+    unsafe: bool = False,
+    robot: RobotPlanner | None = None,
+) -> FixResult:
+    """``data`` with every fix applied (the unsafe ones too with ``unsafe``, and with a
+    ``robot`` planner those of :data:`ROBOT_CODES`), round after round until none is left;
+    each round of safe fixes is proved to play exactly as before (:func:`same_stream`) and
+    refused otherwise; unsafe ones must leave a file Webots loads."""
     current = data
     applied: list[Fix] = []
     refused: list[Fix] = []
+    rounds = _ROUNDS + (_ROBOT_ROUNDS if unsafe and robot is not None else ())
     for _ in range(8):
         progressed = False
-        for codes in _ROUNDS:
-            fixes = [f for f in plan_fixes(current, path, unsafe=unsafe) if f.code in codes]
+        for codes in rounds:
+            planned = (
+                robot(current)
+                if robot is not None and codes[0] in ROBOT_CODES
+                else plan_fixes(current, path, unsafe=unsafe)
+            )
+            fixes = [f for f in planned if f.code in codes]
             fixes = [f for f in _disjoint(fixes) if (f.code, f.line) not in _keys(refused)]
             if not fixes:
                 continue

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -10,7 +11,15 @@ from pathlib import Path
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
-from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES, Fix, plan_fixes
+from motiontool.motionfmt.fixes import (
+    ROBOT_CODES,
+    ROBOT_FIX_TITLES,
+    SAFE_CODES,
+    UNSAFE_CODES,
+    Fix,
+    RobotPlanner,
+    plan_fixes,
+)
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
@@ -22,12 +31,18 @@ Check = Callable[[ReadResult], list[Diagnostic]]
 
 @dataclass
 class FileReport:
-    """The findings for one file, sorted by position."""
+    """The findings for one file, sorted by position.
+
+    ``robot_fixes``: plans the fixes that need the robot the file was checked against
+    (:data:`~motiontool.motionfmt.fixes.ROBOT_CODES`), given by the caller that knows it;
+    None: those findings have no fix here.
+    """
 
     path: str
     read: ReadResult
     diagnostics: list[Diagnostic]
     data: bytes = field(default=b"", repr=False)
+    robot_fixes: RobotPlanner | None = field(default=None, repr=False, compare=False)
 
     @functools.cached_property
     def _lines(self) -> list[bytes]:
@@ -45,9 +60,11 @@ class FileReport:
     def fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
         """The fixes for this file's findings (safe and unsafe), by (code, line, column) of
         the finding they fix (:mod:`motiontool.motionfmt.fixes`)."""
-        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in self.diagnostics):
-            return {}
         by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
+        if any(d.code in ROBOT_CODES for d in self.diagnostics) and self.robot_fixes:
+            by_place.update(self._robot_fixes(self.robot_fixes(self.data)))
+        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in self.diagnostics):
+            return by_place
         planned = plan_fixes(self.data, self.path, unsafe=True, result=self.read)
         merges = tuple(f for f in planned if f.code == "MT205")
         for f in planned:
@@ -57,6 +74,35 @@ class FileReport:
             if d.code == "MT205" and merges:
                 by_place[(d.code, d.line, d.column)] = merges
         return by_place
+
+    def _robot_fixes(self, planned: list[Fix]) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
+        """Each robot finding's edits: an MT302 finding's are its joint's clamps on its lines
+        (a grouped finding's run of lines), every MT303 finding's the whole retiming."""
+        stretch = tuple(f for f in planned if f.code == "MT303")
+        clamps: dict[str | None, list[Fix]] = {}
+        for f in planned:
+            if f.code == "MT302":
+                clamps.setdefault(f.joint, []).append(f)  # in line order
+        lines = {joint: [f.line for f in fixes] for joint, fixes in clamps.items()}
+        out: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
+        for d in self.diagnostics:
+            if d.code == "MT303" and stretch:
+                out[(d.code, d.line, d.column)] = stretch
+            elif d.code == "MT302" and d.joint in clamps:
+                last = d.line if d.run is None else d.run.end_line
+                at = lines[d.joint]
+                mine = clamps[d.joint][bisect_left(at, d.line) : bisect_right(at, last)]
+                if mine:
+                    out[(d.code, d.line, d.column)] = tuple(mine)
+        return out
+
+    def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
+        """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
+        not planned for it (a report that only names them stays cheap)."""
+        if d.code in ROBOT_CODES:
+            return None if self.robot_fixes is None else (False, ROBOT_FIX_TITLES[d.code])
+        fixes = self.fix_of(d)
+        return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
 
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""

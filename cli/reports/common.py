@@ -70,10 +70,10 @@ def fix_counts(report: ValidationReport) -> tuple[int, int]:
     safe = unsafe = 0
     for f in report.files:
         for d in f.diagnostics:
-            fixes = f.fix_of(d)
-            if fixes and all(x.safe for x in fixes):
+            summary = f.fix_summary(d)
+            if summary is not None and summary[0]:
                 safe += 1
-            elif fixes:
+            elif summary is not None:
                 unsafe += 1
     return safe, unsafe
 

@@ -46,11 +46,11 @@ def _source_excerpt(report: FileReport, d: Diagnostic, color: bool) -> list[str]
 def _fix_line(f: FileReport, d: Diagnostic) -> list[str]:
     """``   = fix (--fix): write '2'`` where a fix exists; the compiler line stays as it is, so
     editors' problem matchers read it unchanged."""
-    fixes = f.fix_of(d)
-    if not fixes:
+    summary = f.fix_summary(d)
+    if summary is None:
         return []
-    how = "--fix" if all(x.safe for x in fixes) else "--fix --unsafe-fixes"
-    return [f"   = fix ({how}): {fixes[0].title}"]
+    safe, title = summary
+    return [f"   = fix ({'--fix' if safe else '--fix --unsafe-fixes'}): {title}"]
 
 
 def render_text(report: ValidationReport, context: Context = PLAIN) -> str:

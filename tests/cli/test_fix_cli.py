@@ -131,3 +131,58 @@ def test_sarif_report_carries_fixes_that_conform(motion: Path) -> None:
     ]
     assert "unsafe" in results["MT201"]["fixes"][0]["description"]["text"]
     assert "fixes" not in results["MT207"]
+
+
+FAST = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:040,B,2.5,0.1\n00:00:080,C,2.6,-0.1\n00:01:000,D,0,0\n"
+"""HeadYaw past the Nao's limit (MT302 on two poses) and far too fast (MT303)."""
+
+
+def test_unsafe_fixes_clamp_to_the_limit_and_stretch_too_fast_segments(motion: Path) -> None:
+    path = motion.parent / "fast.motion"
+    path.write_bytes(FAST)
+    code, _, err = invoke("validate", "fast.motion", "--robot", "nao", "--fix")
+    assert code == 1 and err == "motiontool: nothing to fix\n" and path.read_bytes() == FAST  # unsafe only
+    _, _, err = invoke("validate", "fast.motion", "--robot", "nao", "--fix", "--unsafe-fixes")
+    assert err.startswith("motiontool: fixed ") and "MT302 x2" in err and "MT303" in err
+    fixed = path.read_bytes()
+    assert fixed.split(b"\n")[2].endswith(b",2.08567,0.1")  # the model's bound, as spelt there
+    assert fixed.split(b"\n")[0] == FAST.split(b"\n")[0]
+    _, out, _ = invoke("validate", "fast.motion", "--robot", "nao", "-f", "json")
+    codes = {d["code"] for d in json.loads(out)["files"][0]["diagnostics"]}
+    assert not codes & {"MT302", "MT303"}, codes
+
+
+def test_robot_fixes_follow_the_settings(motion: Path) -> None:
+    path = motion.parent / "fast.motion"
+    path.write_bytes(FAST)
+    _, out, _ = invoke(
+        "validate", "fast.motion", "--robot", "nao", "--diff", "--unsafe-fixes", "--ignore", "MT302"
+    )
+    assert "2.08567" not in out and "+00:00:" in out  # stretched, not clamped
+    _, out, _ = invoke("validate", "fast.motion", "--robot", "none", "--diff", "--unsafe-fixes")
+    assert out == ""  # no robot: nothing to fix
+    _, out, _ = invoke(
+        "validate",
+        "fast.motion",
+        "--robot",
+        "nao",
+        "--checks",
+        "limits",
+        "--diff",
+        "--unsafe-fixes",
+    )
+    assert "2.08567" in out and "00:00:040" in out  # velocity not checked: not stretched
+
+
+def test_a_grouped_finding_carries_the_fix_of_each_of_its_poses(motion: Path) -> None:
+    path = motion.parent / "fast.motion"
+    path.write_bytes(FAST)
+    _, out, _ = invoke("validate", "fast.motion", "--robot", "nao", "-f", "json")
+    doc = json.loads(out)
+    assert errors(doc, schemas.load("validate")) == []
+    (limit,) = [d for d in doc["files"][0]["diagnostics"] if d["code"] == "MT302"]
+    assert limit["count"] == 2 and limit["fix"]["safe"] is False
+    assert [(e["line"], e["replacement"]) for e in limit["fix"]["edits"]] == [
+        (3, "2.08567"),
+        (4, "2.08567"),
+    ]

@@ -15,7 +15,7 @@ from motiontool.cli import schemas
 from motiontool.cli.app import app
 from motiontool.cli.rules import RULES, Example
 from motiontool.motionfmt.diagnostics import CODES
-from motiontool.motionfmt.fixes import SAFE_CODES, UNSAFE_CODES
+from motiontool.motionfmt.fixes import ROBOT_CODES, SAFE_CODES, UNSAFE_CODES
 
 runner = CliRunner()
 
@@ -72,7 +72,7 @@ def test_rule_explains_a_code_its_example_its_fix_and_whether_fix_fixes_it() -> 
         "Fixed:\n  #WEBOTS_MOTION,V1.0,RShoulderRoll\n  00:00:000,P1,0\n  00:00:200,P2,-1.2\n"
         in out
     )
-    assert "validate --fix: no" in out
+    assert "validate --fix: only with --unsafe-fixes" in out
 
 
 @pytest.mark.parametrize(
@@ -116,7 +116,7 @@ def test_json_is_the_same_explanation_and_follows_its_schema() -> None:
     assert [r["code"] for r in every["rules"]] == list(CODES)
     autofix = {r["code"]: r["autofix"] for r in every["rules"]}
     assert {c for c, a in autofix.items() if a == "safe"} == SAFE_CODES
-    assert {c for c, a in autofix.items() if a == "unsafe"} == UNSAFE_CODES
+    assert {c for c, a in autofix.items() if a == "unsafe"} == UNSAFE_CODES | ROBOT_CODES
     latin1 = json.loads(runner.invoke(app, ["rule", "MT208", "-f", "json"]).stdout)
     assert latin1["rules"][0]["example"]["file"].endswith("00:00:000,Pos\\xe9,0\n")
     assert latin1["escaped_bytes"] == 1  # as every JSON report writes bytes that are not UTF-8

@@ -1,0 +1,85 @@
+"""The unsafe fixes that need the robot (:data:`motiontool.motionfmt.fixes.ROBOT_CODES`).
+
+Both change what the robot does, to what the file evidently means on this robot:
+
+- MT302: a value past its joint's limit becomes the limit. Webots clamps the target there
+  anyway, so the file then says what the motor does (the command stream changes: the target
+  sent is the limit, not the value past it).
+- MT303: the segments too fast for a joint's maxVelocity are stretched to the shortest whole
+  ms that is not, as ``retime`` fits a motion to its robot
+  (:func:`motiontool.motionfmt.fit_limits.fit_limits`, its default margin): later poses move
+  later; values never change.
+
+Each is planned on the file's bytes as cell edits (:class:`~motiontool.motionfmt.fixes.Fix`),
+the rest of every line kept as it is spelt.
+"""
+
+from __future__ import annotations
+
+import math
+
+from motiontool.kinematics.robot_spec import RobotSpec
+from motiontool.motionfmt.document import MotionDocument
+from motiontool.motionfmt.fit_limits import fit_limits
+from motiontool.motionfmt.fixes import ROBOT_FIX_TITLES, Fix, RobotPlanner
+from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
+
+__all__ = ["clamp_fixes", "planner", "stretch_fixes"]
+
+CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
+STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
+
+
+def clamp_fixes(result: ReadResult, spec: RobotSpec) -> list[Fix]:
+    """MT302: each finite value of a motor past its limit becomes the limit (``repr``)."""
+    import numpy as np
+
+    rows = np.asarray(result.rows, dtype=np.float64).reshape(len(result.times_ms), -1)
+    fixes: list[Fix] = []
+    for j, name in enumerate(result.joints):
+        if name not in spec:
+            continue
+        joint = spec.joint(name)
+        column = rows[:, j]
+        with np.errstate(invalid="ignore"):
+            past = np.isfinite(column) & ((column > joint.upper) | (column < joint.lower))
+        for p in np.flatnonzero(past).tolist():
+            bound = joint.upper if column[p] > joint.upper else joint.lower
+            line, start, end = result.cell_span(p, j)
+            title = f"{CLAMP_TITLE}: {name} = {bound!r} {joint.unit}"
+            fixes.append(Fix("MT302", line, start, end, repr(bound).encode(), False, title, name))
+    return fixes
+
+
+def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -> list[Fix]:
+    """MT303: the new time of every pose that moves, written in the file's time style."""
+    limits = {j.name: j.max_velocity for j in spec.joints if math.isfinite(j.max_velocity)}
+    times = [int(t) for t in result.times_ms]
+    fitted = fit_limits(times, result.joints, result.motion.values, limits)
+    if list(fitted.times_ms) == times:
+        return []
+    doc = MotionDocument(data, path)
+    doc.set_times(list(fitted.times_ms))
+    new_lines = doc.to_bytes().split(b"\n")
+    fixes = []
+    for p, (old, new) in enumerate(zip(times, fitted.times_ms, strict=True)):
+        if old == new:
+            continue
+        line, start, end = result.cell_span(p, None)
+        a, b = token_spans(new_lines[line - 1].rstrip(b"\r"))[0]
+        text = new_lines[line - 1][a:b]
+        fixes.append(Fix("MT303", line, start, end, text, False, STRETCH_TITLE))
+    return fixes
+
+
+def planner(spec: RobotSpec, path: str) -> RobotPlanner:
+    """A planner of both fixes for ``spec`` (for :func:`motiontool.motionfmt.fixes.fix_bytes`):
+    none for a file Webots rejects."""
+
+    def plan(data: bytes) -> list[Fix]:
+        result = read_bytes(data, path)
+        if not result.accepted or not result.times_ms or not result.joints:
+            return []
+        return clamp_fixes(result, spec) + stretch_fixes(data, path, result, spec)
+
+    return plan
