@@ -450,8 +450,6 @@ OVERSIZED = {
     "sim/arm.py::measure_end_effector",
     "sim/batch.py::run_batch",
     "sim/physics.py::resolve_physics",
-    "sim/play.py",
-    "sim/play.py::play",
     "sim/sidecar.py::load_sidecar",
     # issue 16: being split
     "cli/_plotting.py::plot_motion",
