@@ -96,18 +96,47 @@ def measure_end_effector(
 
     if scene.tool is None or trace.tool_pos is None or trace.tool_quat is None:
         return None
-    tolerance_m = reach_tolerance_mm / MM_PER_M
-    frames = len(trace.time_s)
     lim = scene.limits
     targets = np.clip(trace.targets, lim.lower, lim.upper)  # (S', J), S' = steps simulated
-    column = {name: j for j, name in enumerate(scene.joints)}
-
-    # Joint targets of every keyframe the run reached.
-    reached = [
+    reached = [  # every keyframe the run reached
         kf
         for kf in _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
-        if kf[3] < len(targets) and kf[3] < frames
+        if kf[3] < len(targets) and kf[3] < len(trace.time_s)
     ]
+    rows = _keyframe_targets(scene, motions, reached, targets)
+    fk_pos, fk_quat = _mujoco.tool_poses(scene, np.concatenate([rows, targets]))
+    keyframes = _keyframe_poses(
+        trace, motions, reached, fk_pos[: len(rows)], fk_quat[: len(rows)], reach_tolerance_mm
+    )
+    # The command stream: the target step k sends at time_s[k] against the tool at that time
+    # (frame k), aligned as the keyframes are (their target and the tool at their frame).
+    deviation = np.linalg.norm(trace.tool_pos[: len(targets)] - fk_pos[len(rows) :], axis=1)
+    worst = int(np.argmax(deviation)) if len(deviation) else -1
+    samples = _trail_frames(trace)
+    return EndEffectorStats(
+        frame=scene.tool[0],
+        kind=scene.tool[1],
+        reach_tolerance_mm=reach_tolerance_mm,
+        keyframes=tuple(keyframes),
+        max_deviation_mm=float(deviation[worst]) * MM_PER_M if worst >= 0 else 0.0,
+        max_deviation_at_s=float(trace.time_s[worst]) if worst >= 0 else 0.0,
+        trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
+        trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),
+    )
+
+
+def _keyframe_targets(
+    scene: Scene,
+    motions: Sequence[Motion],
+    reached: Sequence[tuple[int, int, float, int]],
+    targets: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]:
+    """(K, J) the motor targets of each keyframe reached: the targets in force at its step with
+    the keyframe's own commands over them, clipped to the motor limits."""
+    import numpy as np
+
+    lim = scene.limits
+    column = {name: j for j, name in enumerate(scene.joints)}
     rows = np.empty((len(reached), len(scene.joints)))
     for i, (f, p, _t, step) in enumerate(reached):
         row = targets[step].copy()
@@ -116,14 +145,28 @@ def measure_end_effector(
             if name in column and bool(motion.commanded[p, m]):
                 row[column[name]] = motion.values[p, m]
         rows[i] = np.clip(row, lim.lower, lim.upper)
-    fk_pos, fk_quat = _mujoco.tool_poses(scene, np.concatenate([rows, targets]))
-    kf_pos, kf_quat = fk_pos[: len(rows)], fk_quat[: len(rows)]
-    stream_pos = fk_pos[len(rows) :]
+    return rows
 
-    # Lags: from the keyframe's frame until the motion goes on to another position.
+
+def _keyframe_poses(
+    trace: Trace,
+    motions: Sequence[Motion],
+    reached: Sequence[tuple[int, int, float, int]],
+    kf_pos: npt.NDArray[np.float64],
+    kf_quat: npt.NDArray[np.float64],
+    reach_tolerance_mm: float,
+) -> list[KeyframePose]:
+    """Each keyframe reached: the tool's commanded pose (``kf_pos`` m, ``kf_quat`` w, x, y, z)
+    against the measured one at its frame, and its lag: from the keyframe's frame until the
+    tool is within the reach tolerance, looked for until the motion goes on to another
+    position (None: not reached before)."""
+    import numpy as np
+
+    assert trace.tool_pos is not None and trace.tool_quat is not None
+    tolerance_m = reach_tolerance_mm / MM_PER_M
     keyframes = []
     for i, (f, p, time_s, step) in enumerate(reached):
-        end = frames - 1
+        end = len(trace.time_s) - 1
         for later in range(i + 1, len(reached)):
             if np.linalg.norm(kf_pos[later] - kf_pos[i]) > tolerance_m:
                 end = max(step, reached[later][3])
@@ -148,25 +191,17 @@ def measure_end_effector(
                 lag_ms=lag,
             )
         )
+    return keyframes
 
-    # The command stream: the target step k sends at time_s[k] against the tool at that time
-    # (frame k), aligned as the keyframes are (their target and the tool at their frame).
-    deviation = np.linalg.norm(trace.tool_pos[: len(targets)] - stream_pos, axis=1)
-    worst = int(np.argmax(deviation)) if len(deviation) else -1
+
+def _trail_frames(trace: Trace) -> list[int]:
+    """The frames of the tool's trail: one every :data:`TRAIL_STEP_S`, and the last."""
+    frames = len(trace.time_s)
     stride = max(1, round(TRAIL_STEP_S / trace.control_step_s))
     samples = list(range(0, frames, stride))
     if samples[-1] != frames - 1:
         samples.append(frames - 1)
-    return EndEffectorStats(
-        frame=scene.tool[0],
-        kind=scene.tool[1],
-        reach_tolerance_mm=reach_tolerance_mm,
-        keyframes=tuple(keyframes),
-        max_deviation_mm=float(deviation[worst]) * MM_PER_M if worst >= 0 else 0.0,
-        max_deviation_at_s=float(trace.time_s[worst]) if worst >= 0 else 0.0,
-        trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
-        trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),
-    )
+    return samples
 
 
 def _vec3(v: npt.NDArray[np.float64]) -> tuple[float, float, float]:

@@ -401,41 +401,66 @@ def run_batch(
             missing is run again.
         progress: called after every run with (result, runs done, runs total).
     """
-    if timeout_s is not None and not 0 < timeout_s <= MAX_TIMEOUT_S:
-        raise MotionToolError(
-            f"a run's timeout must be in (0, {MAX_TIMEOUT_S:g}] s, got {timeout_s}"
-        )
+    _check_timeout(timeout_s)
     t0 = time.monotonic()
     run = get_executor(executor, ray_address=ray_address)
     cache = None if cache_dir is None else ResultCache(cache_dir, cache_max_bytes)
     keys = [s.cache_key(model_hash(s.robot)) for s in specs]
-    results: list[RunResult | None] = [None] * len(specs)
-    done = 0
-
-    def finish(i: int, result: RunResult) -> None:
-        nonlocal done
-        results[i] = judged = _judged(result)
-        done += 1
-        if progress:
-            progress(judged, done, len(specs))
-
-    todo = []
-    for i, spec in enumerate(specs):
-        hit = _load(cache, spec, keys[i]) if _outputs_exist(spec, outputs) else None
-        if hit is None:
-            todo.append(i)
-        else:
-            finish(i, hit)
+    results = _Results(len(specs), progress)
+    hits = [_cached(cache, spec, key, outputs) for spec, key in zip(specs, keys, strict=True)]
+    todo = [i for i, hit in enumerate(hits) if hit is None]
+    for i, hit in enumerate(hits):
+        if hit is not None:
+            results.finish(i, hit)
     for outcome in run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s):
         i = todo[outcome.index]
         result = _classify(specs[i], outcome)
         _store(cache, result, keys[i])
-        finish(i, result)
+        results.finish(i, result)
     if cache is not None:
         cache.prune()
-    final = [r for r in results if r is not None]
-    assert len(final) == len(specs), "every run has a result"
-    return BatchResult(final, time.monotonic() - t0, executor, jobs)
+    return BatchResult(results.in_plan_order(), time.monotonic() - t0, executor, jobs)
+
+
+class _Results:
+    """The results of a batch as they come (cached first, then as runs end), each judged on its
+    expectations and told to ``progress`` with the count done."""
+
+    def __init__(self, total: int, progress: Callable[[RunResult, int, int], None] | None):
+        self._results: list[RunResult | None] = [None] * total
+        self._done = 0
+        self._progress = progress
+
+    def finish(self, i: int, result: RunResult) -> None:
+        """``result`` is the result of run ``i``: judged, kept, and told."""
+        self._results[i] = judged = _judged(result)
+        self._done += 1
+        if self._progress:
+            self._progress(judged, self._done, len(self._results))
+
+    def in_plan_order(self) -> list[RunResult]:
+        """Every result, in plan order (each run has one by now)."""
+        final = [r for r in self._results if r is not None]
+        assert len(final) == len(self._results), "every run has a result"
+        return final
+
+
+def _check_timeout(timeout_s: float | None) -> None:
+    """A run's timeout (s) is None or in (0, :data:`MAX_TIMEOUT_S`]."""
+    if timeout_s is not None and not 0 < timeout_s <= MAX_TIMEOUT_S:
+        raise MotionToolError(
+            f"a run's timeout must be in (0, {MAX_TIMEOUT_S:g}] s, got {timeout_s}"
+        )
+
+
+def _cached(
+    cache: ResultCache | None,
+    spec: RunSpec,
+    key: str,
+    outputs: Callable[[RunSpec], Sequence[Path]] | None,
+) -> RunResult | None:
+    """The cached result of ``spec``, or None: not cached, or a file it writes is missing."""
+    return _load(cache, spec, key) if _outputs_exist(spec, outputs) else None
 
 
 def _outputs_exist(spec: RunSpec, outputs: Callable[[RunSpec], Sequence[Path]] | None) -> bool:

@@ -173,20 +173,7 @@ def resolve_physics(
     )
     if control_step_ms < 1:
         raise MotionToolError(f"the control step must be >= 1 ms, got {control_step_ms}")
-    if physics_step_ms is None:
-        if profile == "webots":
-            substeps = 1
-        else:
-            substeps = substeps_at_most(control_step_ms, DEFAULT_PHYSICS_STEP_MS)
-    else:
-        divides = substeps_dividing(control_step_ms, physics_step_ms)
-        if divides is None:
-            raise MotionToolError(
-                f"physics step {physics_step_ms:g} ms does not divide the control step of "
-                f"{control_step_ms} ms; choose one that does, e.g. "
-                f"{_divisors_ms(control_step_ms)} ms"
-            )
-        substeps = divides
+    substeps = _substeps(control_step_ms, profile, physics_step_ms)
     base = friction
     if base is None:
         base = WEBOTS_FRICTION if profile == "webots" else DEFAULT_FRICTION
@@ -203,6 +190,23 @@ def resolve_physics(
             friction_scale=friction_scale,
         ),
     )
+
+
+def _substeps(control_step_ms: int, profile: str, physics_step_ms: float | None) -> int:
+    """Physics steps per control step: the given physics step's (it must divide the control
+    step), else the profile's (``webots``: 1; ``default``: steps of at most 2 ms)."""
+    if physics_step_ms is None:
+        if profile == "webots":
+            return 1
+        return substeps_at_most(control_step_ms, DEFAULT_PHYSICS_STEP_MS)
+    divides = substeps_dividing(control_step_ms, physics_step_ms)
+    if divides is None:
+        raise MotionToolError(
+            f"physics step {physics_step_ms:g} ms does not divide the control step of "
+            f"{control_step_ms} ms; choose one that does, e.g. "
+            f"{_divisors_ms(control_step_ms)} ms"
+        )
+    return divides
 
 
 def profile_note(

@@ -31,6 +31,7 @@ import tomllib
 from dataclasses import dataclass
 from fnmatch import fnmatchcase
 from pathlib import Path, PurePath
+from typing import Any
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.sim.expect import ExpectationError, parse_expectation
@@ -152,25 +153,7 @@ def load_sidecar(path: str | Path) -> Sidecar:
         MotionToolError: the file cannot be read (``cannot read 'PATH': REASON``).
     """
     path = Path(path)
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MotionToolError(f"cannot read '{path}': {exc.strerror or exc}") from exc
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        line = data[: exc.start].count(b"\n") + 1
-        raise SidecarError(f"{path}:{line}: not UTF-8 (TOML files are UTF-8)") from None
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        msg = str(exc)
-        m = re.search(r"^(.*) \(at line (\d+), column (\d+)\)$", msg)
-        if m:
-            raise SidecarError(f"{path}:{m.group(2)}:{m.group(3)}: {m.group(1)}") from None
-        m = re.search(r"^(.*) \(at end of document\)$", msg)
-        end = len(text.splitlines()) or 1
-        raise SidecarError(f"{path}:{end}: {m.group(1) if m else msg}") from None
+    text, doc = _read_toml(path)
     lines = text.splitlines()
     headers = _header_lines(lines)
     sections = []
@@ -181,37 +164,65 @@ def load_sidecar(path: str | Path) -> Sidecar:
                 f"{path}:{line}: '{key}' is not a [section]; put expectations under a motion "
                 f'name or glob, e.g. ["*"] then expect = [...]'
             )
-        for name in table:
-            if name not in _KEYS:
-                close = difflib.get_close_matches(name, _KEYS, n=1)
-                hint = f"; did you mean '{close[0]}'?" if close else ""
-                where = _line_of(lines, line, name)
-                raise SidecarError(
-                    f"{path}:{where}: unknown key '{name}' in [{key}]{hint} "
-                    f"(keys: {', '.join(_KEYS)})"
-                )
-        expect = table.get("expect", [])
-        if isinstance(expect, str):
-            expect = [expect]
-        if not isinstance(expect, list) or not all(isinstance(e, str) for e in expect):
-            where = _line_of(lines, line, "expect")
-            raise SidecarError(
-                f"{path}:{where}: expect in [{key}] must be a list of strings, "
-                f'e.g. expect = ["dx>0", "upright"]'
-            )
-        for e in expect:
-            try:
-                parse_expectation(e)
-            except ExpectationError as exc:
-                raise SidecarError(f"{path}:{_line_of(lines, line, e)}: {exc}") from None
-        start = table.get("start")
-        if start is not None and start not in set(StartState):
-            where = _line_of(lines, line, "start")
-            raise SidecarError(
-                f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(StartState)}"
-            )
-        sections.append(Section(key, line, tuple(expect), start))
+        sections.append(_section(path, lines, key, line, table))
     return Sidecar(path, tuple(sections))
+
+
+def _read_toml(path: Path) -> tuple[str, dict[str, Any]]:
+    """The text of the sidecar at ``path`` and its TOML document; an error says where."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise MotionToolError(f"cannot read '{path}': {exc.strerror or exc}") from exc
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise SidecarError(f"{path}:{line}: not UTF-8 (TOML files are UTF-8)") from None
+    try:
+        return text, tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        msg = str(exc)
+        m = re.search(r"^(.*) \(at line (\d+), column (\d+)\)$", msg)
+        if m:
+            raise SidecarError(f"{path}:{m.group(2)}:{m.group(3)}: {m.group(1)}") from None
+        m = re.search(r"^(.*) \(at end of document\)$", msg)
+        end = len(text.splitlines()) or 1
+        raise SidecarError(f"{path}:{end}: {m.group(1) if m else msg}") from None
+
+
+def _section(path: Path, lines: list[str], key: str, line: int, table: dict[str, Any]) -> Section:
+    """The ``[key]`` table at ``line``, checked: known keys, expectations that parse, a start
+    state that exists."""
+    for name in table:
+        if name not in _KEYS:
+            close = difflib.get_close_matches(name, _KEYS, n=1)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            where = _line_of(lines, line, name)
+            raise SidecarError(
+                f"{path}:{where}: unknown key '{name}' in [{key}]{hint} (keys: {', '.join(_KEYS)})"
+            )
+    expect = table.get("expect", [])
+    if isinstance(expect, str):
+        expect = [expect]
+    if not isinstance(expect, list) or not all(isinstance(e, str) for e in expect):
+        where = _line_of(lines, line, "expect")
+        raise SidecarError(
+            f"{path}:{where}: expect in [{key}] must be a list of strings, "
+            f'e.g. expect = ["dx>0", "upright"]'
+        )
+    for e in expect:
+        try:
+            parse_expectation(e)
+        except ExpectationError as exc:
+            raise SidecarError(f"{path}:{_line_of(lines, line, e)}: {exc}") from None
+    start = table.get("start")
+    if start is not None and start not in set(StartState):
+        where = _line_of(lines, line, "start")
+        raise SidecarError(
+            f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(StartState)}"
+        )
+    return Section(key, line, tuple(expect), start)
 
 
 def search_boundary(motion: str | Path, roots: tuple[Path, ...] | list[Path] = ()) -> Path:
