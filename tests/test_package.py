@@ -454,10 +454,6 @@ OVERSIZED = {
     "cli/plot.py::plot_command",
     "cli/retime.py::retime_command",
     "cli/validate.py::validate_command",
-    # issue 16: being split (motionfmt, next)
-    "motionfmt/ops/_permute.py::permute_cells",
-    "motionfmt/ops/concat.py::concat",
-    "motionfmt/ops/scale.py::scale",
 }
 
 

@@ -8,6 +8,7 @@ symmetrically about 0, so the text reads as exactly minus the number.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.ops._cells import lf_block
@@ -72,12 +73,38 @@ def permute_cells(
     if plain is None or bool(negate[:, 0].any()):
         return None
     n_cells = len(cells)
-    size = len(plain)
-    end = eol + b"\n"
-    # Bytes the output has and the input may not: ',' and ',-' (a cell put after a separator
-    # with a minus sign), then the line end (whose start is the last line's end, ``eol``).
-    buf = np.frombuffer(plain + b",-" + end, dtype=np.uint8)
-    text = buf[:size]
+    gather = _Gather.of(plain, n_lines, n_cells, eol)
+    spans = _cell_spans(gather.text, n_lines, n_cells, gather.idx)
+    if spans is None:
+        return None
+    starts, stops = spans
+    order = np.asarray(cells, dtype=np.intp)
+    # Lines are done about a megabyte of input at a time: the index arrays stay small (one
+    # index for the whole file is 4 bytes per byte, and fresh memory is slow to touch).
+    rows = max(1, _GATHER_BYTES * n_lines // max(gather.size, 1))
+    parts = []
+    for a in range(0, n_lines, rows):
+        b = min(a + rows, n_lines)
+        parts.append(
+            gather.lines(
+                starts[a:b, order],
+                stops[a:b, order],
+                negate[a:b],
+                opens=a == 0,
+                closes=b == n_lines,
+            )
+        )
+    return b"".join(parts)
+
+
+def _cell_spans(
+    text: npt.NDArray[np.uint8], n_lines: int, n_cells: int, idx: type[np.signedinteger[Any]]
+) -> tuple[npt.NDArray[np.signedinteger[Any]], npt.NDArray[np.signedinteger[Any]]] | None:
+    """Where each cell of ``text`` (plain pose lines joined by ``\\n``) starts and stops, two
+    (n_lines, n_cells) arrays of byte offsets (``stop`` past the cell's last byte); None unless
+    every line has ``n_cells`` cells, none empty nor starting with white space or ``+``."""
+    import numpy as np
+
     seps = np.flatnonzero((text == 44) | (text == 10))  # 44: ',', 10: '\n'
     if seps.shape[0] != n_lines * n_cells - 1:
         return None
@@ -86,13 +113,10 @@ def permute_cells(
         return None
     if not bool(newline[n_cells - 1 :: n_cells].all()):
         return None  # a line with more or fewer cells than the others
-    # int32 offsets where the output and the input both stay below 2 GiB (halves the memory).
-    bound = len(buf) + n_lines * (n_cells + len(end))
-    idx: type[np.signedinteger[Any]] = np.int32 if bound < 2**31 else np.int64
     bounds = np.empty(n_lines * n_cells + 1, dtype=idx)
     bounds[0] = -1
     bounds[1:-1] = seps
-    bounds[-1] = size
+    bounds[-1] = text.shape[0]
     starts = (bounds[:-1] + 1).reshape(n_lines, n_cells)
     stops = bounds[1:].reshape(n_lines, n_cells)
     if int((stops - starts).min()) < 1:
@@ -101,43 +125,98 @@ def permute_cells(
     odd[[start[1] for start in ODD_STARTS]] = True
     if bool(odd[text[starts]].any()):
         return None  # a cell that starts with white space or '+'
-    order = np.asarray(cells, dtype=np.intp)
-    # Lines are done about a megabyte of input at a time: the index arrays stay small (one
-    # index for the whole file is 4 bytes per byte, and fresh memory is slow to touch).
-    rows = max(1, _GATHER_BYTES * n_lines // max(size, 1))
-    parts = []
-    for a in range(0, n_lines, rows):
-        b = min(a + rows, n_lines)
-        neg = negate[a:b]
-        first = starts[a:b, order]
-        last = stops[a:b, order]
-        minus = text[first] == 45  # 45: '-'
-        first += neg & minus  # drop the minus sign
+    return starts, stops
+
+
+@dataclass(frozen=True)
+class _Gather:
+    """The input bytes of :func:`permute_cells` and the bytes its output adds.
+
+    Attributes:
+        buf: the plain block (``size`` bytes), then ``,-`` (a cell put after a separator with a
+            minus sign), then the line end ``eol + \\n`` (whose start is the last line's end).
+        size: the length of the plain block, bytes.
+        end: the line end, ``eol + \\n``.
+        eol: what ends the last line.
+        idx: the offsets' dtype: int32 where the output and the input both stay below 2 GiB
+            (halves the memory), int64 otherwise.
+    """
+
+    buf: npt.NDArray[np.uint8]
+    size: int
+    end: bytes
+    eol: bytes
+    idx: type[np.signedinteger[Any]]
+
+    @classmethod
+    def of(cls, plain: bytes, n_lines: int, n_cells: int, eol: bytes) -> _Gather:
+        import numpy as np
+
+        end = eol + b"\n"
+        buf = np.frombuffer(plain + b",-" + end, dtype=np.uint8)
+        bound = len(buf) + n_lines * (n_cells + len(end))
+        idx: type[np.signedinteger[Any]] = np.int32 if bound < 2**31 else np.int64
+        return cls(buf, len(plain), end, eol, idx)
+
+    @property
+    def text(self) -> npt.NDArray[np.uint8]:
+        """The plain block's bytes."""
+        return self.buf[: self.size]
+
+    def lines(
+        self,
+        starts: npt.NDArray[np.signedinteger[Any]],
+        stops: npt.NDArray[np.signedinteger[Any]],
+        neg: npt.NDArray[np.bool_],
+        *,
+        opens: bool,
+        closes: bool,
+    ) -> bytes:
+        """Some lines of the output: ``starts``, ``stops`` (n, n_cells) the offsets of their
+        input cells in output order (``starts`` is changed in place: past a dropped minus sign),
+        ``neg`` (n, n_cells) which to negate; ``opens``: the first lines of the block (no line
+        end before the first), ``closes``: the last (``eol`` after the last)."""
+        import numpy as np
+
+        n_cells = starts.shape[1]
+        minus = self.text[starts] == 45  # 45: '-'
+        starts += neg & minus  # drop the minus sign
         # Two pieces per output cell: what comes before it (nothing, the line end, ',' or
         # ',-'), then the cell's bytes; after the last line, its end (eol).
-        piece_at = np.empty((b - a, n_cells, 2), dtype=idx)
-        piece_len = np.empty((b - a, n_cells, 2), dtype=idx)
-        piece_at[:, :, 0] = size
+        piece_at = np.empty((starts.shape[0], n_cells, 2), dtype=self.idx)
+        piece_len = np.empty((starts.shape[0], n_cells, 2), dtype=self.idx)
+        piece_at[:, :, 0] = self.size
         piece_len[:, :, 0] = 1
         piece_len[:, :, 0] += neg & ~minus  # put a minus sign in
-        piece_at[:, 0, 0] = size + 2
-        piece_len[:, 0, 0] = len(end)
-        if a == 0:
+        piece_at[:, 0, 0] = self.size + 2
+        piece_len[:, 0, 0] = len(self.end)
+        if opens:
             piece_len[0, 0, 0] = 0
-        piece_at[:, :, 1] = first
-        piece_len[:, :, 1] = last - first
+        piece_at[:, :, 1] = starts
+        piece_len[:, :, 1] = stops - starts
         at = piece_at.ravel()
         length = piece_len.ravel()
-        if b == n_lines:
-            at = np.append(at, np.asarray(size + 2, dtype=idx))
-            length = np.append(length, np.asarray(len(eol), dtype=idx))
-        # Concatenated ranges: output byte i of a piece is input byte at + i.
-        out_end = np.cumsum(length, dtype=idx)
-        shift = at - (out_end - length)
-        index = np.repeat(shift, length)
-        index += np.arange(int(out_end[-1]), dtype=idx)
-        parts.append(np.take(buf, index).tobytes())
-    return b"".join(parts)
+        if closes:
+            at = np.append(at, np.asarray(self.size + 2, dtype=self.idx))
+            length = np.append(length, np.asarray(len(self.eol), dtype=self.idx))
+        return _concat_ranges(self.buf, at, length, self.idx)
+
+
+def _concat_ranges(
+    buf: npt.NDArray[np.uint8],
+    at: npt.NDArray[np.signedinteger[Any]],
+    length: npt.NDArray[np.signedinteger[Any]],
+    idx: type[np.signedinteger[Any]],
+) -> bytes:
+    """The ranges ``buf[at[i] : at[i] + length[i]]``, one after another: output byte ``k`` of
+    range ``i`` is input byte ``at[i] + k``."""
+    import numpy as np
+
+    out_end = np.cumsum(length, dtype=idx)
+    shift = at - (out_end - length)
+    index = np.repeat(shift, length)
+    index += np.arange(int(out_end[-1]), dtype=idx)
+    return np.take(buf, index).tobytes()
 
 
 def negate(token: bytes) -> bytes:

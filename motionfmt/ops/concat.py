@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.errors import MotionToolError
@@ -25,7 +26,13 @@ from motiontool.motionfmt.ops._cells import (
     with_eol,
 )
 from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
-from motiontool.motionfmt.writer import format_time
+from motiontool.motionfmt.writer import TimeStyle, format_time
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
 
 __all__ = ["Concatenated", "Transition", "concat"]
 
@@ -95,94 +102,189 @@ def concat(
         MotionToolError: fewer than two inputs, different joints, a joint named twice, a
             ``nan``/``inf`` command, or a result past :data:`MAX_TIME_MS`.
     """
+    _refuse_inputs(docs, transition_ms, max_velocity)
+    first = docs[0]
+    joints = first.joints
+    limits = dict(max_velocity or {})
+    unconstrained = tuple(j for j in joints if not math.isfinite(limits.get(j, math.inf)))
+    joined = _Joined.of(first)
+    transitions = []
+    reordered = []
+    for doc in docs[1:]:
+        order = [doc.motion.joints.index(name) for name in joints]
+        if order != list(range(len(joints))):
+            reordered.append(doc.path)
+        if transition_ms is None:
+            start = _targets(doc.motion, order, 0)
+            transition = _fitted(
+                doc.path, joined.end_ms, joints, joined.last_row, start, limits, margin
+            )
+        else:
+            transition = Transition(doc.path, joined.end_ms, transition_ms, "", False)
+        transitions.append(transition)
+        joined.append(doc, order, transition.duration_ms)
+    return Concatenated(
+        joined.document(), tuple(transitions), tuple(reordered), joined.dropped, unconstrained
+    )
+
+
+@dataclass
+class _Joined:
+    """The motion :func:`concat` has joined so far.
+
+    Attributes:
+        first: the first input (its path and time style are the result's).
+        header: the first input's header line, the result's.
+        eol: the first input's line end before ``\\n``: ``\\r`` (CRLF) or nothing.
+        poses: the pose lines, each ended by ``eol``.
+        end_ms: the last pose's time, ms.
+        last_row: (J,) the last pose's targets in the first input's column order, rad (m);
+            NaN where it has ``*``.
+        dropped: lines after a terminating blank line (ignored by Webots) left out.
+        final_newline: whether the last input ends with a newline (so does the result).
+    """
+
+    first: MotionDocument
+    header: bytes
+    eol: bytes
+    poses: list[bytes]
+    end_ms: int
+    last_row: npt.NDArray[np.float64]
+    dropped: int
+    final_newline: bool
+
+    @classmethod
+    def of(cls, first: MotionDocument) -> _Joined:
+        """The first input, as it is (but for its last line's end)."""
+        base = PoseLines.of(first)
+        poses = [with_eol(line, base.eol) for line in base.poses]
+        end = int(first.motion.times_ms[-1])
+        last_row = _targets(first.motion, list(range(first.motion.n_joints)), -1)
+        return cls(
+            first, base.header, base.eol, poses, end, last_row, len(base.suffix), base.final_newline
+        )
+
+    def append(self, doc: MotionDocument, order: list[int], transition_ms: int) -> None:
+        """``doc``'s poses, its columns in ``order`` (the input column of each of the first
+        input's joints), its first pose ``transition_ms`` after the last pose so far."""
+        new_times = _shifted_times(doc, self.end_ms + transition_ms)
+        lines = PoseLines.of(doc)
+        self.poses.extend(_retimed_lines(lines, order, new_times, self.first.time_style, self.eol))
+        self.dropped += len(lines.suffix)
+        self.final_newline = lines.final_newline
+        self.end_ms = new_times[-1]
+        self.last_row = _targets(doc.motion, order, -1)
+
+    def document(self) -> MotionDocument:
+        """The joined document, read back (named as the first input)."""
+        poses = list(self.poses)
+        if not self.final_newline:
+            poses[-1] = with_eol(poses[-1], b"")
+        out = PoseLines(self.header, poses, [], self.eol, self.final_newline)
+        return loads(out.to_bytes(), self.first.path)
+
+
+def _targets(motion: Motion, order: list[int], pose: int) -> npt.NDArray[np.float64]:
+    """(J,) the targets of pose ``pose`` of ``motion``, its columns in ``order``, rad (m); NaN
+    where the pose has ``*``."""
     import numpy as np
 
+    values = motion.values[pose, order]
+    commanded = motion.commanded[pose, order]
+    result: npt.NDArray[np.float64] = np.where(commanded, values, np.nan)
+    return result
+
+
+def _refuse_inputs(
+    docs: Sequence[MotionDocument],
+    transition_ms: int | None,
+    max_velocity: Mapping[str, float] | None,
+) -> None:
+    """Raise :class:`MotionToolError` for what :func:`concat` cannot join: fewer than two
+    inputs, neither a transition nor limits to fit one, a transition under 1 ms, a joint named
+    twice, a ``nan``/``inf`` command, joints other than the first input's."""
     if len(docs) < 2:
         raise MotionToolError("concat needs two motions or more")
     if transition_ms is None and max_velocity is None:
         raise MotionToolError("give a transition time, or velocity limits to fit one")
     if transition_ms is not None and transition_ms < 1:
         raise MotionToolError(f"the transition must last at least 1 ms, got {transition_ms} ms")
-    first = docs[0]
-    joints = first.joints
     for doc in docs:
         refuse_duplicates(doc, "concat")
         refuse_non_finite(doc.motion, doc.result, "concatenating")
-    want = set(joints)
     for doc in docs[1:]:
-        have = set(doc.joints)
-        if have != want:
-            missing = [j for j in joints if j not in have]
-            extra = [j for j in doc.joints if j not in want]
-            parts = []
-            if missing:
-                parts.append("lacks " + ", ".join(missing))
-            if extra:
-                parts.append("has " + ", ".join(extra) + " that the first does not")
-            raise MotionToolError(
-                f"{doc.path} does not have the joints of {first.path}: it "
-                + " and ".join(parts)
-                + "; concat needs the same joints in every motion (add the missing columns, "
-                "e.g. as '*')"
-            )
-    limits = dict(max_velocity or {})
-    unconstrained = tuple(j for j in joints if not math.isfinite(limits.get(j, math.inf)))
+        _refuse_other_joints(docs[0], doc)
 
-    base = PoseLines.of(first)
-    eol = base.eol
-    out_poses = [with_eol(line, eol) for line in base.poses]
-    dropped = len(base.suffix)
-    motion = first.motion
-    end = int(motion.times_ms[-1])
-    last_row = np.where(motion.commanded[-1], motion.values[-1], np.nan)
-    transitions = []
-    reordered = []
-    style = first.time_style
-    final_newline = base.final_newline
-    for doc in docs[1:]:
-        m = doc.motion
-        order = [m.joints.index(name) for name in joints]
-        if order != list(range(len(joints))):
-            reordered.append(doc.path)
-        values = m.values[:, order]
-        commanded = m.commanded[:, order]
-        start = np.where(commanded[0], values[0], np.nan)
-        if transition_ms is None:
-            retimed = fit_limits(
-                [0, 1], joints, np.vstack([last_row, start]), limits, margin=margin
-            )
-            duration = int(retimed.times_ms[-1])
-            joint = retimed.stretches[0].joint if retimed.stretches else ""
-            fitted = True
-        else:
-            duration, joint, fitted = transition_ms, "", False
-        shift = end + duration - int(m.times_ms[0])
-        new_times = [int(t) + shift for t in m.times_ms]
-        if new_times[-1] > MAX_TIME_MS:
-            raise MotionToolError(
-                f"joining {doc.path} would put its last pose at {new_times[-1]} ms, past the "
-                f"longest time a .motion file can hold, {MAX_TIME_MS} ms"
-            )
-        transitions.append(Transition(doc.path, end, duration, joint, fitted))
-        lines = PoseLines.of(doc)
-        stamps = [format_time(t, style).encode("ascii") for t in new_times]
-        poses = lines.poses
-        if order != list(range(len(joints))):
-            columns = cell_columns(poses, 2 + len(joints), lines.eol)
-            if columns is None:
-                columns = [list(c) for c in zip(*map(cell_tokens, poses), strict=True)]
-            poses = join_columns([columns[0], columns[1], *(columns[2 + k] for k in order)], b"")
-        ends = [eol] * len(poses)
-        out_poses.extend(
-            set_time(line[:-1] if line.endswith(b"\r") else line, stamp) + end
-            for line, stamp, end in zip(poses, stamps, ends, strict=True)
+
+def _refuse_other_joints(first: MotionDocument, doc: MotionDocument) -> None:
+    """Raise :class:`MotionToolError` naming the joints ``doc`` lacks and has beyond
+    ``first``'s, unless both have the same set."""
+    want = set(first.joints)
+    have = set(doc.joints)
+    if have == want:
+        return
+    missing = [j for j in first.joints if j not in have]
+    extra = [j for j in doc.joints if j not in want]
+    parts = []
+    if missing:
+        parts.append("lacks " + ", ".join(missing))
+    if extra:
+        parts.append("has " + ", ".join(extra) + " that the first does not")
+    raise MotionToolError(
+        f"{doc.path} does not have the joints of {first.path}: it "
+        + " and ".join(parts)
+        + "; concat needs the same joints in every motion (add the missing columns, "
+        "e.g. as '*')"
+    )
+
+
+def _fitted(
+    into: str,
+    start_ms: int,
+    joints: Sequence[str],
+    last_row: npt.NDArray[np.float64],
+    first_row: npt.NDArray[np.float64],
+    limits: Mapping[str, float],
+    margin: float,
+) -> Transition:
+    """The transition into ``into`` from ``last_row`` to ``first_row`` ((J,) rad or m, NaN
+    where not commanded), starting at ``start_ms``: the shortest whole-ms duration within
+    ``margin`` x ``limits`` (rad/s, m/s), as :func:`fit_limits` fits two poses 1 ms apart."""
+    import numpy as np
+
+    retimed = fit_limits([0, 1], joints, np.vstack([last_row, first_row]), limits, margin=margin)
+    duration = int(retimed.times_ms[-1])
+    joint = retimed.stretches[0].joint if retimed.stretches else ""
+    return Transition(into, start_ms, duration, joint, True)
+
+
+def _shifted_times(doc: MotionDocument, first_ms: int) -> list[int]:
+    """``doc``'s pose times, ms, shifted so that its first pose is at ``first_ms``; raises
+    :class:`MotionToolError` when the last is past :data:`MAX_TIME_MS`."""
+    m = doc.motion
+    shift = first_ms - int(m.times_ms[0])
+    new_times = [int(t) + shift for t in m.times_ms]
+    if new_times[-1] > MAX_TIME_MS:
+        raise MotionToolError(
+            f"joining {doc.path} would put its last pose at {new_times[-1]} ms, past the "
+            f"longest time a .motion file can hold, {MAX_TIME_MS} ms"
         )
-        dropped += len(lines.suffix)
-        final_newline = lines.final_newline
-        end = new_times[-1]
-        last_row = np.where(commanded[-1], values[-1], np.nan)
-    if not final_newline:
-        out_poses[-1] = with_eol(out_poses[-1], b"")
-    out = PoseLines(base.header, out_poses, [], eol, final_newline)
-    document = loads(out.to_bytes(), first.path)
-    return Concatenated(document, tuple(transitions), tuple(reordered), dropped, unconstrained)
+    return new_times
+
+
+def _retimed_lines(
+    lines: PoseLines, order: list[int], new_times: list[int], style: TimeStyle, eol: bytes
+) -> list[bytes]:
+    """``lines``' pose lines with the times ``new_times`` (ms, written in ``style``), the
+    joint cells in ``order`` (input column of each output joint), each ended by ``eol``."""
+    stamps = [format_time(t, style).encode("ascii") for t in new_times]
+    poses = lines.poses
+    if order != list(range(len(order))):
+        columns = cell_columns(poses, 2 + len(order), lines.eol)
+        if columns is None:
+            columns = [list(c) for c in zip(*map(cell_tokens, poses), strict=True)]
+        poses = join_columns([columns[0], columns[1], *(columns[2 + k] for k in order)], b"")
+    return [
+        set_time(line[:-1] if line.endswith(b"\r") else line, stamp) + eol
+        for line, stamp in zip(poses, stamps, strict=True)
+    ]

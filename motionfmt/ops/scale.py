@@ -124,30 +124,61 @@ def scale(
         raise MotionToolError(f"the amplitude must be a finite number >= 0, got {amplitude}")
     motion = doc.motion
     refuse_non_finite(motion, doc.result, "scaling")
-    first = _first_commanded(motion)
-    if about == "first":
-        ref = first
-    elif about == "zero":
-        ref = np.zeros(motion.n_joints)
-    elif about in motion.pose_names:
-        p = motion.pose_names.index(about)
-        ref = np.where(motion.commanded[p], motion.values[p], first)
-    else:
-        shown = ", ".join(f"'{n}'" for n in motion.pose_names[:5])
-        more = ", ..." if motion.n_poses > 5 else ""
-        raise MotionToolError(
-            f"no pose named '{about}' in {doc.path}; give first, zero, or a pose name "
-            f"({shown}{more})"
-        )
+    ref = _reference(doc, about)
     values = motion.values
     commanded = motion.commanded
     with np.errstate(invalid="ignore"):
         new = ref + amplitude * (values - ref)
     new = np.where(commanded, new, np.nan)
+    clips, unlimited = _clip(new, motion, limits or {})
+    new = new + 0.0
+    changed = commanded & (new != values)
+    document = repair(loads(_respelt(doc, new, changed), doc.path), new, commanded)
+    return Scaled(
+        document,
+        amplitude,
+        about,
+        tuple(float(x) for x in ref),
+        int(changed.sum()),
+        tuple(clips),
+        tuple(unlimited),
+    )
+
+
+def _reference(doc: MotionDocument, about: str) -> npt.NDArray[np.float64]:
+    """(J,) the reference :func:`scale` scales about, rad (m): ``'first'``, ``'zero'`` or a
+    pose name (see there); raises :class:`MotionToolError` for a name no pose has."""
+    import numpy as np
+
+    motion = doc.motion
+    first = _first_commanded(motion)
+    if about == "first":
+        return first
+    if about == "zero":
+        return np.zeros(motion.n_joints)
+    if about in motion.pose_names:
+        p = motion.pose_names.index(about)
+        ref: npt.NDArray[np.float64] = np.where(motion.commanded[p], motion.values[p], first)
+        return ref
+    shown = ", ".join(f"'{n}'" for n in motion.pose_names[:5])
+    more = ", ..." if motion.n_poses > 5 else ""
+    raise MotionToolError(
+        f"no pose named '{about}' in {doc.path}; give first, zero, or a pose name ({shown}{more})"
+    )
+
+
+def _clip(
+    new: npt.NDArray[np.float64],
+    motion: Motion,
+    limits: Mapping[str, tuple[float, float, str]],
+) -> tuple[list[Clip], list[str]]:
+    """Clip ``new`` ((P, J) scaled values of ``motion``'s columns, rad or m, NaN where not
+    commanded) to ``limits`` in place; the :class:`Clip` of each joint with a cell beyond, and
+    the joints ``limits`` does not have (not clipped)."""
+    import numpy as np
+
     clips = []
     unlimited = []
-    if limits is None:
-        limits = {}
     for j, name in enumerate(motion.joints):
         if name not in limits:
             unlimited.append(name)
@@ -173,8 +204,16 @@ def scale(
             )
             with np.errstate(invalid="ignore"):
                 new[:, j] = np.clip(column, lower, upper)
-    new = new + 0.0
-    changed = commanded & (new != values)
+    return clips, unlimited
+
+
+def _respelt(
+    doc: MotionDocument, new: npt.NDArray[np.float64], changed: npt.NDArray[np.bool_]
+) -> bytes:
+    """``doc``'s bytes with each cell where ``changed`` ((P, J) bool) spelt as its value in
+    ``new`` ((P, J), rad or m), keeping its leading white space; every other byte as it was."""
+    import numpy as np
+
     lines = PoseLines.of(doc)
     rows = np.flatnonzero(changed.any(axis=1)).tolist()
     for p in rows:
@@ -184,13 +223,4 @@ def scale(
         lines.poses[p] = replace_cells(
             line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
         )
-    document = repair(loads(lines.to_bytes(), doc.path), new, commanded)
-    return Scaled(
-        document,
-        amplitude,
-        about,
-        tuple(float(x) for x in ref),
-        int(changed.sum()),
-        tuple(clips),
-        tuple(unlimited),
-    )
+    return lines.to_bytes()
