@@ -79,10 +79,11 @@ def fix_counts(report: ValidationReport) -> tuple[int, int]:
 
 
 def fix_summary(report: ValidationReport) -> str:
-    """``; 3 fixable with --fix (1 more with --fix --unsafe-fixes)``, or nothing."""
+    """``; 3 fixable with --fix (1 more with --fix --unsafe-fixes)``, ``; 2 fixable with --fix
+    --unsafe-fixes`` where no safe fix exists, or nothing."""
     safe, unsafe = fix_counts(report)
-    if not safe and not unsafe:
-        return ""
+    if not safe:
+        return f"; {unsafe} fixable with --fix --unsafe-fixes" if unsafe else ""
     more = f" ({unsafe} more with --fix --unsafe-fixes)" if unsafe else ""
     return f"; {safe} fixable with --fix{more}"
 

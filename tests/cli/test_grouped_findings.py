@@ -64,7 +64,9 @@ def test_a_run_of_limit_findings_is_one_finding_a_finding_alone_keeps_its_messag
         "limit 0.314159 rad by 0.185841 rad",
     ]
     assert " 4 | 00:02:000,P2,0.5,0" in out  # the excerpt of the first pose
-    assert out.endswith("checked 1 file: 2 errors, 0 warnings, 0 notes\n")
+    assert out.endswith(
+        "checked 1 file: 2 errors, 0 warnings, 0 notes; 2 fixable with --fix --unsafe-fixes\n"
+    )
 
 
 def test_no_group_and_group_false_give_one_finding_per_pose(here: Path) -> None:
@@ -75,7 +77,9 @@ def test_no_group_and_group_false_give_one_finding_per_pose(here: Path) -> None:
         "arm.motion:4:14: error MT302: RShoulderRoll = 0.5 rad at 2000 ms is above its upper "
         "limit 0.314159 rad by 0.185841 rad"
     )
-    assert out.endswith("checked 1 file: 19 errors, 0 warnings, 0 notes\n")
+    assert out.endswith(
+        "checked 1 file: 19 errors, 0 warnings, 0 notes; 19 fixable with --fix --unsafe-fixes\n"
+    )
     (here / "motiontool.toml").write_text("group = false\n")
     assert invoke("validate", *CHECKS, "arm.motion")[1] == out
     assert (

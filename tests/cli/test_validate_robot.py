@@ -68,7 +68,9 @@ def test_fixed_salute_breaks_the_real_nao_elbow_limit_at_line_3() -> None:
         "   = hint: the real robot's range is [0.0349066, 1.54462] rad (robot nao-v5)\n"
     ) in out
     assert f"{FIXED}:2:1: warning MT206: first pose is at 1000 ms" in out
-    assert out.endswith("checked 1 file: 1 error, 2 warnings, 0 notes\n")
+    assert out.endswith(
+        "checked 1 file: 1 error, 2 warnings, 0 notes; 1 fixable with --fix --unsafe-fixes\n"
+    )
 
 
 def test_auto_is_the_default_and_says_which_robot_per_file(tmp_path: Path) -> None:
