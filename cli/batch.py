@@ -27,8 +27,9 @@ from motiontool.cli.physics_options import (
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import plural
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.motionfmt.extras import EXTRAS, require
 from motiontool.motionfmt.fileio import is_stdin
+from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 
 if TYPE_CHECKING:
     from rich.progress import Progress
@@ -63,7 +64,10 @@ _Robots = Annotated[
     ),
 ]
 _Jobs = Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")]
-_Executor = Annotated[str, typer.Option("--executor", help="local (a process pool) or ray.")]
+_Executor = Annotated[
+    str,
+    typer.Option("--executor", help=" or ".join(f"{e.name} ({e.summary})" for e in REGISTRY) + "."),
+]
 _RayAddress = Annotated[
     str | None,
     typer.Option(
@@ -184,9 +188,7 @@ def _inputs(
     paths: list[Path], resolver: Resolver, *, executor: str, ray_address: str | None
 ) -> list[Path]:
     """The motion files to play; an executor that does not exist, ``-`` or --ray-address
-    without --executor ray: exit 2 before anything runs."""
-    from motiontool.sim.executor import EXECUTORS
-
+    with an executor that takes no cluster address: exit 2 before anything runs."""
     if executor not in EXECUTORS:
         raise typer.BadParameter(
             f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
@@ -194,8 +196,11 @@ def _inputs(
     if any(is_stdin(p) for p in paths):
         raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
     files = collect(paths, resolver)  # folders searched, less the configuration's exclude
-    if ray_address is not None and executor != "ray":
-        raise MotionToolError("--ray-address names a Ray cluster: use it with --executor ray")
+    if ray_address is not None and not executor_info(executor).takes_address:
+        takes = " or ".join(e.name for e in REGISTRY if e.takes_address)
+        raise MotionToolError(
+            f"--ray-address names a cluster: use it with --executor {takes}, not {executor}"
+        )
     return files
 
 
@@ -219,8 +224,10 @@ def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) 
         require("junitparser", "sim", "motiontool batch --junit")
     if rrd_dir is not None:
         require("rerun", "rerun", "motiontool batch --rrd-dir")
-    if executor == "ray":
-        require("ray", "ray", "motiontool batch --executor ray")
+    extra = executor_info(executor).extra
+    if extra is not None:
+        for module in EXTRAS[extra][0]:
+            require(module, extra, f"motiontool batch --executor {executor}")
 
 
 def _plan(

@@ -1,10 +1,15 @@
 """Executors: how the runs of a batch are carried out, behind one protocol.
 
 An :class:`Executor` takes a runner (a picklable module-level function) and its tasks, and
-yields one :class:`Outcome` per task as it ends, in any order. Two exist: ``local``
-(:func:`motiontool.sim.pool.run_pool`, a process pool on this machine) and ``ray``
-(:func:`motiontool.sim._ray.run_ray`, a Ray cluster). Both call the runner through
-:func:`call_runner`, so a run that raises is reported the same way on either.
+yields one :class:`Outcome` per task as it ends, in any order. :data:`REGISTRY` is the one
+table of them: ``local`` (:func:`motiontool.sim.pool.run_pool`, a process pool on this
+machine) and ``ray`` (:func:`motiontool.sim._ray.run_ray`, a Ray cluster). Each calls the
+runner through :func:`call_runner`, so a run that raises is reported the same way on any.
+
+Adding an executor is a module with a function that satisfies :class:`Executor` and one row in
+:data:`REGISTRY` (its extra, if it needs a library, in ``pyproject.toml`` and
+:data:`motiontool.motionfmt.extras.EXTRAS`): ``batch --executor`` offers it, its help and its
+missing-library message come from the row, and the executor tests iterate over the table.
 """
 
 from __future__ import annotations
@@ -18,11 +23,14 @@ from motiontool.motionfmt.errors import MotionToolError
 __all__ = [
     "EXECUTORS",
     "MAX_TIMEOUT_S",
+    "REGISTRY",
     "Executor",
+    "ExecutorInfo",
     "Outcome",
     "Status",
     "call_runner",
     "error_reason",
+    "executor_info",
     "get_executor",
 ]
 
@@ -87,36 +95,66 @@ def call_runner(runner: Callable[[Any], Any], task: Any) -> tuple[Status, Any, s
         return "error", None, error_reason(exc)
 
 
-def _local(ray_address: str | None) -> Executor:
+def _local(address: str | None) -> Executor:
     from motiontool.sim.pool import run_pool
 
     return run_pool
 
 
-def _ray(ray_address: str | None) -> Executor:
+def _ray(address: str | None) -> Executor:
     from functools import partial
 
     from motiontool.sim._ray import run_ray
 
-    return partial(run_ray, address=ray_address)
+    return partial(run_ray, address=address)
 
 
-_FACTORIES: dict[str, Callable[[str | None], Executor]] = {"local": _local, "ray": _ray}
-"""Executor name -> factory (imports lazily). A new executor is a module with a function that
-satisfies :class:`Executor`, and one entry here."""
+@dataclass(frozen=True)
+class ExecutorInfo:
+    """One executor of :data:`REGISTRY`.
 
-EXECUTORS = tuple(_FACTORIES)
+    Attributes:
+        name: what ``batch --executor`` takes.
+        summary: what it runs on, for the help (``a process pool on this machine``).
+        factory: the executor for a cluster address (None: its default), importing lazily.
+        extra: the ``motiontool`` extra that brings its library (None: the core has it).
+        takes_address: whether it runs on a cluster named by an address (``--ray-address``).
+    """
+
+    name: str
+    summary: str
+    factory: Callable[[str | None], Executor]
+    extra: str | None = None
+    takes_address: bool = False
+
+
+REGISTRY: tuple[ExecutorInfo, ...] = (
+    ExecutorInfo("local", "a process pool on this machine", _local),
+    ExecutorInfo("ray", "a Ray cluster", _ray, extra="ray", takes_address=True),
+)
+"""Every executor, the default first."""
+
+EXECUTORS = tuple(e.name for e in REGISTRY)
 """Executor names for :func:`get_executor`."""
 
 
+def executor_info(name: str) -> ExecutorInfo:
+    """The row of executor ``name``.
+
+    Raises:
+        MotionToolError: an unknown name (the message lists the executors).
+    """
+    for info in REGISTRY:
+        if info.name == name:
+            return info
+    raise MotionToolError(f"unknown executor {name!r}; choose {' or '.join(EXECUTORS)}")
+
+
 def get_executor(name: str, *, ray_address: str | None = None) -> Executor:
-    """The executor called ``name`` (:data:`EXECUTORS`); ``ray_address``: the Ray cluster
-    (``auto``, ``ray://...``; None starts a local one).
+    """The executor called ``name`` (:data:`EXECUTORS`); ``ray_address``: the cluster of an
+    executor that takes one (Ray: ``auto``, ``ray://...``; None starts a local one).
 
     Raises:
         MotionToolError: an unknown name.
     """
-    factory = _FACTORIES.get(name)
-    if factory is None:
-        raise MotionToolError(f"unknown executor {name!r}; choose {' or '.join(EXECUTORS)}")
-    return factory(ray_address)
+    return executor_info(name).factory(ray_address)

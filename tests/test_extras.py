@@ -160,7 +160,8 @@ def test_validate_without_pinocchio_checks_limits_and_velocity_and_notes_the_ski
     assert "bad.motion:1:1" not in out
     assert "checks: limits, velocity, collision (skipped: Pinocchio is not installed)" in out
     assert out.splitlines()[-1].endswith(
-        "1 note; collision check skipped: pip install 'motiontool[kinematics]'"
+        "1 note; collision check skipped: pip install 'motiontool[kinematics]';"
+        " 2 fixable with --fix --unsafe-fixes"
     )
 
 
