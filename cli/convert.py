@@ -1,9 +1,10 @@
-"""``motiontool convert IN OUT``: a motion to another format and back (CSV, NPZ), or to a
-real robot (formats in :data:`motiontool.motionfmt.convert.FORMATS`), checked against the robot
-before anything is written."""
+"""``motiontool convert IN OUT``: a motion to another format and back (CSV, NPZ, a ROS 2 bag),
+or to a real robot (formats in :data:`motiontool.motionfmt.convert.FORMATS`), checked against
+the robot before anything is written."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated
 
@@ -14,15 +15,26 @@ from motiontool.cli.convert_checks import (
     refuse_unknown_joints,
     stream_findings,
 )
-from motiontool.cli.options import ROBOT_OPTION, robot_option, timestep_option
+from motiontool.cli.options import ROBOT_OPTION, finite, robot_option, timestep_option
 from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite, say_wrote
 from motiontool.cli.text import num, plural
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot, resolve_robot
 from motiontool.motionfmt.convert import FORMATS, Format, format_named, format_of
-from motiontool.motionfmt.convert.base import DEFAULT_LEAD_IN_MS, Exported, ExportOptions
+from motiontool.motionfmt.convert.base import (
+    DEFAULT_JOINT_STATE_TOPIC,
+    DEFAULT_LEAD_IN_MS,
+    DEFAULT_MAX_ERROR_RAD,
+    Exported,
+    ExportOptions,
+    Imported,
+    ImportOptions,
+    Recording,
+)
+from motiontool.motionfmt.convert.joint_map import parse_joint_map
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin, is_stdout, read_file, source_name
+from motiontool.motionfmt.units import MS_PER_S
 
 __all__ = ["convert_command"]
 
@@ -65,9 +77,31 @@ def _refuse(lines: list[str], heading: str) -> None:
     raise typer.Exit(1)
 
 
-def _report(exported: Exported, spec: RobotSpec | None, notes: list[str]) -> str:
-    """What follows the ``wrote`` lines: the robot check, and a robot format's deviation."""
+def _recording(r: Recording, poses: int) -> list[str]:
+    """What an imported recording held, and the motion's worst deviation from it."""
+    d = r.deviation
+    rate = f", {(r.messages - 1) * MS_PER_S / r.duration_ms:.4g} Hz" if r.duration_ms else ""
+    lines = [
+        f"read {plural(r.messages, 'sensor_msgs/JointState message')} of {r.topic} "
+        f"({r.duration_ms / MS_PER_S:g} s{rate})",
+        f"keyframes: {poses}, reduced within {num(r.max_error_rad)} rad (as resample "
+        "--max-error reduces them)",
+        f"worst deviation from the recording: {num(d.max_rad)} rad ({d.joint} at {d.at_ms} ms)",
+        f"  compared: {d.compared}",
+    ]
+    if r.merged:
+        lines.insert(1, f"{plural(r.merged, 'sample')} left out: on a whole ms an earlier one has")
+    return lines
+
+
+def _report(
+    exported: Exported, spec: RobotSpec | None, notes: list[str], imported: Imported
+) -> str:
+    """What follows the ``wrote`` lines: what a recording held, the robot check, and a robot
+    format's deviation."""
     lines = []
+    if imported.recording is not None:
+        lines += _recording(imported.recording, imported.motion.n_poses)
     if spec is None:
         lines.append(f"not checked against a robot: none named or detected ({ROBOT_OPTION})")
     elif notes:
@@ -83,88 +117,105 @@ def _report(exported: Exported, spec: RobotSpec | None, notes: list[str]) -> str
     return "".join(f"{line}\n" for line in lines)
 
 
-def convert_command(
-    source: Annotated[
-        Path, typer.Argument(help="The motion to convert ('-': stdin).", show_default=False)
-    ],
-    target: Annotated[
-        Path,
-        typer.Argument(
-            help="Where to write it ('-': stdout; never the input).", show_default=False
-        ),
-    ],
-    to: Annotated[
-        str | None,
-        typer.Option("--to", help=f"Output format ({_NAMES}); default: from OUT's ending."),
-    ] = None,
-    from_: Annotated[
-        str | None,
-        typer.Option("--from", help=f"Input format ({_NAMES}); default: from IN's ending."),
-    ] = None,
-    robot: Annotated[
-        str | None,
-        robot_option(
-            "Robot the export is checked against (default: the format's own: nao-v5 for naoqi, "
-            "ur5e for urscript; else auto)",
-            none="no checks (data formats only)",
-        ),
-    ] = None,
-    timestep: Annotated[
-        int | None, timestep_option(use="the command stream reproduced and checked")
-    ] = None,
-    lead_in: Annotated[
-        int,
-        typer.Option(
-            "--lead-in",
-            min=1,
-            help="ms the real robot gets to reach the first pose before the motion starts "
-            "(naoqi: every NAOqi time is the Webots time plus this).",
-        ),
-    ] = DEFAULT_LEAD_IN_MS,
-    keyframes: Annotated[
-        bool,
-        typer.Option(
-            "--keyframes",
-            help="urscript: one movej per keyframe (time = the segment, blend 0) instead of "
-            "servoj at every control step.",
-        ),
-    ] = False,
-) -> None:
-    """Convert a motion to CSV, NPZ, NAOqi or URScript, or a CSV or NPZ back to a motion.
+_Source = Annotated[
+    Path, typer.Argument(help="The motion to convert ('-': stdin).", show_default=False)
+]
+_Target = Annotated[
+    Path,
+    typer.Argument(help="Where to write it ('-': stdout; never the input).", show_default=False),
+]
+_To = Annotated[
+    str | None,
+    typer.Option("--to", help=f"Output format ({_NAMES}); default: from OUT's ending."),
+]
+_From = Annotated[
+    str | None,
+    typer.Option("--from", help=f"Input format ({_NAMES}); default: from IN's ending."),
+]
+_Robot = Annotated[
+    str | None,
+    robot_option(
+        "Robot the export is checked against (default: the format's own: nao-v5 for naoqi, "
+        "ur5e for urscript; else auto)",
+        none="no checks (data formats only)",
+    ),
+]
+_Timestep = Annotated[int | None, timestep_option(use="the command stream reproduced and checked")]
+_LeadIn = Annotated[
+    int,
+    typer.Option(
+        "--lead-in",
+        min=1,
+        help="ms the real robot gets to reach the first pose before the motion starts "
+        "(naoqi, ros-trajectory: every time is the Webots time plus this).",
+    ),
+]
+_Keyframes = Annotated[
+    bool,
+    typer.Option(
+        "--keyframes",
+        help="urscript: one movej per keyframe (time = the segment, blend 0) instead of "
+        "servoj at every control step.",
+    ),
+]
+_Topic = Annotated[
+    str | None,
+    typer.Option(
+        "--topic",
+        help="rosbag: the sensor_msgs/JointState topic read or written "
+        f"(default: {DEFAULT_JOINT_STATE_TOPIC}).",
+    ),
+]
+_JointMap = Annotated[
+    Path | None,
+    typer.Option(
+        "--joint-map",
+        help="rosbag, ros-trajectory: a TOML or YAML table, motion joint = ROS name, for the "
+        "joints whose ROS names differ (the UR5e and the Nao need none).",
+    ),
+]
+_MaxError = Annotated[
+    float | None,
+    typer.Option(
+        "--max-error",
+        min=0.0,
+        callback=finite,
+        help="rosbag to motion: keep keyframes within this many rad of the recording, as "
+        f"resample --max-error (default: {DEFAULT_MAX_ERROR_RAD:g}).",
+    ),
+]
 
-    The output is checked against the robot first (validate's limit, velocity and joint
-    checks, and what a robot format sends); nothing is written if it fails (exit 1). The
-    command stream Webots plays is kept bit-identical through CSV and NPZ; a robot format says
-    how far it is from it (rad).
-    """
-    fmt_in = _format(source, from_ or ("motion" if is_stdin(source) else None), "--from", "read")
-    fmt_out = _format(target, to, "--to", "write")
-    refuse_overwrite(target, [source], "OUT", "write to another file")
-    imported = fmt_in.read(read_file(source), source_name(source))  # type: ignore[misc]
-    motion = imported.motion
-    spec = _robot(robot, fmt_out, motion.joints)
-    step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
-    notes: list[str] = []
-    if spec is not None:
-        if robot is not None or fmt_out.for_robot:
-            refuse_unknown_joints(imported, spec)
-        blocking, notes = motion_findings(imported, spec, step, for_robot=fmt_out.for_robot)
-        if blocking:
-            _refuse(blocking, f"not written: the motion fails the checks of robot {spec.name}:")
-    options = ExportOptions(
-        timestep_ms=step,
-        source=source_name(source),
-        robot=None if spec is None else spec.name,
-        joint_order=None if spec is None else spec.joint_names,
-        lead_in_ms=lead_in,
-        keyframes=keyframes,
-        target_name=None if is_stdout(target) else target.name,
-    )
-    exported = fmt_out.write(motion, options)  # type: ignore[misc]
-    if spec is not None and exported.stream is not None:
-        bad = stream_findings(exported.stream, spec, f"{fmt_out.name} export")
-        if bad:
-            _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
+#: The ROS options, and the field of ImportOptions / ExportOptions each sets.
+_FIELDS = {"--topic": "topic", "--joint-map": "joint_map", "--max-error": "max_error_rad"}
+
+
+def _refuse_unused(given: Mapping[str, object], fmt_in: Format, fmt_out: Format) -> None:
+    """An option neither format reads is an error, not silently ignored."""
+    for option, value in given.items():
+        field = _FIELDS[option]
+        if value is not None and field not in fmt_in.uses | fmt_out.uses:
+            able = ", ".join(f.name for f in FORMATS if field in f.uses)
+            raise MotionToolError(
+                f"{option} applies to {able}, not to {fmt_in.name} -> {fmt_out.name}"
+            )
+
+
+def _checked(
+    imported: Imported, spec: RobotSpec | None, fmt_out: Format, step: int, robot: str | None
+) -> list[str]:
+    """The robot checks of the motion: stop (exit 1) on a blocking finding, else the others."""
+    if spec is None:
+        return []
+    if robot is not None or fmt_out.for_robot:
+        refuse_unknown_joints(imported, spec)
+    blocking, notes = motion_findings(imported, spec, step, for_robot=fmt_out.for_robot)
+    if blocking:
+        _refuse(blocking, f"not written: the motion fails the checks of robot {spec.name}:")
+    return notes
+
+
+def _write(exported: Exported, fmt_out: Format, source: Path, target: Path) -> None:
+    """Write OUT and its companions (none over the input); say what was written."""
     companions = [_companion(target, suffix) for suffix, _ in exported.companions]
     if companions and is_stdout(target):
         raise MotionToolError(f"{fmt_out.name} writes a script beside its file: give OUT a name")
@@ -176,4 +227,56 @@ def convert_command(
     say_wrote(target, f"{plural(exported.poses, 'pose')}, {exported.detail}")
     for path in companions:
         say_wrote(path, "the script that sends it")
-    emit_stderr(_report(exported, spec, notes))
+
+
+def convert_command(
+    source: _Source,
+    target: _Target,
+    to: _To = None,
+    from_: _From = None,
+    robot: _Robot = None,
+    timestep: _Timestep = None,
+    lead_in: _LeadIn = DEFAULT_LEAD_IN_MS,
+    keyframes: _Keyframes = False,
+    topic: _Topic = None,
+    joint_map: _JointMap = None,
+    max_error: _MaxError = None,
+) -> None:
+    """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ
+    or a bag's recorded joint states back to a motion.
+
+    The output is checked against the robot first (validate's limit, velocity and joint
+    checks, and what a robot format sends); nothing is written if it fails (exit 1). The
+    command stream Webots plays is kept bit-identical through CSV and NPZ; a robot format says
+    how far it is from it (rad), a recording how far the motion made of it is from it (rad).
+    """
+    fmt_in = _format(source, from_ or ("motion" if is_stdin(source) else None), "--from", "read")
+    fmt_out = _format(target, to, "--to", "write")
+    given = {"--topic": topic, "--joint-map": joint_map, "--max-error": max_error}
+    _refuse_unused(given, fmt_in, fmt_out)
+    refuse_overwrite(target, [source], "OUT", "write to another file")
+    pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
+    topic = topic or DEFAULT_JOINT_STATE_TOPIC
+    reading = ImportOptions(topic, pairs, DEFAULT_MAX_ERROR_RAD if max_error is None else max_error)
+    imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
+    spec = _robot(robot, fmt_out, imported.motion.joints)
+    step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
+    notes = _checked(imported, spec, fmt_out, step, robot)
+    options = ExportOptions(
+        timestep_ms=step,
+        source=source_name(source),
+        robot=None if spec is None else spec.name,
+        joint_order=None if spec is None else spec.joint_names,
+        lead_in_ms=lead_in,
+        keyframes=keyframes,
+        target_name=None if is_stdout(target) else target.name,
+        joint_map=pairs,
+        topic=topic,
+    )
+    exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]
+    if spec is not None and exported.stream is not None:
+        bad = stream_findings(exported.stream, spec, f"{fmt_out.name} export")
+        if bad:
+            _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
+    _write(exported, fmt_out, source, target)
+    emit_stderr(_report(exported, spec, notes, imported))

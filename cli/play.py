@@ -24,6 +24,7 @@ from motiontool.cli.physics_options import (
     Profile,
     ProfileOption,
 )
+from motiontool.cli.play_bag import BagOption, check_bag, say_bag
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name
 from motiontool.motionfmt.errors import MotionToolError
@@ -203,6 +204,7 @@ def play_command(
     headless: _Headless = False,
     json_path: _Json = None,
     rrd: _Rrd = None,
+    bag: BagOption = None,
     loop: _Loop = 1,
     reverse: _Reverse = False,
     timestep: Timestep = None,
@@ -227,6 +229,7 @@ def play_command(
     --json and --rrd are written in every case.
     """
     _check_outputs(files, headless=headless, json_path=json_path, rrd=rrd)
+    check_bag(bag, files, {"--json": json_path, "--rrd": rrd})
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play
 
@@ -243,7 +246,9 @@ def play_command(
         profile=profile.value,
     )
     robot = robot if robot is not None else settings.robot_for(files[0])
-    _render(planned.run(robot=robot, options=options, rrd=rrd), json_path, rrd)
+    result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag)
+    say_bag(result, bag)
+    _render(result, json_path, rrd)
 
 
 def _check_outputs(

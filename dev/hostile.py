@@ -40,6 +40,7 @@ WRITERS = [
     ["sample", "in.motion", "-o", "OUT"],
     ["play", "in.motion", "--headless", "--json", "OUT"],
     ["play", "in.motion", "--headless", "--rrd", "OUT"],
+    ["play", "in.motion", "--headless", "--bag", "OUT"],
     ["batch", "in.motion", "--no-cache", "--json", "OUT"],
     ["batch", "in.motion", "--no-cache", "--junit", "OUT"],
     ["batch", "in.motion", "--no-cache", "--markdown", "OUT"],
@@ -58,6 +59,8 @@ WRITERS = [
     ["convert", "in.motion", "OUT", "--to", "csv"],
     ["convert", "in.motion", "OUT", "--to", "npz"],
     ["convert", "in.motion", "OUT", "--to", "naoqi"],
+    ["convert", "in.motion", "OUT", "--to", "ros-trajectory"],
+    ["convert", "in.motion", "OUT", "--to", "rosbag"],
 ]
 
 # Numbers no option may take: refused by its range, in one line.
@@ -77,6 +80,7 @@ HUGE = [
 # Two outputs on one path: refused before anything runs.
 SHARED = [
     ["play", "in.motion", "--headless", "--json", "X", "--rrd", "X"],
+    ["play", "in.motion", "--headless", "--rrd", "X", "--bag", "./X"],
     ["batch", "in.motion", "--json", "X", "--markdown", "X"],
     ["batch", "in.motion", "--json", "-", "--junit", "-"],
     ["robots", "export", "ur5e", "--mjcf", "X", "--urdf", "./X"],
@@ -90,6 +94,8 @@ STDOUT = [
     ["info", "in.motion"],
     ["mirror", "in.motion", "-o", "-"],
     ["convert", "in.motion", "-", "--to", "csv"],
+    ["convert", "in.motion", "-", "--to", "ros-trajectory"],
+    ["convert", "in.motion", "-", "--to", "rosbag"],
     ["robots"],
 ]
 

@@ -27,6 +27,10 @@ EXTRAS: dict[str, tuple[tuple[str, ...], str]] = {
     "ray": (("ray",), "the Ray executor of batch"),
     "fast": (("pyarrow",), "pyarrow: faster reading of motion files of 1 MB or more"),
     "lsp": (("pygls", "lsprotocol"), "pygls: motiontool server, findings in the editor"),
+    "ros": (
+        ("rosbags", "mcap", "mcap_ros2", "ruamel"),
+        "rosbags, mcap: ROS 2 bags and trajectories (convert, and a bag of a play run)",
+    ),
 }
 
 #: How people call the library a module belongs to.
@@ -42,6 +46,10 @@ _LIBRARIES = {
     "pyarrow": "pyarrow",
     "pygls": "pygls",
     "lsprotocol": "lsprotocol (pygls' LSP types)",
+    "rosbags": "rosbags",
+    "mcap": "mcap",
+    "mcap_ros2": "mcap-ros2-support",
+    "ruamel": "ruamel.yaml",
 }
 
 

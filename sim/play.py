@@ -28,6 +28,7 @@ from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import measure_end_effector
+from motiontool.sim.bag import write_run_bag
 from motiontool.sim.commands import command_matrix
 from motiontool.sim.markers import Marker, markers
 from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, SimulatedRun, measure
@@ -93,6 +94,7 @@ def play(
     options: PlayOptions | None = None,
     rrd: str | Path | None = None,
     stamps: Mapping[str, Any] | None = None,
+    bag: str | Path | None = None,
 ) -> PlayReport:
     """Play ``motions`` one after another on ``robot`` and measure the run.
 
@@ -105,6 +107,7 @@ def play(
             (``auto``: the built-in robot the joints of all the motions fit).
         options: how to play (:class:`PlayOptions`).
         rrd: write a Rerun recording of the run there (also when the run fails).
+        bag: write the run there as a ROS 2 bag (:func:`motiontool.sim.bag.write_run_bag`).
         stamps: versions to stamp the report and the recording with (tool, libraries, model
             hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
 
@@ -140,6 +143,8 @@ def play(
     report = _report(run, physics, all_stamps, ignored)
     if rrd is not None:
         _record(Path(rrd), run, report, all_stamps, labels)
+    if bag is not None:
+        write_run_bag(bag, trace, floating_base=scene.floating)
     return report
 
 

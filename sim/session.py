@@ -141,7 +141,12 @@ class PlayPlan:
         return self.motion.start or StartState.STANDING
 
     def run(
-        self, *, robot: str = AUTO, options: PlayOptions | None = None, rrd: Path | None = None
+        self,
+        *,
+        robot: str = AUTO,
+        options: PlayOptions | None = None,
+        rrd: Path | None = None,
+        bag: Path | None = None,
     ) -> PlayResult:
         """Read the files, resolve ``robot`` on their joints, play them with ``options`` (its
         ``start`` replaced by the plan's), judge the expectations on the report.
@@ -151,6 +156,7 @@ class PlayPlan:
                 built-in robot the joints of all the files fit).
             rrd: write a Rerun recording there, also when the run could not start (then it
                 holds the stamps and the error).
+            bag: write a ROS 2 bag of the run there (:mod:`motiontool.sim.bag`), when it ran.
 
         Returns:
             The result; a :class:`MotionToolError` before the simulation starts (a file Webots
@@ -164,7 +170,13 @@ class PlayPlan:
             result.stamps = dict(stamps(spec.model_hash))
             names = [str(f) for f in self.files]
             report = play(
-                motions, names=names, robot=spec, options=opts, rrd=rrd, stamps=result.stamps
+                motions,
+                names=names,
+                robot=spec,
+                options=opts,
+                rrd=rrd,
+                stamps=result.stamps,
+                bag=bag,
             )
             report.expectations = evaluate(self.motion.expectations, report)
         except MotionToolError as exc:

@@ -126,6 +126,26 @@ def _write(tmp_path: Path, name: str, data: bytes) -> Path:
             ["robots", "export", "ur5e", "--urdf", "ur5e.urdf"],
             "motiontool robots export --urdf needs Pinocchio: pip install 'motiontool[kinematics]'",
         ),
+        (
+            ("rosbags",),
+            ["convert", "nao.motion", "nao.mcap"],
+            "a ROS 2 bag needs rosbags: pip install 'motiontool[ros]'",
+        ),
+        (
+            ("mcap_ros2",),
+            ["convert", "nao.motion", "nao.mcap"],
+            "a ROS 2 bag needs mcap-ros2-support: pip install 'motiontool[ros]'",
+        ),
+        (
+            ("rosbags",),
+            ["convert", "rec.mcap", "back.motion"],
+            "reading a ROS 2 bag needs rosbags: pip install 'motiontool[ros]'",
+        ),
+        (
+            ("rosbags",),
+            ["play", "nao.motion", "--headless", "--bag", "run.mcap"],
+            "motiontool play --bag needs rosbags: pip install 'motiontool[ros]'",
+        ),
     ],
 )
 def test_a_command_whose_extra_is_missing_names_the_pip_install(
@@ -133,14 +153,17 @@ def test_a_command_whose_extra_is_missing_names_the_pip_install(
 ) -> None:
     _write(tmp_path, "nao.motion", NAO_OK)
     _write(tmp_path, "arm.urdf", b'<robot name="arm"><link name="base"/></robot>\n')
+    _write(tmp_path, "rec.mcap", b"")  # a bag, read only where an import needs it
     proc = _cli(args, tmp_path, missing)
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr == f"motiontool: error: {message}\n"  # one line, no traceback
     assert not any(
-        p.suffix in (".rrd", ".xml", ".png", ".urdf") and p.name != "arm.urdf"
+        p.suffix in (".rrd", ".xml", ".png", ".urdf", ".mcap")
+        and p.name not in ("arm.urdf", "rec.mcap")
         for p in tmp_path.iterdir()
     ), "nothing is written"
     assert not (tmp_path / "s.motion").exists()
+    assert not (tmp_path / "back.motion").exists()
 
 
 def test_validate_without_pinocchio_checks_limits_and_velocity_and_notes_the_skipped_collision(

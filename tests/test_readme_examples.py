@@ -105,13 +105,12 @@ def examples(text: str) -> list[Example]:
 
 def motion_inputs(example: Example) -> list[str]:
     """The ``.motion`` files an example reads: its arguments ending in ``.motion`` but the
-    value of ``-o`` / ``--output``."""
+    value of ``-o`` / ``--output`` and ``convert``'s OUT (its second argument)."""
     tokens = example.tokens
-    return [
-        t
-        for i, t in enumerate(tokens)
-        if t.endswith(".motion") and not (i and tokens[i - 1] in OUTPUT_OPTIONS)
-    ]
+    written = {i for i in range(1, len(tokens)) if tokens[i - 1] in OUTPUT_OPTIONS}
+    if tokens[1:2] == ("convert",):
+        written.add(3)
+    return [t for i, t in enumerate(tokens) if t.endswith(".motion") and i not in written]
 
 
 def test_the_extraction_finds_the_examples() -> None:
@@ -125,6 +124,8 @@ def test_the_extraction_finds_the_examples() -> None:
     sample = "```sh\nW=a/b\nmotiontool play $W/x.motion \\\n  -o y.motion [--rrd z.motion]\n```\n"
     (example,) = examples(sample)
     assert motion_inputs(example) == ["a/b/x.motion", "z.motion"]
+    (convert,) = examples("```sh\nmotiontool convert in.csv out/back.motion\n```\n")
+    assert motion_inputs(convert) == []  # convert IN OUT: OUT is written
 
 
 def test_every_motion_file_an_example_reads_is_in_the_repository() -> None:

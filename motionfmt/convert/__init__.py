@@ -8,13 +8,17 @@
 * :mod:`.naoqi`: a real NAO: ``ALMotion.angleInterpolationBezier``'s arguments as JSON and a
   script that sends them.
 * :mod:`.urscript`: a real UR arm: ``servoj`` at every control step (or ``movej`` per keyframe).
+* :mod:`.ros_trajectory`: a robot under ros2_control: a ``FollowJointTrajectory`` goal (YAML).
+* :mod:`.rosbag`: ROS 2 bags (MCAP): the command stream as ``sensor_msgs/JointState`` and the
+  trajectory; back, a recorded ``/joint_states`` as a motion with its keyframes reduced.
 
 A format for a real robot writes what reproduces Webots' command stream there and says how far
 it is from it (:class:`~.base.Deviation`); the robot checks of an export are the caller's (the
 robot layer), before it writes anything. To add a format: one module with a ``read`` and/or a
 ``write`` function (:class:`~.base.Format`), and one row in :data:`FORMATS`.
 
-Pure: the standard library and numpy. Import each format from its module.
+Pure: the standard library and numpy, and the ROS 2 libraries (extra ``ros``) imported lazily
+by :mod:`._ros` alone. Import each format from its module.
 """
 
 from __future__ import annotations
@@ -23,6 +27,8 @@ from motiontool.motionfmt.convert.base import Format
 from motiontool.motionfmt.convert.motion_file import read_motion_file, write_motion_file
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
+from motiontool.motionfmt.convert.ros_trajectory import write_ros_trajectory
+from motiontool.motionfmt.convert.rosbag import read_rosbag, write_rosbag
 from motiontool.motionfmt.convert.urscript import write_urscript
 from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
 
@@ -65,6 +71,23 @@ FORMATS: tuple[Format, ...] = (
         write=write_urscript,
         for_robot=True,
         default_robot="ur5e",
+    ),
+    Format(
+        "ros-trajectory",
+        (".trajectory.yaml",),
+        "a robot under ros2_control: a FollowJointTrajectory goal (YAML) for ros2 action send_goal",
+        write=write_ros_trajectory,
+        for_robot=True,
+        uses=frozenset({"joint_map"}),
+    ),
+    Format(
+        "rosbag",
+        (".mcap",),
+        "ROS 2 bag (MCAP): the command stream as sensor_msgs/JointState and the trajectory; "
+        "back, a recorded JointState topic",
+        read=read_rosbag,
+        write=write_rosbag,
+        uses=frozenset({"joint_map", "topic", "max_error_rad"}),
     ),
 )
 """Every format, in the order the help lists them."""

@@ -20,18 +20,31 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.reader import ReadResult
 
 __all__ = [
+    "DEFAULT_JOINT_STATE_TOPIC",
     "DEFAULT_LEAD_IN_MS",
+    "DEFAULT_MAX_ERROR_RAD",
     "Deviation",
     "ExportOptions",
     "Exported",
     "Format",
+    "ImportOptions",
     "Imported",
+    "Recording",
     "RobotStream",
 ]
 
 DEFAULT_LEAD_IN_MS = 1000
 """Milliseconds a real robot gets to reach the first pose from wherever it stands, before the
 motion starts (NAOqi's first time must be > 0; Webots jumps to the first pose at 0 ms)."""
+
+DEFAULT_JOINT_STATE_TOPIC = "/joint_states"
+"""The ``sensor_msgs/JointState`` topic a ROS 2 bag is read from and written to by default (a
+real robot's, as ``joint_state_broadcaster`` publishes it)."""
+
+DEFAULT_MAX_ERROR_RAD = 1e-3
+"""How far (rad, m for linear joints) the keyframes of an imported recording may stray from
+its samples when they are reduced (0.057 degrees: far below what a motion shows, far above
+the noise of an arm's encoders)."""
 
 
 @dataclass(frozen=True)
@@ -47,6 +60,9 @@ class ExportOptions:
         lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
         keyframes: one move per keyframe instead of the stream at every step (URScript).
         target_name: the output file's name (a companion script refers to it), or None.
+        joint_map: (motion's joint, the robot's ROS name) pairs for the joints whose names
+            differ (ROS formats); the others keep their name.
+        topic: the ``sensor_msgs/JointState`` topic of a ROS 2 bag.
     """
 
     timestep_ms: int = 32
@@ -56,6 +72,25 @@ class ExportOptions:
     lead_in_ms: int = DEFAULT_LEAD_IN_MS
     keyframes: bool = False
     target_name: str | None = None
+    joint_map: tuple[tuple[str, str], ...] = ()
+    topic: str = DEFAULT_JOINT_STATE_TOPIC
+
+
+@dataclass(frozen=True)
+class ImportOptions:
+    """What a reader needs besides the file (a recording's; the data formats need nothing).
+
+    Attributes:
+        topic: the ``sensor_msgs/JointState`` topic to read from a ROS 2 bag.
+        joint_map: (motion's joint, ROS name) pairs, as :attr:`ExportOptions.joint_map`: a
+            recorded ROS name becomes the motion's joint.
+        max_error_rad: how far the reduced keyframes may stray from the recording, rad (m for
+            linear joints); 0 keeps every sample that is not exactly on a line.
+    """
+
+    topic: str = DEFAULT_JOINT_STATE_TOPIC
+    joint_map: tuple[tuple[str, str], ...] = ()
+    max_error_rad: float = DEFAULT_MAX_ERROR_RAD
 
 
 @dataclass(frozen=True)
@@ -113,6 +148,28 @@ class Exported:
 
 
 @dataclass(frozen=True)
+class Recording:
+    """What an imported recording held, and how far the motion made of it is from it.
+
+    Attributes:
+        topic: the topic read.
+        messages: how many messages it held.
+        duration_ms: from the first stamp to the last, ms.
+        merged: samples left out because an earlier one falls on the same whole ms.
+        max_error_rad: the bound the keyframes were reduced within, rad.
+        deviation: the motion (straight lines between its keyframes) against every recorded
+            sample at its own stamp, rad.
+    """
+
+    topic: str
+    messages: int
+    duration_ms: int
+    merged: int
+    max_error_rad: float
+    deviation: Deviation
+
+
+@dataclass(frozen=True)
 class Imported:
     """A motion read from a file.
 
@@ -124,6 +181,8 @@ class Imported:
         cells: (line, column) of each value cell, int64 (P, J, 2), 1-based, where the format
             has lines (CSV); None otherwise.
         header: the 1-based column of each joint's name on line 1, int64 (J,), with ``cells``.
+        recording: for a recording (a ROS 2 bag), what it held and the motion's deviation
+            from it; None otherwise.
     """
 
     motion: Motion
@@ -131,6 +190,7 @@ class Imported:
     read: ReadResult | None = None
     cells: npt.NDArray[np.int64] | None = None
     header: npt.NDArray[np.int64] | None = None
+    recording: Recording | None = None
 
 
 @dataclass(frozen=True)
@@ -141,17 +201,22 @@ class Format:
         name: what the user types (``csv``).
         suffixes: file name endings that select it (``.csv``), lower case.
         summary: one line, for the help.
-        read: bytes and the file's name -> :class:`Imported`; None if it cannot be read.
+        read: bytes, the file's name and :class:`ImportOptions` -> :class:`Imported`; None if
+            it cannot be read.
         write: motion and options -> :class:`Exported`; None if it cannot be written.
         for_robot: whether the file drives a real robot (its export must pass the robot
             checks, warnings included) rather than hold data.
         default_robot: the robot it is for when none is named (``ur5e``), or None.
+        uses: the fields of :class:`ImportOptions` / :class:`ExportOptions` it reads beyond
+            the common ones (``topic``, ``joint_map``, ``max_error_rad``), so that a front end
+            can refuse one given to a format that ignores it.
     """
 
     name: str
     suffixes: tuple[str, ...]
     summary: str
-    read: Callable[[bytes, str], Imported] | None = None
+    read: Callable[[bytes, str, ImportOptions], Imported] | None = None
     write: Callable[[Motion, ExportOptions], Exported] | None = None
     for_robot: bool = False
     default_robot: str | None = None
+    uses: frozenset[str] = frozenset()

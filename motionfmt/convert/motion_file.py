@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported
+from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.writer import format_motion
 
@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 __all__ = ["read_motion_file", "write_motion_file"]
 
 
-def read_motion_file(data: bytes, path: str) -> Imported:
+def read_motion_file(data: bytes, path: str, options: ImportOptions | None = None) -> Imported:
     """The motion Webots plays (:class:`MotionSyntaxError` where Webots rejects the file)."""
     read = read_bytes(data, path)
     return Imported(read.motion, path, read)

@@ -13,7 +13,7 @@ import io
 import zipfile
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported
+from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
@@ -98,7 +98,7 @@ def _check_shapes(arrays: dict[str, Any], path: str) -> None:
         )
 
 
-def read_npz(data: bytes, path: str) -> Imported:
+def read_npz(data: bytes, path: str, options: ImportOptions | None = None) -> Imported:
     """A ``.npz`` motion (pose names from ``pose_names``, else ``Pose<ms>ms``); raises
     :class:`MotionToolError` naming the array at fault."""
     import numpy as np

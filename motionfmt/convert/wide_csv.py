@@ -16,7 +16,7 @@ import math
 import re
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported
+from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.errors import MotionSyntaxError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
@@ -165,7 +165,7 @@ def _value(cell: _Cell, joint: str, path: str, number: int) -> float:
     return math.nan if value == NO_VALUE_MARKER else value
 
 
-def read_csv(data: bytes, path: str) -> Imported:
+def read_csv(data: bytes, path: str, options: ImportOptions | None = None) -> Imported:
     """A wide CSV as a motion (poses named ``Pose<ms>ms``); raises :class:`MotionSyntaxError`
     at the first problem."""
     import numpy as np

@@ -1,0 +1,164 @@
+"""The one module that imports the ROS 2 libraries of the extra ``ros``, lazily: rosbags reads a
+bag, mcap with mcap-ros2-support writes one.
+
+Writing: one MCAP file (profile ``ros2``, CDR messages), each message type's schema the ROS 2
+definition text (``ros2msg``) that rosbags keeps for ROS 2 Humble's types, the format
+``ros2 bag record -s mcap`` writes and Foxglove, PlotJuggler and ``ros2 bag`` read. Messages go
+in as plain dicts (field name -> value) and are encoded by mcap-ros2-support from that text.
+
+Reading: rosbags' reader (a single ``.mcap`` file), decoded with the definitions the bag
+carries. Both are independent of each other: a bag written here is checked by the tests with
+the other library's reader.
+"""
+
+from __future__ import annotations
+
+import io
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.extras import require
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = [
+    "JOINT_STATE",
+    "JOINT_TRAJECTORY",
+    "NS_PER_MS",
+    "POSE_STAMPED",
+    "BagTopic",
+    "JointStates",
+    "duration",
+    "read_joint_states",
+    "stamp",
+    "write_bag",
+]
+
+JOINT_STATE = "sensor_msgs/msg/JointState"
+JOINT_TRAJECTORY = "trajectory_msgs/msg/JointTrajectory"
+POSE_STAMPED = "geometry_msgs/msg/PoseStamped"
+
+NS_PER_S = 1_000_000_000
+NS_PER_MS = 1_000_000
+"""Nanoseconds in a millisecond: ROS stamps and bag times are integer ns."""
+
+_EXTRA = "ros"
+
+
+@dataclass(frozen=True)
+class BagTopic:
+    """One topic to write.
+
+    Attributes:
+        name: the topic (``/joint_states``).
+        msgtype: its ROS 2 type (``sensor_msgs/msg/JointState``).
+        messages: (the bag's time, ns; the message as nested dicts), in time order.
+    """
+
+    name: str
+    msgtype: str
+    messages: Sequence[tuple[int, dict[str, Any]]]
+
+
+@dataclass(frozen=True)
+class JointStates:
+    """The ``sensor_msgs/JointState`` messages of one topic, in bag order.
+
+    Attributes:
+        stamps_ns: int64 (M,): each message's ``header.stamp``, ns.
+        names: each message's ``name`` list.
+        positions: each message's ``position``, float64.
+    """
+
+    stamps_ns: npt.NDArray[np.int64]
+    names: list[tuple[str, ...]]
+    positions: list[npt.NDArray[np.float64]]
+
+
+def stamp(ns: int) -> dict[str, int]:
+    """A ``builtin_interfaces/Time`` (``sec``, ``nanosec``) of ``ns`` >= 0 nanoseconds."""
+    return {"sec": ns // NS_PER_S, "nanosec": ns % NS_PER_S}
+
+
+def duration(ms: int) -> dict[str, int]:
+    """A ``builtin_interfaces/Duration`` (``sec``, ``nanosec``) of ``ms`` >= 0 milliseconds."""
+    return stamp(ms * NS_PER_MS)
+
+
+def write_bag(topics: Sequence[BagTopic], what: str) -> bytes:
+    """The MCAP file holding ``topics`` (deterministic: no wall clock in it).
+
+    Args:
+        what: what needs the libraries, for the missing-extra message (``a ROS 2 bag``).
+    """
+    require("rosbags", _EXTRA, what)
+    writer_module = require("mcap_ros2.writer", _EXTRA, what)
+    typesys = require("rosbags.typesys", _EXTRA, what)
+    store = typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
+    out = io.BytesIO()
+    writer = writer_module.Writer(out)
+    for topic in topics:
+        text, _ = store.generate_msgdef(topic.msgtype, ros_version=2)
+        schema = writer.register_msgdef(topic.msgtype, text)
+        for k, (ns, message) in enumerate(topic.messages):
+            writer.write_message(
+                topic.name, schema, message, log_time=ns, publish_time=ns, sequence=k
+            )
+    writer.finish()
+    return out.getvalue()
+
+
+def _topics(reader: Any) -> str:
+    listed = sorted((c.topic, c.msgtype) for c in reader.connections)
+    return ", ".join(f"{t} ({m})" for t, m in listed) or "none"
+
+
+def _messages(reader: Any, path: str, topic: str) -> JointStates:
+    import numpy as np
+
+    connections = [c for c in reader.connections if c.topic == topic]
+    if not connections:
+        raise MotionToolError(f"'{path}' has no topic {topic}; its topics: {_topics(reader)}")
+    other = [c.msgtype for c in connections if c.msgtype != JOINT_STATE]
+    if other:
+        raise MotionToolError(
+            f"'{path}': topic {topic} holds {other[0]}, not {JOINT_STATE}; choose a topic of "
+            f"that type (its topics: {_topics(reader)})"
+        )
+    stamps: list[int] = []
+    names: list[tuple[str, ...]] = []
+    positions: list[npt.NDArray[np.float64]] = []
+    for connection, _, raw in reader.messages(connections=connections):
+        msg = reader.deserialize(raw, connection.msgtype)
+        stamps.append(int(msg.header.stamp.sec) * NS_PER_S + int(msg.header.stamp.nanosec))
+        names.append(tuple(str(n) for n in msg.name))
+        positions.append(np.asarray(msg.position, dtype=np.float64))
+    return JointStates(np.asarray(stamps, dtype=np.int64), names, positions)
+
+
+def read_joint_states(data: bytes, path: str, topic: str) -> JointStates:
+    """Every ``sensor_msgs/JointState`` message of ``topic`` in the bag ``data`` (a ``.mcap``
+    file), with rosbags' reader.
+
+    Raises:
+        MotionToolError: not a bag rosbags can read, no such topic, or a topic of another type
+            (the message lists the bag's topics and types).
+    """
+    highlevel = require("rosbags.highlevel", _EXTRA, "reading a ROS 2 bag")
+    with tempfile.TemporaryDirectory(prefix="motiontool-bag-") as folder:
+        bag = Path(folder) / "bag.mcap"
+        bag.write_bytes(data)
+        try:
+            with highlevel.AnyReader([bag]) as reader:
+                return _messages(reader, path, topic)
+        except MotionToolError:
+            raise
+        except Exception as exc:  # rosbags' own errors and what a damaged file raises inside
+            reason = str(exc).replace(str(bag), "the file") or type(exc).__name__
+            raise MotionToolError(f"cannot read '{path}' as a ROS 2 bag (MCAP): {reason}") from exc

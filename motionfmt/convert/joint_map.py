@@ -1,0 +1,126 @@
+"""Joint names between a motion and ROS: a robot's ROS driver may name a joint otherwise than
+its Webots model. A joint map is a small flat table, the motion's joint -> the ROS name, in TOML
+or YAML::
+
+    # nao_ros.toml
+    HeadYaw = "head_yaw_joint"
+
+    # nao_ros.yaml
+    HeadYaw: head_yaw_joint
+
+A joint the map does not name keeps its name. The built-in robots need no map: the UR5e's
+Webots motors are the names Universal Robots' ROS 2 driver publishes (``shoulder_pan_joint`` ...
+``wrist_3_joint``), and the Webots Nao's are NAOqi's, which ``naoqi_driver`` publishes.
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.extras import require
+
+__all__ = ["from_ros", "parse_joint_map", "to_ros"]
+
+_TOML_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
+
+
+def _where(text: str, key: str) -> tuple[int, int]:
+    """(line, column) of ``key`` where a line defines it, else (1, 1)."""
+    quoted = "|".join(re.escape(q) for q in (key, f'"{key}"', f"'{key}'"))
+    pattern = re.compile(rf"^(\s*)(?:{quoted})\s*[=:]")
+    for number, line in enumerate(text.splitlines(), start=1):
+        found = pattern.match(line)
+        if found:
+            return number, len(found.group(1)) + 1
+    return 1, 1
+
+
+def _load(text: str, path: str) -> Any:
+    if path.lower().endswith(".toml"):
+        try:
+            return tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            at = _TOML_AT.search(str(exc))
+            line, col = (int(at.group(1)), int(at.group(2))) if at else (1, 1)
+            raise MotionSyntaxError(_TOML_AT.sub("", str(exc)), path, line, col) from exc
+    if path.lower().endswith((".yaml", ".yml")):
+        yaml = require("ruamel.yaml", "ros", "a YAML joint map")
+        try:
+            return yaml.YAML(typ="safe", pure=True).load(text)
+        except yaml.YAMLError as exc:
+            mark = getattr(exc, "problem_mark", None)
+            line, col = (mark.line + 1, mark.column + 1) if mark is not None else (1, 1)
+            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+            raise MotionSyntaxError(f"not YAML: {problem}", path, line, col) from exc
+    raise MotionToolError(f"'{path}': a joint map is a .toml or a .yaml (.yml) file")
+
+
+def parse_joint_map(data: bytes, path: str) -> tuple[tuple[str, str], ...]:
+    """The (motion joint, ROS name) pairs of a joint map file, in file order.
+
+    Raises:
+        MotionSyntaxError: not TOML or YAML, a value that is not a name, or one ROS name given
+            to two joints, at its line and column.
+        MotionToolError: not a flat table, or a file that is neither ``.toml`` nor ``.yaml``.
+    """
+    text = data.decode("utf-8", "surrogateescape")
+    table = _load(text, path)
+    if table is None:
+        table = {}
+    if not isinstance(table, dict):
+        raise MotionSyntaxError("a joint map is a table: joint = ROS name", path, 1, 1)
+    pairs: list[tuple[str, str]] = []
+    seen: dict[str, str] = {}
+    for key, value in table.items():
+        joint = str(key)
+        if not isinstance(value, str) or not value:
+            line, col = _where(text, joint)
+            raise MotionSyntaxError(
+                f"{joint}: the ROS name must be a non-empty string, got {value!r}", path, line, col
+            )
+        if value in seen:
+            line, col = _where(text, joint)
+            raise MotionSyntaxError(
+                f"{joint} and {seen[value]} both map to ROS name {value!r}", path, line, col
+            )
+        seen[value] = joint
+        pairs.append((joint, value))
+    return tuple(pairs)
+
+
+def to_ros(joints: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tuple[str, ...]:
+    """The ROS name of each of ``joints`` (the map's, else its own).
+
+    Raises:
+        MotionToolError: two joints would get one ROS name.
+    """
+    table: Mapping[str, str] = dict(joint_map)
+    names = tuple(table.get(j, j) for j in joints)
+    _unique(names, joints, "ROS name")
+    return names
+
+
+def from_ros(names: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tuple[str, ...]:
+    """The motion joint of each ROS name (the map read backwards, else the name itself).
+
+    Raises:
+        MotionToolError: two ROS names would become one joint.
+    """
+    table = {ros: joint for joint, ros in joint_map}
+    joints = tuple(table.get(n, n) for n in names)
+    _unique(joints, names, "joint")
+    return joints
+
+
+def _unique(mapped: Sequence[str], given: Sequence[str], what: str) -> None:
+    first: dict[str, str] = {}
+    for new, old in zip(mapped, given, strict=True):
+        if new in first:
+            raise MotionToolError(
+                f"{first[new]} and {old} both become {what} {new!r}: fix the joint map"
+            )
+        first[new] = old

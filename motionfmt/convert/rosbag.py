@@ -1,0 +1,225 @@
+"""ROS 2 bags (MCAP storage, one ``.mcap`` file), both ways.
+
+Written: Webots' command stream at the control step as ``sensor_msgs/JointState`` on the topic
+asked for (``/joint_states`` by default): one message per step, ``position`` the targets each
+motor holds (:mod:`.held`; the doubles as they are), ``header.stamp`` Webots' playback time from
+0 s; and on ``/joint_trajectory`` one ``trajectory_msgs/JointTrajectory`` at 0 s, the points
+:mod:`.ros_trajectory` sends to a robot (``time_from_start`` with the lead-in). Names go to ROS
+through the joint map.
+
+Read: the ``sensor_msgs/JointState`` messages of one topic (a real robot's ``/joint_states``,
+at 125 to 500 Hz) become a motion: times from the first stamp, in whole ms (a sample whose ms
+an earlier one already has is left out), ROS names mapped back, then the keyframes reduced
+within ``max_error_rad`` by the same reduction as ``resample --max-error``
+(:func:`~motiontool.motionfmt.resample.resample`). What is reported is the motion against every
+recorded sample at its own stamp (:class:`~.base.Recording`).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.convert._ros import (
+    JOINT_STATE,
+    JOINT_TRAJECTORY,
+    NS_PER_MS,
+    BagTopic,
+    JointStates,
+    read_joint_states,
+    stamp,
+    write_bag,
+)
+from motiontool.motionfmt.convert.base import (
+    Deviation,
+    Exported,
+    ExportOptions,
+    Imported,
+    ImportOptions,
+    Recording,
+    RobotStream,
+)
+from motiontool.motionfmt.convert.joint_map import from_ros
+from motiontool.motionfmt.convert.ros_trajectory import (
+    deviation,
+    trajectory,
+    trajectory_message,
+)
+from motiontool.motionfmt.cscan import INT_MAX
+from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.writer import check_name
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+    from motiontool.motionfmt.motion import Motion
+
+__all__ = ["TRAJECTORY_TOPIC", "read_rosbag", "write_rosbag"]
+
+TRAJECTORY_TOPIC = "/joint_trajectory"
+"""Where a written bag holds the trajectory (``joint_trajectory_controller``'s topic name)."""
+
+
+def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
+    """The bag (see the module)."""
+    traj = trajectory(motion, options)
+    held, names = traj.held, list(traj.ros_names)
+    states = [
+        (
+            int(ms) * NS_PER_MS,
+            {
+                "header": {"stamp": stamp(int(ms) * NS_PER_MS), "frame_id": ""},
+                "name": names,
+                "position": [float(v) for v in row],
+                "velocity": [],
+                "effort": [],
+            },
+        )
+        for ms, row in zip(held.elapsed_ms, held.targets, strict=True)
+    ]
+    data = write_bag(
+        [
+            BagTopic(options.topic, JOINT_STATE, states),
+            BagTopic(TRAJECTORY_TOPIC, JOINT_TRAJECTORY, [(0, trajectory_message(traj))]),
+        ],
+        "a ROS 2 bag",
+    )
+    worst = deviation(traj)
+    compared = (
+        f"{len(states)} JointState messages (the stream's own doubles) and the trajectory's "
+        f"{worst.compared}"
+    )
+    detail = (
+        f"{options.topic}: sensor_msgs/JointState every {options.timestep_ms} ms, "
+        f"{len(names)} joints; {TRAJECTORY_TOPIC}: a JointTrajectory of "
+        f"{traj.steps.shape[0]} points"
+    )
+    stream = RobotStream(held.motors, held.elapsed_ms, held.targets)
+    return Exported(
+        data,
+        len(states),
+        detail,
+        Deviation(worst.max_rad, worst.joint, worst.at_ms, compared),
+        stream=stream,
+    )
+
+
+def _seconds(ns: int) -> str:
+    """``ns`` nanoseconds as seconds with all nine decimals, exactly."""
+    return f"{'-' if ns < 0 else ''}{abs(ns) // 10**9}.{abs(ns) % 10**9:09d}"
+
+
+def _checked(states: JointStates, path: str, topic: str) -> tuple[str, ...]:
+    """The ROS names every message gives, in the first message's order; raises at the first
+    message that disagrees, is not after the one before, or holds a non-finite position."""
+    import numpy as np
+
+    if not states.names:
+        raise MotionToolError(f"'{path}': topic {topic} holds no message")
+    first = states.names[0]
+    if not first or len(set(first)) != len(first):
+        raise MotionToolError(
+            f"'{path}': {topic} message 1 names {list(first)}: no joint or one twice"
+        )
+    for i, (names, q) in enumerate(zip(states.names, states.positions, strict=True)):
+        where = f"'{path}': {topic} message {i + 1}"
+        if set(names) != set(first) or len(names) != len(first):
+            raise MotionToolError(f"{where} names {list(names)}, the first names {list(first)}")
+        if q.shape != (len(names),):
+            raise MotionToolError(f"{where} has {q.shape[0]} positions for {len(names)} names")
+        if not np.isfinite(q).all():
+            bad = names[int(np.argmax(~np.isfinite(q)))]
+            raise MotionToolError(f"{where}: {bad} = {float(q[names.index(bad)])!r} is not finite")
+        if i and states.stamps_ns[i] <= states.stamps_ns[i - 1]:
+            raise MotionToolError(
+                f"{where} is stamped {_seconds(int(states.stamps_ns[i]))} s, not after message "
+                f"{i}'s {_seconds(int(states.stamps_ns[i - 1]))} s: header stamps must increase"
+            )
+    return first
+
+
+def _samples(
+    states: JointStates, order: tuple[str, ...], path: str
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """(times from the first stamp, ms, float64 (M,); positions float64 (M, J) in ``order``)."""
+    import numpy as np
+
+    t_ms = (states.stamps_ns - states.stamps_ns[0]) / NS_PER_MS
+    if t_ms[-1] > INT_MAX:
+        raise MotionToolError(f"'{path}': {t_ms[-1]:.0f} ms long, beyond {INT_MAX} ms")
+    q = np.empty((len(states.names), len(order)))
+    for i, (names, row) in enumerate(zip(states.names, states.positions, strict=True)):
+        q[i] = row if names == order else row[[names.index(n) for n in order]]
+    return t_ms, q
+
+
+def read_rosbag(data: bytes, path: str, options: ImportOptions | None = None) -> Imported:
+    """The motion a bag's ``sensor_msgs/JointState`` topic records (see the module).
+
+    Raises:
+        MotionToolError: not a bag, no such topic, a topic of another type, stamps that do not
+            increase, messages that disagree on their joints, a non-finite position.
+    """
+    opts = options or ImportOptions()
+    states = read_joint_states(data, path, opts.topic)
+    order = _checked(states, path, opts.topic)
+    joints = from_ros(order, opts.joint_map)
+    for joint in joints:
+        check_name(joint, "joint")
+    t_ms, q = _samples(states, order, path)
+    motion, merged = _reduced(joints, t_ms, q, opts.max_error_rad, path)
+    worst = _deviation(motion, t_ms, q)
+    recording = Recording(
+        opts.topic, len(states.names), round(float(t_ms[-1])), merged, opts.max_error_rad, worst
+    )
+    return Imported(motion, path, recording=recording)
+
+
+def _reduced(
+    joints: tuple[str, ...],
+    t_ms: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    max_error: float,
+    path: str,
+) -> tuple[Motion, int]:
+    """The recording on whole ms (the first sample of each ms), its keyframes reduced as
+    ``resample --max-error`` reduces them; (motion, samples left out on a shared ms)."""
+    import numpy as np
+
+    from motiontool.motionfmt.document import loads
+    from motiontool.motionfmt.motion import Motion
+    from motiontool.motionfmt.resample import resample
+    from motiontool.motionfmt.writer import format_motion
+
+    ms = np.rint(t_ms).astype(np.int64)
+    keep = np.concatenate(([True], np.diff(ms) > 0))
+    times = ms[keep]
+    values = q[keep]
+    full = Motion(
+        joints,
+        tuple(f"Pose{int(t)}ms" for t in times),
+        times,
+        values,
+        np.ones(values.shape, dtype=bool),
+    )
+    doc = loads(format_motion(full).encode("utf-8", "surrogateescape"), path)
+    return resample(doc, max_error=max_error).document.motion, int((~keep).sum())
+
+
+def _deviation(
+    motion: Motion, t_ms: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
+) -> Deviation:
+    """The motion's straight lines at every recorded stamp against the recorded positions."""
+    import numpy as np
+
+    key_t = motion.times_ms.astype(np.float64)
+    err = np.empty_like(q)
+    for j in range(q.shape[1]):
+        err[:, j] = np.abs(np.interp(t_ms, key_t, motion.values[:, j]) - q[:, j])
+    at = np.unravel_index(int(np.argmax(err)), err.shape)
+    return Deviation(
+        float(err[at]),
+        motion.joints[int(at[1])],
+        round(float(t_ms[int(at[0])])),
+        f"{err.size} recorded positions ({q.shape[0]} messages), each at its own stamp",
+    )
