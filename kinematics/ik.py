@@ -33,6 +33,7 @@ from motiontool.kinematics._pinocchio.api import SE3, Data, Model, Pinocchio, pi
 from motiontool.kinematics._pinocchio.configuration import configuration
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
     import numpy as np
@@ -353,7 +354,7 @@ def _no_convergence(
     return MotionToolError(
         f"inverse kinematics for frame '{frame}' of robot {spec.name} did not converge to "
         f"position ({target.position[0]:.4f}, {target.position[1]:.4f}, "
-        f"{target.position[2]:.4f}) m: still {errors[0] * 1000:.1f} mm and "
+        f"{target.position[2]:.4f}) m: still {errors[0] * MM_PER_M:.1f} mm and "
         f"{math.degrees(errors[1]):.2f} deg away after {iterations} iterations "
         f"(out of reach, beyond a joint limit, or on another branch than the seed)"
     )

@@ -61,6 +61,7 @@ from motiontool.kinematics.ik import Pose, forward_pose, solve_ik
 from motiontool.kinematics.robots import RobotSpec, load_robot
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.motion import Motion
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -256,10 +257,10 @@ def segment_ms(
 
     delta = np.abs(np.asarray(end, dtype=np.float64) - np.asarray(start, dtype=np.float64))
     limit = margin * np.asarray(max_velocity, dtype=np.float64)
-    need_ms = float(np.max(delta / limit)) * 1000.0
+    need_ms = float(np.max(delta / limit)) * MS_PER_S
     ms = max(min_ms, step_ms * math.ceil(need_ms / step_ms))
     ms = step_ms * math.ceil(ms / step_ms)
-    while np.any(delta / (ms / 1000.0) > limit):  # guard against rounding at the boundary
+    while np.any(delta / (ms / MS_PER_S) > limit):  # guard against rounding at the boundary
         ms += step_ms
     return ms
 
@@ -352,7 +353,7 @@ def peak_speeds(motion: Motion) -> npt.NDArray[np.float64]:
 
     if motion.n_poses < 2:
         return np.zeros(motion.n_joints)
-    dt_s = np.diff(motion.times_ms).astype(np.float64)[:, None] / 1000.0
+    dt_s = np.diff(motion.times_ms).astype(np.float64)[:, None] / MS_PER_S
     speeds = np.abs(np.diff(motion.values, axis=0)) / dt_s
     return np.asarray(np.nanmax(np.where(np.isnan(speeds), 0.0, speeds), axis=0))
 

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.retime import Retimed, Stretch, require_in_range
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -26,7 +27,7 @@ _ACCEL_ROUNDS = 400  # rounds of _fit_acceleration; the second half slows down u
 
 def _velocity_ok(delta: float, duration_ms: int, vmax: float) -> bool:
     """|delta| moved in ``duration_ms`` stays within ``vmax`` (units per second)."""
-    return delta / (duration_ms / 1000.0) <= vmax
+    return delta / (duration_ms / MS_PER_S) <= vmax
 
 
 def fit_limits(
@@ -142,7 +143,7 @@ def _fit_velocity(
 def _shortest_ms(delta: float, vmax: float) -> int:
     """The fewest whole ms (at least 1) in which moving ``delta`` stays within ``vmax`` (units
     per second), exactly as :func:`_velocity_ok` decides it."""
-    k = max(1, math.ceil(delta * 1000.0 / vmax))
+    k = max(1, math.ceil(delta * MS_PER_S / vmax))
     while not _velocity_ok(delta, k, vmax):
         k += 1
     while k > 1 and _velocity_ok(delta, k - 1, vmax):
@@ -159,7 +160,7 @@ def _accel_ratio(
     """
     import numpy as np
 
-    w = dq * 1000.0 / dur[:, None]  # (S, C) segment velocities, unit/s
+    w = dq * MS_PER_S / dur[:, None]  # (S, C) segment velocities, unit/s
     zeros = np.zeros((1, w.shape[1]))
     w_in = np.vstack([zeros, w])  # velocity before pose k (rest before the first)
     w_out = np.vstack([w, zeros])  # velocity after pose k (rest after the last)

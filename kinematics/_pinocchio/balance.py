@@ -11,6 +11,7 @@ from motiontool.kinematics._pinocchio.hull import convex_hull, signed_distance
 from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.errors import MotionToolError
+from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
     import numpy as np
@@ -110,4 +111,4 @@ def com_and_support(
     hull = convex_hull(contact)
     com_xy = np.array(com[:2], dtype=np.float64)
     margin_m = signed_distance((float(com_xy[0]), float(com_xy[1])), hull)
-    return Balance(com_xy, np.array(hull, dtype=np.float64).reshape(-1, 2), margin_m * 1000.0)
+    return Balance(com_xy, np.array(hull, dtype=np.float64).reshape(-1, 2), margin_m * MM_PER_M)

@@ -17,6 +17,7 @@ from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.reader import ReadResult
+from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
     import numpy as np
@@ -64,7 +65,7 @@ class Collision(RobotCheck):
         contacts = scan_self_collisions(
             self.spec,
             q,
-            penetration_tolerance_m=self.tolerance_mm / 1000.0,
+            penetration_tolerance_m=self.tolerance_mm / MM_PER_M,
             fingers_in_hand=True,
         )
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
@@ -87,7 +88,7 @@ class Collision(RobotCheck):
         """MT307 for the bodies ``pair`` overlapping over the checked instants ``run`` (indices
         in ``times``, ms), by ``depths`` (m) at each."""
         deepest = max(run, key=lambda i: depths[i])
-        depth_mm = depths[deepest] * 1000.0
+        depth_mm = depths[deepest] * MM_PER_M
         at = self._instant(table, times, deepest)
         span = (
             ""

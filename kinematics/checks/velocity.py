@@ -20,6 +20,7 @@ from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -55,7 +56,7 @@ class Velocity(RobotCheck):
         vmax = np.array([joints[k].max_velocity for k in limited])
         start, end = table.segment_values()
         driver = table.segments()[0][:, limited]
-        dt_s = np.diff(table.times).astype(np.float64) / 1000.0
+        dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
         with np.errstate(invalid="ignore"):
             delta = np.abs(end[:, limited] - start[:, limited])
             speed = delta / dt_s[:, None]
@@ -74,8 +75,8 @@ class Velocity(RobotCheck):
         u = joint.unit
         vmax = joint.max_velocity
         t0, t1 = int(table.times[seg]), int(table.times[seg + 1])
-        speed = float(delta) / ((t1 - t0) / 1000.0)
-        need_ms = float(delta) / vmax * 1000.0
+        speed = float(delta) / ((t1 - t0) / MS_PER_S)
+        need_ms = float(delta) / vmax * MS_PER_S
         return cell(
             table,
             "MT303",
@@ -167,7 +168,7 @@ class Velocity(RobotCheck):
         step = self.timestep_ms
         vmax, defined, fast_before = motor
         with np.errstate(invalid="ignore"):  # 'inf' targets: left to MT302
-            per_step = np.abs(np.diff(targets)) / (step / 1000.0)
+            per_step = np.abs(np.diff(targets)) / (step / MS_PER_S)
             n = np.flatnonzero(np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS)))
         if n.size == 0:
             return []
@@ -208,8 +209,8 @@ class Velocity(RobotCheck):
         name = fmt_name(joint.name)
         u = joint.unit
         vmax = joint.max_velocity
-        delta = speed * step / 1000.0
-        lag = delta / vmax * 1000.0 - step
+        delta = speed * step / MS_PER_S
+        lag = delta / vmax * MS_PER_S - step
         if gap > 1:
             subject = f"{name}'s target jumps after '*'"
             what = (
