@@ -131,12 +131,14 @@ def lint(
     resolver: Resolver,
     overrides: Overrides,
     make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
+    on_step: Callable[[str], None] | None = None,
 ) -> LintRun:
     """Validate ``files``, each with its settings and ``overrides`` over them.
 
     ``make_checker(robot, checks, timestep)`` builds the robot checks of one group (the CLI
     words its hints); ``checks`` None means the default checks (skipped with a note where a
-    library is missing), a tuple means checks asked for by name.
+    library is missing), a tuple means checks asked for by name. ``on_step`` is told what is
+    being done, file by file and check by check (:mod:`motiontool.cli.progress`).
     """
     groups: dict[_Key, list[Path]] = {}
     settings = {f: resolver.for_file(f) for f in files}
@@ -146,12 +148,15 @@ def lint(
     checked: Checked | None = None
     for (robot, checks, timestep, grouped), group in groups.items():
         checker = None if robot == NONE else make_checker(robot, checks, timestep)
+        if checker is not None:
+            checker.on_check = on_step
         part = validate_paths(
             group,
             timestep_ms=timestep,
             checks=[checker] if checker is not None else [],
             ignore=overrides.ignore,
             group=grouped,
+            on_step=on_step,
         )
         for f, fr in zip(group, part.files, strict=True):
             s = settings[f]

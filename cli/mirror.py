@@ -19,6 +19,8 @@ from motiontool.cli._authoring import (
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
 from motiontool.cli.output import emit_bytes, say_wrote, written_motion
+from motiontool.cli.progress import progress
+from motiontool.cli.text import plural
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
@@ -163,7 +165,9 @@ def mirror_command(
     doc = load_input(path)
     spec = resolve_robot(robot, doc.joints)
     m = mirror_map(spec)
-    result = mirror(doc, m.as_dict())
+    with progress("mirror") as step:
+        step(f"{source_name(path)} ({plural(doc.n_poses, 'pose')})")
+        result = mirror(doc, m.as_dict())
     limits = Limits(spec)
     before = limits(doc.result)
     after = limits(read_bytes(result.data, result.path))  # the one read of the result

@@ -25,8 +25,9 @@ from motiontool.cli.physics_options import (
     ProfileOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
+from motiontool.cli.progress import progress
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
-from motiontool.cli.text import file_name
+from motiontool.cli.text import file_name, plural
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdout
@@ -246,7 +247,10 @@ def play_command(
         profile=profile.value,
     )
     robot = robot if robot is not None else settings.robot_for(files[0])
-    result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag)
+    with progress("play") as step:
+        names = ", ".join(file_name(f) for f in files)
+        step(f"{names}, {plural(loop, 'cycle')} in MuJoCo")
+        result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag)
     say_bag(result, bag)
     _render(result, json_path, rrd)
 

@@ -29,6 +29,7 @@ from motiontool.cli.options import (
     timestep_option,
 )
 from motiontool.cli.output import emit, emit_bytes, refuse_overwrite
+from motiontool.cli.progress import progress
 from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
 from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
@@ -321,7 +322,9 @@ def validate_command(
     if fix:
         fixed = fix_files(files, unsafe=unsafe_fixes, write=True, robot=robot_fixes)
         typer.echo(f"motiontool: {fixed.line()}", err=True)
-    run = lint(files, resolver, overrides, partial(robot_checks, tolerance=collision_tolerance))
+    checker = partial(robot_checks, tolerance=collision_tolerance)
+    with progress("validate") as step:
+        run = lint(files, resolver, overrides, checker, on_step=step)
     project = resolver.for_file(Path("-"))
     if project.max_findings is not None:
         keep_first(run.report, project.max_findings)

@@ -159,13 +159,20 @@ def validate_bytes(
     checks: Sequence[Check] = (),
     ignore: Iterable[str] = (),
     group: bool = False,
+    on_step: Callable[[str], None] | None = None,
 ) -> FileReport:
     """Validate one file's bytes: Webots' reading, then ``checks`` if Webots accepts the file.
 
     ``group``: each check's consecutive per-pose findings of one code and subject become one
     finding (:func:`~motiontool.motionfmt.grouping.group_findings`), as each check returns
-    them, so that one file's findings are never all held ungrouped besides one check's."""
+    them, so that one file's findings are never all held ungrouped besides one check's.
+    ``on_step``: told what is being done (``path: read``, ``path: checks``), for a progress
+    display."""
+    if on_step is not None:
+        on_step(f"{path}: read")
     result = read_bytes(data, path, timestep_ms=timestep_ms)
+    if on_step is not None and checks:
+        on_step(f"{path}: checks")
     diagnostics = list(result.diagnostics)
     if result.accepted and result.times_ms and result.joints:
         for check in checks:
@@ -183,9 +190,11 @@ def validate_paths(
     checks: Sequence[Check] = (),
     ignore: Iterable[str] = (),
     group: bool = False,
+    on_step: Callable[[str], None] | None = None,
 ) -> ValidationReport:
     """Validate files and directories (every ``*.motion`` below a directory, recursively);
-    ``-`` reads standard input, named ``<stdin>``; ``group``: see :func:`validate_bytes`.
+    ``-`` reads standard input, named ``<stdin>``; ``group``, ``on_step``: see
+    :func:`validate_bytes`.
 
     Raises:
         MotionToolError: a path is missing or unreadable, or a directory has no motion file.
@@ -197,7 +206,13 @@ def validate_paths(
         name = source_name(p)
         report.files.append(
             validate_bytes(
-                data, name, timestep_ms=timestep_ms, checks=checks, ignore=ignore, group=group
+                data,
+                name,
+                timestep_ms=timestep_ms,
+                checks=checks,
+                ignore=ignore,
+                group=group,
+                on_step=on_step,
             )
         )
     return report

@@ -178,6 +178,9 @@ class RobotChecks:
         self.robot = robot
         self.skip_missing = skip_missing
         self.wording = wording
+        self.on_check: Callable[[str], None] | None = None
+        """Told which check runs on which file (``big.motion: collision``), for a progress
+        display; None: nothing is told."""
         self.checks = parse_checks(list(checks))
         self.used: dict[str, RobotSpec | None] = {}
         self.skipped: dict[str, MissingExtraError] = {}
@@ -231,6 +234,8 @@ class RobotChecks:
         name = _CHECK_NAMES.get(type(check))
         if name in self.skipped:
             return []
+        if self.on_check is not None and name is not None:
+            self.on_check(f"{result.path}: {name}")
         try:
             return check(result)
         except MissingExtraError as exc:
