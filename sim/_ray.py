@@ -2,27 +2,37 @@
 
 Ray is an optional extra (``pip install 'motiontool[ray]'``). Each run is one Ray task; at most
 ``jobs`` are in flight; a task that exceeds the timeout is cancelled (its worker is killed) and
-reported as ``timeout``; a task whose worker dies is reported as ``crashed``.
+reported as ``timeout``; a task whose worker dies is reported as ``crashed``. Ray ships its own
+types (``py.typed``): the module is imported directly (lazily), so mypy checks every call.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterator, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, TypeVar
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.extras import require
-from motiontool.sim.executor import Outcome, call_runner
+from motiontool.sim.executor import Outcome, Status, call_runner
+
+if TYPE_CHECKING:
+    from ray import ObjectRef
+
+    #: A task in flight: what :func:`~motiontool.sim.executor.call_runner` returns, once ready.
+    _Ref = ObjectRef[tuple[Status, object, str]]
 
 __all__ = ["run_ray"]
 
 _LOST = "the Ray task failed: its worker died or its result was lost"
 
+Task = TypeVar("Task")
+Result = TypeVar("Result")
+
 
 def run_ray(
-    runner: Callable[[Any], Any],
-    tasks: Sequence[Any],
+    runner: Callable[[Task], Result],
+    tasks: Sequence[Task],
     *,
     jobs: int = 2,
     timeout_s: float | None = None,
@@ -34,7 +44,9 @@ def run_ray(
     Connects to ``address`` (``auto`` finds a running cluster) or, when None, starts a local
     Ray instance for the duration of the call.
     """
-    ray = require("ray", "ray", "the Ray executor")
+    require("ray", "ray", "the Ray executor")
+    import ray
+
     started_here = not ray.is_initialized()
     if started_here:
         try:
@@ -47,22 +59,24 @@ def run_ray(
     remote = ray.remote(max_retries=0)(call_runner)
     try:
         pending = list(range(len(tasks)))
-        in_flight: dict[Any, tuple[int, float]] = {}
+        in_flight: dict[_Ref, tuple[int, float]] = {}
         while pending or in_flight:
             while pending and len(in_flight) < jobs:
                 i = pending.pop(0)
                 in_flight[remote.remote(runner, tasks[i])] = (i, time.monotonic())
-            yield from _collect(ray, in_flight, timeout_s)
+            yield from _collect(in_flight, timeout_s)
     finally:
         if started_here:
             ray.shutdown()
 
 
 def _collect(
-    ray: Any, in_flight: dict[Any, tuple[int, float]], timeout_s: float | None
+    in_flight: dict[_Ref, tuple[int, float]], timeout_s: float | None
 ) -> Iterator[Outcome]:
     """Wait for the first task in flight to end or time out; yield (and drop) every task that
     has ended, and cancel those past the timeout."""
+    import ray
+
     wait_s = None
     if timeout_s is not None:
         first = min(t for _, t in in_flight.values())

@@ -31,18 +31,23 @@ from __future__ import annotations
 
 import math
 import uuid
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 
 if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+    import rerun
+    import rerun.blueprint
+
     from motiontool.sim.motor import MotorLimits
     from motiontool.sim.play import Marker
     from motiontool.sim.report import EndEffectorStats
-    from motiontool.sim.trace import BodyShapes, Trace
+    from motiontool.sim.trace import BodyShapes, Shape, Trace
 
 __all__ = ["APPLICATION_ID", "TIMELINE", "write_failure", "write_recording"]
 
@@ -93,25 +98,27 @@ TOOL_TRAIL_ROWS = 400
 last row is always the whole path)."""
 
 
-def _rerun(module: str) -> Any:
-    """``rerun`` (or a submodule), or a one-line error naming ``motiontool[rerun]``."""
-    return require(module, "rerun", "a Rerun recording")
+def _stream(
+    name: str, properties: Mapping[str, str]
+) -> tuple[rerun.RecordingStream, rerun.MemoryRecording]:
+    """A recording stream into memory, with its name and stamps.
 
-
-def _stream(name: str, properties: Mapping[str, str]) -> tuple[Any, Any]:
-    rr = _rerun("rerun")
+    Every recording starts here, so this is where a missing rerun is one line naming
+    ``motiontool[rerun]``; rerun ships its own types (``py.typed``), so the helpers below import
+    it directly and mypy checks every call against them."""
+    require("rerun", "rerun", "a Rerun recording")
+    import rerun as rr
 
     recording_id = uuid.uuid5(uuid.NAMESPACE_URL, name + repr(sorted(properties.items())))
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
     memory = rec.memory_recording()
     rec.send_recording_name(name)
     if properties:
-        values: dict[str, Any] = dict(properties)
-        rec.send_property("stamps", rr.AnyValues(**values))
+        rec.send_property("stamps", rr.AnyValues(drop_untyped_nones=True, **properties))
     return rec, memory
 
 
-def _finish(rec: Any, memory: Any, path: Path) -> None:
+def _finish(rec: rerun.RecordingStream, memory: rerun.MemoryRecording, path: Path) -> None:
     rec.flush()
     data = memory.drain_as_bytes()
     rec.disconnect()
@@ -121,9 +128,9 @@ def _finish(rec: Any, memory: Any, path: Path) -> None:
 def write_failure(path: Path, message: str, properties: Mapping[str, str], name: str) -> None:
     """A recording holding only the stamps and ``message`` as an ERROR event (at 0 s): written
     when a run could not even start, so that ``--rrd`` always leaves a file."""
-    rr = _rerun("rerun")
-
     rec, memory = _stream(name, properties)
+    import rerun as rr
+
     rec.send_columns(
         "/events",
         indexes=[rr.TimeColumn(TIMELINE, duration=[0.0])],
@@ -158,13 +165,13 @@ def write_recording(
 
 
 def _log_joints(
-    rec: Any, trace: Trace, limits: MotorLimits, joint_limbs: Sequence[str]
+    rec: rerun.RecordingStream, trace: Trace, limits: MotorLimits, joint_limbs: Sequence[str]
 ) -> dict[str, list[str]]:
     """Joint series: commanded (clipped, as the motor sees it), measured, limits. Returns the
     entity of each joint, by limb."""
     import numpy as np
+    import rerun as rr
 
-    rr = _rerun("rerun")
     times = trace.time_s
     frames = rr.TimeColumn(TIMELINE, duration=times)
     steps = rr.TimeColumn(TIMELINE, duration=times[:-1])
@@ -181,18 +188,31 @@ def _log_joints(
 
 
 def _log_series(
-    rec: Any, entity: str, index: Any, values: Any, color: tuple[int, int, int], name: str
+    rec: rerun.RecordingStream,
+    entity: str,
+    index: rerun.TimeColumn,
+    values: npt.NDArray[np.float64],
+    color: tuple[int, int, int],
+    name: str,
 ) -> None:
     """One scalar series (one ``send_columns``; none when empty) and its static line style."""
-    rr = _rerun("rerun")
+    import rerun as rr
+
     if len(values):
         rec.send_columns(entity, indexes=[index], columns=rr.Scalars.columns(scalars=values))
     rec.log(entity, rr.SeriesLines(colors=[color], names=[name]), static=True)
 
 
-def _log_limits(rec: Any, base: str, times: Any, lower: float, upper: float) -> None:
+def _log_limits(
+    rec: rerun.RecordingStream,
+    base: str,
+    times: npt.NDArray[np.float64],
+    lower: float,
+    upper: float,
+) -> None:
     """A joint's finite limits: a flat line each, from the first frame to the last."""
-    rr = _rerun("rerun")
+    import rerun as rr
+
     ends = rr.TimeColumn(TIMELINE, duration=[float(times[0]), float(times[-1])])
     for side, value in (("lower", lower), ("upper", upper)):
         if math.isfinite(value):
@@ -208,9 +228,10 @@ def _log_limits(rec: Any, base: str, times: Any, lower: float, upper: float) -> 
             )
 
 
-def _log_bodies(rec: Any, trace: Trace, shapes: Sequence[BodyShapes]) -> None:
+def _log_bodies(rec: rerun.RecordingStream, trace: Trace, shapes: Sequence[BodyShapes]) -> None:
     """Bodies: static primitives in the body frame, a robot body posed every frame."""
-    rr = _rerun("rerun")
+    import rerun as rr
+
     esc = rr.escape_entity_path_part
     frames = rr.TimeColumn(TIMELINE, duration=trace.time_s)
     limb_color = {
@@ -234,11 +255,11 @@ def _log_bodies(rec: Any, trace: Trace, shapes: Sequence[BodyShapes]) -> None:
             )
 
 
-def _log_base(rec: Any, trace: Trace) -> None:
+def _log_base(rec: rerun.RecordingStream, trace: Trace) -> None:
     """The root body: its whole path (static), its position at every frame."""
     import numpy as np
+    import rerun as rr
 
-    rr = _rerun("rerun")
     rec.log(
         "/world/base_trail",
         rr.LineStrips3D([trace.base_pos], colors=[_BASE_TRAIL], radii=[BASE_TRAIL_RADIUS_M]),
@@ -253,9 +274,10 @@ def _log_base(rec: Any, trace: Trace) -> None:
     )
 
 
-def _log_events(rec: Any, markers: Sequence[Marker]) -> None:
+def _log_events(rec: rerun.RecordingStream, markers: Sequence[Marker]) -> None:
     """The event log: one ``TextLog`` row per marker."""
-    rr = _rerun("rerun")
+    import rerun as rr
+
     rec.send_columns(
         "/events",
         indexes=[rr.TimeColumn(TIMELINE, duration=[m.time_s for m in markers])],
@@ -266,9 +288,10 @@ def _log_events(rec: Any, markers: Sequence[Marker]) -> None:
     )
 
 
-def _blueprint(limbs: Mapping[str, Sequence[str]]) -> Any:
+def _blueprint(limbs: Mapping[str, Sequence[str]]) -> rerun.blueprint.Blueprint:
     """The 3D view and the event log beside one tab of joint plots per limb."""
-    rrb = _rerun("rerun.blueprint")
+    import rerun.blueprint as rrb
+
     plots = [
         rrb.Grid(
             *[rrb.TimeSeriesView(origin=base, name=base.rsplit("/", 1)[1]) for base in bases],
@@ -290,11 +313,10 @@ def _blueprint(limbs: Mapping[str, Sequence[str]]) -> Any:
     )
 
 
-def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
+def _log_tool(rec: rerun.RecordingStream, trace: Trace, ee: EndEffectorStats) -> None:
     """The tool: its position every frame, its growing path, the keyframes' targets."""
     import numpy as np
-
-    rr = _rerun("rerun")
+    import rerun as rr
 
     assert trace.tool_pos is not None
     rec.send_columns(
@@ -334,69 +356,65 @@ def _log_tool(rec: Any, trace: Trace, ee: EndEffectorStats) -> None:
         )
 
 
-def _log_shapes(rec: Any, root: str, body: BodyShapes, color: tuple[int, int, int]) -> None:
+def _log_shapes(
+    rec: rerun.RecordingStream, root: str, body: BodyShapes, color: tuple[int, int, int]
+) -> None:
     """Log ``body``'s primitives under ``root``, in the body frame, one entity per kind."""
-    import numpy as np
-
-    rr = _rerun("rerun")
-
-    by_kind: dict[str, list[Any]] = {}
+    by_kind: dict[str, list[Shape]] = {}
     for shape in body.shapes:
         by_kind.setdefault(shape.kind, []).append(shape)
     for kind, group in by_kind.items():
-        pos = np.array([s.pos for s in group], dtype=np.float64)
-        quat = np.array([s.quat for s in group], dtype=np.float64)
-        xyzw = quat[:, [1, 2, 3, 0]]
-        size = np.array([s.size for s in group], dtype=np.float64)
-        colors = [color] * len(group)
-        if kind == "box":
-            rec.log(
-                f"{root}/boxes",
-                rr.Boxes3D(half_sizes=size, centers=pos, quaternions=xyzw, colors=colors),
-                static=True,
-            )
-        elif kind in ("capsule", "cylinder"):
-            if kind == "capsule":  # Rerun's starts at its origin along +z; MuJoCo's is centred
-                start = [_rotate(q, (0.0, 0.0, s[1])) for q, s in zip(quat, size, strict=True)]
-                archetype, place = rr.Capsules3D, {"translations": pos - np.array(start)}
-            else:
-                archetype, place = rr.Cylinders3D, {"centers": pos}
-            rec.log(
-                f"{root}/{kind}s",
-                archetype(
-                    lengths=2 * size[:, 1],
-                    radii=size[:, 0],
-                    quaternions=xyzw,
-                    colors=colors,
-                    **place,
-                ),
-                static=True,
-            )
-        elif kind in ("sphere", "ellipsoid"):
-            half = np.repeat(size[:, :1], 3, axis=1) if kind == "sphere" else size
-            rec.log(
-                f"{root}/{kind}s",
-                rr.Ellipsoids3D(
-                    half_sizes=half, centers=pos, quaternions=xyzw, colors=colors, fill_mode="solid"
-                ),
-                static=True,
-            )
-        elif kind == "plane":
-            half = np.where(size[:, :2] > 0, size[:, :2], PLANE_HALF_SIZE_M)  # 0: infinite
-            rec.log(
-                f"{root}/planes",
-                rr.Boxes3D(
-                    half_sizes=np.column_stack([half, np.full(len(group), PLANE_THICKNESS_M)]),
-                    centers=pos - [0.0, 0.0, PLANE_THICKNESS_M],
-                    quaternions=xyzw,
-                    colors=colors,
-                    fill_mode="solid",
-                ),
-                static=True,
-            )
+        drawn = _primitives(kind, group, color)
+        if drawn is not None:
+            rec.log(f"{root}/{drawn[0]}", drawn[1], static=True)
 
 
-def _rotate(quat: Any, v: tuple[float, float, float]) -> tuple[float, float, float]:
+def _primitives(
+    kind: str, group: Sequence[Shape], color: tuple[int, int, int]
+) -> tuple[str, rerun.AsComponents] | None:
+    """(entity name, archetype) of the primitives ``group`` of one ``kind``, or None for a kind
+    that is not drawn."""
+    import numpy as np
+    import rerun as rr
+
+    pos = np.array([s.pos for s in group], dtype=np.float64)
+    quat = np.array([s.quat for s in group], dtype=np.float64)
+    xyzw = quat[:, [1, 2, 3, 0]]
+    size = np.array([s.size for s in group], dtype=np.float64)
+    colors = [color] * len(group)
+    if kind == "box":
+        return "boxes", rr.Boxes3D(half_sizes=size, centers=pos, quaternions=xyzw, colors=colors)
+    if kind == "capsule":  # Rerun's starts at its origin along +z; MuJoCo's is centred
+        start = [_rotate(q, (0.0, 0.0, s[1])) for q, s in zip(quat, size, strict=True)]
+        return "capsules", rr.Capsules3D(
+            lengths=2 * size[:, 1],
+            radii=size[:, 0],
+            translations=pos - np.array(start),
+            quaternions=xyzw,
+            colors=colors,
+        )
+    if kind == "cylinder":
+        return "cylinders", rr.Cylinders3D(
+            lengths=2 * size[:, 1], radii=size[:, 0], centers=pos, quaternions=xyzw, colors=colors
+        )
+    if kind in ("sphere", "ellipsoid"):
+        half = np.repeat(size[:, :1], 3, axis=1) if kind == "sphere" else size
+        return f"{kind}s", rr.Ellipsoids3D(
+            half_sizes=half, centers=pos, quaternions=xyzw, colors=colors, fill_mode="solid"
+        )
+    if kind == "plane":
+        half = np.where(size[:, :2] > 0, size[:, :2], PLANE_HALF_SIZE_M)  # 0: infinite
+        return "planes", rr.Boxes3D(
+            half_sizes=np.column_stack([half, np.full(len(group), PLANE_THICKNESS_M)]),
+            centers=pos - [0.0, 0.0, PLANE_THICKNESS_M],
+            quaternions=xyzw,
+            colors=colors,
+            fill_mode="solid",
+        )
+    return None
+
+
+def _rotate(quat: Iterable[float], v: tuple[float, float, float]) -> tuple[float, float, float]:
     """Rotate ``v`` by the unit quaternion ``quat`` (w, x, y, z)."""
     w, x, y, z = (float(c) for c in quat)
     vx, vy, vz = v

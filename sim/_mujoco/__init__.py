@@ -1,10 +1,11 @@
 """The MuJoCo side of ``play``: the scene, Webots-like motors, and the stepping loop.
 
-The only package that imports :mod:`mujoco` (lazily, inside functions, through
-:func:`._lib.mj`). One concept per module: :mod:`.scene` (what a compiled scene holds),
-:mod:`.build` (building it), :mod:`.start` (its start state), :mod:`.topology` (the robot's
-tree: limbs, end effector), :mod:`.probe` (self-collision), :mod:`.stepping` (running it),
-:mod:`.shapes` (its shapes, for a recording).
+The only package that imports :mod:`mujoco` (lazily, inside functions, through :func:`.api.mj`,
+typed by the Protocols of :mod:`.api`: MuJoCo ships no stubs). One concept per module:
+:mod:`.scene` (what a compiled scene holds), :mod:`.build` (building it), :mod:`.start` (its
+start state), :mod:`.topology` (the robot's tree: limbs, end effector), :mod:`.probe`
+(self-collision), :mod:`.stepping` (running it), :mod:`.shapes` (its shapes, for a recording),
+:mod:`._lib` (the installed version, the warnings' names).
 
 Scene (built with :class:`mujoco.MjSpec` from the robot's model file): a floor plane, a light and
 the robot. A free-flying robot (the Nao) stands in its zero pose with its lowest point

@@ -1,20 +1,10 @@
-"""The :mod:`mujoco` module, imported on first use (a missing extra is one line), and what is
-read from the installed MuJoCo itself: its version and its warnings' names."""
+"""What is read from the installed MuJoCo itself: its version and its warnings' names."""
 
 from __future__ import annotations
 
 import re
-from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.extras import require
-
-if TYPE_CHECKING:
-    pass
-
-
-def mj() -> Any:
-    """The mujoco module, or a one-line error naming ``motiontool[sim]``."""
-    return require("mujoco", "sim", "simulation (motiontool play, batch)")
+from motiontool.sim._mujoco.api import mj
 
 
 def warning_label(enum_name: str) -> str:

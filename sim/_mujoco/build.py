@@ -7,11 +7,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.units import MS_PER_S
-from motiontool.sim._mujoco._lib import mj
+from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.probe import self_collision_probe
 from motiontool.sim._mujoco.scene import GeomClass, Scene
 from motiontool.sim._mujoco.start import set_start_state
@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
     from motiontool.kinematics.robots import RobotSpec
+    from motiontool.sim._mujoco.api import MjModel, MjsBody, MjSpec
 
 
 FALLBACK_MAX_VELOCITY = 10.0
@@ -139,7 +140,7 @@ def build_scene(
     return scene
 
 
-def _load_spec(robot: RobotSpec, dt: float) -> Any:
+def _load_spec(robot: RobotSpec, dt: float) -> MjSpec:
     """The robot's model as an :class:`mujoco.MjSpec`, with the simulation options, no actuators
     (the motors are modelled by :func:`_add_motors`) and a physics step of ``dt`` s."""
     mujoco = mj()
@@ -159,7 +160,7 @@ def _load_spec(robot: RobotSpec, dt: float) -> Any:
     return spec
 
 
-def _robot_roots(spec: Any, robot: RobotSpec) -> tuple[list[Any], bool]:
+def _robot_roots(spec: MjSpec, robot: RobotSpec) -> tuple[list[MjsBody], bool]:
     """The robot's top bodies, and whether it is free-flying (a URDF of a free-flying robot
     gets its free joint here)."""
     mujoco = mj()
@@ -179,7 +180,7 @@ def _robot_roots(spec: Any, robot: RobotSpec) -> tuple[list[Any], bool]:
     return roots, floating
 
 
-def _scale_masses(spec: Any, mass_scale: float) -> None:
+def _scale_masses(spec: MjSpec, mass_scale: float) -> None:
     """Every body's mass and inertia times ``mass_scale``."""
     if mass_scale == 1.0:
         return
@@ -190,7 +191,7 @@ def _scale_masses(spec: Any, mass_scale: float) -> None:
             body.inertia = [v * mass_scale for v in body.inertia]
 
 
-def _add_floor(spec: Any, friction: float) -> None:
+def _add_floor(spec: MjSpec, friction: float) -> None:
     """The floor plane (its friction and contact softness win over the robot's geoms) and a
     light."""
     mujoco = mj()
@@ -208,7 +209,7 @@ def _add_floor(spec: Any, friction: float) -> None:
     spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, LIGHT_HEIGHT_M], dir=[0.0, 0.0, -1.0])
 
 
-def _add_box(spec: Any, roots: Sequence[Any]) -> None:
+def _add_box(spec: MjSpec, roots: Sequence[MjsBody]) -> None:
     """The wooden box a fixed-base robot stands on; the robot moved onto its top face."""
     mujoco = mj()
     half = BOX_HEIGHT_M / 2
@@ -241,7 +242,7 @@ def _motor_limits(robot: RobotSpec, torque_scale: float, p_gain: float) -> Motor
 
 
 def _add_motors(
-    spec: Any, motors: Sequence[str], max_torque: npt.NDArray[np.float64], dt: float
+    spec: MjSpec, motors: Sequence[str], max_torque: npt.NDArray[np.float64], dt: float
 ) -> None:
     """Free the motor joints (no hard stops) and couple each to its driver hinge through a
     tendon whose friction loss is the motor's maxTorque (see the module docstring)."""
@@ -269,7 +270,7 @@ def _add_motors(
         tendon.solimp_friction = list(MOTOR_SOLIMP)
 
 
-def _compile_as_designed(spec: Any, robot: RobotSpec) -> Any:
+def _compile_as_designed(spec: MjSpec, robot: RobotSpec) -> MjModel:
     """The compiled model, where robot bodies whose geometries already touch in the zero pose
     (a URDF's links, which MuJoCo collides by default) are part of the design: they never
     collide (``spec`` gets the exclusions)."""
@@ -291,11 +292,11 @@ def _compile_as_designed(spec: Any, robot: RobotSpec) -> Any:
 
 
 def _scene(
-    model: Any,
+    model: MjModel,
     robot: RobotSpec,
     limits: MotorLimits,
     substeps: int,
-    roots: Sequence[Any],
+    roots: Sequence[MjsBody],
     floating: bool,
 ) -> Scene:
     """The scene of ``model`` (fresh data, at the zero pose) and its indices."""
@@ -332,7 +333,7 @@ def _scene(
 
 
 def _geom_classes(
-    model: Any, robot_bodies: set[int], feet: npt.NDArray[np.intp]
+    model: MjModel, robot_bodies: set[int], feet: npt.NDArray[np.intp]
 ) -> npt.NDArray[np.intp]:
     """The :class:`GeomClass` of every geom of ``model``."""
     import numpy as np
@@ -346,14 +347,14 @@ def _geom_classes(
     return classes
 
 
-def _compile(spec: Any, robot: RobotSpec) -> Any:
+def _compile(spec: MjSpec, robot: RobotSpec) -> MjModel:
     try:
         return spec.compile()
     except ValueError as exc:  # MuJoCo's compile errors carry its own message
         raise MotionToolError(f"MuJoCo cannot compile the scene of {robot.name}: {exc}") from exc
 
 
-def _resolve_package_meshes(spec: Any, model_path: Path) -> None:
+def _resolve_package_meshes(spec: MjSpec, model_path: Path) -> None:
     """Point ``package://<pkg>/<path>`` mesh files of a URDF at the files: ``<dir>/<pkg>/<path>``
     for the first folder above the model that has it (as ROS' share/ layout)."""
     for mesh in spec.meshes:

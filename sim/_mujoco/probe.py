@@ -3,17 +3,19 @@ geometries collide, run on the robot's pose each frame."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from motiontool.sim._mujoco._lib import mj
+from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES, Scene
 from motiontool.sim._mujoco.topology import adjacency
 
 if TYPE_CHECKING:
-    pass
+    from motiontool.sim._mujoco.api import MjData, MjModel, MjsPair, MjSpec
 
 
-def self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any] | None:
+def self_collision_probe(
+    spec: MjSpec, model: MjModel, scene: Scene
+) -> tuple[MjModel, MjData] | None:
     """A copy of the scene where only candidate pairs of robot geometries collide.
 
     Candidates, as in :func:`motiontool.kinematics.build_model`: geometries on different robot
@@ -48,7 +50,7 @@ def self_collision_probe(spec: Any, model: Any, scene: Scene) -> tuple[Any, Any]
     return probe, mujoco.MjData(probe)
 
 
-def _drop_touching_pairs(probe_spec: Any, pairs: list[Any]) -> int:
+def _drop_touching_pairs(probe_spec: MjSpec, pairs: list[MjsPair]) -> int:
     """Delete the ``pairs`` of ``probe_spec`` that already touch at the zero pose (part of the
     design); the number kept."""
     mujoco = mj()
@@ -71,6 +73,6 @@ def _drop_touching_pairs(probe_spec: Any, pairs: list[Any]) -> int:
     return kept
 
 
-def _geom_key(model: Any, g: int) -> str:
+def _geom_key(model: MjModel, g: int) -> str:
     name = str(model.geom(g).name)
     return name or f"motiontool_geom_{g}"

@@ -6,7 +6,7 @@ from __future__ import annotations
 import enum
 import re
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.sim.motor import MotorLimits
 
@@ -15,6 +15,7 @@ if TYPE_CHECKING:
     import numpy.typing as npt
 
     from motiontool.kinematics.robots import RobotSpec
+    from motiontool.sim._mujoco.api import MjData, MjModel
 
 
 TOOL_SITE_PATTERN = re.compile(
@@ -63,8 +64,8 @@ class Scene:
             while a body has exactly one child).
     """
 
-    model: Any
-    data: Any
+    model: MjModel
+    data: MjData
     robot: RobotSpec
     joints: tuple[str, ...]
     limits: MotorLimits
@@ -78,7 +79,7 @@ class Scene:
     joint_limbs: tuple[str, ...]
     geom_class: npt.NDArray[np.intp]
     foot_geoms: npt.NDArray[np.intp]
-    probe: tuple[Any, Any] | None = None
+    probe: tuple[MjModel, MjData] | None = None
     tool: tuple[str, str, int] | None = None
     _names: dict[int, str] = field(default_factory=dict)
 

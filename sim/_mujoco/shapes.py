@@ -2,14 +2,9 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
-from motiontool.sim._mujoco._lib import mj
+from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import Scene
 from motiontool.sim.trace import BodyShapes, Shape
-
-if TYPE_CHECKING:
-    pass
 
 
 def scene_shapes(scene: Scene) -> list[BodyShapes]:

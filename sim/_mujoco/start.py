@@ -5,15 +5,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.sim._mujoco._lib import mj
+from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import Scene
 from motiontool.sim.start import StartState
 
 if TYPE_CHECKING:
-    pass
+    from motiontool.sim._mujoco.api import MjData, MjModel
 
 
 SPAWN_CLEARANCE_M = 1e-4
@@ -62,7 +62,7 @@ def _place_free_robot(scene: Scene, start: StartState, start_yaw_deg: float) -> 
     data.qpos[free_adr + 2] += SPAWN_CLEARANCE_M - lowest
 
 
-def lowest_point(model: Any, data: Any, geoms: Sequence[int]) -> float:
+def lowest_point(model: MjModel, data: MjData, geoms: Sequence[int]) -> float:
     """Lowest z (m) of the given geoms (exact for primitives, bounding box otherwise)."""
     mujoco = mj()
 

@@ -5,10 +5,11 @@ self-collisions); the tool's forward kinematics (:func:`tool_poses`)."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.errors import MotionToolError
-from motiontool.sim._mujoco._lib import mj, warning_labels
+from motiontool.sim._mujoco._lib import warning_labels
+from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES, GeomClass, Scene
 from motiontool.sim.motor import velocity_command
 from motiontool.sim.trace import ContactEvent, Trace
@@ -16,6 +17,8 @@ from motiontool.sim.trace import ContactEvent, Trace
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
+
+    from motiontool.sim._mujoco.api import MjData, MuJoCo
 
 
 def run(
@@ -102,6 +105,7 @@ def _new_trace(
 def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int], None]:
     """A function that measures the state of ``scene.data`` into frame ``frame`` of ``trace``:
     positions, poses, contacts, self-collisions."""
+    mujoco = mj()  # once, not every frame
     data, feet, bodies = scene.data, scene.foot_geoms, scene.robot_bodies
     qpos_adr, root = scene.qpos_adr, scene.root_body
     read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
@@ -120,14 +124,14 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
         if data.ncon:
             _contacts(scene, data, frame, trace)
         if scene.probe is not None:
-            _self_collisions(scene, data, frame, trace)
+            _self_collisions(mujoco, scene, data, frame, trace)
 
     return observe
 
 
 def _tool_reader(
     scene: Scene,
-    data: Any,
+    data: MjData,
     pos: npt.NDArray[np.float64] | None,
     quat: npt.NDArray[np.float64] | None,
 ) -> Callable[[int], None] | None:
@@ -187,7 +191,7 @@ def tool_poses(
     return pos, quat
 
 
-def _contacts(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
+def _contacts(scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
     """Foot-floor contacts into ``foot_contact``; every other robot contact into events."""
     cls = scene.geom_class
     seen: dict[tuple[str, str, str], float] = {}
@@ -219,9 +223,7 @@ def _contact_event_key(scene: Scene, robot_geom: int, other_geom: int) -> tuple[
     return "scene", body, scene.geom_name(other_geom)
 
 
-def _self_collisions(scene: Scene, data: Any, frame: int, trace: Trace) -> None:
-    mujoco = mj()
-
+def _self_collisions(mujoco: MuJoCo, scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
     assert scene.probe is not None
     probe, probe_data = scene.probe
     probe_data.qpos[:] = data.qpos

@@ -4,7 +4,7 @@ and motor, the end effector of a fixed-base robot, which bodies are adjacent."""
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.sim._mujoco.scene import TOOL_SITE_PATTERN
 
@@ -12,8 +12,10 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.sim._mujoco.api import MjModel
 
-def in_subtree(model: Any, body: int, roots: set[int]) -> bool:
+
+def in_subtree(model: MjModel, body: int, roots: set[int]) -> bool:
     while body != 0:
         if body in roots:
             return True
@@ -22,7 +24,7 @@ def in_subtree(model: Any, body: int, roots: set[int]) -> bool:
 
 
 def limbs(
-    model: Any, motors: Sequence[str], root: int, bodies: npt.NDArray[np.intp]
+    model: MjModel, motors: Sequence[str], root: int, bodies: npt.NDArray[np.intp]
 ) -> tuple[tuple[str, ...], tuple[str, ...]]:
     """(limb of each motor, limb of each robot body): :func:`motiontool.kinematics.limbs.limb_of`
     by name; a motor whose name does not say takes the branch of the tree it hangs on (the
@@ -59,7 +61,9 @@ def limbs(
     return joint_limbs, tuple(out)
 
 
-def tool_frame(model: Any, root: int, bodies: npt.NDArray[np.intp]) -> tuple[str, str, int] | None:
+def tool_frame(
+    model: MjModel, root: int, bodies: npt.NDArray[np.intp]
+) -> tuple[str, str, int] | None:
     """The end effector of a fixed-base robot (see :class:`Scene`)."""
     in_robot = set(bodies.tolist())
 
@@ -87,7 +91,7 @@ def tool_frame(model: Any, root: int, bodies: npt.NDArray[np.intp]) -> tuple[str
         body = children[0]
 
 
-def adjacency(model: Any, with_geometry: set[int]) -> Callable[[int, int], bool]:
+def adjacency(model: MjModel, with_geometry: set[int]) -> Callable[[int, int], bool]:
     """Whether two bodies are adjacent: one is the other's parent, bodies without geometry
     (``with_geometry`` has the others) skipped."""
 

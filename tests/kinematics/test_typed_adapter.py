@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from conftest import ROOT
+from typed_surface import any_count, missing
 
 from motiontool.kinematics._pinocchio import api, build_model
 from motiontool.kinematics.robots import load_robot
@@ -21,23 +22,11 @@ ALLOWED_ANY = {
 }
 
 
-def _any_count(path: Path) -> int:
-    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
-    names = [
-        node
-        for node in ast.walk(tree)
-        if (isinstance(node, ast.Name) and node.id == "Any")
-        or (isinstance(node, ast.Attribute) and node.attr == "Any")
-        or (isinstance(node, ast.alias) and node.name == "Any")
-    ]
-    return len(names)
-
-
 def test_no_any_creeps_into_kinematics() -> None:
     counts = {
         path.relative_to(ROOT).as_posix(): n
         for path in sorted((ROOT / "kinematics").rglob("*.py"))
-        if (n := _any_count(path))
+        if (n := any_count(path))
     }
     assert counts == ALLOWED_ANY
 
@@ -48,7 +37,7 @@ def test_the_any_count_sees_annotations_and_imports(tmp_path: Path) -> None:
         "from __future__ import annotations\nimport typing\nfrom typing import Any\n"
         "def f(x: Any) -> typing.Any: ...\n"
     )
-    assert _any_count(source) == 3
+    assert any_count(source) == 3
 
 
 def test_no_kinematics_module_imports_pinocchio_or_coal() -> None:
@@ -83,17 +72,6 @@ def test_mypy_rejects_any_in_kinematics() -> None:
     }
 
 
-def _members(protocol: type) -> set[str]:
-    """The attributes and methods a Protocol class declares (not its dunder machinery)."""
-    declared = set(getattr(protocol, "__annotations__", {}))
-    declared |= {name for name in vars(protocol) if not name.startswith("_")}
-    return declared
-
-
-def _missing(obj: object, protocol: type) -> list[str]:
-    return sorted(name for name in _members(protocol) if not hasattr(obj, name))
-
-
 @pytest.mark.parametrize("robot", ["nao", "ur5e"])
 def test_the_protocols_match_the_real_pinocchio(robot: str) -> None:
     pin = api.pin_module()
@@ -106,17 +84,17 @@ def test_the_protocols_match_the_real_pinocchio(robot: str) -> None:
     obj = geoms.geometryObjects[0]
     obj.geometry.computeLocalAABB()
     found = {
-        "Pinocchio": _missing(pin, api.Pinocchio),
-        "Model": _missing(model, api.Model),
-        "Data": _missing(data, api.Data),
-        "JointModel": _missing(model.joints[1], api.JointModel),
-        "Frame": _missing(model.frames[1], api.Frame),
-        "Inertia": _missing(model.inertias[1], api.Inertia),
-        "SE3": _missing(model.jointPlacements[1], api.SE3),
-        "GeometryModel": _missing(geoms, api.GeometryModel),
-        "GeometryObject": _missing(obj, api.GeometryObject),
-        "GeometryData": _missing(geom_data, api.GeometryData),
-        "CollisionPair": _missing(geoms.collisionPairs[0], api.CollisionPair),
+        "Pinocchio": missing(pin, api.Pinocchio),
+        "Model": missing(model, api.Model),
+        "Data": missing(data, api.Data),
+        "JointModel": missing(model.joints[1], api.JointModel),
+        "Frame": missing(model.frames[1], api.Frame),
+        "Inertia": missing(model.inertias[1], api.Inertia),
+        "SE3": missing(model.jointPlacements[1], api.SE3),
+        "GeometryModel": missing(geoms, api.GeometryModel),
+        "GeometryObject": missing(obj, api.GeometryObject),
+        "GeometryData": missing(geom_data, api.GeometryData),
+        "CollisionPair": missing(geoms.collisionPairs[0], api.CollisionPair),
     }
     assert found == {name: [] for name in found}
     # A shape's sizes exist where the shape has them; the bounding box on every geometry.
@@ -131,5 +109,5 @@ def test_the_protocol_check_sees_a_missing_member() -> None:
     class Partial:
         njoints = 2
 
-    assert "nframes" in _missing(Partial(), api.Model)
-    assert "njoints" not in _missing(Partial(), api.Model)
+    assert "nframes" in missing(Partial(), api.Model)
+    assert "njoints" not in missing(Partial(), api.Model)
