@@ -9,7 +9,10 @@ from __future__ import annotations
 
 import asyncio
 import json
+import os
+import re
 import shutil
+import subprocess
 import sys
 from collections.abc import Awaitable, Callable
 from pathlib import Path
@@ -215,3 +218,57 @@ def test_a_bad_config_is_one_error_line(tmp_path: Path) -> None:
     result = CliRunner().invoke(app, ["server", "--config", str(tmp_path / "missing.toml")])
     assert result.exit_code == 2
     assert result.stderr.startswith("motiontool: error: cannot read")
+
+
+HOOK = """repos:
+- repo: local
+  hooks:
+  - id: motiontool-validate
+    name: motiontool validate
+    entry: motiontool validate
+    language: system
+    files: \\.motion$
+    require_serial: true
+"""
+
+FINDING = re.compile(r"^(\S+\.motion):(\d+):(\d+): \w+ (MT\d{3}):", re.MULTILINE)
+
+
+def test_validate_the_pre_commit_hook_and_the_editor_agree(project: Path) -> None:
+    """Issue #17's acceptance: a repository whose pyproject.toml sets the robot per folder and
+    ignores a code gets the same findings from validate, the pre-commit hook and the server."""
+    env = {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        "PRE_COMMIT_HOME": str(project / ".cache"),
+        "GIT_CONFIG_GLOBAL": os.devnull,
+        "GIT_CONFIG_NOSYSTEM": "1",
+    }
+    (project / ".pre-commit-config.yaml").write_text(HOOK)
+    subprocess.run(["git", "init", "-q"], cwd=project, env=env, check=True)
+    subprocess.run(["git", "add", "."], cwd=project, env=env, check=True)
+    names = ["nao/look.motion", "other.motion"]
+    cli = subprocess.run(
+        [motiontool(), "validate", *names], cwd=project, capture_output=True, text=True
+    )
+    hook = subprocess.run(
+        [sys.executable, "-m", "pre_commit", "run", "--all-files", "--color", "never"],
+        cwd=project,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    from_cli = set(FINDING.findall(cli.stdout))
+    assert from_cli and hook.returncode == cli.returncode == 1, hook.stdout
+    assert set(FINDING.findall(hook.stdout)) == from_cli
+    editor: set[tuple[str, str, str, str]] = set()
+
+    async def body(session: Session) -> None:
+        for name in names:
+            uri = open_doc(session, project / name, MOTION)
+            for d in await session.diagnostics(uri):
+                place = (name, str(d.range.start.line + 1), str(d.range.start.character + 1))
+                editor.add((*place, str(d.code)))
+
+    run_session(project, body)
+    assert editor == from_cli
