@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import tomllib
-from importlib import metadata
 from pathlib import Path
 
 __all__ = ["__version__"]
@@ -20,6 +19,8 @@ def _version() -> str:
         project = {}
     if project.get("name") == "motiontool" and isinstance(project.get("version"), str):
         return str(project["version"])
+    from importlib import metadata  # 20 ms of start-up that a checkout never needs
+
     try:
         return metadata.version("motiontool")
     except metadata.PackageNotFoundError:

@@ -5,47 +5,28 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import functools
+import importlib
 import os
 import signal
 import sys
 import traceback
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, MutableMapping, Sequence
 from typing import Annotated, Any, NoReturn, TypeVar
 
 import typer
+from typer._click.core import Command, Context
 from typer._click.exceptions import (  # typer >= 0.26 carries its own Click
     ClickException,
     NoArgsIsHelpError,
     UsageError,
 )
+from typer._click.formatting import HelpFormatter
+from typer._click.utils import make_default_short_help
 from typer.core import TyperGroup
+from typer.models import CommandInfo, TyperInfo
 
 from motiontool import __version__
-from motiontool.cli import (
-    batch,
-    cache,
-    codes,
-    concat,
-    convert,
-    diff,
-    expect,
-    generate,
-    info,
-    mirror,
-    play,
-    plot,
-    resample,
-    retime,
-    robots,
-    rule,
-    sample,
-    scale,
-    server,
-    trim,
-    validate,
-)
 from motiontool.cli.color import set_no_color
-from motiontool.cli.options import error_line
 from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["app", "main"]
@@ -58,7 +39,28 @@ _debug: contextvars.ContextVar[bool] = contextvars.ContextVar("motiontool_debug"
 class _Group(TyperGroup):
     """The root command group: a mistake in the options (a value out of range, a missing
     argument, an unknown option) is one ``motiontool: error:`` line naming what is wrong and the
-    ``--help`` to read, like every other error of the tool (Click prints a usage block)."""
+    ``--help`` to read, like every other error of the tool (Click prints a usage block).
+
+    Its commands are :data:`_COMMANDS`, each imported when it is first used."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.commands = _LazyCommands(self.commands)
+
+    def list_commands(self, ctx: Context) -> list[str]:
+        """The command names in :data:`_COMMANDS` order (Typer's lists them by building
+        each)."""
+        return list(self.commands)
+
+    def format_commands(self, ctx: Context, formatter: HelpFormatter) -> None:
+        """The list of commands in ``--help``, from their summaries: nothing is imported."""
+        commands = self.commands
+        assert isinstance(commands, _LazyCommands)
+        names = [name for name in self.list_commands(ctx) if not commands.hidden(name)]
+        if names:
+            limit = formatter.width - 6 - max(len(name) for name in names)
+            with formatter.section("Commands"):
+                formatter.write_dl([(name, commands.summary(name, limit)) for name in names])
 
     def main(
         self,
@@ -127,7 +129,7 @@ def _guard(func: F) -> F:
         except MotionToolError as exc:
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
-            typer.echo(f"motiontool: error: {error_line(exc)}", err=True)
+            typer.echo(f"motiontool: error: {_error_line(exc)}", err=True)
             raise typer.Exit(2) from None
         except BrokenPipeError:  # the reader went away (| head): quiet, as a SIGPIPE ends it
             _quiet_stdout()
@@ -139,6 +141,14 @@ def _guard(func: F) -> F:
             raise typer.Exit(128 + signal.SIGINT) from None
 
     return wrapper  # type: ignore[return-value]
+
+
+def _error_line(exc: MotionToolError) -> str:
+    """The one line for ``exc``, in the CLI's words (:func:`motiontool.cli.options.error_line`,
+    imported here: it brings the robots, which ``--help`` does not need)."""
+    from motiontool.cli.options import error_line
+
+    return error_line(exc)
 
 
 def _version(value: bool) -> None:
@@ -179,31 +189,173 @@ def _root(
         ctx.color = False  # and typer.echo strips colour in the sub-command's context too
 
 
-_COMMANDS: list[tuple[str, Callable[..., Any]]] = [
-    ("validate", validate.validate_command),
-    ("info", info.info_command),
-    ("sample", sample.sample_command),
-    ("codes", codes.codes_command),
-    ("rule", rule.rule_command),
-    ("generate", generate.generate_command),
-    ("play", play.play_command),
-    ("batch", batch.batch_command),
-    ("cache", cache.cache_command),
-    ("expect", expect.expect_command),
-    ("diff", diff.diff_command),
-    ("resample", resample.resample_command),
-    ("retime", retime.retime_command),
-    ("mirror", mirror.mirror_command),
-    ("concat", concat.concat_command),
-    ("trim", trim.trim_command),
-    ("scale", scale.scale_command),
-    ("plot", plot.plot_command),
-    ("convert", convert.convert_command),
-    ("server", server.server_command),
-]
-for _name, _command in _COMMANDS:
-    app.command(_name)(_guard(_command))
-app.add_typer(robots.build_app(_guard), name="robots")
+_COMMANDS: dict[str, tuple[str, str, str]] = {
+    # name: (module of motiontool.cli, its command function (robots: the sub-app's builder),
+    #        the start of the function's docstring: what 'motiontool --help' lists)
+    "validate": (
+        "validate",
+        "validate_command",
+        "Check motion files as Webots reads them, then against the robot; every problem, with",
+    ),
+    "info": (
+        "info",
+        "info_command",
+        "Joints, poses, duration, pose spacing and undefined cells of a motion file, and the",
+    ),
+    "sample": (
+        "sample",
+        "sample_command",
+        "Print the targets a Webots controller stepping every --timestep ms sends, step by",
+    ),
+    "codes": (
+        "codes",
+        "codes_command",
+        "List every diagnostic code with its default severity and meaning.",
+    ),
+    "rule": (
+        "rule",
+        "rule_command",
+        "Explain a diagnostic code: its severity, what Webots does, an example that triggers",
+    ),
+    "generate": (
+        "generate",
+        "generate_command",
+        "Generate a motion of the project's library (joint values from inverse kinematics",
+    ),
+    "play": (
+        "play",
+        "play_command",
+        "Play motion files headlessly in MuJoCo as a Webots controller would, and report the",
+    ),
+    "batch": (
+        "batch",
+        "batch_command",
+        "Play every file headless on every robot and perturbation sample; exit 1 if any run",
+    ),
+    "cache": (
+        "cache",
+        "cache_command",
+        "batch's result cache: 'info' prints its folder, results and size; 'clean' removes",
+    ),
+    "expect": (
+        "expect",
+        "expect_command",
+        "Propose expectations (a motions.toml sidecar) from motion names, for people to review:",
+    ),
+    "diff": (
+        "diff",
+        "diff_command",
+        "Compare what two motion files command, joint by joint (matched by name).",
+    ),
+    "resample": (
+        "resample",
+        "resample_command",
+        "Put keyframes on a uniform time grid, or drop the ones the motion does not need.",
+    ),
+    "retime": (
+        "retime",
+        "retime_command",
+        "Change pose times only, never values: --speed, --duration or --fit-limits.",
+    ),
+    "mirror": (
+        "mirror",
+        "mirror_command",
+        "Mirror a motion left/right: swap each L/R pair, negate the joints whose mirror image",
+    ),
+    "concat": (
+        "concat",
+        "concat_command",
+        "Join motions one after another, each transition as short as the robot's limits allow.",
+    ),
+    "trim": (
+        "trim",
+        "trim_command",
+        "Keep the part of a motion between --from and --to (playback times).",
+    ),
+    "scale": (
+        "scale",
+        "scale_command",
+        "Scale a motion's amplitude about a reference pose, clipping to the robot's limits.",
+    ),
+    "plot": (
+        "plot",
+        "plot_command",
+        "Draw every joint over time into a PNG: grouped by limb (head, arms, legs, hands for",
+    ),
+    "convert": (
+        "convert",
+        "convert_command",
+        "Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV,",
+    ),
+    "server": (
+        "server",
+        "server_command",
+        "Run the Language Server on stdin/stdout, for editors: the findings of ``validate``",
+    ),
+    "robots": (
+        "robots",
+        "build_app",
+        "The built-in robots (listed without a sub-command), their joints and models.",
+    ),
+}
+"""Every command, imported only when it runs or its help is shown (``motiontool --help`` and
+``motiontool validate`` import nothing of ``play``, ``convert``, ...): a registry, one line a
+command. The summaries are checked against the docstrings (``tests/cli/test_startup.py``)."""
+
+
+def _load(name: str) -> Command:
+    """Command ``name`` of :data:`_COMMANDS`, imported and built as Typer builds it."""
+    module_name, attr, _summary = _COMMANDS[name]
+    module = importlib.import_module(f"motiontool.cli.{module_name}")
+    if name == "robots":
+        return typer.main.get_group_from_info(
+            TyperInfo(module.build_app(_guard), name=name),
+            pretty_exceptions_short=app.pretty_exceptions_short,
+            suggest_commands=True,
+            rich_markup_mode=app.rich_markup_mode,
+        )
+    return typer.main.get_command_from_info(
+        CommandInfo(name=name, callback=_guard(getattr(module, attr))),
+        pretty_exceptions_short=app.pretty_exceptions_short,
+        rich_markup_mode=app.rich_markup_mode,
+    )
+
+
+class _LazyCommands(MutableMapping[str, Command]):
+    """The root group's commands: those of :data:`_COMMANDS` built on first use, in its
+    order, then any added."""
+
+    def __init__(self, added: MutableMapping[str, Command]) -> None:
+        self.built: dict[str, Command] = dict(added)
+
+    def __getitem__(self, name: str) -> Command:
+        if name not in self.built and name in _COMMANDS:
+            self.built[name] = _load(name)
+        return self.built[name]
+
+    def __setitem__(self, name: str, command: Command) -> None:
+        self.built[name] = command
+
+    def __delitem__(self, name: str) -> None:
+        del self.built[name]
+
+    def __iter__(self) -> Iterator[str]:
+        yield from _COMMANDS
+        yield from (name for name in self.built if name not in _COMMANDS)
+
+    def __len__(self) -> int:
+        return len(_COMMANDS) + sum(1 for name in self.built if name not in _COMMANDS)
+
+    def hidden(self, name: str) -> bool:
+        """Whether ``--help`` leaves the command out (none of :data:`_COMMANDS` is hidden)."""
+        return name not in _COMMANDS and self.built[name].hidden
+
+    def summary(self, name: str, limit: int) -> str:
+        """What ``--help`` says of the command in ``limit`` characters, as Click shortens its
+        help, without importing it."""
+        if name not in _COMMANDS:
+            return self.built[name].get_short_help_str(limit)
+        return make_default_short_help(_COMMANDS[name][2], limit)
 
 
 def _report(exc: BaseException, line: str, code: int) -> NoReturn:
@@ -239,7 +391,7 @@ def main() -> None:
         finally:
             sys.stdout.flush()  # a failed write surfaces here, not in the interpreter's exit
     except MotionToolError as exc:
-        _report(exc, error_line(exc), 2)
+        _report(exc, _error_line(exc), 2)
     except BrokenPipeError as exc:
         _quiet_stdout()
         _report(exc, "", 128 + signal.SIGPIPE)

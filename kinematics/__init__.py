@@ -7,25 +7,9 @@ needs them runs, so looking up a built-in robot's joint table never loads them.
 ``motiontool validate``; ``scan_self_collisions`` checks many configurations at once.
 """
 
-from motiontool.kinematics._pinocchio import (
-    Balance,
-    body_positions,
-    build_model,
-    com_and_support,
-    self_collision_depths,
-    self_collisions,
-    sole_heights,
-)
-from motiontool.kinematics.checks import (
-    CHECKS,
-    DEFAULT_CHECKS,
-    DEFAULT_PENETRATION_TOLERANCE_MM,
-    RobotChecks,
-    parse_checks,
-    robot_checks,
-)
-from motiontool.kinematics.collision import Contact, scan_self_collisions
-from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
+import importlib
+import typing
+
 from motiontool.kinematics.robots import (
     JointSpec,
     NoRobotDetectedError,
@@ -42,6 +26,51 @@ from motiontool.kinematics.robots import (
     robot_choices,
     unknown_joint_message,
 )
+
+if typing.TYPE_CHECKING:
+    from motiontool.kinematics._pinocchio import (
+        Balance,
+        body_positions,
+        build_model,
+        com_and_support,
+        self_collision_depths,
+        self_collisions,
+        sole_heights,
+    )
+    from motiontool.kinematics.checks import (
+        CHECKS,
+        DEFAULT_CHECKS,
+        DEFAULT_PENETRATION_TOLERANCE_MM,
+        RobotChecks,
+        parse_checks,
+        robot_checks,
+    )
+    from motiontool.kinematics.collision import Contact, scan_self_collisions
+    from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
+
+#: Where each name beyond the robots' lives: imported on first use (PEP 562), so that
+#: ``validate`` does not import the Pinocchio adapter's typed surface or the model exporter.
+#: No name here is also a submodule's (``builtin_robots`` is both: imported above, the
+#: function replaces the submodule as the package's attribute, as it always did).
+_HOMES: dict[str, str] = {
+    "Balance": "motiontool.kinematics._pinocchio",
+    "body_positions": "motiontool.kinematics._pinocchio",
+    "build_model": "motiontool.kinematics._pinocchio",
+    "com_and_support": "motiontool.kinematics._pinocchio",
+    "self_collision_depths": "motiontool.kinematics._pinocchio",
+    "self_collisions": "motiontool.kinematics._pinocchio",
+    "sole_heights": "motiontool.kinematics._pinocchio",
+    "CHECKS": "motiontool.kinematics.checks",
+    "DEFAULT_CHECKS": "motiontool.kinematics.checks",
+    "DEFAULT_PENETRATION_TOLERANCE_MM": "motiontool.kinematics.checks",
+    "RobotChecks": "motiontool.kinematics.checks",
+    "parse_checks": "motiontool.kinematics.checks",
+    "robot_checks": "motiontool.kinematics.checks",
+    "Contact": "motiontool.kinematics.collision",
+    "scan_self_collisions": "motiontool.kinematics.collision",
+    "mjcf_bytes": "motiontool.kinematics.export",
+    "urdf_bytes": "motiontool.kinematics.export",
+}
 
 __all__ = [
     "CHECKS",
@@ -76,3 +105,16 @@ __all__ = [
     "unknown_joint_message",
     "urdf_bytes",
 ]
+
+
+def __getattr__(name: str) -> object:
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(home), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -20,7 +20,9 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
    is the separating-axis theorem, and the bound is the exact depth);
 5. only the remaining candidates go to coal (GJK/EPA signed distance, through Pinocchio).
 
-Pinocchio is imported (lazily) by :mod:`motiontool.kinematics._pinocchio` only.
+Pinocchio is imported (lazily) by :mod:`motiontool.kinematics._pinocchio` only, and only
+when step 5 has candidates: the tables of steps 1-4 come from the disk cache
+(:mod:`motiontool.kinematics.tables_cache`) once they have been built.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ from motiontool.kinematics._pinocchio import (
     KinematicTables,
 )
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.tables_cache import stored_tables
 from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
@@ -356,7 +359,7 @@ def scan_self_collisions(
     q = _checked(spec, q_motors)
     if q.shape[0] == 0:
         return []
-    tables = _pinocchio.kinematic_tables(spec)
+    tables = stored_tables(spec)
     unique, inverse = _unique_rows(q)
     moving = (unique != 0.0).any(axis=0)
     tolerance = max(penetration_tolerance_m, 0.0)

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import math
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import quoteattr
 
 from motiontool.kinematics.mjcf_limits import write_limits
 from motiontool.kinematics.mjcf_limits import xml_number as _g
@@ -32,6 +31,15 @@ if TYPE_CHECKING:
     Matrix = npt.NDArray[np.float64]
 
 __all__ = ["NoMjcfError", "mjcf_bytes", "urdf_bytes"]
+
+
+def _quoteattr(value: str) -> str:
+    """``value`` as a quoted XML attribute (:func:`xml.sax.saxutils.quoteattr`, imported here:
+    it brings ``urllib``, 20 ms that ``validate``, which imports this module's errors, does not
+    need)."""
+    from xml.sax.saxutils import quoteattr as quote
+
+    return quote(value)
 
 
 class NoMjcfError(MotionToolError):
@@ -148,11 +156,11 @@ class _Urdf:
         out = self._header()
         for name, body in links.items():
             if body:
-                out.append(f"  <link name={quoteattr(name)}>")
+                out.append(f"  <link name={_quoteattr(name)}>")
                 out.extend("    " + line for line in body)
                 out.append("  </link>")
             else:
-                out.append(f"  <link name={quoteattr(name)}/>")
+                out.append(f"  <link name={_quoteattr(name)}/>")
         out.extend(joints_xml)
         out.append("</robot>")
         return "\n".join(out) + "\n"
@@ -176,7 +184,7 @@ class _Urdf:
             "  and two end spheres. Not written (no URDF equivalent): MuJoCo actuators and",
             "  options, sites, the Webots time step and the names of the feet.",
             "-->",
-            f"<robot name={quoteattr(spec.name)}>",
+            f"<robot name={_quoteattr(spec.name)}>",
         ]
 
     def _moving_links(self, links: dict[str, list[str]]) -> list[str]:
@@ -206,9 +214,9 @@ class _Urdf:
             rel = np.linalg.inv(self.placement(parent_fid)) @ self.placement(fid)
             joint_name = self.frames[frame.parentFrame].name
             joints_xml.append(
-                f'  <joint name={quoteattr(joint_name)} type="fixed">'
-                f"<parent link={quoteattr(self._body_name(parent_fid))}/>"
-                f"<child link={quoteattr(frame.name)}/>{origin(rel[:3, :3], rel[:3, 3])}</joint>"
+                f'  <joint name={_quoteattr(joint_name)} type="fixed">'
+                f"<parent link={_quoteattr(self._body_name(parent_fid))}/>"
+                f"<child link={_quoteattr(frame.name)}/>{origin(rel[:3, :3], rel[:3, 3])}</joint>"
             )
         return joints_xml
 
@@ -274,8 +282,9 @@ class _Urdf:
         )
         parent = self.link_of_joint(int(model.parents[jid]))
         return (
-            f'  <joint name={quoteattr(name)} type="{urdf_type}">'
-            f"<parent link={quoteattr(parent)}/><child link={quoteattr(self.link_of_joint(jid))}/>"
+            f'  <joint name={_quoteattr(name)} type="{urdf_type}">'
+            f"<parent link={_quoteattr(parent)}/>"
+            f"<child link={_quoteattr(self.link_of_joint(jid))}/>"
             f"{origin(placement.rotation, placement.translation)}"
             f'<axis xyz="{" ".join(_g(a) for a in axis)}"/><limit {" ".join(attrs)}/></joint>'
         )
@@ -301,7 +310,9 @@ class _Urdf:
                     shapes.append((rel @ end, f'<sphere radius="{_g(r)}"/>'))
         elif kind in ("BVHModelOBBRSS", "BVHModelOBB", "Convex") and obj.meshPath:
             scale = " ".join(_g(s) for s in obj.meshScale)
-            shapes.append((rel, f'<mesh filename={quoteattr(str(obj.meshPath))} scale="{scale}"/>'))
+            shapes.append(
+                (rel, f'<mesh filename={_quoteattr(str(obj.meshPath))} scale="{scale}"/>')
+            )
         else:
             raise MotionToolError(
                 f"cannot write robot {self.spec.name} as URDF: geometry '{obj.name}' is a "
@@ -330,4 +341,4 @@ def origin(rotation: Matrix, translation: Matrix) -> str:
     """A URDF ``<origin>`` element for a placement (rotation matrix, translation in m)."""
     xyz = " ".join(_g(float(v)) for v in translation)
     rpy = " ".join(_g(v) for v in _rpy(rotation))
-    return f"<origin xyz={quoteattr(xyz)} rpy={quoteattr(rpy)}/>"
+    return f"<origin xyz={_quoteattr(xyz)} rpy={_quoteattr(rpy)}/>"

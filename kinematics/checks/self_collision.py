@@ -15,7 +15,8 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.extras import require
+from motiontool.motionfmt.errors import MissingExtraError
+from motiontool.motionfmt.extras import require_installed
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MM_PER_M
 
@@ -57,17 +58,22 @@ class Collision(RobotCheck):
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         from motiontool.kinematics.collision import scan_self_collisions
 
-        require("pinocchio", "kinematics", "the collision check")
+        # Pinocchio is imported only for the pairs numpy cannot clear (kinematics.collision).
+        what = "the collision check"
+        require_installed("pinocchio", "kinematics", what)
         table = self.table(result)
         if not table.motors:
             return []
         q, times = configurations(table, self.spec)
-        contacts = scan_self_collisions(
-            self.spec,
-            q,
-            penetration_tolerance_m=self.tolerance_mm / MM_PER_M,
-            fingers_in_hand=True,
-        )
+        try:
+            contacts = scan_self_collisions(
+                self.spec,
+                q,
+                penetration_tolerance_m=self.tolerance_mm / MM_PER_M,
+                fingers_in_hand=True,
+            )
+        except MissingExtraError as exc:  # installed, but it (or coal) fails to import
+            raise MissingExtraError(exc.module, exc.extra, what, exc.library) from exc
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
         for c in contacts:
             by_pair.setdefault((c.body_a, c.body_b), {})[c.config] = c.depth_m

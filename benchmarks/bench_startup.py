@@ -1,0 +1,97 @@
+"""Benchmark: start-up of the pre-commit case, ``motiontool validate small.motion`` (one small
+file, the default checks, the whole process), and of ``motiontool --help``.
+
+Run: ``python benchmarks/bench_startup.py [--before REV]``. Baselines measured in the same run:
+a bare ``python -c pass``, and the same commands run from the code of git revision ``REV`` (by
+default the last one before start-up work, issue 17 item 4), extracted to a temporary folder.
+Each time is the best of ``--repeat`` runs (wall clock, s), with CPU time (user + system, s)
+and peak memory (MiB), bytecode cached as an installed package has it. Targets (issue 17 item
+4): the pre-commit case in 0.2 s where it took 0.31 s, so at most 0.65x the ``REV`` time.
+
+The collision check runs from the robot's tables stored on disk (``kinematics/tables_cache.py``);
+the first run in a fresh cache folder builds them (it imports Pinocchio): printed as well.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from _timing import Child, best_child, run_child  # benchmarks/_timing.py (run as a script)
+
+ROOT = Path(__file__).resolve().parent.parent
+BEFORE = "6670fe6"
+"""The last commit before the start-up work (commands imported when they run, the collision
+check's tables on disk)."""
+SMALL = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,Pose1,0\n00:00:500,Pose2,0.5\n"
+RUN = "import sys; from motiontool.cli.app import main; sys.argv[0] = 'motiontool'; main()"
+TARGET_S = 0.2
+BEFORE_S = 0.31
+
+
+def _line(label: str, c: Child, base: Child | None = None, note: str = "") -> None:
+    ratio = f"  ratio {c.wall_s / base.wall_s:.2f}x" if base is not None else ""
+    print(
+        f"{label:<44} {c.wall_s:.3f} s wall, {c.cpu_s:.3f} s CPU, {c.peak_mib:5.1f} MiB{ratio}{note}"
+    )
+
+
+def _checkout(rev: str, into: Path) -> Path:
+    """The package at ``rev``, as ``into/motiontool`` (for ``PYTHONPATH``)."""
+    package = into / "motiontool"
+    package.mkdir(parents=True)
+    archive = subprocess.run(
+        ["git", "-C", str(ROOT), "archive", rev], check=True, capture_output=True
+    ).stdout
+    subprocess.run(["tar", "-x", "-C", str(package)], input=archive, check=True)
+    return into
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--before", default=BEFORE, help="git revision of the baseline")
+    parser.add_argument("--repeat", type=int, default=9)
+    args = parser.parse_args()
+
+    with tempfile.TemporaryDirectory() as tmp_name:
+        tmp = Path(tmp_name)
+        (tmp / "small.motion").write_bytes(SMALL)
+        small = str(tmp / "small.motion")
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+        now = {**env, "PYTHONPYCACHEPREFIX": str(tmp / "pyc-now"), "XDG_CACHE_HOME": str(tmp / "c")}
+        old = {
+            **env,
+            "PYTHONPATH": str(_checkout(args.before, tmp / "before")),
+            "PYTHONPYCACHEPREFIX": str(tmp / "pyc-before"),
+            "XDG_CACHE_HOME": str(tmp / "c-before"),
+        }
+        cli = [sys.executable, "-c", RUN]
+        cold = run_child([*cli, "validate", small], now)  # builds the tables: Pinocchio
+        run_child([*cli, "validate", small], old)  # bytecode of both, written once
+
+        n = args.repeat
+        bare = best_child(n, [sys.executable, "-c", "pass"], env)
+        print(f"machine: {os.cpu_count()} cores, load {os.getloadavg()[0]:.2f} (1 min average)")
+        _line("bare python -c pass", bare)
+        for what in (["--help"], ["validate", "--robot", "none", small], ["validate", small]):
+            label = "motiontool " + " ".join(what).replace(small, "small.motion")
+            before = best_child(n, [*cli, *what], old)
+            after = best_child(n, [*cli, *what], now)
+            _line(f"{label} ({args.before})", before)
+            note = ""
+            if what == ["validate", small]:
+                note = (
+                    f"  (target <= {TARGET_S / BEFORE_S:.2f}x: {TARGET_S} s where it took "
+                    f"{BEFORE_S} s; {after.wall_s:.3f} s {'<=' if after.wall_s <= TARGET_S else '>'}"
+                    f" {TARGET_S} s on this machine)"
+                )
+            _line(f"{label} (now)", after, before, note)
+        _line("motiontool validate small.motion, first run", cold, None, "  (stores the tables)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,135 @@
+"""The :class:`~motiontool.kinematics._pinocchio.KinematicTables` of a robot, kept on disk.
+
+Building a robot's tables imports Pinocchio (about 0.15 s) and builds its model; the collision
+check (:mod:`motiontool.kinematics.collision`) needs Pinocchio after that only for the few
+(configuration, pair)s that its numpy bounds cannot clear. A motion that brings no two
+bodies near each other, as most do, is then checked without importing Pinocchio at all, once
+the tables are on disk: ``$XDG_CACHE_HOME/motiontool/kinematics`` (``~/.cache/...``).
+
+A stored table is used only for the same robot model (its sha256, overrides included), the
+same motors, the same way of building it (format, free-flying root) and the same code: the key
+hashes the source of the modules that compute the tables and the installed Pinocchio's files.
+Anything else, or a file that cannot be read, builds the tables again (and stores them); a
+cache that cannot be written is not an error.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import importlib.util
+import os
+import tempfile
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from motiontool.kinematics._pinocchio import KinematicTables, kinematic_tables
+from motiontool.kinematics.robots import RobotSpec
+
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["cache_dir", "stored_tables", "tables_key"]
+
+#: The modules whose code decides what the tables hold: a change to one is a new key.
+_SOURCES = ("_pinocchio/tables.py", "_pinocchio/shapes.py", "_pinocchio/model.py")
+#: The fields of :class:`KinematicTables` that are tuples of names, not arrays.
+_NAMES = ("geom_body", "geom_limb")
+
+
+def cache_dir() -> Path:
+    """``$XDG_CACHE_HOME/motiontool/kinematics`` (``~/.cache/motiontool/kinematics``)."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "motiontool" / "kinematics"
+
+
+@functools.cache
+def _code_stamp() -> str:
+    """Hash of the table code and of the installed Pinocchio (its path, size and mtime)."""
+    h = hashlib.sha256()
+    here = Path(__file__).parent
+    for name in _SOURCES:
+        h.update((here / name).read_bytes())
+    spec = importlib.util.find_spec("pinocchio")
+    origin = spec.origin if spec is not None else None
+    if origin:
+        st = os.stat(origin)
+        h.update(f"{origin}:{st.st_size}:{st.st_mtime_ns}".encode())
+    return h.hexdigest()
+
+
+def tables_key(spec: RobotSpec) -> str:
+    """What a stored table is found by (hex): the model, the motors, how the model is built
+    and the code that builds the tables."""
+    h = hashlib.sha256()
+    for part in (
+        spec.model_hash,
+        spec.model_format,
+        str(spec.floating_base),
+        "\0".join(spec.joint_names),
+        _code_stamp(),
+    ):
+        h.update(part.encode("utf-8", "surrogateescape") + b"\n")
+    return h.hexdigest()
+
+
+_IN_PROCESS: dict[tuple[Path, str], KinematicTables] = {}
+"""The tables read or built in this process, by cache folder and key."""
+
+
+def stored_tables(spec: RobotSpec) -> KinematicTables:
+    """``spec``'s tables: from the disk cache if they are there (no Pinocchio import), else
+    built by :func:`~motiontool.kinematics._pinocchio.kinematic_tables` and stored; once per
+    process and robot."""
+    folder, key = cache_dir(), tables_key(spec)
+    tables = _IN_PROCESS.get((folder, key))
+    if tables is None:
+        path = folder / f"{key}.npz"
+        tables = _load(path)
+        if tables is None:
+            tables = kinematic_tables(spec)
+            _save(path, tables)
+        _IN_PROCESS[(folder, key)] = tables
+    return tables
+
+
+def _load(path: Path) -> KinematicTables | None:
+    """The tables stored at ``path``, or None (missing, unreadable, or of another layout)."""
+    import numpy as np
+
+    try:
+        with np.load(path, allow_pickle=False) as stored:
+            fields: dict[str, object] = {}
+            for name in KinematicTables._fields:
+                value: npt.NDArray[np.void] = stored[name]
+                if name in _NAMES:
+                    fields[name] = tuple(str(s) for s in value.tolist())
+                elif name == "exact":
+                    fields[name] = bool(value)
+                else:
+                    value.flags.writeable = False
+                    fields[name] = value
+    except (OSError, KeyError, ValueError, EOFError):
+        return None
+    return KinematicTables(**fields)  # type: ignore[arg-type]  # the layout _save wrote
+
+
+def _save(path: Path, tables: KinematicTables) -> None:
+    """Store ``tables`` at ``path`` (a temporary file, then a rename); a failure is ignored:
+    the next run builds them again."""
+    import numpy as np
+
+    arrays = {name: np.array(value) for name, value in tables._asdict().items()}
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tables-", suffix=".npz")
+        try:
+            with os.fdopen(fd, "wb") as f:
+                np.savez(f, **arrays)  # type: ignore[arg-type]
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+    except OSError:
+        return

@@ -1,0 +1,114 @@
+"""Start-up: ``motiontool --help`` and ``motiontool validate`` import only what they need
+(each command is imported when it runs, ``cli/app.py``), and the collision check imports
+Pinocchio only for pairs numpy cannot clear (the robot's tables kept on disk,
+``kinematics/tables_cache.py``). What a process imported is read from its ``sys.modules``."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import typer
+
+from motiontool.cli.app import _COMMANDS, app
+
+#: Run the CLI with the arguments given, then print what the process imported, as JSON.
+_RUN = (
+    "import json, sys\n"
+    "from motiontool.cli.app import main\n"
+    "sys.argv[0] = 'motiontool'\n"
+    "try:\n"
+    "    main()\n"
+    "except SystemExit:\n"
+    "    pass\n"
+    "print(json.dumps(sorted(sys.modules)), file=sys.stderr)\n"
+)
+
+#: Modules no start-up path of ``--help`` or ``validate`` needs.
+_NEVER = (
+    "motiontool.sim",
+    "motiontool.cli.play",
+    "motiontool.cli.batch",
+    "motiontool.cli.convert",
+    "motiontool.cli.concat",
+    "motiontool.cli.server",
+    "motiontool.cli.rule",
+    "motiontool.motionfmt.convert",
+    "xml.sax",  # kinematics.export quotes attributes with it, only when it exports
+    "pinocchio",
+    "mujoco",
+    "pyarrow",
+)
+
+SMALL = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,Pose1,0\n00:00:500,Pose2,0.5\n"
+
+
+def _imported(args: list[str], cwd: Path) -> tuple[set[str], str]:
+    env = {k: v for k, v in os.environ.items() if k != "NO_COLOR"}
+    env["XDG_CACHE_HOME"] = str(cwd / "cache")
+    proc = subprocess.run(
+        [sys.executable, "-c", _RUN, *args],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        env=env,
+        check=False,
+    )
+    modules = json.loads(proc.stderr.strip().splitlines()[-1])
+    return set(modules), proc.stdout
+
+
+def _loaded(modules: set[str], names: tuple[str, ...]) -> list[str]:
+    return [n for n in names if any(m == n or m.startswith(n + ".") for m in modules)]
+
+
+def test_importing_the_cli_imports_no_command(tmp_path: Path) -> None:
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            "import json, sys, motiontool.cli.app; print(json.dumps(sorted(sys.modules)))",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    modules = set(json.loads(proc.stdout))
+    commands = [f"motiontool.cli.{module}" for module, _fn, _summary in _COMMANDS.values()]
+    assert _loaded(modules, (*_NEVER, *commands, "numpy", "motiontool.kinematics")) == []
+
+
+def test_help_lists_every_command_without_importing_one(tmp_path: Path) -> None:
+    modules, out = _imported(["--help"], tmp_path)
+    assert _loaded(modules, (*_NEVER, "motiontool.cli.validate", "numpy")) == []
+    for name in _COMMANDS:
+        assert f"  {name} " in out
+
+
+def test_validate_imports_neither_other_commands_nor_pinocchio_once_the_tables_are_stored(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "small.motion").write_bytes(SMALL)
+    cold, cold_out = _imported(["validate", "small.motion"], tmp_path)
+    assert "pinocchio" in cold  # the first run builds the robot's tables, and stores them
+    warm, warm_out = _imported(["validate", "small.motion"], tmp_path)
+    assert warm_out == cold_out
+    assert "collision" in warm_out
+    assert _loaded(warm, _NEVER) == []
+    assert "motiontool.cli.validate" in warm
+
+
+def test_the_summaries_in_the_command_table_are_the_commands_own() -> None:
+    root = typer.main.get_command(app)
+    assert isinstance(root, typer.core.TyperGroup)
+    lazy_help = root.get_help(typer.Context(root, info_name="motiontool"))
+    for name, (_module, _fn, summary) in _COMMANDS.items():
+        command = root.commands[name]  # imports and builds it
+        first = " ".join((command.help or "").split("\n\n")[0].split())
+        assert first.startswith(summary), name
+        assert summary == first or len(summary) >= 80, name  # enough for any terminal
+    # With every command built, --help lists them from their own help: the same text.
+    assert root.get_help(typer.Context(root, info_name="motiontool")) == lazy_help
