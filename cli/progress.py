@@ -1,13 +1,16 @@
 """Progress of a long single job on a terminal (``validate`` of a large file, ``play --loop``,
 ``mirror``): a spinner with what is being done and the elapsed time on standard error, drawn only
 when standard error is a terminal and gone when the job ends; nothing in a pipe, a file or CI
-logs (``batch`` has its own bar, with its runs' outcomes)."""
+logs, nor with ``NO_COLOR`` or ``--no-color`` (it draws with terminal escapes). ``batch`` has
+its own bar, with its runs' outcomes."""
 
 from __future__ import annotations
 
 import contextlib
 import sys
 from collections.abc import Callable, Iterator
+
+from motiontool.cli.color import color_enabled
 
 __all__ = ["Step", "progress"]
 
@@ -23,7 +26,7 @@ def _quiet(label: str) -> None:
 def progress(title: str) -> Iterator[Step]:
     """A :data:`Step` for a job called ``title`` (``validate``): on a terminal, each call
     replaces the spinner's text with ``title: label``; elsewhere it does nothing."""
-    if not sys.stderr.isatty():
+    if not (sys.stderr.isatty() and color_enabled(sys.stderr)):
         yield _quiet
         return
     from rich.console import Console

@@ -32,6 +32,7 @@ WRITERS = [
     ["sample", "in.motion", "-o", "OUT"],
     ["play", "in.motion", "--headless", "--json", "OUT"],
     ["play", "in.motion", "--headless", "--rrd", "OUT"],
+    ["play", "in.motion", "--headless", "--bag", "OUT"],
     ["batch", "in.motion", "--no-cache", "--json", "OUT"],
     ["batch", "in.motion", "--no-cache", "--junit", "OUT"],
     ["batch", "in.motion", "--no-cache", "--markdown", "OUT"],
@@ -86,7 +87,7 @@ def test_writers_cover_every_output_option() -> None:
 
     group = typer.main.get_command(app)
     written = {"--output", "--json", "--rrd", "--junit", "--markdown", "--plot", "--mjcf"}
-    written |= {"--urdf"}
+    written |= {"--urdf", "--bag"}
     folders = {"--rrd-dir", "--cache-dir"}
     found = set()
     stack = [group]
@@ -96,7 +97,7 @@ def test_writers_cover_every_output_option() -> None:
         for p in cmd.params:
             if p.name and p.opts[0] in written | folders:
                 found.add(p.opts[0])
-            elif p.opts[0] == "--config":  # a file that is read, never written
+            elif p.opts[0] in ("--config", "--joint-map"):  # files read, never written
                 continue
             elif "path" in str(p.type).lower() and p.opts[0].startswith("--"):
                 pytest.fail(f"{cmd.name} {p.opts[0]}: a path option this test does not know")
