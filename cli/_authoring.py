@@ -19,9 +19,9 @@ from motiontool.cli.output import (
     say_wrote,
     written_motion,
 )
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 from motiontool.stamps import stamps

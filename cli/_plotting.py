@@ -17,7 +17,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ParamSpec, TypeVar
 
-from motiontool.motionfmt.extras import require
+from motiontool.extras import require
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:

@@ -27,7 +27,7 @@ from typer.models import CommandInfo, TyperInfo
 
 from motiontool import __version__
 from motiontool.cli.color import set_no_color
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = ["app", "main"]
 

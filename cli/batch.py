@@ -26,8 +26,8 @@ from motiontool.cli.physics_options import (
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import plural
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import EXTRAS, require
+from motiontool.errors import MotionToolError
+from motiontool.extras import EXTRAS, require
 from motiontool.motionfmt.fileio import is_stdin
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 

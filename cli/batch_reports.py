@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import dumps
-from motiontool.motionfmt.extras import require
+from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 from motiontool.sim.batch import BatchResult, RunResult, result_json
 from motiontool.stamps import stamps

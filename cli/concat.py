@@ -29,10 +29,10 @@ from motiontool.cli.options import (
 )
 from motiontool.cli.output import refuse_overwrite
 from motiontool.cli.text import num
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.concat import Concatenated, Transition, concat
 from motiontool.motionfmt.transform import DEFAULT_MARGIN

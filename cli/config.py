@@ -39,7 +39,7 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = [
     "CONFIG_NAMES",

@@ -18,6 +18,7 @@ from motiontool.cli.convert_checks import (
 from motiontool.cli.options import ROBOT_OPTION, finite, robot_option, timestep_option
 from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite, say_wrote
 from motiontool.cli.text import num, plural
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot, resolve_robot
 from motiontool.motionfmt.convert import FORMATS, Format, format_named, format_of
@@ -32,7 +33,6 @@ from motiontool.motionfmt.convert.base import (
     Recording,
 )
 from motiontool.motionfmt.convert.joint_map import parse_joint_map
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin, is_stdout, read_file, source_name
 from motiontool.motionfmt.units import MS_PER_S
 

@@ -17,11 +17,11 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.kinematics.checks import Limits, UnknownJoints, Velocity
 from motiontool.kinematics.robots import RobotSpec, fmt_name, unknown_joint_message
 from motiontool.motionfmt.convert.base import Imported, RobotStream
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.motionfmt.writer import format_motion

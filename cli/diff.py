@@ -12,6 +12,8 @@ from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import Format, FormatOption, finite, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.text import file_name, num, plural
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 from motiontool.motionfmt.compare import (
     DEFAULT_TOLERANCE_RAD,
     JointDiff,
@@ -19,8 +21,6 @@ from motiontool.motionfmt.compare import (
     compare_motions,
     held_targets,
 )
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.reader import read_bytes

@@ -9,7 +9,7 @@ import typer
 
 from motiontool.cli.output import emit, refuse_overwrite, say_wrote
 from motiontool.cli.text import plural
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 if TYPE_CHECKING:
     from motiontool.kinematics.robots import RobotSpec

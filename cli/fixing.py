@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from motiontool.cli.text import plural
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file
 from motiontool.motionfmt.fixes import RobotPlanner, fix_bytes
 

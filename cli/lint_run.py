@@ -14,11 +14,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from motiontool.cli.config import Resolver, Settings
+from motiontool.errors import MissingExtraError
 from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_checks
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MissingExtraError
 from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
 from motiontool.motionfmt.fixes import RobotPlanner
 from motiontool.motionfmt.reader import read_bytes

@@ -21,11 +21,11 @@ from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_
 from motiontool.cli.output import emit_bytes, say_wrote, written_motion
 from motiontool.cli.progress import progress
 from motiontool.cli.text import plural
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import Limits
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import AUTO, NONE, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.mirror import Mirrored, mirror
 from motiontool.motionfmt.reader import read_bytes

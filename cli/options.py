@@ -16,10 +16,10 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks.wording import Wording
 from motiontool.kinematics.export import NoMjcfError
 from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
     "CLI_WORDING",

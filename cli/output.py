@@ -9,7 +9,7 @@ from collections.abc import Iterable, Mapping
 from pathlib import Path
 
 from motiontool.cli.text import plural
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.fileio import STDOUT, atomic_write, is_stdin, is_stdout, output_kind
 from motiontool.motionfmt.units import MS_PER_S
 

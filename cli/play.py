@@ -28,8 +28,8 @@ from motiontool.cli.play_bag import BagOption, check_bag, say_bag
 from motiontool.cli.progress import progress
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name, plural
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 from motiontool.motionfmt.fileio import is_stdout
 from motiontool.motionfmt.units import MM_PER_M
 

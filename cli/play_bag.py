@@ -9,8 +9,8 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs, say_wrote
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 from motiontool.motionfmt.fileio import is_stdout
 
 if TYPE_CHECKING:

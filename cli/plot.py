@@ -11,9 +11,9 @@ import typer
 from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
 from motiontool.cli.output import emit_bytes, refuse_overwrite, say_wrote
 from motiontool.cli.text import file_name, plural
+from motiontool.extras import require
 from motiontool.kinematics.robots import AUTO, pick_robot
 from motiontool.motionfmt.compare import held_targets
-from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import is_stdout, read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps

@@ -18,8 +18,8 @@ from motiontool.cli._authoring import (
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output, finite
 from motiontool.cli.text import num, plural
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
 

@@ -30,10 +30,10 @@ from motiontool.cli.options import (
     robot_option,
 )
 from motiontool.cli.text import num
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.transform import (
     DEFAULT_MARGIN,

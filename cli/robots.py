@@ -12,10 +12,10 @@ import typer
 from motiontool.cli import jsontext
 from motiontool.cli.options import TextOrJson, TextOrJsonOption
 from motiontool.cli.output import refuse_overwrite, refuse_shared_outputs, say_wrote
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 from motiontool.kinematics.builtin_robots import describe
 from motiontool.kinematics.robots import RobotSpec, builtin_robots, load_robot, robot_choices
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 from motiontool.stamps import stamps
 

@@ -11,8 +11,8 @@ from motiontool.cli.rule_model import Example, Rule
 from motiontool.cli.rules_robot import ROBOT_RULES
 from motiontool.cli.rules_syntax import SYNTAX_RULES
 from motiontool.cli.rules_traps import TRAP_RULES
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import CODES
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["RULES", "Example", "Rule", "UnknownCodeError", "rule"]
 

@@ -19,9 +19,9 @@ from motiontool.cli.options import MAX_LOOPS, MotionFile, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.sample_text import csv_header, csv_rows, json_document
 from motiontool.cli.text import plural
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt import read_file
 from motiontool.motionfmt.clock import clock_overflow
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import STDOUT, open_output, source_name
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.player import iter_commands, iter_elapsed, step_count

@@ -8,9 +8,9 @@ from pathlib import Path
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import Overrides, lint_document
 from motiontool.cli.validate import robot_checks
+from motiontool.extras import require
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.validate import FileReport
 
 __all__ = ["server_command"]

@@ -33,6 +33,8 @@ from motiontool.cli.progress import progress
 from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
 from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
+from motiontool.errors import MotionToolError
+from motiontool.extras import install_hint
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
@@ -41,8 +43,6 @@ from motiontool.kinematics.checks import (
     parse_checks,
 )
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import install_hint
 from motiontool.motionfmt.validate import ValidationReport
 from motiontool.stamps import stamps
 

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import _pinocchio
 from motiontool.kinematics._pinocchio import (
     BOX,
@@ -40,7 +41,6 @@ from motiontool.kinematics._pinocchio import (
 )
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.tables_cache import stored_tables
-from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np

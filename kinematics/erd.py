@@ -11,10 +11,10 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Literal
 
+from motiontool.errors import MissingExtraError, MotionToolError
+from motiontool.extras import require
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS, velocity_actuators
 from motiontool.kinematics.robot_spec import RobotSpec
-from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
-from motiontool.motionfmt.extras import require
 
 __all__ = ["erd", "erd_robot_names", "erd_root", "from_pinocchio"]
 

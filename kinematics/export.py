@@ -17,10 +17,10 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.mjcf_limits import write_limits
 from motiontool.kinematics.mjcf_limits import xml_number as _g
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np

@@ -29,10 +29,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics._pinocchio.api import SE3, Data, Model, Pinocchio, pin_module
 from motiontool.kinematics._pinocchio.configuration import configuration
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:

@@ -35,8 +35,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np

@@ -21,12 +21,12 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks._table import header_diagnostic
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 

@@ -14,8 +14,8 @@ import xml.parsers.expat
 from collections.abc import Iterable
 from pathlib import Path
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robot_spec import JointSpec
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["write_limits", "xml_number"]
 

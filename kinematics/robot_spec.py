@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = ["JointSpec", "RobotSpec", "fmt_name", "unknown_joint_message"]
 

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import builtin, builtin_robots, is_builtin, models_dir
 from motiontool.kinematics.erd import erd, erd_robot_names, from_pinocchio
 from motiontool.kinematics.robot_spec import JointSpec, RobotSpec, fmt_name, unknown_joint_message
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
     "AUTO",

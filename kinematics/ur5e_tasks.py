@@ -57,9 +57,9 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.ik import Pose, forward_pose, solve_ik
 from motiontool.kinematics.robots import RobotSpec, load_robot
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.units import MS_PER_S
 

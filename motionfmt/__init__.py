@@ -3,10 +3,10 @@
 Depends on the standard library and numpy only.
 """
 
+from motiontool.errors import MissingExtraError, MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.clock import PlaybackNeverEndsError
 from motiontool.motionfmt.diagnostics import CODES, Code, Diagnostic, Severity
 from motiontool.motionfmt.document import MotionDocument, dumps, loads
-from motiontool.motionfmt.errors import MissingExtraError, MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import (
     atomic_write,
     collect_motion_files,

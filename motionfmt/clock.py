@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["ClockOverflow", "PlaybackNeverEndsError", "clock_overflow", "end_step", "wrap_int"]
 

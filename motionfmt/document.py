@@ -14,8 +14,8 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, overload
 
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.cscan import scan_double
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes, token_spans
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
 

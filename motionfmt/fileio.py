@@ -15,7 +15,7 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import BinaryIO
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = [
     "STDIN",

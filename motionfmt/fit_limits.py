@@ -9,7 +9,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.retime import Retimed, Stretch, require_in_range
 from motiontool.motionfmt.units import MS_PER_S
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.errors import MotionSyntaxError
+from motiontool.errors import MotionSyntaxError
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion

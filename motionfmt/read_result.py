@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionSyntaxError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MotionSyntaxError
 from motiontool.motionfmt.lines import FGETS_PIECE, token_spans
 
 if TYPE_CHECKING:

@@ -16,9 +16,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import targets_at
 

@@ -11,8 +11,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = [
     "MAX_TIME_MS",

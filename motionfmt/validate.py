@@ -8,8 +8,8 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
 from motiontool.motionfmt.fixes import (
     ROBOT_CODES,

@@ -12,8 +12,8 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, TypeVar
 
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 from motiontool.sim.executor import Outcome, Status, call_runner
 
 if TYPE_CHECKING:

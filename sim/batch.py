@@ -25,8 +25,8 @@ from pathlib import Path
 from typing import Any, Literal
 
 from motiontool import __version__
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir

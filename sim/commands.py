@@ -6,8 +6,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt import Motion, sample
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.player import Held, hold_targets
 
 if TYPE_CHECKING:

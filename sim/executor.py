@@ -8,7 +8,7 @@ runner through :func:`call_runner`, so a run that raises is reported the same wa
 
 Adding an executor is a module with a function that satisfies :class:`Executor` and one row in
 :data:`REGISTRY` (its extra, if it needs a library, in ``pyproject.toml`` and
-:data:`motiontool.motionfmt.extras.EXTRAS`): ``batch --executor`` offers it, its help and its
+:data:`motiontool.extras.EXTRAS`): ``batch --executor`` offers it, its help and its
 missing-library message come from the row, and the executor tests iterate over the table.
 """
 
@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = [
     "EXECUTORS",

@@ -30,7 +30,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.sim.quantities import (
     FLAGS,
     FLAGS_DECIDING_FALL,

@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:

@@ -22,9 +22,9 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.kinematics.robots import RobotSpec, resolve_robot
 from motiontool.motionfmt import Motion, read_bytes, read_file, sample
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import measure_end_effector

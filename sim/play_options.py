@@ -7,8 +7,8 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.sim.motor import DEFAULT_P_GAIN
 from motiontool.sim.physics import check_physics
 from motiontool.sim.start import StartState

@@ -35,7 +35,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.extras import require
+from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write
 
 if TYPE_CHECKING:

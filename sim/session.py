@@ -24,8 +24,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, resolve_robot
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin, source_name
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
 from motiontool.sim.play import PlayOptions, play, read_playable

@@ -33,7 +33,7 @@ from fnmatch import fnmatchcase
 from pathlib import Path, PurePath
 from typing import Any
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.sim.expect import ExpectationError, parse_expectation
 from motiontool.sim.start import StartState
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import enum
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 
 __all__ = ["LYING_STARTS", "StartState"]
 

@@ -23,8 +23,8 @@ import pytest
 from conftest import ROOT
 
 from motiontool.cli.schemas import load as load_schema
-from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
-from motiontool.motionfmt.extras import EXTRAS, install_hint, require
+from motiontool.errors import MissingExtraError, MotionToolError
+from motiontool.extras import EXTRAS, install_hint, require
 
 #: Joints of the Nao; HeadYaw 3.0 rad is past its limit (2.0857 rad) and 0 -> 3 rad in 100 ms is
 #: faster than its maxVelocity: limits and velocity need no extra.

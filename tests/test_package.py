@@ -17,7 +17,7 @@ from typing import Any
 import pytest
 from conftest import ROOT
 
-from motiontool.motionfmt.extras import EXTRAS
+from motiontool.extras import EXTRAS
 
 HEAVY = ("mujoco", "pinocchio", "rerun", "coal", "example_robot_data", "ray")
 #: The distributions behind the heavy parts: each belongs to an extra, never to the core.

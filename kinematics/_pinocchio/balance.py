@@ -5,12 +5,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics._pinocchio.api import pin_module
 from motiontool.kinematics._pinocchio.configuration import configuration
 from motiontool.kinematics._pinocchio.hull import convex_hull, signed_distance
 from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:

@@ -6,10 +6,10 @@ import math
 from collections.abc import Mapping
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics._pinocchio.api import Model, pin_module
 from motiontool.kinematics._pinocchio.model import built
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
-from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np

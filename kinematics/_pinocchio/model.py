@@ -9,6 +9,7 @@ import threading
 from pathlib import Path
 from typing import Literal
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics._pinocchio.api import (
     Data,
     GeometryData,
@@ -17,7 +18,6 @@ from motiontool.kinematics._pinocchio.api import (
     pin_module,
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
 
 __all__ = ["Built", "build", "build_model", "built", "joint_table", "model_key"]
 

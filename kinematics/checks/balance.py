@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
+from motiontool.extras import require
 from motiontool.kinematics.checks._table import RobotCheck, Table, cell, configurations, runs
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.extras import require
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = ["Balance"]

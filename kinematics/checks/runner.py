@@ -6,6 +6,8 @@ from __future__ import annotations
 import difflib
 from collections.abc import Callable, Iterable
 
+from motiontool.errors import MissingExtraError, MotionToolError
+from motiontool.extras import install_hint
 from motiontool.kinematics.checks._table import header_diagnostic
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
@@ -26,8 +28,6 @@ from motiontool.kinematics.robots import (
     robot_choices,
 )
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MissingExtraError, MotionToolError
-from motiontool.motionfmt.extras import install_hint
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = [
@@ -157,7 +157,7 @@ class RobotChecks:
     ``motiontool[kinematics]``) is skipped for the rest of the run, with one MT902 note about
     the run (:attr:`notes`, not pinned to a file); the others still run. With
     ``skip_missing=False`` (the checks were asked for by name) it raises
-    :class:`~motiontool.motionfmt.errors.MissingExtraError` instead.
+    :class:`~motiontool.errors.MissingExtraError` instead.
 
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MissingExtraError
+from motiontool.extras import require_installed
 from motiontool.kinematics.checks._table import (
     RobotCheck,
     Table,
@@ -15,8 +17,6 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.errors import MissingExtraError
-from motiontool.motionfmt.extras import require_installed
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MM_PER_M
 

@@ -20,8 +20,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.errors import MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.errors import MotionToolError
+from motiontool.extras import require
 
 if TYPE_CHECKING:
     import numpy as np

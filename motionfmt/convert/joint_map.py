@@ -20,8 +20,8 @@ import tomllib
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
-from motiontool.motionfmt.extras import require
+from motiontool.errors import MotionSyntaxError, MotionToolError
+from motiontool.extras import require
 
 __all__ = ["from_ros", "parse_joint_map", "to_ros"]
 

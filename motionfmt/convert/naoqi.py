@@ -28,11 +28,11 @@ from __future__ import annotations
 import json
 from typing import TYPE_CHECKING, Any
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
 from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stream
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
 from motiontool.motionfmt.convert.naoqi_script import script
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:

@@ -13,9 +13,9 @@ import io
 import zipfile
 from typing import TYPE_CHECKING, Any
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.writer import check_name
 

@@ -27,12 +27,12 @@ import json
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert._ros import duration
 from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
 from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stream
 from motiontool.motionfmt.convert.joint_map import to_ros
 from motiontool.motionfmt.convert.urscript import number
-from motiontool.motionfmt.errors import MotionToolError
 
 if TYPE_CHECKING:
     import numpy as np

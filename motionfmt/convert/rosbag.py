@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert._ros import (
     JOINT_STATE,
     JOINT_TRAJECTORY,
@@ -45,7 +46,6 @@ from motiontool.motionfmt.convert.ros_trajectory import (
     trajectory_message,
 )
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.writer import check_name
 
 if TYPE_CHECKING:

@@ -20,9 +20,9 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
 from motiontool.motionfmt.convert.held import held_stream
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.units import MS_PER_S

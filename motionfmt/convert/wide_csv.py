@@ -16,9 +16,9 @@ import math
 import re
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionSyntaxError
 from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.errors import MotionSyntaxError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 

@@ -13,8 +13,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
     PoseLines,

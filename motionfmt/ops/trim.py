@@ -10,8 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import PoseLines, set_time, with_eol
 from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time

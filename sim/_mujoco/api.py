@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Protocol, cast
 
-from motiontool.motionfmt.extras import require
+from motiontool.extras import require
 
 if TYPE_CHECKING:
     import numpy as np

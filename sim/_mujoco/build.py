@@ -9,7 +9,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.probe import self_collision_probe

@@ -7,7 +7,7 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import Scene
 from motiontool.sim.start import StartState

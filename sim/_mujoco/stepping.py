@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.errors import MotionToolError
+from motiontool.errors import MotionToolError
 from motiontool.sim._mujoco._lib import warning_labels
 from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES, GeomClass, Scene

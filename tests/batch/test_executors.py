@@ -11,7 +11,7 @@ import pytest
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
-from motiontool.motionfmt.extras import EXTRAS
+from motiontool.extras import EXTRAS
 from motiontool.sim.executor import EXECUTORS, REGISTRY, ExecutorInfo, executor_info
 from motiontool.sim.pool import run_pool
 

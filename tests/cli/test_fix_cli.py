@@ -141,7 +141,9 @@ def test_unsafe_fixes_clamp_to_the_limit_and_stretch_too_fast_segments(motion: P
     path = motion.parent / "fast.motion"
     path.write_bytes(FAST)
     code, _, err = invoke("validate", "fast.motion", "--robot", "nao", "--fix")
-    assert code == 1 and err == "motiontool: nothing to fix\n" and path.read_bytes() == FAST  # unsafe only
+    assert (
+        code == 1 and err == "motiontool: nothing to fix\n" and path.read_bytes() == FAST
+    )  # unsafe only
     _, _, err = invoke("validate", "fast.motion", "--robot", "nao", "--fix", "--unsafe-fixes")
     assert err.startswith("motiontool: fixed ") and "MT302 x2" in err and "MT303" in err
     fixed = path.read_bytes()

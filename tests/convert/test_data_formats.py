@@ -12,10 +12,10 @@ from conftest import ROOT, corpus_params
 from hypothesis import given, settings
 from strategies import motion_files
 
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt import read_bytes, sample
 from motiontool.motionfmt.convert import FORMATS, format_named, format_of
 from motiontool.motionfmt.convert.base import ExportOptions
-from motiontool.motionfmt.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.player import CommandStream
 

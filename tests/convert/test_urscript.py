@@ -14,11 +14,11 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.cli.convert_checks import stream_findings
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import read_bytes, sample
 from motiontool.motionfmt.convert.base import ExportOptions, RobotStream
 from motiontool.motionfmt.convert.urscript import number, write_urscript
-from motiontool.motionfmt.errors import MotionToolError
 
 UR = load_robot("ur5e")
 ARM = sorted((ROOT / "motions" / "ur5e").glob("*.motion"))

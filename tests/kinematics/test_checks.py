@@ -17,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from oracle import UNDEFINED, webots_load, webots_play
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import load_robot
 from motiontool.kinematics.checks import (
     CHECKS,
@@ -35,7 +36,6 @@ from motiontool.motionfmt import (
     validate_bytes,
     validate_paths,
 )
-from motiontool.motionfmt.errors import MotionToolError
 
 NAO_JSON = ROBOT_FACTS / "nao.json"
 

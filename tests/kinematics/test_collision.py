@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import RobotSpec, _pinocchio, load_robot, self_collision_depths
 from motiontool.kinematics._pinocchio import BOX, SPHERE
 from motiontool.kinematics.collision import (
@@ -15,7 +16,6 @@ from motiontool.kinematics.collision import (
     geometry_poses,
     scan_self_collisions,
 )
-from motiontool.motionfmt.errors import MotionToolError
 
 pin = pytest.importorskip("pinocchio")
 

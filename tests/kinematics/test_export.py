@@ -10,13 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import load_robot, models_dir
 from motiontool.kinematics.builtin_robots import BUILTIN_ROBOTS, BuiltinRobot
 from motiontool.kinematics.collision import scan_self_collisions
 from motiontool.kinematics.erd import from_pinocchio
 from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
 from motiontool.kinematics.robot_spec import RobotSpec
-from motiontool.motionfmt.errors import MotionToolError
 
 pin = pytest.importorskip("pinocchio")
 

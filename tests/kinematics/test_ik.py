@@ -13,6 +13,7 @@ from conftest import ROOT
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import ik, ur5e_tasks
 from motiontool.kinematics.ik import Pose, forward_pose, frame_jacobian, solve_ik
 from motiontool.kinematics.robots import load_robot
@@ -34,7 +35,6 @@ from motiontool.kinematics.ur5e_tasks import (
     sorting_spots,
 )
 from motiontool.motionfmt import format_motion, read_motion, sample, validate_paths
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.motion import Motion
 
 UR5E = load_robot("ur5e")

@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 from conftest import CORPUS
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import RobotChecks, Wording
 from motiontool.kinematics.mirror import mirror_map, partner_name
 from motiontool.kinematics.mirror_check import sibling_paths
 from motiontool.kinematics.robots import JointSpec, RobotSpec, load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.validate import validate_paths
 

@@ -14,6 +14,7 @@ import pytest
 from conftest import ROBOT_FACTS
 
 import motiontool.kinematics as kin
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import _modelgen
 from motiontool.kinematics._modelgen.inertia import balanced
 from motiontool.kinematics._pinocchio.hull import convex_hull, signed_distance
@@ -31,7 +32,6 @@ from motiontool.kinematics.robots import (
     resolve_robot,
     robot_choices,
 )
-from motiontool.motionfmt.errors import MotionToolError
 
 ROBOTS_DATA = ROBOT_FACTS  # vendored in tests/data/robot_facts
 #: Skips with a reason if the JSON is missing; fails instead under CI=true (conftest.py).

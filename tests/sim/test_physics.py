@@ -10,8 +10,8 @@ import pytest
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
+from motiontool.errors import MotionToolError
 from motiontool.kinematics import load_robot
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.sim import PlayOptions, play
 from motiontool.sim.batch import Perturbation, plan
 from motiontool.sim.physics import (

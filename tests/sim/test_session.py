@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 from conftest import ROOT
 
+from motiontool.errors import MotionSyntaxError
 from motiontool.kinematics.robots import UnknownRobotError
-from motiontool.motionfmt.errors import MotionSyntaxError
 from motiontool.sim.batch import plan_batch
 from motiontool.sim.expect import ExpectationError
 from motiontool.sim.play import PlayOptions

@@ -11,11 +11,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import Limits, Velocity
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.ops.scale import scale

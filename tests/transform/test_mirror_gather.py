@@ -12,8 +12,8 @@ import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.ops._permute import permute_cells
 from motiontool.motionfmt.ops.mirror import _mirror_bytes, _mirror_gather, _mirror_plan, mirror
 

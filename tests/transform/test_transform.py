@@ -11,9 +11,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt import loads, read_file, sample
 from motiontool.motionfmt.compare import compare_motions
-from motiontool.motionfmt.errors import MotionToolError
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.transform import (
     ROUNDING_RAD,

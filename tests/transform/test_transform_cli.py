@@ -243,7 +243,7 @@ def test_retime_refuses_times_past_int_max(
 
 
 def test_retime_library_raises_time_overflow_for_every_caller() -> None:
-    from motiontool.motionfmt.errors import MotionToolError
+    from motiontool.errors import MotionToolError
     from motiontool.motionfmt.transform import (
         MAX_TIME_MS,
         TimeOverflowError,
