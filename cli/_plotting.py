@@ -229,71 +229,64 @@ def plot_motion(
     t_s = motion.times_ms.astype(np.float64) / MS_PER_S
     n_limit = n_fast = 0
     axes = fig.subplots(rows, cols, squeeze=False)
-    used = set()
+    used: set[tuple[int, int]] = set()
     for group, panel, r, c in placed:
-        ax = axes[r][c]
         used.add((r, c))
-        columns = [motion.column(j) for j in panel.joints]
-        values = motion.values[:, columns]
-        lim = limits.get(panel.joints[0])
-        y0, y1, shown = _view(values, lim)
-        if lim is not None and math.isfinite(lim.lower + lim.upper):
-            ax.text(
-                0.5,
-                1.01,
-                f"range {lim.lower:.3g} to {lim.upper:.3g} {lim.unit}",
-                transform=ax.transAxes,
-                ha="center",
-                va="bottom",
-                fontsize=6,
-                color="#777777",
-            )
-        if lim is not None:
-            if math.isfinite(lim.upper):
-                ax.axhspan(lim.upper, max(y1, lim.upper), color="#f4c7c3", lw=0, zorder=0)
-            if math.isfinite(lim.lower):
-                ax.axhspan(min(y0, lim.lower), lim.lower, color="#f4c7c3", lw=0, zorder=0)
-            for value in shown:
-                ax.axhline(value, color="#c0392b", lw=0.8, ls="--", zorder=1)
-        for k, (name, col) in enumerate(zip(panel.joints, columns, strict=True)):
-            color = f"C{k % 10}"
-            v = motion.values[:, col]
-            ax.plot(t_s, v, color=color, lw=1.2, marker="o", ms=2.2, label=name, zorder=3)
-            if held is not None:
-                elapsed, series = held
-                h = series[name]
-                commanded = motion_commanded(motion, col, elapsed)
-                # held spans, joined to the last commanded step before each
-                held_span = ~commanded
-                held_span[:-1] |= ~commanded[1:]
-                dotted = np.where(held_span, h, np.nan)
-                ax.plot(elapsed / MS_PER_S, dotted, color=color, lw=1.0, ls=":", zorder=2)
-            jl = limits.get(name)
-            if jl is None:
-                continue
-            out = (v < jl.lower) | (v > jl.upper)
-            n_limit += int(out.sum())
-            if out.any():
-                ax.plot(
-                    t_s[out], v[out], ls="none", marker="x", ms=7, mew=2, color="#c0392b", zorder=5
-                )
-            if math.isfinite(jl.max_velocity) and t_s.shape[0] > 1:
-                with np.errstate(invalid="ignore"):
-                    speed = np.abs(np.diff(v)) / np.diff(t_s)
-                fast = np.flatnonzero(speed > jl.max_velocity * (1.0 + 1e-9))
-                n_fast += int(fast.shape[0])
-                for s in fast.tolist():
-                    ax.plot(t_s[s : s + 2], v[s : s + 2], color="#c0392b", lw=3.2, zorder=4)
-        ax.set_ylim(y0, y1)
-        ax.set_xlim(0.0, max(float(t_s[-1]), 1e-3) * 1.0)
-        ax.set_title(panel.title, fontsize=9, pad=10)
-        ax.tick_params(labelsize=7)
-        ax.grid(True, lw=0.3, alpha=0.6)
-        unit = lim.unit if lim is not None else "rad"
-        if c == 0:
-            ax.set_ylabel(f"{group}\n({unit})" if group else f"({unit})", fontsize=8)
-        if len(panel.joints) > 1 and len(panel.joints) <= 4:
-            ax.legend(fontsize=6, loc="best")
+        row_title = group if c == 0 else None
+        counts = _draw_panel(axes[r][c], motion, panel, t_s, limits, held, row_title)
+        n_limit += counts[0]
+        n_fast += counts[1]
+    _finish_grid(axes, rows, cols, used)
+    _finish(fig, title, caption)
+    return _png(fig, comment), n_limit, n_fast
+
+
+def _draw_panel(
+    ax: Any,
+    motion: Motion,
+    panel: Panel,
+    t_s: npt.NDArray[np.float64],
+    limits: Mapping[str, JointLimits],
+    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
+    row_title: str | None,
+) -> tuple[int, int]:
+    """One panel of :func:`plot_motion`: its joints over time (``t_s``, (P,) s), the first
+    joint's limits; ``row_title``: the group's title on the y axis, with the unit ('' for the
+    unit alone), for the first panel of a row (else None). Returns (keyframe values outside the
+    limits, segments above maxVelocity)."""
+    columns = [motion.column(j) for j in panel.joints]
+    lim = limits.get(panel.joints[0])
+    y0, y1, shown = _view(motion.values[:, columns], lim)
+    if lim is not None:
+        _draw_limits(ax, lim, y0, y1, shown)
+    n_limit = n_fast = 0
+    for k, (name, col) in enumerate(zip(panel.joints, columns, strict=True)):
+        color = f"C{k % 10}"
+        v = motion.values[:, col]
+        ax.plot(t_s, v, color=color, lw=1.2, marker="o", ms=2.2, label=name, zorder=3)
+        if held is not None:
+            _draw_held(ax, motion, col, held[0], held[1][name], color)
+        jl = limits.get(name)
+        if jl is None:
+            continue
+        n_limit += _mark_out_of_range(ax, t_s, v, jl)
+        n_fast += _mark_too_fast(ax, t_s, v, jl)
+    ax.set_ylim(y0, y1)
+    ax.set_xlim(0.0, max(float(t_s[-1]), 1e-3) * 1.0)
+    ax.set_title(panel.title, fontsize=9, pad=10)
+    ax.tick_params(labelsize=7)
+    ax.grid(True, lw=0.3, alpha=0.6)
+    unit = lim.unit if lim is not None else "rad"
+    if row_title is not None:
+        ax.set_ylabel(f"{row_title}\n({unit})" if row_title else f"({unit})", fontsize=8)
+    if len(panel.joints) > 1 and len(panel.joints) <= 4:
+        ax.legend(fontsize=6, loc="best")
+    return n_limit, n_fast
+
+
+def _finish_grid(axes: Any, rows: int, cols: int, used: set[tuple[int, int]]) -> None:
+    """The grid's cells without a panel hidden; the time axis labelled under the bottom panel
+    of each column."""
     for r in range(rows):
         for c in range(cols):
             if (r, c) not in used:
@@ -302,8 +295,74 @@ def plot_motion(
         bottom = max((r for r in range(rows) if (r, c) in used), default=None)
         if bottom is not None:
             axes[bottom][c].set_xlabel("time (s)", fontsize=8)
-    _finish(fig, title, caption)
-    return _png(fig, comment), n_limit, n_fast
+
+
+def _draw_limits(ax: Any, lim: JointLimits, y0: float, y1: float, shown: list[float]) -> None:
+    """A joint's range above the panel (when both ends are finite), the out-of-range bands
+    shaded up to the view ``y0``..``y1`` (rad or m), and the limits ``shown`` as dashed lines."""
+    if math.isfinite(lim.lower + lim.upper):
+        ax.text(
+            0.5,
+            1.01,
+            f"range {lim.lower:.3g} to {lim.upper:.3g} {lim.unit}",
+            transform=ax.transAxes,
+            ha="center",
+            va="bottom",
+            fontsize=6,
+            color="#777777",
+        )
+    if math.isfinite(lim.upper):
+        ax.axhspan(lim.upper, max(y1, lim.upper), color="#f4c7c3", lw=0, zorder=0)
+    if math.isfinite(lim.lower):
+        ax.axhspan(min(y0, lim.lower), lim.lower, color="#f4c7c3", lw=0, zorder=0)
+    for value in shown:
+        ax.axhline(value, color="#c0392b", lw=0.8, ls="--", zorder=1)
+
+
+def _draw_held(
+    ax: Any,
+    motion: Motion,
+    column: int,
+    elapsed: npt.NDArray[np.int64],
+    target: npt.NDArray[np.float64],
+    color: str,
+) -> None:
+    """The held ``target`` ((S,) rad or m at ``elapsed`` ms) of ``column``, dotted, where it
+    gets no command, joined to the last commanded step before each such span."""
+    import numpy as np
+
+    commanded = motion_commanded(motion, column, elapsed)
+    held_span = ~commanded
+    held_span[:-1] |= ~commanded[1:]
+    dotted = np.where(held_span, target, np.nan)
+    ax.plot(elapsed / MS_PER_S, dotted, color=color, lw=1.0, ls=":", zorder=2)
+
+
+def _mark_out_of_range(
+    ax: Any, t_s: npt.NDArray[np.float64], v: npt.NDArray[np.float64], jl: JointLimits
+) -> int:
+    """An x on each keyframe value ``v`` ((P,) at ``t_s`` s) outside ``jl``'s range; how many."""
+    out = (v < jl.lower) | (v > jl.upper)
+    if out.any():
+        ax.plot(t_s[out], v[out], ls="none", marker="x", ms=7, mew=2, color="#c0392b", zorder=5)
+    return int(out.sum())
+
+
+def _mark_too_fast(
+    ax: Any, t_s: npt.NDArray[np.float64], v: npt.NDArray[np.float64], jl: JointLimits
+) -> int:
+    """Each segment of ``v`` ((P,) at ``t_s`` s) faster than ``jl.max_velocity`` drawn thick
+    red; how many."""
+    import numpy as np
+
+    if not (math.isfinite(jl.max_velocity) and t_s.shape[0] > 1):
+        return 0
+    with np.errstate(invalid="ignore"):
+        speed = np.abs(np.diff(v)) / np.diff(t_s)
+    fast = np.flatnonzero(speed > jl.max_velocity * (1.0 + 1e-9))
+    for s in fast.tolist():
+        ax.plot(t_s[s : s + 2], v[s : s + 2], color="#c0392b", lw=3.2, zorder=4)
+    return int(fast.shape[0])
 
 
 def motion_commanded(

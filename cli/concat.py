@@ -49,28 +49,31 @@ def _in_transition(d: Diagnostic, transitions: tuple[Transition, ...], step_ms: 
     return any(t.start_ms < d.time_ms <= t.start_ms + t.duration_ms + step_ms for t in transitions)
 
 
+_Paths = Annotated[list[Path], typer.Argument(help="Two or more motion files, in playing order.")]
+_Margin = Annotated[
+    float,
+    typer.Option(
+        "--margin",
+        callback=finite,
+        help="Fraction of maxVelocity a transition may use, in (0, 1].",
+    ),
+]
+_Transition = Annotated[
+    int | None,
+    typer.Option(
+        "--transition",
+        min=1,
+        help="Transition time in ms, instead of fitting the shortest one within the "
+        "robot's maxVelocity x margin.",
+    ),
+]
+
+
 def concat_command(
-    paths: Annotated[
-        list[Path], typer.Argument(help="Two or more motion files, in playing order.")
-    ],
+    paths: _Paths,
     robot: RobotOption = AUTO,
-    margin: Annotated[
-        float,
-        typer.Option(
-            "--margin",
-            callback=finite,
-            help="Fraction of maxVelocity a transition may use, in (0, 1].",
-        ),
-    ] = DEFAULT_MARGIN,
-    transition: Annotated[
-        int | None,
-        typer.Option(
-            "--transition",
-            min=1,
-            help="Transition time in ms, instead of fitting the shortest one within the "
-            "robot's maxVelocity x margin.",
-        ),
-    ] = None,
+    margin: _Margin = DEFAULT_MARGIN,
+    transition: _Transition = None,
     timestep: ResultTimestep = None,
     output: Output = None,
     in_place: InPlace = False,
@@ -100,12 +103,7 @@ def concat_command(
         )
     limits = None if spec is None else {j.name: j.max_velocity for j in spec.joints}
     result = concat(docs, transition_ms=transition, max_velocity=limits, margin=margin)
-    findings: list[Diagnostic] = []
-    step = 0
-    if spec is not None:
-        step = timestep or spec.default_timestep_ms
-        every = check_result(result.document, Velocity(spec, timestep))
-        findings = [d for d in every if _in_transition(d, result.transitions, step)]
+    step, findings = _transition_findings(result, spec, timestep)
     write_result(result.document, target)
     if format is Format.json:
         say(_json(result, paths, target, spec, margin, findings), target)
@@ -113,6 +111,18 @@ def concat_command(
         say(_text(result, paths, target, spec, margin, findings, step), target)
     if findings:
         raise typer.Exit(1)
+
+
+def _transition_findings(
+    result: Concatenated, spec: RobotSpec | None, timestep: int | None
+) -> tuple[int, list[Diagnostic]]:
+    """The controller step, ms (0 without a robot), and validate's velocity findings in the
+    transitions of ``result`` at that step (none without a robot)."""
+    if spec is None:
+        return 0, []
+    step = timestep or spec.default_timestep_ms
+    every = check_result(result.document, Velocity(spec, timestep))
+    return step, [d for d in every if _in_transition(d, result.transitions, step)]
 
 
 def _text(

@@ -67,46 +67,54 @@ def _stretch_lines(r: Retimed) -> list[str]:
     return out
 
 
+_Speed = Annotated[
+    float | None,
+    typer.Option(
+        "--speed",
+        callback=finite,
+        help="Play this many times as fast: 0.5 takes twice as long (times scaled from 0).",
+    ),
+]
+_Duration = Annotated[
+    int | None,
+    typer.Option("--duration", min=0, help="Scale the times so the last pose is at this ms."),
+]
+_FitLimits = Annotated[
+    bool,
+    typer.Option(
+        "--fit-limits",
+        help="Stretch each segment that is too fast for a joint to the shortest whole-ms "
+        "duration within maxVelocity x margin; other segments keep theirs.",
+    ),
+]
+_Robot = Annotated[str, robot_option("Robot whose limits --fit-limits uses")]
+_Margin = Annotated[
+    float,
+    typer.Option(
+        "--margin",
+        callback=finite,
+        help="Fraction of maxVelocity --fit-limits allows, in (0, 1].",
+    ),
+]
+_Accel = Annotated[
+    float | None,
+    typer.Option(
+        "--accel",
+        callback=finite,
+        help="Also limit each joint's velocity change at a pose to this many rad/s² "
+        "(over the half segments around it; the motion starts and ends at rest).",
+    ),
+]
+
+
 def retime_command(
     path: MotionFile,
-    speed: Annotated[
-        float | None,
-        typer.Option(
-            "--speed",
-            callback=finite,
-            help="Play this many times as fast: 0.5 takes twice as long (times scaled from 0).",
-        ),
-    ] = None,
-    duration: Annotated[
-        int | None,
-        typer.Option("--duration", min=0, help="Scale the times so the last pose is at this ms."),
-    ] = None,
-    fit: Annotated[
-        bool,
-        typer.Option(
-            "--fit-limits",
-            help="Stretch each segment that is too fast for a joint to the shortest whole-ms "
-            "duration within maxVelocity x margin; other segments keep theirs.",
-        ),
-    ] = False,
-    robot: Annotated[str, robot_option("Robot whose limits --fit-limits uses")] = AUTO,
-    margin: Annotated[
-        float,
-        typer.Option(
-            "--margin",
-            callback=finite,
-            help="Fraction of maxVelocity --fit-limits allows, in (0, 1].",
-        ),
-    ] = DEFAULT_MARGIN,
-    accel: Annotated[
-        float | None,
-        typer.Option(
-            "--accel",
-            callback=finite,
-            help="Also limit each joint's velocity change at a pose to this many rad/s² "
-            "(over the half segments around it; the motion starts and ends at rest).",
-        ),
-    ] = None,
+    speed: _Speed = None,
+    duration: _Duration = None,
+    fit: _FitLimits = False,
+    robot: _Robot = AUTO,
+    margin: _Margin = DEFAULT_MARGIN,
+    accel: _Accel = None,
     timestep: ResultTimestep = None,
     output: Output = None,
     in_place: InPlace = False,
@@ -119,22 +127,7 @@ def retime_command(
     result with validate's velocity check and exits 1 if a warning remains (a target jump after
     a '*' stretch, which no retiming removes). Running it again changes nothing.
     """
-    modes = [
-        m
-        for m, on in (
-            ("--speed", speed is not None),
-            ("--duration", duration is not None),
-            ("--fit-limits", fit),
-        )
-        if on
-    ]
-    if len(modes) != 1:
-        raise MotionToolError(
-            "give exactly one of --speed, --duration or --fit-limits"
-            + (f" (got {' and '.join(modes)})" if modes else "")
-        )
-    if accel is not None and not fit:
-        raise MotionToolError("--accel applies to --fit-limits only")
+    _refuse_modes(speed, duration, fit, accel)
     target = output_target(path, output, in_place)
     doc = load_input(path)
     motion = doc.motion
@@ -164,6 +157,29 @@ def retime_command(
         say(_text(result, path, target, how, spec, margin, accel, findings, timestep), target)
     if findings:
         raise typer.Exit(1)
+
+
+def _refuse_modes(
+    speed: float | None, duration: int | None, fit: bool, accel: float | None
+) -> None:
+    """Raise :class:`MotionToolError` unless exactly one of --speed, --duration and
+    --fit-limits is given, and --accel only with --fit-limits."""
+    modes = [
+        m
+        for m, on in (
+            ("--speed", speed is not None),
+            ("--duration", duration is not None),
+            ("--fit-limits", fit),
+        )
+        if on
+    ]
+    if len(modes) != 1:
+        raise MotionToolError(
+            "give exactly one of --speed, --duration or --fit-limits"
+            + (f" (got {' and '.join(modes)})" if modes else "")
+        )
+    if accel is not None and not fit:
+        raise MotionToolError("--accel applies to --fit-limits only")
 
 
 def _text(

@@ -10,11 +10,12 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.cli.color import color_enabled
-from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.fixing import fix_files
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.lint_run import (
     Checked,
+    LintRun,
     Overrides,
     collect,
     keep_first,
@@ -314,20 +315,55 @@ def validate_command(
     )
     files = collect(paths, resolver)
     refuse_overwrite(output, files, "-o")
-    robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
-    if diff:
-        changes = fix_files(files, unsafe=unsafe_fixes, write=False, robot=robot_fixes)
-        emit_bytes(b"".join(changes.diff), output)
-        raise typer.Exit(1 if changes.diff else 0)
-    if fix:
-        fixed = fix_files(files, unsafe=unsafe_fixes, write=True, robot=robot_fixes)
-        typer.echo(f"motiontool: {fixed.line()}", err=True)
+    if diff or fix:
+        _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
     checker = partial(robot_checks, tolerance=collision_tolerance)
     with progress("validate") as step:
         run = lint(files, resolver, overrides, checker, on_step=step)
     project = resolver.for_file(Path("-"))
     if project.max_findings is not None:
         keep_first(run.report, project.max_findings)
+    _print_report(
+        run, project, format, sort, strict=strict, statistics=statistics, robot=robot, output=output
+    )
+    if run.failed():
+        raise typer.Exit(1)
+
+
+def _apply_fixes(
+    files: list[Path],
+    resolver: Resolver,
+    overrides: Overrides,
+    *,
+    unsafe: bool,
+    write: bool,
+    output: Path | None,
+) -> None:
+    """``--fix`` (``write``): fix the files, say what was fixed on stderr. ``--diff`` (not
+    ``write``): print the fixes as a unified diff, then exit (1 if there is one)."""
+    robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
+    if not write:
+        changes = fix_files(files, unsafe=unsafe, write=False, robot=robot_fixes)
+        emit_bytes(b"".join(changes.diff), output)
+        raise typer.Exit(1 if changes.diff else 0)
+    fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
+    typer.echo(f"motiontool: {fixed.line()}", err=True)
+
+
+def _print_report(
+    run: LintRun,
+    project: Settings,
+    format: FormatName,
+    sort: Order,
+    *,
+    strict: bool | None,
+    statistics: bool,
+    robot: str | None,
+    output: Path | None,
+) -> None:
+    """The report of ``run`` in ``format`` (or ``--statistics``), in color where the format
+    has colors and the terminal takes them, to ``output`` (None or '-': stdout); ``strict``
+    and ``robot`` as given, else the ``project``'s settings."""
     to_stdout = output is None or str(output) == "-"
     color = REPORTS[format.value].colors and color_enabled(sys.stdout, to_file=not to_stdout)
     requested = robot if robot is not None else project.robot
@@ -346,8 +382,6 @@ def validate_command(
         typer.echo(text, nl=False, color=color)
     else:
         emit(text, output)
-    if run.failed():
-        raise typer.Exit(1)
 
 
 def _settings_text(paths: list[Path], resolver: Resolver) -> str:
