@@ -35,6 +35,7 @@ from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.transform import (
     DEFAULT_MARGIN,
     Retimed,
@@ -141,6 +142,8 @@ def retime_command(
         result = fit_duration(times, duration)
         how = f"duration {duration} ms"
     else:
+        # A nan/inf command has no speed to fit (and an infinite one no finite duration).
+        refuse_non_finite(motion, doc.result, "fitting it to the robot's limits")
         spec = resolve_robot(robot, motion.joints)
         limits = {j.name: j.max_velocity for j in spec.joints}
         result = fit_limits(

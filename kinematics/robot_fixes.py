@@ -52,7 +52,13 @@ def clamp_fixes(result: ReadResult, spec: RobotSpec) -> list[Fix]:
 
 
 def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -> list[Fix]:
-    """MT303: the new time of every pose that moves, written in the file's time style."""
+    """MT303: the new time of every pose that moves, written in the file's time style; none
+    for a motion with a nan/inf command (it has no speed to fit: MT113 first)."""
+    import numpy as np
+
+    motion = result.motion
+    if not bool(np.isfinite(motion.values[motion.commanded]).all()):
+        return []
     limits = {j.name: j.max_velocity for j in spec.joints if math.isfinite(j.max_velocity)}
     times = [int(t) for t in result.times_ms]
     fitted = fit_limits(times, result.joints, result.motion.values, limits)
