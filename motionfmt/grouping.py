@@ -18,9 +18,9 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable
 
-from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Run, Worst
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Run, Severity, Worst
 
-__all__ = ["group_findings", "grouped_message"]
+__all__ = ["group_findings", "grouped_message", "run_finding"]
 
 
 def grouped_message(pose: PoseFinding, count: int, lines: tuple[int, int], worst: Worst) -> str:
@@ -62,23 +62,38 @@ class _Open:
 
     def finding(self) -> Diagnostic:
         """One finding for the group (the first one itself if it is alone)."""
-        first, pose, worst = self.first, self.subject, self.worst
-        if self.count == 1:
-            return first
+        worst = self.worst
         w = Worst(
             self.worst_pose.value, self.worst_pose.unit, worst.line, worst.column, worst.time_ms
         )
-        lines = (first.line, self.last.line)
-        when = "" if first.time_ms is None else f" from {first.time_ms} ms"
-        run = Run(self.count, self.last.line, w, pose.noun, f"{pose.subject}{when}")
-        return dataclasses.replace(
-            first,
-            severity=self.severity,
-            message=grouped_message(pose, self.count, lines, w),
-            hint=pose.hint if pose.hint is not None else first.hint,
-            pose=None,
-            run=run,
-        )
+        return run_finding(self.first, self.count, self.last.line, w, self.severity)
+
+
+def run_finding(
+    first: Diagnostic, count: int, last_line: int, worst: Worst, severity: Severity | None = None
+) -> Diagnostic:
+    """The finding that :func:`group_findings` makes of ``count`` consecutive findings of
+    ``first``'s code and subject, from ``first`` (which has :attr:`~Diagnostic.pose`) to one on
+    ``last_line``, the worst of them ``worst``; ``severity``: the worst of their severities
+    (None: ``first``'s). ``first`` itself when ``count`` is 1.
+
+    A check that finds its problems as arrays builds its groups with this, without a
+    finding per pose (:meth:`motiontool.kinematics.checks.limits.Limits.grouped`)."""
+    pose = first.pose
+    if count == 1:
+        return first
+    if pose is None:
+        raise ValueError("run_finding: the first finding has no PoseFinding")
+    when = "" if first.time_ms is None else f" from {first.time_ms} ms"
+    run = Run(count, last_line, worst, pose.noun, f"{pose.subject}{when}")
+    return dataclasses.replace(
+        first,
+        severity=first.severity if severity is None else severity,
+        message=grouped_message(pose, count, (first.line, last_line), worst),
+        hint=pose.hint if pose.hint is not None else first.hint,
+        pose=None,
+        run=run,
+    )
 
 
 def group_findings(diagnostics: Iterable[Diagnostic]) -> list[Diagnostic]:

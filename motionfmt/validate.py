@@ -176,11 +176,18 @@ def validate_bytes(
     diagnostics = list(result.diagnostics)
     if result.accepted and result.times_ms and result.joints:
         for check in checks:
-            found = check(result)
+            found = _run_check(check, result, group)
             diagnostics.extend(group_findings(found) if group else found)
     skip = _check_codes(ignore)
     kept = sorted((d for d in diagnostics if d.code not in skip), key=Diagnostic.sort_key)
     return FileReport(path=path, read=result, diagnostics=kept, data=data)
+
+
+def _run_check(check: Check, result: ReadResult, group: bool) -> list[Diagnostic]:
+    """``check``'s findings on ``result``; with ``group``, from its ``grouped`` method where it
+    has one (findings it groups itself, from arrays, as :func:`group_findings` would)."""
+    grouped: Check | None = getattr(check, "grouped", None) if group else None
+    return grouped(result) if grouped is not None else check(result)
 
 
 def validate_paths(

@@ -37,6 +37,7 @@ __all__ = [
     "fmt_num",
     "fmt_span",
     "header_diagnostic",
+    "pose_runs",
     "read_table",
     "runs",
     "sent_cells",
@@ -99,6 +100,23 @@ def runs(indices: Sequence[int], step: int) -> list[list[int]]:
         else:
             out.append([i])
     return out
+
+
+def pose_runs(
+    mask: npt.NDArray[np.bool_], excess: npt.NDArray[np.float64]
+) -> list[tuple[int, int, int]]:
+    """The runs of consecutive True in ``mask`` (P,), each as (first, last, worst) indices,
+    the worst the first with the largest ``excess`` (P,) in the run: what
+    :func:`~motiontool.motionfmt.grouping.group_findings` makes one finding of."""
+    import numpy as np
+
+    edges = np.diff(mask.astype(np.int8), prepend=np.int8(0), append=np.int8(0))
+    starts = np.flatnonzero(edges == 1).tolist()
+    ends = (np.flatnonzero(edges == -1) - 1).tolist()
+    return [
+        (s, e, s if s == e else s + int(np.argmax(excess[s : e + 1])))
+        for s, e in zip(starts, ends, strict=True)
+    ]
 
 
 # --------------------------------------------------------------------------- the file's table

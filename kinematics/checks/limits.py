@@ -18,9 +18,11 @@ from motiontool.kinematics.checks._table import (
     fmt_name,
     fmt_num,
     fmt_span,
+    pose_runs,
 )
 from motiontool.kinematics.robots import JointSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
+from motiontool.motionfmt.grouping import run_finding
 from motiontool.motionfmt.reader import ReadResult
 
 if TYPE_CHECKING:
@@ -42,6 +44,15 @@ class Limits(RobotCheck):
     MT305 the HeadPitch range that depends on HeadYaw, MT306 joints one motor drives."""
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        return self._check(result, group=False)
+
+    def grouped(self, result: ReadResult) -> list[Diagnostic]:
+        """The findings with MT302's runs of consecutive poses already grouped, as
+        :func:`~motiontool.motionfmt.grouping.group_findings` groups them, built from the
+        arrays without a finding per pose (the other codes one per pose, for it to group)."""
+        return self._check(result, group=True)
+
+    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         import numpy as np
 
         table = self.table(result)
@@ -54,14 +65,16 @@ class Limits(RobotCheck):
         with np.errstate(invalid="ignore"):
             below = values < lower
             outside = below | (values > upper)
-        out = [
-            self._beyond(table, int(pose), int(k), joints[k], bool(below[pose, k]))
-            for pose, k in zip(*np.nonzero(outside), strict=True)
-        ]
+        if group:
+            out = self._beyond_runs(table, joints, below, outside)
+        else:
+            out = [
+                self._beyond(table, int(pose), int(k), joints[k], bool(below[pose, k]))
+                for pose, k in zip(*np.nonzero(outside), strict=True)
+            ]
         if self.spec.head_pitch_envelope or self.spec.coupled_joints:
-            flagged = {(d.line, d.joint) for d in out}
             held, commanded = self._configuration(table, lower, upper)
-            out.extend(self._head_envelope(table, held, commanded, flagged))
+            out.extend(self._head_envelope(table, held, commanded, outside))
             out.extend(self._coupled(table, held, commanded))
         return out
 
@@ -92,6 +105,36 @@ class Limits(RobotCheck):
             ),
         )
 
+    def _beyond_runs(
+        self,
+        table: Table,
+        joints: list[JointSpec],
+        below: npt.NDArray[np.bool_],
+        outside: npt.NDArray[np.bool_],
+    ) -> list[Diagnostic]:
+        """MT302 grouped: one finding per run of consecutive poses of a motor on one side of
+        its limits (:func:`~motiontool.motionfmt.grouping.run_finding`)."""
+        out = []
+        values, span = table.values, table.result.cell_span
+        for k, joint in enumerate(joints):
+            for low, bound in ((True, joint.lower), (False, joint.upper)):
+                mask = below[:, k] if low else outside[:, k] & ~below[:, k]
+                if not mask.any():
+                    continue
+                excess = abs(values[:, k] - bound)
+                for first, last, worst in pose_runs(mask, excess):
+                    d = self._beyond(table, first, k, joint, low)
+                    if last == first:
+                        out.append(d)
+                        continue
+                    line, column, _end = span(worst, table.col(worst, k))
+                    w = Worst(
+                        float(values[worst, k]), joint.unit, line, column, int(table.times[worst])
+                    )
+                    last_line = span(last, table.col(last, k))[0]
+                    out.append(run_finding(d, last - first + 1, last_line, w))
+        return out
+
     @staticmethod
     def _configuration(
         table: Table, lower: npt.NDArray[np.float64], upper: npt.NDArray[np.float64]
@@ -111,9 +154,10 @@ class Limits(RobotCheck):
         table: Table,
         held: npt.NDArray[np.float64],
         commanded: npt.NDArray[np.bool_],
-        flagged: set[tuple[int, str | None]],
+        outside: npt.NDArray[np.bool_],
     ) -> list[Diagnostic]:
-        """MT305: HeadPitch outside the real robot's range at the HeadYaw it holds."""
+        """MT305: HeadPitch outside the real robot's range at the HeadYaw it holds, where
+        MT302 (``outside`` (P, K)) does not already report that cell."""
         import numpy as np
 
         names = self._names(table)
@@ -127,6 +171,13 @@ class Limits(RobotCheck):
         rows = np.array(self.spec.head_pitch_envelope)
         lo = np.interp(yaw, rows[:, 0], rows[:, 1])
         hi = np.interp(yaw, rows[:, 0], rows[:, 2])
+        # The MT302 cells of the two head motors, as (line, joint): one bad value, one finding.
+        flagged = {
+            (table.result.cell_span(int(p), table.col(int(p), k))[0], names[k])
+            for k in (k_pitch, k_yaw)
+            if k is not None
+            for p in np.flatnonzero(outside[:, k])
+        }
         any_command = np.zeros(held.shape[0], dtype=bool)
         for k in (k_pitch, k_yaw):
             if k is not None:

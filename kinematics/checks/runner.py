@@ -214,6 +214,15 @@ class RobotChecks:
         return pick_robot(AUTO, result.joints)
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        return self._check(result, group=False)
+
+    def grouped(self, result: ReadResult) -> list[Diagnostic]:
+        """The findings, each check's from its ``grouped`` method where it has one (runs of
+        consecutive per-pose findings already grouped, as
+        :func:`~motiontool.motionfmt.grouping.group_findings` groups them)."""
+        return self._check(result, group=True)
+
+    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         if self.robot == NONE:
             return []
         spec = self.spec_for(result)
@@ -222,22 +231,24 @@ class RobotChecks:
             return [_skipped(result, self.wording)]
         out = []
         for check in self._checks_for(spec):
-            out.extend(self._run(check, result))
+            out.extend(self._run(check, result, group=group))
         if "balance" in self.checks and not spec.feet:
             message = f"balance check skipped: robot {spec.name} has no feet"
             out.append(Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message))
         return out
 
-    def _run(self, check: _Check, result: ReadResult) -> list[Diagnostic]:
-        """``check`` on ``result``; a default check that needs a missing extra is skipped from
-        then on (:attr:`notes` says so once); one asked for by name raises."""
+    def _run(self, check: _Check, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+        """``check`` on ``result`` (with ``group``, its ``grouped`` method where it has one);
+        a default check that needs a missing extra is skipped from then on (:attr:`notes`
+        says so once); one asked for by name raises."""
         name = _CHECK_NAMES.get(type(check))
         if name in self.skipped:
             return []
         if self.on_check is not None and name is not None:
             self.on_check(f"{result.path}: {name}")
+        grouped: _Check | None = getattr(check, "grouped", None) if group else None
         try:
-            return check(result)
+            return grouped(result) if grouped is not None else check(result)
         except MissingExtraError as exc:
             if name is None or not self.skip_missing:
                 raise

@@ -15,9 +15,11 @@ from motiontool.kinematics.checks._table import (
     fmt_ms,
     fmt_name,
     fmt_num,
+    pose_runs,
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
+from motiontool.motionfmt.grouping import run_finding
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MS_PER_S
@@ -46,6 +48,15 @@ class Velocity(RobotCheck):
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        return self._check(result, group=False)
+
+    def grouped(self, result: ReadResult) -> list[Diagnostic]:
+        """The findings with MT303's runs of consecutive segments already grouped, as
+        :func:`~motiontool.motionfmt.grouping.group_findings` groups them, built from the
+        arrays without a finding per segment (MT304 one per step, for it to group)."""
+        return self._check(result, group=True)
+
+    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         import numpy as np
 
         table = self.table(result)
@@ -62,11 +73,50 @@ class Velocity(RobotCheck):
             speed = delta / dt_s[:, None]
             # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
             fast = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
-        out = [
-            self._segment(table, joints[limited[i]], int(seg), int(driver[seg, i]), delta[seg, i])
-            for seg, i in zip(*np.nonzero(fast), strict=True)
-        ]
+        if group:
+            out = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
+        else:
+            out = [
+                self._segment(
+                    table, joints[limited[i]], int(seg), int(driver[seg, i]), delta[seg, i]
+                )
+                for seg, i in zip(*np.nonzero(fast), strict=True)
+            ]
         out.extend(self._stream(table, joints, limited, fast))
+        return out
+
+    @classmethod
+    def _segment_runs(
+        cls,
+        table: Table,
+        joints: list[JointSpec],
+        driver: npt.NDArray[np.intp],
+        delta: npt.NDArray[np.float64],
+        fast: npt.NDArray[np.bool_],
+    ) -> list[Diagnostic]:
+        """MT303 grouped: one finding per run of consecutive fast segments of a joint
+        (:func:`~motiontool.motionfmt.grouping.run_finding`); ``joints``, ``driver``,
+        ``delta`` and ``fast`` (S, I): the joints with a maximum velocity."""
+        import numpy as np
+
+        out = []
+        dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
+        span = table.result.cell_span
+        for i, joint in enumerate(joints):
+            if not fast[:, i].any():
+                continue
+            excess = delta[:, i] / dt_s - joint.max_velocity
+            for first, last, worst in pose_runs(fast[:, i], excess):
+                d = cls._segment(table, joint, first, int(driver[first, i]), delta[first, i])
+                if last == first:
+                    out.append(d)
+                    continue
+                line, column, _end = span(worst + 1, int(driver[worst, i]))
+                t0, t1 = int(table.times[worst]), int(table.times[worst + 1])
+                speed = float(delta[worst, i]) / ((t1 - t0) / MS_PER_S)
+                w = Worst(speed, f"{joint.unit}/s", line, column, t1)
+                last_line = span(last + 1, int(driver[last, i]))[0]
+                out.append(run_finding(d, last - first + 1, last_line, w))
         return out
 
     @staticmethod
