@@ -77,7 +77,8 @@ class FileReport:
 
     def _robot_fixes(self, planned: list[Fix]) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
         """Each robot finding's edits: an MT302 finding's are its joint's clamps on its lines
-        (a grouped finding's run of lines), every MT303 finding's the whole retiming."""
+        (a grouped finding's run of lines); the whole retiming belongs to the file's first MT303
+        finding (one retiming fixes every segment, and a report stays linear in size)."""
         stretch = tuple(f for f in planned if f.code == "MT303")
         clamps: dict[str | None, list[Fix]] = {}
         for f in planned:
@@ -85,10 +86,11 @@ class FileReport:
                 clamps.setdefault(f.joint, []).append(f)  # in line order
         lines = {joint: [f.line for f in fixes] for joint, fixes in clamps.items()}
         out: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
+        first = self._first_stretch
+        if first is not None and stretch:
+            out[(first.code, first.line, first.column)] = stretch
         for d in self.diagnostics:
-            if d.code == "MT303" and stretch:
-                out[(d.code, d.line, d.column)] = stretch
-            elif d.code == "MT302" and d.joint in clamps:
+            if d.code == "MT302" and d.joint in clamps:
                 last = d.line if d.run is None else d.run.end_line
                 at = lines[d.joint]
                 mine = clamps[d.joint][bisect_left(at, d.line) : bisect_right(at, last)]
@@ -100,9 +102,16 @@ class FileReport:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
         not planned for it (a report that only names them stays cheap)."""
         if d.code in ROBOT_CODES:
-            return None if self.robot_fixes is None else (False, ROBOT_FIX_TITLES[d.code])
+            if self.robot_fixes is None or (d.code == "MT303" and d is not self._first_stretch):
+                return None
+            return False, ROBOT_FIX_TITLES[d.code]
         fixes = self.fix_of(d)
         return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
+
+    @functools.cached_property
+    def _first_stretch(self) -> Diagnostic | None:
+        """The first MT303 finding, in file order: it carries the retiming that fixes them all."""
+        return next((d for d in self.diagnostics if d.code == "MT303"), None)
 
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""

@@ -188,3 +188,18 @@ def test_a_grouped_finding_carries_the_fix_of_each_of_its_poses(motion: Path) ->
         (3, "2.08567"),
         (4, "2.08567"),
     ]
+
+
+def test_one_retiming_is_the_fix_of_the_first_too_fast_segment_only(motion: Path) -> None:
+    """Every MT303 of a file is fixed by one retiming: it is carried by the first finding, so
+    that a report of n too-fast segments stays linear in size (not n retimings of n poses)."""
+    lines = [f"{k * 40},P{k},{1.0 if k % 2 else -1.0}" for k in range(12)]
+    path = motion.parent / "zigzag.motion"
+    path.write_text("#WEBOTS_MOTION,V1.0,HeadPitch\n" + "\n".join(lines) + "\n")
+    _, out, _ = invoke("validate", "zigzag.motion", "--robot", "nao", "--no-group", "-f", "json")
+    stretches = [d for d in json.loads(out)["files"][0]["diagnostics"] if d["code"] == "MT303"]
+    assert len(stretches) == 11
+    assert len(stretches[0]["fix"]["edits"]) == 11  # every later pose moves
+    assert all(d["fix"] is None for d in stretches[1:])
+    _, text, _ = invoke("validate", "zigzag.motion", "--robot", "nao", "--no-group")
+    assert text.count("= fix (--fix --unsafe-fixes): stretch") == 1
