@@ -323,3 +323,24 @@ class RobotCheck:
 
     def table(self, result: ReadResult) -> Table:
         return read_table(result, self.motor_index)
+
+
+class Groupable:
+    """Checks that give their findings one per pose (``__call__``) or with their runs of
+    consecutive per-pose findings already grouped (:meth:`grouped`), as
+    :func:`~motiontool.motionfmt.grouping.group_findings` would group them. Subclasses write
+    :meth:`_check`."""
+
+    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+        return self._check(result, group=False)
+
+    def grouped(self, result: ReadResult) -> list[Diagnostic]:
+        """The findings with the runs already grouped (the others one per pose)."""
+        return self._check(result, group=True)
+
+    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+        raise NotImplementedError
+
+
+class GroupingCheck(Groupable, RobotCheck):
+    """A robot check that builds its grouped runs from its arrays (Limits, Velocity)."""

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.kinematics.checks._table import (
     EPS,
-    RobotCheck,
+    GroupingCheck,
     Table,
     cell,
     fmt_name,
@@ -39,18 +39,9 @@ difference of 1e-4 rad at most over their [0, 1] range; 1e-3 rad also allows val
 3 decimals. Anything larger cannot be played by one motor."""
 
 
-class Limits(RobotCheck):
+class Limits(GroupingCheck):
     """MT302 position limits, and the real robot's rules where the spec has them (nao-v5):
     MT305 the HeadPitch range that depends on HeadYaw, MT306 joints one motor drives."""
-
-    def __call__(self, result: ReadResult) -> list[Diagnostic]:
-        return self._check(result, group=False)
-
-    def grouped(self, result: ReadResult) -> list[Diagnostic]:
-        """The findings with MT302's runs of consecutive poses already grouped, as
-        :func:`~motiontool.motionfmt.grouping.group_findings` groups them, built from the
-        arrays without a finding per pose (the other codes one per pose, for it to group)."""
-        return self._check(result, group=True)
 
     def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         import numpy as np

@@ -8,7 +8,7 @@ from collections.abc import Callable, Iterable
 
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import install_hint
-from motiontool.kinematics.checks._table import header_diagnostic
+from motiontool.kinematics.checks._table import Groupable, header_diagnostic
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import Limits
@@ -141,7 +141,7 @@ def robot_checks(
     return out
 
 
-class RobotChecks:
+class RobotChecks(Groupable):
     """The robot checks of one ``validate`` run, as one :data:`Check`.
 
     ``robot='auto'`` picks, per file, the built-in robot that has the most of the header's
@@ -212,15 +212,6 @@ class RobotChecks:
         if self.robot != AUTO:
             return next(iter(self._specs.values()), None)
         return pick_robot(AUTO, result.joints)
-
-    def __call__(self, result: ReadResult) -> list[Diagnostic]:
-        return self._check(result, group=False)
-
-    def grouped(self, result: ReadResult) -> list[Diagnostic]:
-        """The findings, each check's from its ``grouped`` method where it has one (runs of
-        consecutive per-pose findings already grouped, as
-        :func:`~motiontool.motionfmt.grouping.group_findings` groups them)."""
-        return self._check(result, group=True)
 
     def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         if self.robot == NONE:

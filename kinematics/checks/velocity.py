@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.kinematics.checks._table import (
     EPS,
-    RobotCheck,
+    GroupingCheck,
     Table,
     cell,
     fmt_ms,
@@ -35,7 +35,7 @@ __all__ = ["Velocity"]
 _Step = tuple[float, int, int, int]
 
 
-class Velocity(RobotCheck):
+class Velocity(GroupingCheck):
     """MT303 keyframe segments faster than maxVelocity; MT304 the command stream at the
     controller time step (target jumps after a ``*`` stretch, one step per segment).
 
@@ -46,15 +46,6 @@ class Velocity(RobotCheck):
     def __init__(self, spec: RobotSpec, timestep_ms: int | None = None) -> None:
         super().__init__(spec)
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
-
-    def __call__(self, result: ReadResult) -> list[Diagnostic]:
-        return self._check(result, group=False)
-
-    def grouped(self, result: ReadResult) -> list[Diagnostic]:
-        """The findings with MT303's runs of consecutive segments already grouped, as
-        :func:`~motiontool.motionfmt.grouping.group_findings` groups them, built from the
-        arrays without a finding per segment (MT304 one per step, for it to group)."""
-        return self._check(result, group=True)
 
     def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
         import numpy as np
