@@ -60,9 +60,16 @@ class FileReport:
     def fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
         """The fixes for this file's findings (safe and unsafe), by (code, line, column) of
         the finding they fix (:mod:`motiontool.motionfmt.fixes`)."""
-        by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
+        by_place = dict(self._file_fixes)
         if any(d.code in ROBOT_CODES for d in self.diagnostics) and self.robot_fixes:
             by_place.update(self._robot_fixes(self.robot_fixes(self.data)))
+        return by_place
+
+    @functools.cached_property
+    def _file_fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
+        """The fixes that need only the file (not the robot): planned without the robot's,
+        which a report that only names fixes never has to plan."""
+        by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
         if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in self.diagnostics):
             return by_place
         planned = plan_fixes(self.data, self.path, unsafe=True, result=self.read)
@@ -105,7 +112,9 @@ class FileReport:
             if self.robot_fixes is None or (d.code == "MT303" and d is not self._first_stretch):
                 return None
             return False, ROBOT_FIX_TITLES[d.code]
-        fixes = self.fix_of(d)
+        if d.code not in SAFE_CODES | UNSAFE_CODES:
+            return None
+        fixes = self._file_fixes.get((d.code, d.line, d.column), ())
         return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
 
     @functools.cached_property
