@@ -78,6 +78,19 @@ def corpus_params() -> list[object]:
     ]
 
 
+def pre_commit_env(home: Path) -> dict[str, str]:
+    """The environment to run pre-commit (and git) in a test repository: this venv's
+    ``motiontool`` first on the PATH, pre-commit's cache in ``home``, no user or system git
+    configuration."""
+    return {
+        **os.environ,
+        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
+        "PRE_COMMIT_HOME": str(home),
+        "GIT_CONFIG_GLOBAL": os.devnull,
+        "GIT_CONFIG_NOSYSTEM": "1",
+    }
+
+
 def golden(kind: str) -> list[Path]:
     return sorted((DATA / kind).glob("*.motion"))
 

@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import json
-import os
 import re
 import subprocess
 import sys
@@ -15,7 +14,7 @@ from typing import Any
 import jsonschema
 import pytest
 import yaml
-from conftest import DATA, ROOT
+from conftest import DATA, ROOT, pre_commit_env
 from pre_commit import lang_base
 from pre_commit.clientlib import InvalidManifestError, load_config, load_manifest
 
@@ -189,13 +188,7 @@ def test_the_hook_prints_one_header_and_one_summary(
 def test_the_local_hook_example_runs_under_pre_commit(tmp_path: Path) -> None:
     repo = tmp_path / "assets"
     repo.mkdir()
-    env = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
-        "PRE_COMMIT_HOME": str(tmp_path / "cache"),
-        "GIT_CONFIG_GLOBAL": os.devnull,
-        "GIT_CONFIG_NOSYSTEM": "1",
-    }
+    env = pre_commit_env(tmp_path / "cache")
     (repo / ".pre-commit-config.yaml").write_text(block("repos"))
     (repo / "ok.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n400,B,0.1\n")
     (repo / "bad.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n40,B,abc\n")

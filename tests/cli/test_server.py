@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -19,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import pre_commit_env
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -237,13 +237,7 @@ FINDING = re.compile(r"^(\S+\.motion):(\d+):(\d+): \w+ (MT\d{3}):", re.MULTILINE
 def test_validate_the_pre_commit_hook_and_the_editor_agree(project: Path) -> None:
     """Issue #17's acceptance: a repository whose pyproject.toml sets the robot per folder and
     ignores a code gets the same findings from validate, the pre-commit hook and the server."""
-    env = {
-        **os.environ,
-        "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}",
-        "PRE_COMMIT_HOME": str(project / ".cache"),
-        "GIT_CONFIG_GLOBAL": os.devnull,
-        "GIT_CONFIG_NOSYSTEM": "1",
-    }
+    env = pre_commit_env(project / ".cache")
     (project / ".pre-commit-config.yaml").write_text(HOOK)
     subprocess.run(["git", "init", "-q"], cwd=project, env=env, check=True)
     subprocess.run(["git", "add", "."], cwd=project, env=env, check=True)

@@ -11,6 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 import yaml
+from bags import read_bag
 from conftest import ROOT
 from typer.testing import CliRunner
 
@@ -174,23 +175,11 @@ def test_a_joint_without_a_first_target_is_refused(tmp_path: Path) -> None:
 # --------------------------------------------------------------------------- bags, written
 
 
-def _read(path: Path) -> dict[str, list[tuple[int, Any]]]:
-    """Every message of the bag, by topic, with rosbags' reader: (bag time ns, message)."""
-    from rosbags.highlevel import AnyReader
-
-    out: dict[str, list[tuple[int, Any]]] = {}
-    with AnyReader([path]) as reader:
-        for connection, ns, raw in reader.messages():
-            msg = reader.deserialize(raw, connection.msgtype)
-            out.setdefault(f"{connection.topic} {connection.msgtype}", []).append((ns, msg))
-    return out
-
-
 def test_bag_holds_the_stream_bit_for_bit_and_the_trajectory(tmp_path: Path) -> None:
     out = tmp_path / "sorting.mcap"
     code, err = _run(SORTING, out)
     assert code == 0, err
-    topics = _read(out)
+    topics = read_bag(out)
     assert set(topics) == {
         "/joint_states sensor_msgs/msg/JointState",
         "/joint_trajectory trajectory_msgs/msg/JointTrajectory",

@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 import pytest
+from bags import read_bag
 from conftest import ROOT
 from typer.testing import CliRunner
 
@@ -19,18 +19,6 @@ from motiontool.sim.bag import run_bag
 from motiontool.sim.trace import Trace
 
 runner = CliRunner()
-
-
-def _read(path: Path) -> dict[str, list[tuple[int, Any]]]:
-    """Every message of the bag by topic and type, with rosbags' reader: (bag time ns, msg)."""
-    from rosbags.highlevel import AnyReader
-
-    out: dict[str, list[tuple[int, Any]]] = {}
-    with AnyReader([path]) as reader:
-        for connection, ns, raw in reader.messages():
-            msg = reader.deserialize(raw, connection.msgtype)
-            out.setdefault(f"{connection.topic} {connection.msgtype}", []).append((ns, msg))
-    return out
 
 
 def _trace(frames: int, joints: tuple[str, ...], step_s: float) -> Trace:
@@ -64,7 +52,7 @@ def test_the_bag_holds_every_frame_as_measured(tmp_path: Path, floating: bool) -
     trace = _trace(51, ("HeadYaw", "HeadPitch", "LShoulderPitch"), 0.02)
     path = tmp_path / "run.mcap"
     path.write_bytes(run_bag(trace, floating_base=floating))
-    topics = _read(path)
+    topics = read_bag(path)
     states = topics.pop("/joint_states sensor_msgs/msg/JointState")
     assert len(states) == 51
     for k, (ns, msg) in enumerate(states):
@@ -96,7 +84,7 @@ def test_play_bag_of_the_nao(tmp_path: Path) -> None:
         f"motiontool: wrote {bag} (ROS 2 bag, MCAP: measured joint positions on /joint_states, "
         "the base pose on /base_pose, "
     )
-    topics = _read(bag)
+    topics = read_bag(bag)
     states = topics["/joint_states sensor_msgs/msg/JointState"]
     poses = topics["/base_pose geometry_msgs/msg/PoseStamped"]
     played = read_motion(str(motion))

@@ -4,14 +4,13 @@ MuJoCo has; Rerun and Ray are typed by their own annotations (``py.typed``)."""
 
 from __future__ import annotations
 
-import ast
 import importlib.util
 import tomllib
 from pathlib import Path
 
 import pytest
 from conftest import ROOT
-from typed_surface import any_count, members, missing
+from typed_surface import any_count, imports_of, members, missing
 
 from motiontool.kinematics.robots import load_robot
 from motiontool.sim._mujoco import api, build_scene
@@ -52,21 +51,7 @@ def test_mypy_rejects_any_in_the_simulation_adapters() -> None:
 def test_only_the_api_module_meets_the_untyped_mujoco() -> None:
     # Not even under TYPE_CHECKING: without stubs, `mujoco.MjModel` is Any to mypy. The module
     # object enters through api.mj(), typed as api.MuJoCo.
-    wrong = []
-    for path in sorted((ROOT / "sim").rglob("*.py")):
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, ast.Import):
-                names = [alias.name for alias in node.names]
-            elif isinstance(node, ast.ImportFrom):
-                names = [node.module or ""]
-            else:
-                continue
-            wrong += [
-                f"{path.relative_to(ROOT)}:{node.lineno}: {name}"
-                for name in names
-                if name.split(".")[0] == "mujoco"
-            ]
-    assert wrong == []
+    assert imports_of(ROOT / "sim", ("mujoco",), ROOT) == []
 
 
 @pytest.mark.parametrize("robot", ["nao", "ur5e"])
