@@ -160,9 +160,7 @@ def lint(
         )
         for f, fr in zip(group, part.files, strict=True):
             s = settings[f]
-            fr.diagnostics = [d for d in fr.diagnostics if s.reports(d.code, f)]
-            spec = None if checker is None else checker.used.get(fr.path)
-            fr.robot_fixes = _planner(spec, f, s, checks, overrides)
+            _settle(fr, f, s, checker, checks, overrides)
             by_name[str(f)] = fr
         if checker is not None:
             checked = checked or Checked()
@@ -200,10 +198,23 @@ def lint_document(
         ignore=overrides.ignore,
         group=grouped,
     )
+    return report, _settle(report, path, settings, checker, checks, overrides)
+
+
+def _settle(
+    report: FileReport,
+    path: Path,
+    settings: Settings,
+    checker: RobotChecks | None,
+    checks: tuple[str, ...] | None,
+    overrides: Overrides,
+) -> RobotSpec | None:
+    """What the settings do to one file's report: leave out the findings they do not report,
+    plan the robot's fixes against the robot it was checked with (returned; None: none)."""
     report.diagnostics = [d for d in report.diagnostics if settings.reports(d.code, path)]
-    spec = None if checker is None else checker.used.get(str(path))
+    spec = None if checker is None else checker.used.get(report.path)
     report.robot_fixes = _planner(spec, path, settings, checks, overrides)
-    return report, spec
+    return spec
 
 
 _FIXED_BY_CHECK = {"MT302": "limits", "MT303": "velocity"}

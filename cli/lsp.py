@@ -30,6 +30,7 @@ from motiontool.cli.reports.common import text_column
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.fixes import Fix, fix_bytes
+from motiontool.motionfmt.reader import token_spans
 from motiontool.motionfmt.validate import FileReport
 
 __all__ = ["Linter", "MotionServer", "build_server"]
@@ -193,13 +194,12 @@ def _hover(doc: _Document, at: lsp.Position) -> lsp.Hover | None:
 
 
 def _header_cell(doc: _Document, column: int) -> int | None:
-    """The joint whose header cell holds byte ``column`` of line 1."""
-    raw = doc.report.source_line(1)
-    start = 0
-    for k, cell in enumerate(raw.split(b",")):
-        if start < column <= start + len(cell) + 1 and k >= 2:
-            return k - 2 if k - 2 < len(doc.report.read.joints) else None
-        start += len(cell) + 1
+    """The joint whose header token holds byte ``column`` of line 1 (tokens as the reader cuts
+    them: :func:`~motiontool.motionfmt.reader.token_spans`; the first two are not joints)."""
+    spans = token_spans(doc.report.source_line(1))
+    for k, (start, end) in enumerate(spans[2 : 2 + len(doc.report.read.joints)]):
+        if start < column <= end + 1:
+            return k
     return None
 
 

@@ -18,7 +18,6 @@ import typer
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks.wording import Wording
-from motiontool.kinematics.export import NoMjcfError
 from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
 
 __all__ = [
@@ -175,6 +174,8 @@ def error_line(exc: MotionToolError) -> str:
     the option that fixes it where the library only says what to do."""
     if isinstance(exc, NoRobotDetectedError):
         return f"{exc.reason}; name one with {ROBOT_OPTION} ({robot_choices()})"
+    from motiontool.kinematics.export import NoMjcfError  # the model exporter: only on an error
+
     if isinstance(exc, NoMjcfError):
         return str(NoMjcfError(exc.spec, how="with --urdf"))
     return str(exc)
