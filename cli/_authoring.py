@@ -6,7 +6,7 @@ checks they run on their result, and how they report it. Their options are in
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -91,10 +91,10 @@ def say(text: str, target: Path | None) -> None:
 
 
 def check_result(
-    doc: MotionDocument, check: Callable[[ReadResult], list[Diagnostic]]
+    doc: MotionDocument, check: Callable[[ReadResult], Sequence[Diagnostic]]
 ) -> list[Diagnostic]:
     """What one of validate's robot checks reports on ``doc``."""
-    return check(read_bytes(doc.to_bytes(), doc.path))
+    return list(check(read_bytes(doc.to_bytes(), doc.path)))
 
 
 def findings_lines(findings: list[Diagnostic], heading: str, clean: str) -> list[str]:

@@ -92,12 +92,10 @@ class LintRun:
     def failed(self) -> bool:
         """An error anywhere, or a warning in a file whose settings are strict (findings past
         ``max-findings`` included)."""
-        hidden = self.report.hidden
-        if hidden.get(Severity.ERROR) or (hidden.get(Severity.WARNING) and self.strict_files):
-            return True
         for f in self.report.files:
-            worst = Severity.WARNING if f.path in self.strict_files else Severity.ERROR
-            if any(d.severity >= worst for d in f.diagnostics):
+            if f.count(Severity.ERROR) or (
+                f.path in self.strict_files and f.count(Severity.WARNING)
+            ):
                 return True
         return any(d.severity >= Severity.ERROR for d in self.report.notes)
 
@@ -211,7 +209,7 @@ def _settle(
 ) -> RobotSpec | None:
     """What the settings do to one file's report: leave out the findings they do not report,
     plan the robot's fixes against the robot it was checked with (returned; None: none)."""
-    report.diagnostics = [d for d in report.diagnostics if settings.reports(d.code, path)]
+    report.diagnostics = report.diagnostics.where(lambda d: settings.reports(d.code, path))
     spec = None if checker is None else checker.used.get(report.path)
     report.robot_fixes = _planner(spec, path, settings, checks, overrides)
     return spec
@@ -259,12 +257,6 @@ def robot_planner(
 
 
 def keep_first(report: ValidationReport, limit: int) -> None:
-    """Keep the first ``limit`` findings (in file order); count the others by severity in
-    ``report.hidden`` (the summary and the exit code still see them)."""
-    left = limit
-    for f in report.files:
-        kept, dropped = f.diagnostics[:left], f.diagnostics[left:]
-        left -= len(kept)
-        for d in dropped:
-            report.hidden[d.severity] = report.hidden.get(d.severity, 0) + 1
-        f.diagnostics = kept
+    """Show the first ``limit`` findings (in file order); the others are counted (the summary
+    and the exit code still see them): :attr:`ValidationReport.limit`."""
+    report.limit = limit

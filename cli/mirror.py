@@ -171,7 +171,7 @@ def mirror_command(
     limits = Limits(spec)
     before = limits(doc.result)
     after = limits(read_bytes(result.data, result.path))  # the one read of the result
-    new = after if len(after) > len(before) else []
+    new = list(after) if len(after) > len(before) else []
     emit_bytes(result.data, target)
     say_wrote(target, written_motion(doc.n_poses, doc.motion.duration_ms))  # mirror keeps the times
     if format is Format.json:

@@ -5,17 +5,27 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
+
+import typer
 
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.fileio import STDOUT, atomic_write, is_stdin, is_stdout, output_kind
+from motiontool.motionfmt.fileio import (
+    STDOUT,
+    atomic_write,
+    is_stdin,
+    is_stdout,
+    open_output,
+    output_kind,
+)
 from motiontool.motionfmt.units import MS_PER_S
 
 __all__ = [
     "emit",
     "emit_bytes",
+    "emit_pieces",
     "emit_stderr",
     "refuse_overwrite",
     "refuse_shared_outputs",
@@ -66,6 +76,33 @@ def emit(text: str, output: Path | None) -> None:
     original bytes.
     """
     emit_bytes(text.encode("utf-8", "surrogateescape"), output)
+
+
+def emit_pieces(pieces: Iterable[str], output: Path | None, *, color: bool = False) -> None:
+    """Write text made in pieces (a report that streams its findings) as they come, a block of
+    about 64 KiB at a time, to ``output`` as :func:`emit` writes (a regular file is whole or
+    untouched) or to stdout; ``color``: to a terminal through Click, which keeps the ANSI
+    colours."""
+    if color and output is None:
+        for block in _blocks(pieces):
+            typer.echo(block, nl=False, color=True)
+        return
+    with open_output(STDOUT if output is None else output) as sink:
+        for block in _blocks(pieces):
+            sink.write(block.encode("utf-8", "surrogateescape"))
+
+
+def _blocks(pieces: Iterable[str], size: int = 1 << 16) -> Iterator[str]:
+    held: list[str] = []
+    n = 0
+    for piece in pieces:
+        held.append(piece)
+        n += len(piece)
+        if n >= size:
+            yield "".join(held)
+            held, n = [], 0
+    if held:
+        yield "".join(held)
 
 
 def emit_stderr(text: str) -> None:

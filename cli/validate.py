@@ -29,9 +29,16 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit, emit_bytes, refuse_overwrite
+from motiontool.cli.output import emit_bytes, emit_pieces, refuse_overwrite
 from motiontool.cli.progress import progress
-from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, Context, FormatName, Order, render
+from motiontool.cli.reports import (
+    DEFAULT_FORMAT,
+    REPORTS,
+    Context,
+    FormatName,
+    Order,
+    render_pieces,
+)
 from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
@@ -375,13 +382,12 @@ def _print_report(
         robot_json=lambda: _robot_json(run.checked, requested, run.report),
     )
     report = run.report
-    text = (
-        render_statistics(report, context) if statistics else render(report, format.value, context)
+    pieces = (
+        iter((render_statistics(report, context),))
+        if statistics
+        else render_pieces(report, format.value, context)
     )
-    if color and output is None:
-        typer.echo(text, nl=False, color=color)
-    else:
-        emit(text, output)
+    emit_pieces(pieces, output, color=color)
 
 
 def _settings_text(paths: list[Path], resolver: Resolver) -> str:

@@ -18,6 +18,11 @@ if TYPE_CHECKING:
 __all__ = ["ReadResult"]
 
 
+_SPAN_CACHE = 256
+"""Poses whose token spans :meth:`ReadResult.cell_span` keeps (bounded: a report of millions of
+findings reads them in file order, a few poses at a time)."""
+
+
 @dataclass
 class ReadResult:
     """Everything a read found.
@@ -74,6 +79,8 @@ class ReadResult:
             self._line_starts = starts
         spans = self._span_cache.get(pose)
         if spans is None:  # tokenised once per pose, however many diagnostics it gets
+            if len(self._span_cache) >= _SPAN_CACHE:  # findings come in file order: the
+                self._span_cache.clear()  # poses being reported are the last ones tokenised
             start = self._line_starts[line - 1]
             end = self._data.find(b"\n", start)
             content = self._data[start : end if end >= 0 else len(self._data)]

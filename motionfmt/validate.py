@@ -11,6 +11,7 @@ from pathlib import Path
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
+from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import (
     ROBOT_CODES,
     ROBOT_FIX_TITLES,
@@ -23,26 +24,41 @@ from motiontool.motionfmt.fixes import (
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
-__all__ = ["Check", "FileReport", "ValidationReport", "validate_bytes", "validate_paths"]
+__all__ = [
+    "Check",
+    "FileReport",
+    "ValidationReport",
+    "run_check",
+    "validate_bytes",
+    "validate_paths",
+]
 
-Check = Callable[[ReadResult], list[Diagnostic]]
-"""An extra check run on every file Webots accepts (robot limits, velocities, ...)."""
+Check = Callable[[ReadResult], Sequence[Diagnostic]]
+"""An extra check run on every file Webots accepts (robot limits, velocities, ...): a list of
+findings, or :class:`~motiontool.motionfmt.findings.Findings` made on demand in file order."""
 
 
 @dataclass
 class FileReport:
-    """The findings for one file, sorted by position.
+    """The findings for one file, in file order.
 
-    ``robot_fixes``: plans the fixes that need the robot the file was checked against
+    ``diagnostics`` are :class:`~motiontool.motionfmt.findings.Findings`: made each time they
+    are read, never all held (a list given here is held as it is, sorted). ``robot_fixes``:
+    plans the fixes that need the robot the file was checked against
     (:data:`~motiontool.motionfmt.fixes.ROBOT_CODES`), given by the caller that knows it;
     None: those findings have no fix here.
     """
 
     path: str
     read: ReadResult
-    diagnostics: list[Diagnostic]
+    diagnostics: Findings
     data: bytes = field(default=b"", repr=False)
     robot_fixes: RobotPlanner | None = field(default=None, repr=False, compare=False)
+
+    def __setattr__(self, name: str, value: object) -> None:
+        if name == "diagnostics" and not isinstance(value, Findings):
+            value = Findings.of(value)  # type: ignore[arg-type]
+        object.__setattr__(self, name, value)
 
     @functools.cached_property
     def _lines(self) -> list[bytes]:
@@ -54,62 +70,56 @@ class FileReport:
         return lines[line - 1].rstrip(b"\r") if 0 < line <= len(lines) else b""
 
     def count(self, severity: Severity) -> int:
-        return sum(1 for d in self.diagnostics if d.severity is severity)
-
-    @functools.cached_property
-    def fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
-        """The fixes for this file's findings (safe and unsafe), by (code, line, column) of
-        the finding they fix (:mod:`motiontool.motionfmt.fixes`)."""
-        by_place = dict(self._file_fixes)
-        if any(d.code in ROBOT_CODES for d in self.diagnostics) and self.robot_fixes:
-            by_place.update(self._robot_fixes(self.robot_fixes(self.data)))
-        return by_place
+        """How many findings of ``severity`` (counted by the first report that read them all)."""
+        return self.diagnostics.count(severity)
 
     @functools.cached_property
     def _file_fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
-        """The fixes that need only the file (not the robot): planned without the robot's,
-        which a report that only names fixes never has to plan."""
+        """The fixes that need only the file (not the robot), by (code, line, column) of the
+        finding they fix: those of the reader's findings (the robot checks' findings have
+        none)."""
         by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
-        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in self.diagnostics):
+        found = self.read.diagnostics
+        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in found):
             return by_place
         planned = plan_fixes(self.data, self.path, unsafe=True, result=self.read)
         merges = tuple(f for f in planned if f.code == "MT205")
         for f in planned:
             if f.code != "MT205":
                 by_place[(f.code, f.line, f.column)] = (f,)
-        for d in self.diagnostics:
+        for d in found:
             if d.code == "MT205" and merges:
                 by_place[(d.code, d.line, d.column)] = merges
         return by_place
 
-    def _robot_fixes(self, planned: list[Fix]) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
-        """Each robot finding's edits: an MT302 finding's are its joint's clamps on its lines
-        (a grouped finding's run of lines); the whole retiming belongs to the file's first MT303
-        finding (one retiming fixes every segment, and a report stays linear in size)."""
-        stretch = tuple(f for f in planned if f.code == "MT303")
+    @functools.cached_property
+    def _robot_plan(self) -> tuple[tuple[Fix, ...], dict[str | None, list[Fix]]]:
+        """The robot's fixes of this file: (the retiming that fixes every MT303, the MT302
+        clamps by joint in line order)."""
+        planned = self.robot_fixes(self.data) if self.robot_fixes is not None else []
         clamps: dict[str | None, list[Fix]] = {}
         for f in planned:
             if f.code == "MT302":
-                clamps.setdefault(f.joint, []).append(f)  # in line order
-        lines = {joint: [f.line for f in fixes] for joint, fixes in clamps.items()}
-        out: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
-        first = self._first_stretch
-        if first is not None and stretch:
-            out[(first.code, first.line, first.column)] = stretch
-        for d in self.diagnostics:
-            if d.code == "MT302" and d.joint in clamps:
-                last = d.line if d.run is None else d.run.end_line
-                at = lines[d.joint]
-                mine = clamps[d.joint][bisect_left(at, d.line) : bisect_right(at, last)]
-                if mine:
-                    out[(d.code, d.line, d.column)] = tuple(mine)
-        return out
+                clamps.setdefault(f.joint, []).append(f)
+        return tuple(f for f in planned if f.code == "MT303"), clamps
+
+    def _robot_fix(self, d: Diagnostic) -> tuple[Fix, ...]:
+        """An MT302 finding's edits are its joint's clamps on its lines (a grouped finding's
+        run of lines); the whole retiming belongs to the file's first MT303 finding (one
+        retiming fixes every segment, and a report stays linear in size)."""
+        stretch, clamps = self._robot_plan
+        if d.code == "MT303":
+            return stretch if self._is_first_stretch(d) else ()
+        mine = clamps.get(d.joint, [])
+        last = d.line if d.run is None else d.run.end_line
+        lo = bisect_left(mine, d.line, key=lambda f: f.line)
+        return tuple(mine[lo : bisect_right(mine, last, key=lambda f: f.line)])
 
     def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
         not planned for it (a report that only names them stays cheap)."""
         if d.code in ROBOT_CODES:
-            if self.robot_fixes is None or (d.code == "MT303" and d is not self._first_stretch):
+            if self.robot_fixes is None or (d.code == "MT303" and not self._is_first_stretch(d)):
                 return None
             return False, ROBOT_FIX_TITLES[d.code]
         if d.code not in SAFE_CODES | UNSAFE_CODES:
@@ -118,13 +128,20 @@ class FileReport:
         return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
 
     @functools.cached_property
-    def _first_stretch(self) -> Diagnostic | None:
-        """The first MT303 finding, in file order: it carries the retiming that fixes them all."""
-        return next((d for d in self.diagnostics if d.code == "MT303"), None)
+    def _first_stretch(self) -> tuple[int, int] | None:
+        """(line, column) of the first MT303 finding, in file order: it carries the retiming
+        that fixes them all."""
+        first = next((d for d in self.diagnostics if d.code == "MT303"), None)
+        return None if first is None else (first.line, first.column)
+
+    def _is_first_stretch(self, d: Diagnostic) -> bool:
+        return d.code == "MT303" and (d.line, d.column) == self._first_stretch
 
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""
-        return self.fixes.get((d.code, d.line, d.column), ())
+        if d.code in ROBOT_CODES:
+            return self._robot_fix(d) if self.robot_fixes is not None else ()
+        return self._file_fixes.get((d.code, d.line, d.column), ())
 
 
 @dataclass
@@ -134,17 +151,21 @@ class ValidationReport:
 
     files: list[FileReport] = field(default_factory=list)
     notes: list[Diagnostic] = field(default_factory=list)
-    hidden: dict[Severity, int] = field(default_factory=dict)
-    """Findings left out of ``files`` (a cap on how many are shown), by severity: counted,
-    and they fail a run as the shown ones do."""
+    limit: int | None = None
+    """How many findings a report shows at most (``max-findings``; None: all), the first ones
+    in file order. Those past it are counted, and they fail a run as the shown ones do."""
 
     def count(self, severity: Severity) -> int:
-        shown = sum(f.count(severity) for f in self.files)
-        return (
-            shown
-            + sum(1 for d in self.notes if d.severity is severity)
-            + self.hidden.get(severity, 0)
+        """Every finding of ``severity``, shown or not (past :attr:`limit`), and the notes."""
+        return sum(f.count(severity) for f in self.files) + sum(
+            1 for d in self.notes if d.severity is severity
         )
+
+    @property
+    def hidden(self) -> int:
+        """How many findings :attr:`limit` leaves out of the report."""
+        total = sum(len(f.diagnostics) for f in self.files)
+        return 0 if self.limit is None else max(0, total - self.limit)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -154,9 +175,7 @@ class ValidationReport:
     def failed(self, *, strict: bool = False) -> bool:
         """Errors fail a run; with ``strict``, warnings do too."""
         worst = Severity.WARNING if strict else Severity.ERROR
-        if any(n for sev, n in self.hidden.items() if sev >= worst):
-            return True
-        return any(d.severity >= worst for d in self.diagnostics)
+        return any(self.count(sev) for sev in Severity if sev >= worst)
 
 
 def _check_codes(codes: Iterable[str]) -> frozenset[str]:
@@ -191,21 +210,24 @@ def validate_bytes(
     result = read_bytes(data, path, timestep_ms=timestep_ms)
     if on_step is not None and checks:
         on_step(f"{path}: checks")
-    diagnostics = list(result.diagnostics)
+    parts: list[Sequence[Diagnostic]] = [result.diagnostics]
     if result.accepted and result.times_ms and result.joints:
-        for check in checks:
-            found = _run_check(check, result, group)
-            diagnostics.extend(group_findings(found) if group else found)
+        parts.extend(run_check(check, result, group) for check in checks)
     skip = _check_codes(ignore)
-    kept = sorted((d for d in diagnostics if d.code not in skip), key=Diagnostic.sort_key)
+    found = Findings.merge(parts)
+    kept = found.where(lambda d: d.code not in skip) if skip else found
     return FileReport(path=path, read=result, diagnostics=kept, data=data)
 
 
-def _run_check(check: Check, result: ReadResult, group: bool) -> list[Diagnostic]:
+def run_check(check: Check, result: ReadResult, group: bool) -> Sequence[Diagnostic]:
     """``check``'s findings on ``result``; with ``group``, from its ``grouped`` method where it
-    has one (findings it groups itself, from arrays, as :func:`group_findings` would)."""
+    has one (findings it groups itself, from arrays, as :func:`group_findings` would), else
+    grouped here."""
     grouped: Check | None = getattr(check, "grouped", None) if group else None
-    return grouped(result) if grouped is not None else check(result)
+    if grouped is not None:
+        return grouped(result)
+    found = check(result)
+    return group_findings(found) if group else found
 
 
 def validate_paths(

@@ -1,14 +1,15 @@
 """Renderings of a validation report, one file each, registered in :data:`REPORTS`.
 
-Adding a format is one new file here (a function ``render(report, context) -> str``) and one
-line in :data:`REPORTS`: ``validate --format`` offers every entry, and the tests render every
-entry (tests/cli/test_report_formats.py).
+Adding a format is one new file here (a function ``render(report, context)`` that returns the
+text, or yields it in pieces as it goes: a report of millions of findings is then written while
+they are made, never held) and one line in :data:`REPORTS`: ``validate --format`` offers every
+entry, and the tests render every entry (tests/cli/test_report_formats.py).
 """
 
 from __future__ import annotations
 
 import enum
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 
 from motiontool.cli.reports.common import PLAIN, Context, Order, summary
@@ -30,6 +31,7 @@ __all__ = [
     "Order",
     "ReportFormat",
     "render",
+    "render_pieces",
     "summary",
 ]
 
@@ -39,12 +41,13 @@ class ReportFormat:
     """One rendering of a validation report.
 
     Attributes:
-        render: ``(report, context) -> text``.
+        render: ``(report, context) -> text``, or the text in pieces (an iterator of str, for
+            a format that streams its findings: text, json, github).
         help: what it is for, in ``validate --help``.
         colors: whether it may use ANSI colours (on a terminal only).
     """
 
-    render: Callable[[ValidationReport, Context], str]
+    render: Callable[[ValidationReport, Context], str | Iterator[str]]
     help: str
     colors: bool = False
 
@@ -68,10 +71,17 @@ DEFAULT_FORMAT = FormatName("text")
 """``validate``'s report format when none is named: for people."""
 
 
-def render(report: ValidationReport, fmt: str, context: Context = PLAIN) -> str:
-    """``report`` rendered as format ``fmt`` (a key of :data:`REPORTS`)."""
+def render_pieces(report: ValidationReport, fmt: str, context: Context = PLAIN) -> Iterator[str]:
+    """``report`` rendered as format ``fmt`` (a key of :data:`REPORTS`), in pieces made as
+    they are read (the whole text at once for a format that does not stream)."""
     try:
         entry = REPORTS[fmt]
     except KeyError:
         raise ValueError(f"unknown format {fmt!r}; choose one of {', '.join(REPORTS)}") from None
-    return entry.render(report, context)
+    text = entry.render(report, context)
+    return iter((text,)) if isinstance(text, str) else text
+
+
+def render(report: ValidationReport, fmt: str, context: Context = PLAIN) -> str:
+    """``report`` rendered as format ``fmt`` (a key of :data:`REPORTS`), whole."""
+    return "".join(render_pieces(report, fmt, context))

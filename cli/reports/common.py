@@ -22,6 +22,7 @@ __all__ = [
     "PLAIN",
     "Context",
     "Fingerprints",
+    "FixCounts",
     "Order",
     "findings",
     "fix_counts",
@@ -48,7 +49,7 @@ def summary(report: ValidationReport) -> str:
     skipped = "".join(
         f"; {d.message.partition(':')[0]}: {d.hint}" for d in report.notes if d.code == "MT902"
     )
-    hidden = sum(report.hidden.values())
+    hidden = report.hidden
     not_shown = f"; {plural(hidden, 'finding')} not shown (max-findings)" if hidden else ""
     return (
         f"checked {plural(len(report.files), 'file')}: "
@@ -59,29 +60,54 @@ def summary(report: ValidationReport) -> str:
 
 
 def findings(report: ValidationReport, order: Order) -> Iterator[tuple[FileReport, Diagnostic]]:
-    pairs = [(f, d) for f in report.files for d in f.diagnostics]
-    if order is Order.severity:
-        pairs.sort(key=lambda fd: -fd[1].severity)  # stable: file order within a severity
-    return iter(pairs)
+    """The findings a report shows (the first :attr:`~ValidationReport.limit` in file order),
+    each with its file, made as they are read: in file order, or by severity (a pass over the
+    files per severity, errors first, each in file order)."""
+    if order is Order.file:
+        yield from _shown(report)
+        return
+    for severity in sorted(Severity, reverse=True):
+        yield from ((f, d) for f, d in _shown(report) if d.severity is severity)
+
+
+def _shown(report: ValidationReport) -> Iterator[tuple[FileReport, Diagnostic]]:
+    left = report.limit
+    for f in report.files:
+        for d in f.diagnostics:
+            if left is not None:
+                if left == 0:
+                    return
+                left -= 1
+            yield f, d
+
+
+class FixCounts:
+    """How many findings shown a fix covers, counted as a report goes: safe, and unsafe only."""
+
+    def __init__(self) -> None:
+        self.safe = self.unsafe = 0
+
+    def add(self, fix: tuple[bool, str] | None) -> None:
+        """Count a finding's :meth:`~FileReport.fix_summary`."""
+        if fix is not None and fix[0]:
+            self.safe += 1
+        elif fix is not None:
+            self.unsafe += 1
 
 
 def fix_counts(report: ValidationReport) -> tuple[int, int]:
-    """(findings a safe fix covers, findings only an unsafe fix covers)."""
-    safe = unsafe = 0
-    for f in report.files:
-        for d in f.diagnostics:
-            summary = f.fix_summary(d)
-            if summary is not None and summary[0]:
-                safe += 1
-            elif summary is not None:
-                unsafe += 1
-    return safe, unsafe
+    """(findings a safe fix covers, findings only an unsafe fix covers), a pass over them."""
+    counts = FixCounts()
+    for f, d in _shown(report):
+        counts.add(f.fix_summary(d))
+    return counts.safe, counts.unsafe
 
 
-def fix_summary(report: ValidationReport) -> str:
+def fix_summary(report: ValidationReport, counts: FixCounts | None = None) -> str:
     """``; 3 fixable with --fix (1 more with --fix --unsafe-fixes)``, ``; 2 fixable with --fix
-    --unsafe-fixes`` where no safe fix exists, or nothing."""
-    safe, unsafe = fix_counts(report)
+    --unsafe-fixes`` where no safe fix exists, or nothing; from ``counts`` made while the
+    report was written, else from a pass over the findings."""
+    safe, unsafe = fix_counts(report) if counts is None else (counts.safe, counts.unsafe)
     if not safe:
         return f"; {unsafe} fixable with --fix --unsafe-fixes" if unsafe else ""
     more = f" ({unsafe} more with --fix --unsafe-fixes)" if unsafe else ""

@@ -150,7 +150,7 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
     the repository root. The robot section goes into the run's property bag (next to the
     stamps); a run's notes into the invocation's ``toolExecutionNotifications``.
     """
-    used = sorted({d.code for d in report.diagnostics} | set(CODES))
+    used = sorted({d.code for f in report.files for d in f.diagnostics} | set(CODES))
     index = {code: i for i, code in enumerate(used)}
     fingerprint = Fingerprints()
     results = [

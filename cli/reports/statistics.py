@@ -24,7 +24,7 @@ def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str
     summary line."""
     findings: Counter[str] = Counter()
     per_pose: Counter[str] = Counter()
-    for d in report.diagnostics:
+    for d in (d for f in report.files for d in f.diagnostics):
         findings[d.code] += 1
         per_pose[d.code] += d.count
     rows = sorted(findings, key=lambda code: (-per_pose[code], -findings[code], code))

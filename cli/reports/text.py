@@ -2,11 +2,19 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from typing import Any
 
 import typer
 
-from motiontool.cli.reports.common import PLAIN, Context, findings, fix_summary, summary
+from motiontool.cli.reports.common import (
+    PLAIN,
+    Context,
+    FixCounts,
+    findings,
+    fix_summary,
+    summary,
+)
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
@@ -43,33 +51,40 @@ def _source_excerpt(report: FileReport, d: Diagnostic, color: bool) -> list[str]
     return [f" {gutter} | {prefix}{text}", f" {pad} | {_style(caret, color, fg='green')}"]
 
 
-def _fix_line(f: FileReport, d: Diagnostic) -> list[str]:
-    """``   = fix (--fix): write '2'`` where a fix exists; the compiler line stays as it is, so
-    editors' problem matchers read it unchanged."""
-    summary = f.fix_summary(d)
+def _fix_line(summary: tuple[bool, str] | None) -> list[str]:
+    """``   = fix (--fix): write '2'`` where a fix exists (``summary``: the finding's
+    :meth:`~FileReport.fix_summary`); the compiler line stays as it is, so editors' problem
+    matchers read it unchanged."""
     if summary is None:
         return []
     safe, title = summary
     return [f"   = fix ({'--fix' if safe else '--fix --unsafe-fixes'}): {title}"]
 
 
-def render_text(report: ValidationReport, context: Context = PLAIN) -> str:
-    """The robot line, then compiler-style lines with the source line and a caret; ANSI
-    colours only with ``context.color`` (never for a file or a pipe, see
-    :mod:`motiontool.cli.color`)."""
+def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+    """The robot line, then compiler-style lines with the source line and a caret, a finding
+    at a time as they are made; ANSI colours only with ``context.color`` (never for a file or
+    a pipe, see :mod:`motiontool.cli.color`)."""
     color, order = context.color, context.order
-    out: list[str] = [context.robot_line.rstrip("\n")] if context.robot_line else []
+    if context.robot_line:
+        yield context.robot_line.rstrip("\n") + "\n"
+    fixable = FixCounts()
     for f, d in findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
-        out.append(f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}")
+        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}"]
         out.extend(_source_excerpt(f, d, color))
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-        out.extend(_fix_line(f, d))
+        fix = f.fix_summary(d)
+        fixable.add(fix)
+        out.extend(_fix_line(fix))
+        out.append("")
+        yield "\n".join(out)
+    out = []
     for d in report.notes:  # about the run, not about a place in a file
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
         out.append(f"{sev} {d.code}: {d.message}")
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-    out.append(summary(report) + fix_summary(report))
-    return "\n".join(out) + "\n"
+    out.append(summary(report) + fix_summary(report, fixable))
+    yield "\n".join(out) + "\n"

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, TypeVar
 
 from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
+from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 
@@ -104,19 +105,24 @@ def runs(indices: Sequence[int], step: int) -> list[list[int]]:
 
 def pose_runs(
     mask: npt.NDArray[np.bool_], excess: npt.NDArray[np.float64]
-) -> list[tuple[int, int, int]]:
-    """The runs of consecutive True in ``mask`` (P,), each as (first, last, worst) indices,
-    the worst the first with the largest ``excess`` (P,) in the run: what
-    :func:`~motiontool.motionfmt.grouping.group_findings` makes one finding of."""
+) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.intp], npt.NDArray[np.intp]]:
+    """The runs of consecutive True in ``mask`` (P,), as arrays of their (first, last, worst)
+    indices, the worst the first with the largest ``excess`` (P,) in the run: what
+    :func:`~motiontool.motionfmt.grouping.group_findings` makes one finding of. ``excess`` is
+    a number (or inf) wherever ``mask`` holds."""
     import numpy as np
 
     edges = np.diff(mask.astype(np.int8), prepend=np.int8(0), append=np.int8(0))
-    starts = np.flatnonzero(edges == 1).tolist()
-    ends = (np.flatnonzero(edges == -1) - 1).tolist()
-    return [
-        (s, e, s if s == e else s + int(np.argmax(excess[s : e + 1])))
-        for s, e in zip(starts, ends, strict=True)
-    ]
+    starts = np.flatnonzero(edges == 1)
+    ends = np.flatnonzero(edges == -1) - 1
+    if starts.size == 0:
+        return starts, ends, starts
+    masked = np.where(mask, excess, -np.inf)
+    run_max = np.maximum.reduceat(masked, starts)  # the gaps between runs hold -inf
+    run_of = np.cumsum(edges[:-1] == 1) - 1  # the run each index is in (or follows)
+    at_max = np.flatnonzero(mask & (masked == run_max[np.maximum(run_of, 0)]))
+    _runs, first = np.unique(run_of[at_max], return_index=True)
+    return starts, ends, at_max[first]
 
 
 # --------------------------------------------------------------------------- the file's table
@@ -331,14 +337,14 @@ class Groupable:
     :func:`~motiontool.motionfmt.grouping.group_findings` would group them. Subclasses write
     :meth:`_check`."""
 
-    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+    def __call__(self, result: ReadResult) -> Findings:
         return self._check(result, group=False)
 
-    def grouped(self, result: ReadResult) -> list[Diagnostic]:
+    def grouped(self, result: ReadResult) -> Findings:
         """The findings with the runs already grouped (the others one per pose)."""
         return self._check(result, group=True)
 
-    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+    def _check(self, result: ReadResult, *, group: bool) -> Findings:
         raise NotImplementedError
 
 

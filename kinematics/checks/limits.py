@@ -8,6 +8,7 @@ clamped value, what the robot actually does, so one bad value is not reported tw
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics.checks._table import (
@@ -22,7 +23,8 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import JointSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
-from motiontool.motionfmt.grouping import run_finding
+from motiontool.motionfmt.findings import Findings, in_order
+from motiontool.motionfmt.grouping import group_findings, run_finding
 from motiontool.motionfmt.reader import ReadResult
 
 if TYPE_CHECKING:
@@ -43,12 +45,12 @@ class Limits(GroupingCheck):
     """MT302 position limits, and the real robot's rules where the spec has them (nao-v5):
     MT305 the HeadPitch range that depends on HeadYaw, MT306 joints one motor drives."""
 
-    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+    def _check(self, result: ReadResult, *, group: bool) -> Findings:
         import numpy as np
 
         table = self.table(result)
         if not table.motors:
-            return []
+            return Findings.of([])
         joints = [self.spec.joints[m] for m in table.motors]
         lower = np.array([j.lower for j in joints])
         upper = np.array([j.upper for j in joints])
@@ -57,17 +59,30 @@ class Limits(GroupingCheck):
             below = values < lower
             outside = below | (values > upper)
         if group:
-            out = self._beyond_runs(table, joints, below, outside)
+            parts: list[Sequence[Diagnostic]] = [self._beyond_runs(table, joints, below, outside)]
         else:
-            out = [
-                self._beyond(table, int(pose), int(k), joints[k], bool(below[pose, k]))
-                for pose, k in zip(*np.nonzero(outside), strict=True)
+            poses, ks = np.nonzero(outside)
+            parts = [
+                in_order(
+                    poses,
+                    table.source[poses, ks],
+                    lambda i: self._beyond(
+                        table,
+                        int(poses[i]),
+                        int(ks[i]),
+                        joints[ks[i]],
+                        bool(below[poses[i], ks[i]]),
+                    ),
+                )
             ]
         if self.spec.head_pitch_envelope or self.spec.coupled_joints:
             held, commanded = self._configuration(table, lower, upper)
-            out.extend(self._head_envelope(table, held, commanded, outside))
-            out.extend(self._coupled(table, held, commanded))
-        return out
+            for per_pose in (
+                self._head_envelope(table, held, commanded, outside),
+                self._coupled(table, held, commanded),
+            ):
+                parts.append(group_findings(per_pose) if group else per_pose)
+        return Findings.merge(parts)
 
     def _beyond(self, table: Table, pose: int, k: int, joint: JointSpec, low: bool) -> Diagnostic:
         """MT302 on motor ``k``'s cell at ``pose``, below its lower limit if ``low``."""
@@ -102,29 +117,44 @@ class Limits(GroupingCheck):
         joints: list[JointSpec],
         below: npt.NDArray[np.bool_],
         outside: npt.NDArray[np.bool_],
-    ) -> list[Diagnostic]:
+    ) -> Findings:
         """MT302 grouped: one finding per run of consecutive poses of a motor on one side of
-        its limits (:func:`~motiontool.motionfmt.grouping.run_finding`)."""
-        out = []
-        values, span = table.values, table.result.cell_span
+        its limits (:func:`~motiontool.motionfmt.grouping.run_finding`), made when read."""
+        import numpy as np
+
+        found = []  # (first, last, worst, motor, below) arrays, a set per motor and side
         for k, joint in enumerate(joints):
             for low, bound in ((True, joint.lower), (False, joint.upper)):
                 mask = below[:, k] if low else outside[:, k] & ~below[:, k]
-                if not mask.any():
-                    continue
-                excess = abs(values[:, k] - bound)
-                for first, last, worst in pose_runs(mask, excess):
-                    d = self._beyond(table, first, k, joint, low)
-                    if last == first:
-                        out.append(d)
-                        continue
-                    line, column, _end = span(worst, table.col(worst, k))
-                    w = Worst(
-                        float(values[worst, k]), joint.unit, line, column, int(table.times[worst])
-                    )
-                    last_line = span(last, table.col(last, k))[0]
-                    out.append(run_finding(d, last - first + 1, last_line, w))
-        return out
+                if mask.any():
+                    runs = pose_runs(mask, np.abs(table.values[:, k] - bound))
+                    found.append((*runs, np.full(runs[0].shape, k), np.full(runs[0].shape, low)))
+        if not found:
+            return Findings.of([])
+        first, last, worst, ks, lows = (np.concatenate(a) for a in zip(*found, strict=True))
+        return in_order(
+            first,
+            table.source[first, ks],
+            lambda i: self._beyond_run(
+                table, joints[ks[i]], int(ks[i]), bool(lows[i]), (first[i], last[i], worst[i])
+            ),
+        )
+
+    def _beyond_run(
+        self, table: Table, joint: JointSpec, k: int, low: bool, run: tuple[int, int, int]
+    ) -> Diagnostic:
+        """MT302 on motor ``k`` over the poses ``run`` (first, last, worst) on one side of its
+        limits (below if ``low``): one finding, grouped if the run is longer than a pose."""
+        first, last, worst = (int(p) for p in run)
+        d = self._beyond(table, first, k, joint, low)
+        if last == first:
+            return d
+        span = table.result.cell_span
+        line, column, _end = span(worst, table.col(worst, k))
+        value = float(table.values[worst, k])
+        w = Worst(value, joint.unit, line, column, int(table.times[worst]))
+        last_line = span(last, table.col(last, k))[0]
+        return run_finding(d, last - first + 1, last_line, w)
 
     @staticmethod
     def _configuration(

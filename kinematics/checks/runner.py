@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import difflib
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import install_hint
@@ -28,7 +28,9 @@ from motiontool.kinematics.robots import (
     robot_choices,
 )
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.reader import ReadResult
+from motiontool.motionfmt.validate import run_check
 
 __all__ = [
     "CHECKS",
@@ -44,7 +46,7 @@ CHECKS = ("limits", "velocity", "collision", "balance")
 #: What ``validate`` runs unless told otherwise (balance is opt-in).
 DEFAULT_CHECKS = ("limits", "velocity", "collision")
 
-_Check = Callable[[ReadResult], list[Diagnostic]]
+_Check = Callable[[ReadResult], Sequence[Diagnostic]]
 
 
 class CheckUnavailableError(MotionToolError):
@@ -213,33 +215,30 @@ class RobotChecks(Groupable):
             return next(iter(self._specs.values()), None)
         return pick_robot(AUTO, result.joints)
 
-    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+    def _check(self, result: ReadResult, *, group: bool) -> Findings:
         if self.robot == NONE:
-            return []
+            return Findings.of([])
         spec = self.spec_for(result)
         self.used[result.path] = spec
         if spec is None:
-            return [_skipped(result, self.wording)]
-        out = []
-        for check in self._checks_for(spec):
-            out.extend(self._run(check, result, group=group))
+            return Findings.of([_skipped(result, self.wording)])
+        parts = [self._run(check, result, group=group) for check in self._checks_for(spec)]
         if "balance" in self.checks and not spec.feet:
             message = f"balance check skipped: robot {spec.name} has no feet"
-            out.append(Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message))
-        return out
+            parts.append([Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message)])
+        return Findings.merge(parts)
 
-    def _run(self, check: _Check, result: ReadResult, *, group: bool) -> list[Diagnostic]:
-        """``check`` on ``result`` (with ``group``, its ``grouped`` method where it has one);
-        a default check that needs a missing extra is skipped from then on (:attr:`notes`
-        says so once); one asked for by name raises."""
+    def _run(self, check: _Check, result: ReadResult, *, group: bool) -> Sequence[Diagnostic]:
+        """``check`` on ``result`` (with ``group``, grouped: by its ``grouped`` method where it
+        has one); a default check that needs a missing extra is skipped from then on
+        (:attr:`notes` says so once); one asked for by name raises."""
         name = _CHECK_NAMES.get(type(check))
         if name in self.skipped:
             return []
         if self.on_check is not None and name is not None:
             self.on_check(f"{result.path}: {name}")
-        grouped: _Check | None = getattr(check, "grouped", None) if group else None
         try:
-            return grouped(result) if grouped is not None else check(result)
+            return run_check(check, result, group)
         except MissingExtraError as exc:
             if name is None or not self.skip_missing:
                 raise

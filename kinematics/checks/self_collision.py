@@ -17,6 +17,7 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MM_PER_M
 
@@ -55,7 +56,9 @@ class Collision(RobotCheck):
         super().__init__(spec)
         self.tolerance_mm = penetration_tolerance_mm
 
-    def __call__(self, result: ReadResult) -> list[Diagnostic]:
+    def __call__(self, result: ReadResult) -> Findings:
+        import numpy as np
+
         from motiontool.kinematics.collision import scan_self_collisions
 
         # Pinocchio is imported only for the pairs numpy cannot clear (kinematics.collision).
@@ -63,7 +66,7 @@ class Collision(RobotCheck):
         require_installed("pinocchio", "kinematics", what)
         table = self.table(result)
         if not table.motors:
-            return []
+            return Findings.of([])
         q, times = configurations(table, self.spec)
         try:
             contacts = scan_self_collisions(
@@ -77,11 +80,18 @@ class Collision(RobotCheck):
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
         for c in contacts:
             by_pair.setdefault((c.body_a, c.body_b), {})[c.config] = c.depth_m
-        return [
-            self._overlap(table, times, pair, depths, run)
+        del contacts
+        found = [
+            (pair, depths, run)
             for pair, depths in sorted(by_pair.items())
             for run in runs(sorted(depths), 1)
         ]
+        at = [(max(run, key=depths.__getitem__) + 1) // 2 for _pair, depths, run in found]
+        return in_order(
+            np.array(at, dtype=np.intp),
+            np.full(len(at), -1),
+            lambda i: self._overlap(table, times, *found[i]),
+        )
 
     def _overlap(
         self,

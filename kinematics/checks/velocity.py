@@ -19,7 +19,8 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
-from motiontool.motionfmt.grouping import run_finding
+from motiontool.motionfmt.findings import Findings, in_order
+from motiontool.motionfmt.grouping import group_findings, run_finding
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MS_PER_S
@@ -47,14 +48,14 @@ class Velocity(GroupingCheck):
         super().__init__(spec)
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
 
-    def _check(self, result: ReadResult, *, group: bool) -> list[Diagnostic]:
+    def _check(self, result: ReadResult, *, group: bool) -> Findings:
         import numpy as np
 
         table = self.table(result)
         joints = [self.spec.joints[m] for m in table.motors]
         limited = [k for k, j in enumerate(joints) if math.isfinite(j.max_velocity)]
         if not limited or table.times.shape[0] < 2:
-            return []
+            return Findings.of([])
         vmax = np.array([joints[k].max_velocity for k in limited])
         start, end = table.segment_values()
         driver = table.segments()[0][:, limited]
@@ -64,17 +65,23 @@ class Velocity(GroupingCheck):
             speed = delta / dt_s[:, None]
             # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
             fast = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
+        steps = self._stream(table, joints, limited, fast)
         if group:
-            out = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
-        else:
-            out = [
-                self._segment(
-                    table, joints[limited[i]], int(seg), int(driver[seg, i]), delta[seg, i]
-                )
-                for seg, i in zip(*np.nonzero(fast), strict=True)
-            ]
-        out.extend(self._stream(table, joints, limited, fast))
-        return out
+            found = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
+            return Findings.merge([found, group_findings(steps)])
+        segs, ii = np.nonzero(fast)
+        found = in_order(
+            segs + 1,
+            driver[segs, ii],
+            lambda n: self._segment(
+                table,
+                joints[limited[ii[n]]],
+                int(segs[n]),
+                int(driver[segs[n], ii[n]]),
+                delta[segs[n], ii[n]],
+            ),
+        )
+        return Findings.merge([found, steps])
 
     @classmethod
     def _segment_runs(
@@ -84,31 +91,54 @@ class Velocity(GroupingCheck):
         driver: npt.NDArray[np.intp],
         delta: npt.NDArray[np.float64],
         fast: npt.NDArray[np.bool_],
-    ) -> list[Diagnostic]:
+    ) -> Findings:
         """MT303 grouped: one finding per run of consecutive fast segments of a joint
-        (:func:`~motiontool.motionfmt.grouping.run_finding`); ``joints``, ``driver``,
-        ``delta`` and ``fast`` (S, I): the joints with a maximum velocity."""
+        (:func:`~motiontool.motionfmt.grouping.run_finding`), made when read; ``joints``,
+        ``driver``, ``delta`` and ``fast`` (S, I): the joints with a maximum velocity."""
         import numpy as np
 
-        out = []
         dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
-        span = table.result.cell_span
+        found = []  # (first, last, worst, joint) arrays of segments, a set per joint
         for i, joint in enumerate(joints):
-            if not fast[:, i].any():
-                continue
-            excess = delta[:, i] / dt_s - joint.max_velocity
-            for first, last, worst in pose_runs(fast[:, i], excess):
-                d = cls._segment(table, joint, first, int(driver[first, i]), delta[first, i])
-                if last == first:
-                    out.append(d)
-                    continue
-                line, column, _end = span(worst + 1, int(driver[worst, i]))
-                t0, t1 = int(table.times[worst]), int(table.times[worst + 1])
-                speed = float(delta[worst, i]) / ((t1 - t0) / MS_PER_S)
-                w = Worst(speed, f"{joint.unit}/s", line, column, t1)
-                last_line = span(last + 1, int(driver[last, i]))[0]
-                out.append(run_finding(d, last - first + 1, last_line, w))
-        return out
+            if fast[:, i].any():
+                runs = pose_runs(fast[:, i], delta[:, i] / dt_s - joint.max_velocity)
+                found.append((*runs, np.full(runs[0].shape, i)))
+        if not found:
+            return Findings.of([])
+        first, last, worst, ii = (np.concatenate(a) for a in zip(*found, strict=True))
+        return in_order(
+            first + 1,
+            driver[first, ii],
+            lambda n: cls._segment_run(
+                table,
+                joints[ii[n]],
+                (driver[:, ii[n]], delta[:, ii[n]]),
+                (first[n], last[n], worst[n]),
+            ),
+        )
+
+    @classmethod
+    def _segment_run(
+        cls,
+        table: Table,
+        joint: JointSpec,
+        arrays: tuple[npt.NDArray[np.intp], npt.NDArray[np.float64]],
+        run: tuple[int, int, int],
+    ) -> Diagnostic:
+        """MT303 on ``joint`` over the segments ``run`` (first, last, worst), whose driving
+        columns and moves are ``arrays`` (S,): one finding, grouped if longer than a segment."""
+        driver, delta = arrays
+        first, last, worst = (int(s) for s in run)
+        d = cls._segment(table, joint, first, int(driver[first]), delta[first])
+        if last == first:
+            return d
+        span = table.result.cell_span
+        line, column, _end = span(worst + 1, int(driver[worst]))
+        t0, t1 = int(table.times[worst]), int(table.times[worst + 1])
+        speed = float(delta[worst]) / ((t1 - t0) / MS_PER_S)
+        w = Worst(speed, f"{joint.unit}/s", line, column, t1)
+        last_line = span(last + 1, int(driver[last]))[0]
+        return run_finding(d, last - first + 1, last_line, w)
 
     @staticmethod
     def _segment(table: Table, joint: JointSpec, seg: int, col: int, delta: float) -> Diagnostic:
