@@ -3,9 +3,11 @@
 
 from __future__ import annotations
 
+import json
+from collections.abc import Iterator
 from typing import Any
 
-from motiontool.cli.jsontext import dumps
+from motiontool.cli.jsontext import ESCAPED_BYTES, escape_undecodable
 from motiontool.cli.reports.common import PLAIN, Context, fix_json
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
@@ -55,9 +57,35 @@ def _note_json(d: Diagnostic) -> dict[str, Any]:
     return {"code": d.code, "severity": str(d.severity), "message": d.message, "hint": d.hint}
 
 
-def render_json(report: ValidationReport, context: Context = PLAIN) -> str:
+_HOLE = "\x00 findings \x00"
+"""Where a list streamed piece by piece goes in a document written by :func:`json.dumps`."""
+
+
+def _around_hole(doc: dict[str, Any], level: int) -> tuple[str, str, int]:
+    """``doc`` as the JSON text it has at nesting ``level`` of an indented document, cut at
+    :data:`_HOLE` (the list written piece by piece), and the undecodable bytes it escaped."""
+    clean, escaped = escape_undecodable(doc)
+    text = json.dumps(clean, indent=2, ensure_ascii=False).replace("\n", "\n" + "  " * level)
+    before, after = text.split(json.dumps(_HOLE))
+    return before, after, escaped
+
+
+def _items(texts: Iterator[str], level: int) -> Iterator[str]:
+    """The pieces of a JSON list at nesting ``level`` whose items are ``texts`` (each an
+    indented document of its own): exactly what :func:`json.dumps` writes for the list."""
+    pad = "\n" + "  " * (level + 1)
+    first = True
+    for text in texts:
+        yield ("[" if first else ",") + pad + text.replace("\n", pad)
+        first = False
+    yield "[]" if first else "\n" + "  " * level + "]"
+
+
+def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """The versioned JSON report; its schema is documented in ``docs/json-report.md`` and
-    shipped as ``motiontool/cli/schemas/validate.schema.json``."""
+    shipped as ``motiontool/cli/schemas/validate.schema.json``. Written as the findings are
+    made (the summary first: a pass that counts them, then the pass that writes them), the
+    same text as :func:`~motiontool.cli.jsontext.dumps` of the whole document."""
     doc: dict[str, Any] = {
         "schema": "motiontool.validate",
         "schema_version": JSON_SCHEMA_VERSION,
@@ -70,16 +98,39 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> str:
             "notes": report.count(Severity.INFO),
         },
         "notes": [_note_json(d) for d in report.notes],
-        "files": [
-            {
-                "path": f.path,
-                "accepted_by_webots": f.read.accepted,
-                "joints": len(f.read.joints),
-                "poses": len(f.read.times_ms),
-                "duration_ms": f.read.times_ms[-1] if f.read.times_ms else None,
-                "diagnostics": [_diagnostic_json(d, f) for d in f.diagnostics],
-            }
-            for f in report.files
-        ],
+        "files": _HOLE,
     }
-    return dumps(doc)
+    before, after, escaped = _around_hole(doc, 0)
+    yield before
+    counter = [escaped]
+    for i, f in enumerate(report.files):
+        yield ("[" if i == 0 else ",") + "\n    "
+        yield from _file(f, counter)
+    yield "\n  ]" if report.files else "[]"
+    escaped = counter[0]
+    yield (f',\n  "{ESCAPED_BYTES}": {escaped}\n}}' if escaped else after) + "\n"
+
+
+def _file(f: FileReport, escaped: list[int]) -> Iterator[str]:
+    """A file's JSON text (an item of the ``files`` list), its findings written as they are
+    made; ``escaped[0]`` adds up the undecodable bytes escaped."""
+    doc = {
+        "path": f.path,
+        "accepted_by_webots": f.read.accepted,
+        "joints": len(f.read.joints),
+        "poses": len(f.read.times_ms),
+        "duration_ms": f.read.times_ms[-1] if f.read.times_ms else None,
+        "diagnostics": _HOLE,
+    }
+    before, after, n = _around_hole(doc, 2)
+    escaped[0] += n
+    yield before
+    yield from _items(_diagnostic_texts(f, escaped), 3)
+    yield after
+
+
+def _diagnostic_texts(f: FileReport, escaped: list[int]) -> Iterator[str]:
+    for d in f.diagnostics:
+        clean, n = escape_undecodable(_diagnostic_json(d, f))
+        escaped[0] += n
+        yield json.dumps(clean, indent=2, ensure_ascii=False)
