@@ -239,8 +239,7 @@ def _planner(
     }
     if not codes:
         return None
-    plan = planner(spec, str(path))
-    return lambda data: [f for f in plan(data) if f.code in codes]
+    return planner(spec, str(path), codes)
 
 
 def robot_planner(

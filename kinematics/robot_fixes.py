@@ -17,36 +17,52 @@ the rest of every line kept as it is spelt.
 from __future__ import annotations
 
 import math
+from bisect import bisect_left, bisect_right
+from collections.abc import Iterable
+from dataclasses import dataclass
 
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fit_limits import fit_limits
-from motiontool.motionfmt.fixes import ROBOT_FIX_TITLES, Fix, RobotPlanner
+from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
 
-__all__ = ["clamp_fixes", "planner", "stretch_fixes"]
+__all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
 
 CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
 STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
 
 
-def clamp_fixes(result: ReadResult, spec: RobotSpec) -> list[Fix]:
-    """MT302: each finite value of a motor past its limit becomes the limit (``repr``)."""
+def clamp_fixes(
+    result: ReadResult,
+    spec: RobotSpec,
+    *,
+    joint: str | None = None,
+    lines: tuple[int, int] | None = None,
+) -> list[Fix]:
+    """MT302: each finite value of a motor past its limit becomes the limit (``repr``); only
+    ``joint``'s cells (every column that names it) and only on ``lines`` (first, last) where
+    given."""
     import numpy as np
 
-    rows = np.asarray(result.rows, dtype=np.float64).reshape(len(result.times_ms), -1)
+    poses = slice(None)
+    if lines is not None:
+        pose_lines = result.pose_lines
+        poses = slice(bisect_left(pose_lines, lines[0]), bisect_right(pose_lines, lines[1]))
+    rows = result.motion.values[poses]
+    first = poses.start or 0
     fixes: list[Fix] = []
     for j, name in enumerate(result.joints):
-        if name not in spec:
+        if name not in spec or (joint is not None and name != joint):
             continue
-        joint = spec.joint(name)
+        limit = spec.joint(name)
         column = rows[:, j]
         with np.errstate(invalid="ignore"):
-            past = np.isfinite(column) & ((column > joint.upper) | (column < joint.lower))
+            past = np.isfinite(column) & ((column > limit.upper) | (column < limit.lower))
         for p in np.flatnonzero(past).tolist():
-            bound = joint.upper if column[p] > joint.upper else joint.lower
-            line, start, end = result.cell_span(p, j)
-            title = f"{CLAMP_TITLE}: {name} = {bound!r} {joint.unit}"
+            bound = limit.upper if column[p] > limit.upper else limit.lower
+            line, start, end = result.cell_span(first + p, j)
+            title = f"{CLAMP_TITLE}: {name} = {bound!r} {limit.unit}"
             fixes.append(Fix("MT302", line, start, end, repr(bound).encode(), False, title, name))
     return fixes
 
@@ -78,14 +94,36 @@ def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -
     return fixes
 
 
-def planner(spec: RobotSpec, path: str) -> RobotPlanner:
-    """A planner of both fixes for ``spec`` (for :func:`motiontool.motionfmt.fixes.fix_bytes`):
-    none for a file Webots rejects."""
+@dataclass(frozen=True)
+class Planner:
+    """The robot fixes of ``codes`` for ``spec``
+    (a :class:`~motiontool.motionfmt.fixes.RobotPlanner`): none for a file Webots rejects."""
 
-    def plan(data: bytes) -> list[Fix]:
-        result = read_bytes(data, path)
+    spec: RobotSpec
+    path: str
+    codes: frozenset[str] = ROBOT_CODES
+
+    def __call__(self, data: bytes) -> list[Fix]:
+        result = read_bytes(data, self.path)
         if not result.accepted or not result.times_ms or not result.joints:
             return []
-        return clamp_fixes(result, spec) + stretch_fixes(data, path, result, spec)
+        return self._clamps(result) + self.stretch(data, result)
 
-    return plan
+    def _clamps(self, result: ReadResult) -> list[Fix]:
+        return clamp_fixes(result, self.spec) if "MT302" in self.codes else []
+
+    def clamps(self, result: ReadResult, joint: str, lines: tuple[int, int]) -> list[Fix]:
+        if "MT302" not in self.codes:
+            return []
+        return clamp_fixes(result, self.spec, joint=joint, lines=lines)
+
+    def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
+        if "MT303" not in self.codes:
+            return []
+        return stretch_fixes(data, self.path, result, self.spec)
+
+
+def planner(spec: RobotSpec, path: str, codes: Iterable[str] = ROBOT_CODES) -> Planner:
+    """A planner of the fixes of ``codes`` (both by default) for ``spec``, for
+    :func:`motiontool.motionfmt.fixes.fix_bytes` and the reports."""
+    return Planner(spec, path, frozenset(codes))

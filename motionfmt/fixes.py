@@ -27,8 +27,9 @@ columns, end exclusive), so a fix never touches a byte outside its span.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
@@ -60,8 +61,25 @@ ROBOT_FIX_TITLES = {
 }
 """What the fix of each of :data:`ROBOT_CODES` does, for people."""
 
-RobotPlanner = Callable[[bytes], "list[Fix]"]
-"""Plans the fixes of :data:`ROBOT_CODES` for a file's bytes (the caller knows the robot)."""
+
+class RobotPlanner(Protocol):
+    """Plans the fixes of :data:`ROBOT_CODES` (the caller knows the robot)."""
+
+    def __call__(self, data: bytes) -> list[Fix]:
+        """Every robot fix of a file's bytes (what ``--fix --unsafe-fixes`` applies)."""
+        ...
+
+    def clamps(self, result: ReadResult, joint: str, lines: tuple[int, int]) -> list[Fix]:
+        """The MT302 clamps of ``joint``'s cells on lines ``lines`` (first, last) of the file
+        read as ``result``: one finding's fix, planned for it alone (a report of millions of
+        findings never holds them all); none if MT302 is not planned."""
+        ...
+
+    def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
+        """The MT303 retiming of the file (``data``, read as ``result``); none if MT303 is not
+        planned."""
+        ...
+
 
 _MERGE_PROOF_CELLS = 20_000_000
 """Largest (milliseconds x joints) for which a column merge (MT205) is proved equal at every

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -93,27 +92,21 @@ class FileReport:
         return by_place
 
     @functools.cached_property
-    def _robot_plan(self) -> tuple[tuple[Fix, ...], dict[str | None, list[Fix]]]:
-        """The robot's fixes of this file: (the retiming that fixes every MT303, the MT302
-        clamps by joint in line order)."""
-        planned = self.robot_fixes(self.data) if self.robot_fixes is not None else []
-        clamps: dict[str | None, list[Fix]] = {}
-        for f in planned:
-            if f.code == "MT302":
-                clamps.setdefault(f.joint, []).append(f)
-        return tuple(f for f in planned if f.code == "MT303"), clamps
+    def _stretch(self) -> tuple[Fix, ...]:
+        """The retiming that fixes every MT303 finding of this file."""
+        assert self.robot_fixes is not None
+        return tuple(self.robot_fixes.stretch(self.data, self.read))
 
-    def _robot_fix(self, d: Diagnostic) -> tuple[Fix, ...]:
+    def _robot_fix(self, d: Diagnostic, planner: RobotPlanner) -> tuple[Fix, ...]:
         """An MT302 finding's edits are its joint's clamps on its lines (a grouped finding's
-        run of lines); the whole retiming belongs to the file's first MT303 finding (one
-        retiming fixes every segment, and a report stays linear in size)."""
-        stretch, clamps = self._robot_plan
+        run of lines), planned for it alone; the whole retiming belongs to the file's first
+        MT303 finding (one retiming fixes every segment, and a report stays linear in size)."""
         if d.code == "MT303":
-            return stretch if self._is_first_stretch(d) else ()
-        mine = clamps.get(d.joint, [])
+            return self._stretch if self._is_first_stretch(d) else ()
+        if d.joint is None:
+            return ()
         last = d.line if d.run is None else d.run.end_line
-        lo = bisect_left(mine, d.line, key=lambda f: f.line)
-        return tuple(mine[lo : bisect_right(mine, last, key=lambda f: f.line)])
+        return tuple(planner.clamps(self.read, d.joint, (d.line, last)))
 
     def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
@@ -140,7 +133,7 @@ class FileReport:
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""
         if d.code in ROBOT_CODES:
-            return self._robot_fix(d) if self.robot_fixes is not None else ()
+            return () if self.robot_fixes is None else self._robot_fix(d, self.robot_fixes)
         return self._file_fixes.get((d.code, d.line, d.column), ())
 
 

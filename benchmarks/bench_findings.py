@@ -1,0 +1,78 @@
+"""Benchmark: ``validate --robot nao`` on a file with random values (issue 17 item 4), whole
+process, against the syntax level on the same file measured in the same run.
+
+Run: ``python benchmarks/bench_findings.py`` (``--poses 10000`` for a quick run). The file is
+``bench_validate.py``'s: 26 joints, uniform(-2, 2) rad values, 100 000 poses (26 MB), so that
+most cells are past a limit and most segments too fast (3.5 million findings one per pose).
+Each command's report goes to a file (the bytes are written, then thrown away), and is timed
+(wall) with its peak resident memory (GNU time). Printed:
+
+- the syntax level, ``validate --robot none``: the baseline;
+- ``validate --robot nao`` (grouped, the default checks) and its ratio to the baseline
+  (target: at most 3x);
+- ``validate --robot nao --no-group``: its peak (target: under 1 GB, the findings streamed to
+  the output, never all held) and its ratio to the baseline;
+- ``--format json`` (grouped): its peak and time;
+- how many findings and bytes each report has.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+from _timing import Child, best_child  # benchmarks/_timing.py (run as a script)
+from bench_validate import make_file
+
+GIB = 2**30
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--poses", type=int, default=100_000)
+    parser.add_argument("--repeat", type=int, default=1)
+    args = parser.parse_args()
+    script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
+    with tempfile.TemporaryDirectory() as tmp:
+        big = Path(tmp) / "random.motion"
+        make_file(big, args.poses)
+        out = Path(tmp) / "report"
+        size = big.stat().st_size
+        print(f"file: {args.poses} poses x 26 joints, uniform(-2, 2) rad, {size / 1e6:.1f} MB")
+
+        def measure(label: str, *extra: str) -> Child:
+            cmd = [script, "validate", str(big), "-o", str(out), *extra]
+            child = best_child(args.repeat, cmd)
+            if child.returncode not in (0, 1):
+                raise SystemExit(f"{label}: exit status {child.returncode}")
+            text = out.read_bytes()
+            lines = text.count(b"\n")
+            print(
+                f"{label:<40} {child.wall_s:7.2f} s  {child.peak_mib:7.0f} MiB peak  "
+                f"report {len(text) / 1e6:8.1f} MB, {lines:,} lines"
+            )
+            return child
+
+        base = measure("validate --robot none (syntax level)", "--robot", "none")
+        grouped = measure("validate --robot nao", "--robot", "nao")
+        flat = measure("validate --robot nao --no-group", "--robot", "nao", "--no-group")
+        as_json = measure("validate --robot nao --format json", "--robot", "nao", "-f", "json")
+        ratio = grouped.wall_s / base.wall_s
+        print(
+            f"grouped: {ratio:.1f}x the syntax level's wall time (target <= 3x: "
+            f"{'met' if ratio <= 3 else 'not met'})"
+        )
+        print(
+            f"--no-group: peak {flat.peak_bytes / GIB:.2f} GiB (target < 1 GiB: "
+            f"{'met' if flat.peak_bytes < GIB else 'not met'}), "
+            f"{flat.wall_s / base.wall_s:.1f}x the syntax level's wall time"
+        )
+        print(f"json: peak {as_json.peak_bytes / GIB:.2f} GiB, {as_json.wall_s:.1f} s")
+
+
+if __name__ == "__main__":
+    main()
