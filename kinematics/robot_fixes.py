@@ -39,10 +39,11 @@ def clamp_fixes(
     *,
     joint: str | None = None,
     lines: tuple[int, int] | None = None,
+    past: float | None = None,
 ) -> list[Fix]:
     """MT302: each finite value of a motor past its limit becomes the limit (``repr``); only
-    ``joint``'s cells (every column that names it) and only on ``lines`` (first, last) where
-    given."""
+    ``joint``'s cells (every column that names it), only on ``lines`` (first, last) and only
+    those past the same limit as the value ``past``, where given."""
     import numpy as np
 
     poses = slice(None)
@@ -58,8 +59,10 @@ def clamp_fixes(
         limit = spec.joint(name)
         column = rows[:, j]
         with np.errstate(invalid="ignore"):
-            past = np.isfinite(column) & ((column > limit.upper) | (column < limit.lower))
-        for p in np.flatnonzero(past).tolist():
+            above, below = column > limit.upper, column < limit.lower
+        if past is not None:
+            above, below = (above, below & False) if past > limit.upper else (above & False, below)
+        for p in np.flatnonzero(np.isfinite(column) & (above | below)).tolist():
             bound = limit.upper if column[p] > limit.upper else limit.lower
             line, start, end = result.cell_span(first + p, j)
             title = f"{CLAMP_TITLE}: {name} = {bound!r} {limit.unit}"
@@ -112,10 +115,12 @@ class Planner:
     def _clamps(self, result: ReadResult) -> list[Fix]:
         return clamp_fixes(result, self.spec) if "MT302" in self.codes else []
 
-    def clamps(self, result: ReadResult, joint: str, lines: tuple[int, int]) -> list[Fix]:
+    def clamps(
+        self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
+    ) -> list[Fix]:
         if "MT302" not in self.codes:
             return []
-        return clamp_fixes(result, self.spec, joint=joint, lines=lines)
+        return clamp_fixes(result, self.spec, joint=joint, lines=lines, past=past)
 
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
         if "MT303" not in self.codes:

@@ -142,8 +142,10 @@ class Worst:
 
 @dataclass(frozen=True, slots=True)
 class Run:
-    """What a grouped finding stands for: ``count`` findings at consecutive poses, from the
-    finding's own line to ``end_line``, the worst of them ``worst``.
+    """What a grouped finding stands for: ``count`` findings at consecutive poses (in
+    ``runs`` runs of them: more than :data:`~motiontool.motionfmt.grouping.MAX_RUNS` of one
+    code and subject in a file make one finding), from the finding's own line to
+    ``end_line``, the worst of them ``worst``.
 
     Attributes:
         identity: what identifies the group across edits of the file (its subject and first
@@ -155,6 +157,7 @@ class Run:
     worst: Worst
     noun: str
     identity: str
+    runs: int = 1
 
 
 @dataclass(frozen=True)

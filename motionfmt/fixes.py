@@ -69,10 +69,13 @@ class RobotPlanner(Protocol):
         """Every robot fix of a file's bytes (what ``--fix --unsafe-fixes`` applies)."""
         ...
 
-    def clamps(self, result: ReadResult, joint: str, lines: tuple[int, int]) -> list[Fix]:
+    def clamps(
+        self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
+    ) -> list[Fix]:
         """The MT302 clamps of ``joint``'s cells on lines ``lines`` (first, last) of the file
-        read as ``result``: one finding's fix, planned for it alone (a report of millions of
-        findings never holds them all); none if MT302 is not planned."""
+        read as ``result`` past the same limit as the value ``past`` (None: either): one finding's
+        fix, planned for it alone (a report of millions of findings never holds them all);
+        none if MT302 is not planned."""
         ...
 
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:

@@ -105,8 +105,10 @@ class FileReport:
             return self._stretch if self._is_first_stretch(d) else ()
         if d.joint is None:
             return ()
-        last = d.line if d.run is None else d.run.end_line
-        return tuple(planner.clamps(self.read, d.joint, (d.line, last)))
+        if d.run is None:  # one pose: its cell
+            return tuple(planner.clamps(self.read, d.joint, (d.line, d.line), None))
+        lines = (d.line, d.run.end_line)  # runs on one side of the limits: that side's cells
+        return tuple(planner.clamps(self.read, d.joint, lines, d.run.worst.value))
 
     def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are

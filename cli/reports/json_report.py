@@ -19,13 +19,16 @@ JSON_SCHEMA_VERSION = 1
 
 
 def _run_json(d: Diagnostic) -> dict[str, Any]:
-    """A grouped finding's ``count``, ``end_line`` and ``worst`` (nothing for one finding)."""
+    """A grouped finding's ``count``, ``end_line``, ``worst`` and ``runs`` where it stands for
+    more than one (nothing for one finding)."""
     if d.run is None:
         return {}
     w = d.run.worst
+    runs = {"runs": d.run.runs} if d.run.runs > 1 else {}
     return {
         "count": d.run.count,
         "end_line": d.run.end_line,
+        **runs,
         "worst": {
             "value": w.value,
             "unit": w.unit,

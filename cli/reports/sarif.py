@@ -98,8 +98,9 @@ def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[s
 
 
 def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, Any]:
-    """A grouped finding's worst pose as a related location, and its ``count``, ``endLine``
-    and ``worst`` in the result's properties (nothing for one finding)."""
+    """A grouped finding's worst pose as a related location, and its ``count``, ``endLine``,
+    ``runs`` (where it stands for more than one) and ``worst`` in the result's properties
+    (nothing for one finding)."""
     if d.run is None:
         return {}
     w = d.run.worst
@@ -113,7 +114,10 @@ def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, An
         "message": {"text": f"worst: {w.value:.6g} {w.unit}"},
         "physicalLocation": {"artifactLocation": location, "region": region},
     }
-    properties = {"count": d.run.count, "endLine": d.run.end_line, "worst": worst}
+    properties: dict[str, Any] = {"count": d.run.count, "endLine": d.run.end_line}
+    if d.run.runs > 1:
+        properties["runs"] = d.run.runs
+    properties["worst"] = worst
     return {"relatedLocations": [related], "properties": properties}
 
 

@@ -12,11 +12,12 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, NamedTuple, TypeVar
 
 from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.findings import Findings
+from motiontool.motionfmt.grouping import MAX_RUNS
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.reader import ReadResult
 
@@ -29,6 +30,7 @@ _Cell = TypeVar("_Cell", "np.float64", "np.bool_")
 
 __all__ = [
     "EPS",
+    "PoseRuns",
     "RobotCheck",
     "Table",
     "cell",
@@ -103,26 +105,42 @@ def runs(indices: Sequence[int], step: int) -> list[list[int]]:
     return out
 
 
-def pose_runs(
-    mask: npt.NDArray[np.bool_], excess: npt.NDArray[np.float64]
-) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.intp], npt.NDArray[np.intp]]:
-    """The runs of consecutive True in ``mask`` (P,), as arrays of their (first, last, worst)
-    indices, the worst the first with the largest ``excess`` (P,) in the run: what
-    :func:`~motiontool.motionfmt.grouping.group_findings` makes one finding of. ``excess`` is
-    a number (or inf) wherever ``mask`` holds."""
+class PoseRuns(NamedTuple):
+    """Runs of consecutive poses (or segments) where a finding is, as arrays (R,): each run's
+    first, last and worst index, how many indices it covers (``size``) and how many runs it
+    stands for (1; more where :data:`~motiontool.motionfmt.grouping.MAX_RUNS` made them one)."""
+
+    first: npt.NDArray[np.intp]
+    last: npt.NDArray[np.intp]
+    worst: npt.NDArray[np.intp]
+    size: npt.NDArray[np.intp]
+    runs: npt.NDArray[np.intp]
+
+
+def pose_runs(mask: npt.NDArray[np.bool_], excess: npt.NDArray[np.float64]) -> PoseRuns:
+    """The runs of consecutive True in ``mask`` (P,), the worst of each the first with the
+    largest ``excess`` (P,) in it: what :func:`~motiontool.motionfmt.grouping.group_findings`
+    makes one finding of (all of them one run, more than
+    :data:`~motiontool.motionfmt.grouping.MAX_RUNS`). ``excess`` is a number (or inf)
+    wherever ``mask`` holds."""
     import numpy as np
 
     edges = np.diff(mask.astype(np.int8), prepend=np.int8(0), append=np.int8(0))
     starts = np.flatnonzero(edges == 1)
     ends = np.flatnonzero(edges == -1) - 1
+    if starts.size > MAX_RUNS:
+        where = np.flatnonzero(mask)
+        worst = where[np.argmax(excess[where])]
+        one = np.ones(1, dtype=np.intp)
+        return PoseRuns(starts[:1], ends[-1:], worst * one, where.size * one, starts.size * one)
     if starts.size == 0:
-        return starts, ends, starts
+        return PoseRuns(starts, ends, starts, starts, starts)
     masked = np.where(mask, excess, -np.inf)
     run_max = np.maximum.reduceat(masked, starts)  # the gaps between runs hold -inf
     run_of = np.cumsum(edges[:-1] == 1) - 1  # the run each index is in (or follows)
     at_max = np.flatnonzero(mask & (masked == run_max[np.maximum(run_of, 0)]))
     _runs, first = np.unique(run_of[at_max], return_index=True)
-    return starts, ends, at_max[first]
+    return PoseRuns(starts, ends, at_max[first], ends - starts + 1, np.ones_like(starts))
 
 
 # --------------------------------------------------------------------------- the file's table

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from motiontool.kinematics.checks._table import (
     EPS,
     GroupingCheck,
+    PoseRuns,
     Table,
     cell,
     fmt_name,
@@ -122,39 +123,43 @@ class Limits(GroupingCheck):
         its limits (:func:`~motiontool.motionfmt.grouping.run_finding`), made when read."""
         import numpy as np
 
-        found = []  # (first, last, worst, motor, below) arrays, a set per motor and side
+        found = []  # PoseRuns and (motor, below) arrays, a set per motor and side
         for k, joint in enumerate(joints):
             for low, bound in ((True, joint.lower), (False, joint.upper)):
                 mask = below[:, k] if low else outside[:, k] & ~below[:, k]
                 if mask.any():
                     runs = pose_runs(mask, np.abs(table.values[:, k] - bound))
-                    found.append((*runs, np.full(runs[0].shape, k), np.full(runs[0].shape, low)))
+                    found.append(
+                        (*runs, np.full(runs.first.shape, k), np.full(runs.first.shape, low))
+                    )
         if not found:
             return Findings.of([])
-        first, last, worst, ks, lows = (np.concatenate(a) for a in zip(*found, strict=True))
-        return in_order(
-            first,
-            table.source[first, ks],
-            lambda i: self._beyond_run(
-                table, joints[ks[i]], int(ks[i]), bool(lows[i]), (first[i], last[i], worst[i])
-            ),
+        first, last, worst, count, n_runs, ks, lows = (
+            np.concatenate(a) for a in zip(*found, strict=True)
         )
 
+        def beyond_run(i: int) -> Diagnostic:
+            k = int(ks[i])
+            run = PoseRuns(first[i], last[i], worst[i], count[i], n_runs[i])
+            return self._beyond_run(table, joints[k], k, bool(lows[i]), run)
+
+        return in_order(first, table.source[first, ks], beyond_run)
+
     def _beyond_run(
-        self, table: Table, joint: JointSpec, k: int, low: bool, run: tuple[int, int, int]
+        self, table: Table, joint: JointSpec, k: int, low: bool, run: PoseRuns
     ) -> Diagnostic:
-        """MT302 on motor ``k`` over the poses ``run`` (first, last, worst) on one side of its
-        limits (below if ``low``): one finding, grouped if the run is longer than a pose."""
-        first, last, worst = (int(p) for p in run)
+        """MT302 on motor ``k`` over the poses of ``run`` (one run's scalars) on one side of
+        its limits (below if ``low``): one finding, grouped if it covers more than a pose."""
+        first, last, worst = int(run.first), int(run.last), int(run.worst)
         d = self._beyond(table, first, k, joint, low)
-        if last == first:
+        if run.size == 1:
             return d
         span = table.result.cell_span
         line, column, _end = span(worst, table.col(worst, k))
         value = float(table.values[worst, k])
         w = Worst(value, joint.unit, line, column, int(table.times[worst]))
         last_line = span(last, table.col(last, k))[0]
-        return run_finding(d, last - first + 1, last_line, w)
+        return run_finding(d, int(run.size), last_line, w, runs=int(run.runs))
 
     @staticmethod
     def _configuration(

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MissingExtraError
 from motiontool.extras import require_installed
 from motiontool.kinematics.checks._table import (
-    RobotCheck,
+    GroupingCheck,
     Table,
     cell,
     configurations,
@@ -18,6 +18,7 @@ from motiontool.kinematics.checks._table import (
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings, in_order
+from motiontool.motionfmt.grouping import MAX_RUNS
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MM_PER_M
 
@@ -46,9 +47,10 @@ those measurements; ``--collision-tolerance`` sets another (0 reports every over
 """
 
 
-class Collision(RobotCheck):
+class Collision(GroupingCheck):
     """MT307: self-collision at every keyframe and segment midpoint (one diagnostic per pair
-    of bodies and run of consecutive checked instants)."""
+    of bodies and run of consecutive checked instants; grouped, one per pair where it has more
+    than :data:`~motiontool.motionfmt.grouping.MAX_RUNS` runs)."""
 
     def __init__(
         self, spec: RobotSpec, penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
@@ -56,7 +58,7 @@ class Collision(RobotCheck):
         super().__init__(spec)
         self.tolerance_mm = penetration_tolerance_mm
 
-    def __call__(self, result: ReadResult) -> Findings:
+    def _check(self, result: ReadResult, *, group: bool) -> Findings:
         import numpy as np
 
         from motiontool.kinematics.collision import scan_self_collisions
@@ -81,12 +83,14 @@ class Collision(RobotCheck):
         for c in contacts:
             by_pair.setdefault((c.body_a, c.body_b), {})[c.config] = c.depth_m
         del contacts
-        found = [
-            (pair, depths, run)
-            for pair, depths in sorted(by_pair.items())
-            for run in runs(sorted(depths), 1)
-        ]
-        at = [(max(run, key=depths.__getitem__) + 1) // 2 for _pair, depths, run in found]
+        found = []
+        for pair, depths in sorted(by_pair.items()):
+            each = runs(sorted(depths), 1)
+            if group and len(each) > MAX_RUNS:  # one finding for them all
+                found.append((pair, depths, [i for run in each for i in run], len(each)))
+            else:
+                found.extend((pair, depths, run, 1) for run in each)
+        at = [(max(run, key=depths.__getitem__) + 1) // 2 for _pair, depths, run, _n in found]
         return in_order(
             np.array(at, dtype=np.intp),
             np.full(len(at), -1),
@@ -100,17 +104,20 @@ class Collision(RobotCheck):
         pair: tuple[str, str],
         depths: dict[int, float],
         run: list[int],
+        n_runs: int = 1,
     ) -> Diagnostic:
         """MT307 for the bodies ``pair`` overlapping over the checked instants ``run`` (indices
-        in ``times``, ms), by ``depths`` (m) at each."""
+        in ``times``, ms; consecutive, or ``n_runs`` runs of them), by ``depths`` (m) at
+        each."""
         deepest = max(run, key=lambda i: depths[i])
         depth_mm = depths[deepest] * MM_PER_M
         at = self._instant(table, times, deepest)
-        span = (
-            ""
-            if len(run) == 1
-            else f"; they overlap from {fmt_ms(times[run[0]])} to {fmt_ms(times[run[-1]])}"
-        )
+        start, end = fmt_ms(times[run[0]]), fmt_ms(times[run[-1]])
+        span = "" if len(run) == 1 else f"; they overlap from {start} to {end}"
+        if n_runs > 1:
+            span = (
+                f"; they overlap at {len(run):,} instants in {n_runs:,} runs, from {start} to {end}"
+            )
         a, b = pair
         return cell(
             table,

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from motiontool.kinematics.checks._table import (
     EPS,
     GroupingCheck,
+    PoseRuns,
     Table,
     cell,
     fmt_ms,
@@ -98,24 +99,24 @@ class Velocity(GroupingCheck):
         import numpy as np
 
         dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
-        found = []  # (first, last, worst, joint) arrays of segments, a set per joint
+        found = []  # PoseRuns and joint arrays of segments, a set per joint
         for i, joint in enumerate(joints):
             if fast[:, i].any():
                 runs = pose_runs(fast[:, i], delta[:, i] / dt_s - joint.max_velocity)
-                found.append((*runs, np.full(runs[0].shape, i)))
+                found.append((*runs, np.full(runs.first.shape, i)))
         if not found:
             return Findings.of([])
-        first, last, worst, ii = (np.concatenate(a) for a in zip(*found, strict=True))
-        return in_order(
-            first + 1,
-            driver[first, ii],
-            lambda n: cls._segment_run(
-                table,
-                joints[ii[n]],
-                (driver[:, ii[n]], delta[:, ii[n]]),
-                (first[n], last[n], worst[n]),
-            ),
+        first, last, worst, count, n_runs, ii = (
+            np.concatenate(a) for a in zip(*found, strict=True)
         )
+
+        def segment_run(n: int) -> Diagnostic:
+            i = int(ii[n])
+            arrays = (driver[:, i], delta[:, i])
+            run = PoseRuns(first[n], last[n], worst[n], count[n], n_runs[n])
+            return cls._segment_run(table, joints[i], arrays, run)
+
+        return in_order(first + 1, driver[first, ii], segment_run)
 
     @classmethod
     def _segment_run(
@@ -123,14 +124,15 @@ class Velocity(GroupingCheck):
         table: Table,
         joint: JointSpec,
         arrays: tuple[npt.NDArray[np.intp], npt.NDArray[np.float64]],
-        run: tuple[int, int, int],
+        run: PoseRuns,
     ) -> Diagnostic:
-        """MT303 on ``joint`` over the segments ``run`` (first, last, worst), whose driving
-        columns and moves are ``arrays`` (S,): one finding, grouped if longer than a segment."""
+        """MT303 on ``joint`` over the segments of ``run`` (one run's scalars), whose driving
+        columns and moves are ``arrays`` (S,): one finding, grouped if it covers more than a
+        segment."""
         driver, delta = arrays
-        first, last, worst = (int(s) for s in run)
+        first, last, worst = int(run.first), int(run.last), int(run.worst)
         d = cls._segment(table, joint, first, int(driver[first]), delta[first])
-        if last == first:
+        if run.size == 1:
             return d
         span = table.result.cell_span
         line, column, _end = span(worst + 1, int(driver[worst]))
@@ -138,7 +140,7 @@ class Velocity(GroupingCheck):
         speed = float(delta[worst]) / ((t1 - t0) / MS_PER_S)
         w = Worst(speed, f"{joint.unit}/s", line, column, t1)
         last_line = span(last + 1, int(driver[last]))[0]
-        return run_finding(d, last - first + 1, last_line, w)
+        return run_finding(d, int(run.size), last_line, w, runs=int(run.runs))
 
     @staticmethod
     def _segment(table: Table, joint: JointSpec, seg: int, col: int, delta: float) -> Diagnostic:

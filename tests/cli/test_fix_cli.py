@@ -203,3 +203,29 @@ def test_one_retiming_is_the_fix_of_the_first_too_fast_segment_only(motion: Path
     assert all(d["fix"] is None for d in stretches[1:])
     _, text, _ = invoke("validate", "zigzag.motion", "--robot", "nao", "--no-group")
     assert text.count("= fix (--fix --unsafe-fixes): stretch") == 1
+
+
+def test_a_joint_that_crosses_both_limits_many_times_gets_one_finding_a_side(
+    motion: Path,
+) -> None:
+    """HeadPitch (the Nao's range about [-0.67, 0.51] rad) above its limit on 12 separate poses
+    and below it on 12 others: grouped, one finding a side (more than MAX_RUNS runs each),
+    whose fix clamps exactly that side's cells; the JSON report says how many runs."""
+    values = [0.9 if k % 4 == 0 else -0.9 if k % 4 == 2 else 0.0 for k in range(48)]
+    lines = [f"{k * 1000},P{k},{v}" for k, v in enumerate(values)]
+    path = motion.parent / "dither.motion"
+    path.write_text("#WEBOTS_MOTION,V1.0,HeadPitch\n" + "\n".join(lines) + "\n")
+    _, out, _ = invoke("validate", "dither.motion", "--robot", "nao", "-f", "json")
+    doc = json.loads(out)
+    assert errors(doc, schemas.load("validate")) == []
+    limits = [d for d in doc["files"][0]["diagnostics"] if d["code"] == "MT302"]
+    assert [(d["line"], d["end_line"], d["count"], d["runs"]) for d in limits] == [
+        (2, 46, 12, 12),  # above: poses 0, 4, ..., 44
+        (4, 48, 12, 12),  # below: poses 2, 6, ..., 46
+    ]
+    above, below = ({e["replacement"] for e in d["fix"]["edits"]} for d in limits)
+    assert len(above) == len(below) == 1 and float(above.pop()) > 0 > float(below.pop())
+    assert [len(d["fix"]["edits"]) for d in limits] == [12, 12]
+    assert "in 12 runs, lines 2\u201346" in limits[0]["message"]
+    code, _, _ = invoke("validate", "dither.motion", "--robot", "nao", "--fix", "--unsafe-fixes")
+    assert code == 0

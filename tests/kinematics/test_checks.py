@@ -394,6 +394,25 @@ def test_self_collision_names_bodies_time_and_depth_once_per_run() -> None:
     ]
 
 
+def test_a_pair_that_collides_in_many_runs_is_one_finding_when_grouped() -> None:
+    """The arm folded into the belly 12 times, unfolded between: 12 runs of r_hand in the
+    torso. Grouped (more than MAX_RUNS runs) one finding for the pair at its deepest; not
+    grouped, a finding per run."""
+    from motiontool.motionfmt.grouping import MAX_RUNS
+
+    lines = [f"{k * 1000},P{k},{'1.4,0.3,1.5' if k % 2 else '0,0,0'}".encode() for k in range(25)]
+    data = b"#WEBOTS_MOTION,V1.0,RShoulderPitch,RShoulderRoll,RElbowRoll\n" + b"\n".join(lines)
+    checks = robot_checks(load_robot("nao"), ("collision",), penetration_tolerance_mm=40)
+    grouped = validate_bytes(data + b"\n", "t.motion", checks=checks, group=True)
+    assert [d.format().removeprefix("t.motion:") for d in grouped.diagnostics] == [
+        "3:1: warning MT307: r_hand and torso overlap by 49.0 mm at 1000 ms (pose 'P1'); they"
+        " overlap at 12 instants in 12 runs, from 1000 ms to 23000 ms"
+    ]
+    assert MAX_RUNS < 12
+    each = validate_bytes(data + b"\n", "t.motion", checks=checks, group=False)
+    assert len(each.diagnostics) == 12
+
+
 def test_collision_at_a_segment_midpoint_only() -> None:
     # Both poses are clear; halfway, the elbow turning over brings the hand into the belly.
     data = (

@@ -81,14 +81,29 @@ def test_a_report_reads_the_first_finding_of_a_large_file_without_making_the_oth
         return beyond(*args, **kwargs)  # type: ignore[arg-type]
 
     limits._beyond = counting  # type: ignore[method-assign]
-    for group in (False, True):
-        made = 0
-        report = validate_bytes(data, "random.motion", checks=[limits], group=group)
-        assert made == 0
-        first = next(iter(report.diagnostics))
-        assert first.code == "MT302" and made == 1
-        total = len(report.diagnostics)
-        assert total > 500 and made == 1 + total  # one pass counted them all, a finding each
+    report = validate_bytes(data, "random.motion", checks=[limits], group=False)
+    assert made == 0
+    first = next(iter(report.diagnostics))
+    assert first.code == "MT302" and made == 1
+    total = len(report.diagnostics)
+    assert total > 500 and made == 1 + total  # one pass counted them all, a finding each
+
+
+def test_a_subject_that_comes_and_goes_in_many_runs_is_one_finding() -> None:
+    """Random values cross the limits hundreds of times: grouped, each joint and side is one
+    finding (more than MAX_RUNS runs), which says how many poses and runs."""
+    from motiontool.motionfmt.grouping import MAX_RUNS, group_findings
+
+    result = read_bytes(_random_file(1_000), "random.motion")
+    limits = Limits(load_robot("nao"))
+    grouped = list(limits.grouped(result))
+    assert len(grouped) <= 8  # 4 joints, 2 sides
+    per_pose = list(limits(result))
+    for d in grouped:
+        assert d.run is not None and d.run.runs > MAX_RUNS
+        assert f"in {d.run.runs:,} runs" in d.message
+    assert sum(d.count for d in grouped) == len(per_pose)
+    assert sorted(group_findings(per_pose), key=Diagnostic.sort_key) == grouped
 
 
 def test_findings_made_on_demand_are_those_made_at_once() -> None:

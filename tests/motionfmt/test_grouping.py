@@ -7,7 +7,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
-from motiontool.motionfmt.grouping import group_findings
+from motiontool.motionfmt.grouping import MAX_RUNS, group_findings
 
 SUBJECTS = ("HeadYaw above its upper limit 2 rad", "HeadYaw below its lower limit -2 rad")
 
@@ -77,7 +77,7 @@ def per_pose_findings(draw: st.DrawFn) -> list[Diagnostic]:
     cells = draw(
         st.sets(
             st.tuples(
-                st.integers(0, 30), st.sampled_from(("MT302", "MT304")), st.sampled_from(SUBJECTS)
+                st.integers(0, 60), st.sampled_from(("MT302", "MT304")), st.sampled_from(SUBJECTS)
             )
         )
     )
@@ -94,15 +94,18 @@ def test_groups_are_the_maximal_runs_of_a_plain_oracle(found: list[Diagnostic]) 
     assert sum(d.count for d in out) == len(found)
     expected = []  # the oracle: per code and subject, maximal runs of consecutive poses
     for key in {(d.code, d.pose.subject) for d in found if d.pose}:
-        poses = sorted(d.pose.pose for d in found if d.pose and (d.code, d.pose.subject) == key)
-        start = poses[0]
+        members = [d for d in found if d.pose and (d.code, d.pose.subject) == key]
+        poses = sorted(d.pose.pose for d in members)
+        runs, start = [], poses[0]
         for a, b in zip(poses, [*poses[1:], None], strict=True):
             if b != a + 1:
-                members = [d for d in found if d.pose and (d.code, d.pose.subject) == key]
-                run = [d for d in members if start <= d.pose.pose <= a]
-                worst = max(run, key=lambda d: d.pose.excess)  # the first of equal ones
-                expected.append((key[0], start + 2, a + 2, len(run), worst.line))
+                runs.append([d for d in members if start <= d.pose.pose <= a])
                 start = b
+        if len(runs) > MAX_RUNS:  # one finding for them all
+            runs = [[d for run in runs for d in run]]
+        for run in runs:
+            worst = max(run, key=lambda d: d.pose.excess)  # the first of equal ones
+            expected.append((key[0], run[0].line, run[-1].line, len(run), worst.line))
     got = [
         (
             d.code,
@@ -114,3 +117,15 @@ def test_groups_are_the_maximal_runs_of_a_plain_oracle(found: list[Diagnostic]) 
         for d in out
     ]
     assert sorted(got) == sorted(expected)
+
+
+def test_more_than_max_runs_of_a_subject_are_one_finding_that_says_how_many() -> None:
+    poses = [2 * k for k in range(MAX_RUNS + 1)] + [2 * MAX_RUNS + 1]  # 11 runs, the last of 2
+    found = [finding(p, excess=0.7 if p == 6 else 0.1) for p in poses]
+    (group,) = group_findings(found)
+    assert group.run is not None and (group.count, group.run.runs) == (len(poses), MAX_RUNS + 1)
+    assert group.message == (
+        f"HeadYaw above its upper limit 2 rad on {len(poses)} poses in {MAX_RUNS + 1} runs, "
+        f"lines 2\u2013{2 * MAX_RUNS + 3}, worst 2.7 rad at line 8"
+    )
+    assert len(group_findings(found[:-2])) == MAX_RUNS  # ten runs: each its own finding
