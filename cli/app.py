@@ -25,7 +25,6 @@ from typer._click.utils import make_default_short_help
 from typer.core import TyperGroup
 from typer.models import CommandInfo, TyperInfo
 
-from motiontool import __version__
 from motiontool.cli.color import set_no_color
 from motiontool.errors import MotionToolError
 
@@ -153,6 +152,8 @@ def _error_line(exc: MotionToolError) -> str:
 
 def _version(value: bool) -> None:
     if value:
+        from motiontool import __version__
+
         typer.echo(f"motiontool {__version__}")
         raise typer.Exit()
 
