@@ -8,6 +8,8 @@ takes this state: the header (:mod:`.header`), a pose line (:mod:`.pose_fast`,
 
 from __future__ import annotations
 
+import functools
+
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.read_result import ReadResult
 
@@ -35,15 +37,21 @@ class ReadState:
         self.path = path
         self.timestep_ms = timestep_ms
         self.result = ReadResult(path=path, _data=data)
-        self.lines = data.split(b"\n")
         self.has_final_newline = data.endswith(b"\n")
-        if self.has_final_newline:
-            self.lines.pop()  # fgets returns NULL after the last newline
         self.joint_tokens: list[bytes] = []
         self.n_joints = 0
         self.star_seen = False
         self.header_end = (1, 1)
         self.pose_cols0: list[int] = self.result._cols0
+
+    @functools.cached_property
+    def lines(self) -> list[bytes]:
+        """The physical lines (split when first asked: a large clean file read in bulk never
+        is)."""
+        lines = self.data.split(b"\n")
+        if self.has_final_newline:
+            lines.pop()  # fgets returns NULL after the last newline
+        return lines
 
     def report(
         self,

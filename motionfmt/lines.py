@@ -84,12 +84,24 @@ class PoseLine:
         self.tokens = [piece.data[a:b] for a, b in spans]
 
 
+def _physical_lines(data: bytes) -> Iterator[tuple[bytes, bool]]:
+    """Each line of ``data`` (without its ``\\n``) and whether a newline ends it, as
+    :attr:`ReadState.lines` holds them, found one at a time (none after a final newline)."""
+    pos = 0
+    while True:
+        end = data.find(b"\n", pos)
+        if end < 0:
+            if pos < len(data):
+                yield data[pos:], False
+            return
+        yield data[pos:end], True
+        pos = end + 1
+
+
 def fgets_pieces(state: ReadState) -> Iterator[Piece]:
-    """The lines as Webots' ``fgets`` returns them, with long lines cut into pieces (MT111)."""
-    lines = state.lines
-    last = len(lines) - 1
-    for i, content in enumerate(lines):
-        has_newline = i < last or state.has_final_newline
+    """The lines as Webots' ``fgets`` returns them, with long lines cut into pieces (MT111);
+    read as they are asked for (a large file read in bulk only has its header line read)."""
+    for i, (content, has_newline) in enumerate(_physical_lines(state.data)):
         full_length = len(content) + (1 if has_newline else 0)
         if full_length <= FGETS_PIECE:
             yield Piece(i + 1, 0, content)
@@ -109,6 +121,8 @@ def fgets_pieces(state: ReadState) -> Iterator[Piece]:
 
 def check_utf8(state: ReadState) -> None:
     """MT208 at the first byte of each line that is not UTF-8."""
+    if state.data.isascii():  # no copy of the file to find that out
+        return
     try:
         state.data.decode("utf-8")
     except UnicodeDecodeError:

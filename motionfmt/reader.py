@@ -145,10 +145,12 @@ class _Reader(ReadState):
         """Read a large clean file in one go (see :mod:`._bulk`); False to take the exact path."""
         from motiontool.motionfmt._bulk import read_clean_body
 
-        if len(self.lines[0]) + 1 > FGETS_PIECE:
+        header_end = self.data.find(b"\n")
+        if header_end < 0 or header_end + 1 > FGETS_PIECE:
             return False
-        body = self.data[len(self.lines[0]) + 1 :]
-        got = read_clean_body(body, self.n_joints, NO_VALUE_MARKER, FGETS_PIECE - 1)
+        got = read_clean_body(
+            self.data, self.n_joints, NO_VALUE_MARKER, FGETS_PIECE - 1, start=header_end + 1
+        )
         if got is None:
             return False
         times, names, values = got

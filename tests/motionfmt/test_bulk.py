@@ -60,3 +60,28 @@ def test_bulk_path_is_taken_on_a_clean_file() -> None:
     got = _bulk.read_clean_body(body, 2, reader.NO_VALUE_MARKER, 4094)
     assert got is not None and got[0][:3] == [0, 40, 80] and got[2].shape == (100, 2)
     assert_same(data)
+
+
+@pytest.mark.parametrize("block", [4096, 1 << 20])
+def test_a_file_read_a_block_at_a_time_reads_as_the_exact_path(
+    block: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Parsed in record batches (a block of the file each) into arrays of their final size:
+    batch boundaries change nothing, bit for bit."""
+    from motiontool.motionfmt import _bulk
+
+    monkeypatch.setattr(_bulk, "_BLOCK", block)
+    rng = np.random.default_rng(3)
+    rows = "\n".join(
+        f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d},Pose{t},"
+        + ",".join(repr(round(float(v), 6)) for v in rng.uniform(-2, 2, 5))
+        for t in range(0, 40 * 3000, 40)
+    )
+    data = f"#WEBOTS_MOTION,V1.0,A,B,C,D,E\n{rows}".encode()  # no final newline
+    got = _bulk.read_clean_body(data, 5, reader.NO_VALUE_MARKER, 4094, start=data.index(b"\n") + 1)
+    assert got is not None and len(got[0]) == 3000 and got[2].shape == (3000, 5)
+    assert_same(data)
+    assert_same(data + b"\n")
+    late = data.replace(b"01:59:960", b"01:59:900")  # the last time no longer increases
+    assert _bulk.read_clean_body(late, 5, reader.NO_VALUE_MARKER, 4094, start=30) is None
+    assert_same(late)
