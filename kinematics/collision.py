@@ -8,7 +8,8 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
 2. a pair whose two geometries are not moved relative to each other by any motor the motion
    moves keeps its zero-pose placement, where no checked pair touches (see
    :func:`motiontool.kinematics.build_model`), so it is skipped;
-3. forward kinematics of all configurations runs in numpy (one vectorised step per joint),
+3. forward kinematics of all configurations runs in numpy (one vectorised step per joint, a
+   block of configurations at a time, the blocks side by side on the machine's cores),
    and a sphere around each joint's geometries drops the far (configuration, joint pair)s,
    then a sphere around each geometry the far (configuration, geometry pair)s;
 4. two bounds on the penetration depth, both vectorised, drop every (configuration, pair)
@@ -27,6 +28,8 @@ when step 5 has candidates: the tables of steps 1-4 come from the disk cache
 
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
@@ -367,10 +370,13 @@ def scan_self_collisions(
     active = np.flatnonzero(tables.pair_motors[:, moving].any(axis=1) & (reach >= tolerance))
     if active.size == 0:
         return []
-    blocks = [
-        _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
-        for start in range(0, unique.shape[0], _BLOCK)
-    ]
+
+    def block(start: int) -> tuple[npt.NDArray[np.int64], ...]:
+        return _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
+
+    # numpy lets go of the GIL in its loops: blocks run side by side on the machine's cores
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        blocks = list(pool.map(block, range(0, unique.shape[0], _BLOCK)))
     rows = np.concatenate([r + k * _BLOCK for k, (r, _p, _b) in enumerate(blocks)])
     pairs = np.concatenate([p for _r, p, _b in blocks])
     bound = np.concatenate([b for _r, _p, b in blocks])
@@ -430,15 +436,22 @@ def _deepest_by_row(
 ) -> dict[int, list[tuple[str, str, float]]]:
     """Per configuration, the deepest depth (m) of each pair of bodies, sorted by bodies; a
     pair whose two geometries count as one body is not a contact."""
-    deepest: dict[tuple[int, str, str], float] = {}
-    for row, k, d in zip(rows, pairs, depth, strict=True):
-        a = bodies[tables.pair_first[k]]
-        b = bodies[tables.pair_second[k]]
-        if a == b:
-            continue
-        key = (int(row), min(a, b), max(a, b))
-        deepest[key] = max(deepest.get(key, 0.0), float(d))
+    import numpy as np
+
+    names = sorted(set(bodies))  # body ids in name order: min and max of ids are of names
+    body_id = np.array([names.index(b) for b in bodies], dtype=np.int64)
+    a, b = body_id[tables.pair_first[pairs]], body_id[tables.pair_second[pairs]]
+    keep = a != b
+    n = len(names)
+    key = (rows[keep] * n + np.minimum(a, b)[keep]) * n + np.maximum(a, b)[keep]
+    order = np.argsort(key, kind="stable")
+    key, d = key[order], depth[keep][order]
+    if key.shape[0] == 0:
+        return {}
+    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
+    deepest = np.maximum.reduceat(d, starts)
     by_row: dict[int, list[tuple[str, str, float]]] = {}
-    for (row, a, b), d in sorted(deepest.items()):
-        by_row.setdefault(row, []).append((a, b, d))
+    for k, dk in zip(key[starts].tolist(), deepest.tolist(), strict=True):
+        row, pair = divmod(k, n * n)
+        by_row.setdefault(row, []).append((names[pair // n], names[pair % n], dk))
     return by_row
