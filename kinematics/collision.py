@@ -371,15 +371,7 @@ def scan_self_collisions(
     if active.size == 0:
         return []
 
-    def block(start: int) -> tuple[npt.NDArray[np.int64], ...]:
-        return _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
-
-    # numpy lets go of the GIL in its loops: blocks run side by side on the machine's cores
-    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
-        blocks = list(pool.map(block, range(0, unique.shape[0], _BLOCK)))
-    rows = np.concatenate([r + k * _BLOCK for k, (r, _p, _b) in enumerate(blocks)])
-    pairs = np.concatenate([p for _r, p, _b in blocks])
-    bound = np.concatenate([b for _r, _p, b in blocks])
+    rows, pairs, bound = _all_candidates(spec, tables, unique, active, tolerance)
     if rows.size == 0:
         return []
     # coal's EPA can overshoot on flat-capped cylinders (a 12.4 mm sphere-in-cylinder
@@ -392,6 +384,31 @@ def scan_self_collisions(
     for config, row in enumerate(inverse.tolist()):
         contacts.extend(Contact(config, a, b, d) for a, b, d in by_row.get(row, ()))
     return contacts
+
+
+def _all_candidates(
+    spec: RobotSpec,
+    tables: KinematicTables,
+    unique: npt.NDArray[np.float64],
+    active: npt.NDArray[np.int64],
+    tolerance: float,
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+    """:func:`_candidates` of every configuration of ``unique``, a block of them at a time:
+    numpy lets go of the GIL in its loops, so the blocks run side by side on the machine's
+    cores."""
+    import numpy as np
+
+    def block(
+        start: int,
+    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+        return _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
+
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+        blocks = list(pool.map(block, range(0, unique.shape[0], _BLOCK)))
+    rows = np.concatenate([r + k * _BLOCK for k, (r, _p, _b) in enumerate(blocks)])
+    pairs = np.concatenate([p for _r, p, _b in blocks])
+    bound = np.concatenate([b for _r, _p, b in blocks])
+    return rows, pairs, bound
 
 
 def _checked(spec: RobotSpec, q_motors: npt.ArrayLike) -> npt.NDArray[np.float64]:

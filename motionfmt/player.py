@@ -263,17 +263,24 @@ def iter_commands(
     reverse: bool = False,
     loops: int = 1,
     chunk_steps: int = CHUNK_STEPS,
+    max_steps: int | None = None,
 ) -> Iterator[CommandStream]:
     """The command stream of :func:`sample`, in consecutive chunks of at most ``chunk_steps``
     steps: memory stays bounded whatever the duration, and the first chunk comes at once.
 
     Where the motion never stops at this time step (Webots' clock wraps:
-    :func:`step_count` is None) the iterator is endless, as Webots' player is: bound it
-    (``itertools.islice``).
+    :func:`step_count` is None) the iterator is endless, as Webots' player is: bound it with
+    ``max_steps`` (the first steps only, at most this many; None: every step).
     """
+    left = max_steps
     for elapsed in iter_elapsed(
         motion.duration_ms, timestep_ms, reverse=reverse, loops=loops, chunk_steps=chunk_steps
     ):
+        if left is not None:
+            if left <= 0:
+                return
+            elapsed = elapsed[:left]
+            left -= elapsed.shape[0]
         targets, commanded = commands_at(motion, elapsed)
         yield CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
 

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.kinematics.robots import RobotSpec, resolve_robot
-from motiontool.motionfmt import Motion, read_bytes, read_file, sample
+from motiontool.motionfmt import Motion, iter_commands, read_bytes, read_file
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import measure_end_effector
@@ -195,7 +195,7 @@ def _start_joints(
 
     start_joints = {j: 0.0 for j in spec.joint_names}
     if StartState(opts.start).lying:  # lying: the joints at the first motion's first pose
-        stream = sample(first, timestep_ms, reverse=opts.reverse)
+        stream = next(iter_commands(first, timestep_ms, reverse=opts.reverse, max_steps=1))
         for name, value, sent in zip(
             stream.joints, stream.targets[0].tolist(), stream.commanded[0].tolist(), strict=True
         ):

@@ -32,6 +32,10 @@ if TYPE_CHECKING:
 
 __all__ = ["Velocity"]
 
+_STREAM_CHUNK = 1 << 16
+"""Controller steps of the command stream the velocity check reads at a time (a few tens of MB
+of arrays for a Nao, whatever the motion's duration)."""
+
 #: A fast controller step of one motor: (speed (unit/s), its start and end playback times (ms),
 #: how many controller steps apart the two commands are).
 _Step = tuple[float, int, int, int]
@@ -182,38 +186,51 @@ class Velocity(GroupingCheck):
         limited: list[int],
         fast: npt.NDArray[np.bool_],
     ) -> list[Diagnostic]:
-        """The sampled command stream, one diagnostic per joint and segment."""
+        """The sampled command stream, one diagnostic per joint and segment; read a chunk of
+        controller steps at a time (memory stays flat whatever the motion's duration)."""
         import numpy as np
 
         from motiontool.motionfmt.clock import clock_overflow
-        from motiontool.motionfmt.player import sample
+        from motiontool.motionfmt.player import iter_commands
 
         motion = table.result.motion
         # Where Webots' playback time wraps (MT115), the steps up to the wrap: it may never end.
         overflow = clock_overflow(motion.duration_ms, self.timestep_ms)
-        stream = sample(
-            motion, self.timestep_ms, max_steps=None if overflow is None else overflow.step + 1
+        chunks = iter_commands(
+            motion,
+            self.timestep_ms,
+            chunk_steps=_STREAM_CHUNK,
+            max_steps=None if overflow is None else overflow.step + 1,
         )
         names = [table.result.joints[group[-1]] for group in table.groups]
-        motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
         fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int64)
         np.cumsum(fast, axis=0, out=fast_before[1:])
         defined = table.defined
         worst: dict[tuple[int, int], _Step] = {}
-        for i, k in enumerate(limited):
-            steps = np.flatnonzero(motors.sent[:, k])
-            if steps.shape[0] < 2:
-                continue
-            fast_steps = self._fast_steps(
-                table.times,
-                stream.elapsed_ms[steps],
-                motors.targets[steps, k],
-                (joints[k].max_velocity, defined[:, k], fast_before[:, i]),
-            )
-            for pose, found in fast_steps:
-                if (i, pose) not in worst or found[0] > worst[(i, pose)][0]:
-                    worst[(i, pose)] = found
+        last: dict[int, tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]] = {}
+        for stream in chunks:
+            motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
+            for i, k in enumerate(limited):
+                steps = np.flatnonzero(motors.sent[:, k])
+                if steps.shape[0] == 0:
+                    continue
+                # Each joint's sent targets, its last one of the chunks before first.
+                before_e, before_t = last.get(i, (stream.elapsed_ms[:0], motors.targets[:0, k]))
+                elapsed = np.concatenate((before_e, stream.elapsed_ms[steps]))
+                targets = np.concatenate((before_t, motors.targets[steps, k]))
+                last[i] = (elapsed[-1:], targets[-1:])
+                if elapsed.shape[0] < 2:
+                    continue
+                fast_steps = self._fast_steps(
+                    table.times,
+                    elapsed,
+                    targets,
+                    (joints[k].max_velocity, defined[:, k], fast_before[:, i]),
+                )
+                for pose, found in fast_steps:
+                    if (i, pose) not in worst or found[0] > worst[(i, pose)][0]:
+                        worst[(i, pose)] = found
         return [
             self._step_warning(table, joints[limited[i]], pose, table.col(pose, limited[i]), *w)
             for (i, pose), w in sorted(worst.items())

@@ -286,6 +286,28 @@ def _oracle(data: bytes, step: int) -> set[tuple[str, int, str, int | None]]:
     return out
 
 
+@settings(max_examples=60, deadline=None)
+@given(nao_motions(), st.sampled_from([5, 20]), st.integers(1, 7))
+def test_the_command_stream_read_in_chunks_finds_what_the_whole_stream_finds(
+    data: bytes, step: int, chunk: int
+) -> None:
+    """The velocity check reads the stream a chunk of steps at a time (flat memory whatever the
+    duration): chunks of 1 to 7 steps give the findings of one chunk for it all."""
+    from motiontool.kinematics.checks import velocity
+
+    def found() -> list[Diagnostic]:
+        checks = robot_checks(_NAO, ["velocity"], timestep_ms=step)
+        return list(validate_bytes(data, "t.motion", checks=checks).diagnostics)
+
+    whole = found()
+    saved = velocity._STREAM_CHUNK
+    velocity._STREAM_CHUNK = chunk
+    try:
+        assert found() == whole
+    finally:
+        velocity._STREAM_CHUNK = saved
+
+
 @settings(max_examples=150, deadline=None)
 @given(nao_motions(), st.sampled_from([5, 20, 32]))
 def test_limits_and_velocity_match_a_plain_loop_oracle(data: bytes, step: int) -> None:
@@ -772,3 +794,20 @@ def test_limit_findings_do_not_rebuild_the_table(monkeypatch: pytest.MonkeyPatch
         found = findings(data, checks=("limits",))
         assert sum(" MT302: " in f for f in found) == poses
         assert len(calls) <= 3
+
+
+def test_the_velocity_check_of_a_long_motion_holds_a_chunk_of_its_stream_only() -> None:
+    """Three poses over 5.5 hours: 1 000 000 controller steps. The whole stream would be tens
+    of MB of arrays; read a chunk at a time, the check's memory does not grow with duration."""
+    import tracemalloc
+
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n20000000,P3,0,0.1\n"
+    checks = robot_checks(_NAO, ["velocity"], timestep_ms=20)
+    tracemalloc.start()
+    try:
+        found = list(validate_bytes(data, "long.motion", checks=checks).diagnostics)
+        _current, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert [d.code for d in found] == ["MT303"]
+    assert peak < 24 * 2**20  # a chunk: 65 536 steps; the whole stream: 1 000 000
