@@ -117,9 +117,9 @@ app = typer.Typer(
 
 
 def _guard(func: F) -> F:
-    """Turn a :class:`MotionToolError` into one line on stderr and exit code 2, Ctrl-C into
-    ``interrupted`` and 130, a closed pipe on stdout into a quiet 141 (with ``--debug``, the
-    traceback first, then the same line and exit code)."""
+    """Turn a :class:`MotionToolError` (and running out of memory) into one line on stderr and
+    exit code 2, Ctrl-C into ``interrupted`` and 130, a closed pipe on stdout into a quiet 141
+    (with ``--debug``, the traceback first, then the same line and exit code)."""
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
@@ -133,6 +133,14 @@ def _guard(func: F) -> F:
         except BrokenPipeError:  # the reader went away (| head): quiet, as a SIGPIPE ends it
             _quiet_stdout()
             raise typer.Exit(128 + signal.SIGPIPE) from None
+        except MemoryError:  # what no guard foresaw: one line, never a traceback
+            if _debug.get():
+                traceback.print_exc(file=sys.stderr)
+            typer.echo(
+                "motiontool: error: out of memory: the input is too large for this machine",
+                err=True,
+            )
+            raise typer.Exit(2) from None
         except KeyboardInterrupt:  # before Click turns it into 'Aborted!' and exit 1
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)

@@ -1,6 +1,7 @@
 """Hostile inputs against the installed ``motiontool``: outputs that are devices, FIFOs, links
 and descriptors, a full disk (a ``/dev/full`` node this script makes), stdout that cannot be
-written, a reader that goes away, Ctrl-C, huge and non-finite numbers, two outputs on one path.
+written, a reader that goes away, Ctrl-C, huge and non-finite numbers, two outputs on one path,
+a motion that plays for 23 days (under a 3 GiB memory limit).
 
 Every case runs the real console script in a scratch folder and checks two things: no Python
 traceback on stderr, and no special file replaced (a device node, a FIFO or a symlink is the
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import shutil
 import signal
 import stat
@@ -77,6 +79,18 @@ HUGE = [
     ["validate", "in.motion", "-t", "2147483648"],
 ]
 
+# A motion that plays for 23 days (100 million controller steps): what holds its stream whole
+# refuses it in one line; what reads it a chunk at a time finishes. Run under a 3 GiB address
+# space limit (a step too many held would need tens of GB).
+DAYS = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n2000000000,P3,0,0.1\n"
+LONG_REFUSED = [
+    ["play", "days.motion", "--headless"],
+    ["plot", "days.motion", "-o", "X"],
+    ["resample", "days.motion", "--step", "20", "-o", "X"],
+]
+LONG_FINISHED = [["validate", "days.motion", "--robot", "nao"]]
+_LONG_LIMIT = 3 << 30
+
 # Two outputs on one path: refused before anything runs.
 SHARED = [
     ["play", "in.motion", "--headless", "--json", "X", "--rrd", "X"],
@@ -122,9 +136,18 @@ def _scratch() -> Path:
 
 
 def _run(
-    here: Path, line: list[str], *, stdout: int | None = subprocess.PIPE
+    here: Path,
+    line: list[str],
+    *,
+    stdout: int | None = subprocess.PIPE,
+    memory: int | None = None,
 ) -> subprocess.CompletedProcess[bytes]:
     env = {**os.environ, "XDG_CACHE_HOME": str(here / "cache")}
+
+    def limit() -> None:  # in the child, before it runs: its address space, bytes
+        if memory is not None:
+            resource.setrlimit(resource.RLIMIT_AS, (memory, memory))
+
     return subprocess.run(
         [SCRIPT, *line],
         cwd=here,
@@ -133,6 +156,7 @@ def _run(
         env=env,
         timeout=300,
         check=False,
+        preexec_fn=limit,
     )
 
 
@@ -206,10 +230,11 @@ def case_symlink(line: list[str], tally: Tally) -> None:
         shutil.rmtree(here, ignore_errors=True)
 
 
-def case_refused(line: list[str], tally: Tally) -> None:
+def case_refused(line: list[str], tally: Tally, memory: int | None = None) -> None:
     here = _scratch()
     try:
-        done = _run(here, line)
+        (here / "days.motion").write_bytes(DAYS)
+        done = _run(here, line, memory=memory)
         err = done.stderr.decode(errors="replace")
         problem = _traceback(done.stderr)
         if not problem and (done.returncode != 2 or not err.startswith("motiontool: error: ")):
@@ -219,6 +244,19 @@ def case_refused(line: list[str], tally: Tally) -> None:
         if not problem and (here / "X").exists():
             problem = "an output was written"
         tally.record(" ".join(line), problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_long_finished(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        (here / "days.motion").write_bytes(DAYS)
+        done = _run(here, line, memory=_LONG_LIMIT)
+        problem = _traceback(done.stderr)
+        if not problem and done.returncode not in (0, 1):
+            problem = f"exit {done.returncode}: {done.stderr.decode(errors='replace')[-200:]!r}"
+        tally.record(f"{' '.join(line)} in 3 GiB", problem)
     finally:
         shutil.rmtree(here, ignore_errors=True)
 
@@ -306,6 +344,8 @@ def main() -> int:
                 lambda line=line: case_device(line, 7, tally),
             ]
     cases += [lambda line=line: case_refused(line, tally) for line in HUGE + SHARED]
+    cases += [lambda line=line: case_refused(line, tally, _LONG_LIMIT) for line in LONG_REFUSED]
+    cases += [lambda line=line: case_long_finished(line, tally) for line in LONG_FINISHED]
     if rooted:
         cases += [lambda line=line: case_stdout_full(line, tally) for line in STDOUT]
     cases += [lambda: case_broken_pipe(tally), lambda: case_ctrl_c(tally)]

@@ -28,7 +28,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.player import Held, commands_at, hold_targets
+from motiontool.motionfmt.player import Held, commands_at, hold_targets, require_held
 
 if TYPE_CHECKING:
     import numpy as np
@@ -91,11 +91,15 @@ def held_targets(
         ``elapsed_ms`` int64 (S,) and ``held`` float64 (S, N): the commanded target, or the
         previous one where the step sends none, NaN before the joint is first commanded (and
         where the command is a ``nan`` cell's NaN).
+
+    Raises:
+        StreamTooLongError: more steps than :data:`~.player.MAX_HELD_STEPS`.
     """
     import numpy as np
 
     names = joint_names(motion) if names is None else names
     end = motion.duration_ms if until_ms is None else until_ms
+    require_held(-(-end // timestep_ms) + 1, timestep_ms)
     elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
     return elapsed, _held(motion, names, elapsed, None).targets
 

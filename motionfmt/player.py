@@ -25,8 +25,10 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.clock import PlaybackNeverEndsError, clock_overflow, end_step, wrap_int
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -35,13 +37,16 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
 __all__ = [
+    "MAX_HELD_STEPS",
     "CommandStream",
     "Held",
+    "StreamTooLongError",
     "commands_at",
     "elapsed_steps",
     "hold_targets",
     "iter_commands",
     "iter_elapsed",
+    "require_held",
     "sample",
     "step_count",
     "targets_at",
@@ -140,6 +145,31 @@ def iter_elapsed(
             elapsed = wrap_int(elapsed + n * step)
 
 
+MAX_HELD_STEPS = 2_000_000
+"""Most controller steps (or grid poses) held whole in memory: 11 h at the Nao's 20 ms step,
+about 0.5 GB of arrays for its 26 joints. :func:`iter_commands` streams any number."""
+
+
+class StreamTooLongError(MotionToolError):
+    """A whole command stream (or grid) of more than :data:`MAX_HELD_STEPS` steps was asked
+    for: refused before it is built, rather than exhausting the machine's memory."""
+
+
+def require_held(steps: int, step_ms: int, what: str = "the command stream") -> None:
+    """Refuse to hold ``steps`` of ``step_ms`` ms whole in memory past :data:`MAX_HELD_STEPS`.
+
+    Raises:
+        StreamTooLongError: ``the command stream: 100,000,001 steps of 20 ms (555.6 h), ...``.
+    """
+    if steps > MAX_HELD_STEPS:
+        hours = steps * step_ms / MS_PER_S / 3600
+        raise StreamTooLongError(
+            f"{what}: {steps:,} steps of {step_ms} ms ({hours:,.1f} h), more than the "
+            f"{MAX_HELD_STEPS:,} held in memory at once; trim the motion first (motiontool "
+            "trim), or read its command stream a chunk at a time (motiontool sample)"
+        )
+
+
 def elapsed_steps(
     duration_ms: int, timestep_ms: int, *, reverse: bool = False, loops: int = 1
 ) -> npt.NDArray[np.int64]:
@@ -153,6 +183,7 @@ def elapsed_steps(
 
     Raises:
         PlaybackNeverEndsError: the clock wraps and the motion never stops at this time step.
+        StreamTooLongError: more than :data:`MAX_HELD_STEPS` steps.
     """
     import numpy as np
 
@@ -160,6 +191,8 @@ def elapsed_steps(
     overflow = None if reverse else clock_overflow(duration_ms, timestep_ms)
     if overflow is not None and not overflow.ends:
         raise PlaybackNeverEndsError(overflow)
+    steps = step_count(duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    require_held(steps or 0, timestep_ms)
     cycle = np.concatenate(
         list(iter_elapsed(duration_ms, timestep_ms, reverse=reverse, chunk_steps=1 << 20))
     )

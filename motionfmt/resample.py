@@ -20,7 +20,7 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.player import targets_at
+from motiontool.motionfmt.player import require_held, targets_at
 
 if TYPE_CHECKING:
     import numpy as np
@@ -75,6 +75,7 @@ def grid_times(first_ms: int, last_ms: int, step_ms: int) -> list[int]:
     if step_ms <= 0:
         raise MotionToolError(f"the grid step must be a positive number of ms, got {step_ms}")
     start = -(-first_ms // step_ms) * step_ms
+    require_held(max(0, (last_ms - start) // step_ms + 1), step_ms, "the resampling grid")
     return sorted({first_ms, last_ms, *range(start, last_ms + 1, step_ms)})
 
 

@@ -30,6 +30,7 @@ from motiontool.kinematics.checks import (
 )
 from motiontool.motionfmt import (
     CODES,
+    Diagnostic,
     Severity,
     ValidationReport,
     read_bytes,
