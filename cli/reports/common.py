@@ -195,8 +195,14 @@ def _root_of(cwd: Path) -> Path:
 
 def relative_path(path: str) -> Path | None:
     """``path`` relative to :func:`project_root` (as written, then with links resolved), or
-    None for a file outside it."""
-    root = project_root()
+    None for a file outside it (found once per path and working directory: a report asks for
+    each of its findings)."""
+    return _relative(Path.cwd(), path)
+
+
+@functools.lru_cache(maxsize=4096)
+def _relative(cwd: Path, path: str) -> Path | None:
+    root = _root_of(cwd)
     for candidate in (Path(os.path.abspath(path)), Path(path).resolve()):
         try:
             return candidate.relative_to(root)
@@ -213,11 +219,12 @@ class Fingerprints:
     finding."""
 
     def __init__(self) -> None:
-        self._seen: Counter[str] = Counter()
+        self._seen: Counter[bytes] = Counter()  # by a digest of the key: 32 bytes a finding
 
     def __call__(self, d: Diagnostic) -> str:
         rel = relative_path(d.path)
         key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.identity}"
-        self._seen[key] += 1
-        data = f"{key}\0{self._seen[key]}".encode("utf-8", "surrogateescape")
-        return hashlib.sha256(data).hexdigest()
+        raw = key.encode("utf-8", "surrogateescape")
+        seen = hashlib.sha256(raw).digest()
+        self._seen[seen] += 1
+        return hashlib.sha256(raw + f"\0{self._seen[seen]}".encode()).hexdigest()
