@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Iterator
 from typing import Any
 
-__all__ = ["ESCAPED_BYTES", "dumps", "escape_undecodable"]
+__all__ = ["ESCAPED_BYTES", "HOLE", "dumps", "dumps_around", "escape_undecodable", "list_pieces"]
 
 ESCAPED_BYTES = "escaped_bytes"
 """The top-level field that counts the bytes written as ``\\xNN`` (absent when none were)."""
@@ -80,3 +81,28 @@ def dumps(
     if count and count_field:
         clean[ESCAPED_BYTES] = count
     return json.dumps(clean, indent=indent, ensure_ascii=False, allow_nan=allow_nan) + "\n"
+
+
+HOLE = "\x00 findings \x00"
+"""Where a list written piece by piece goes in a document (:func:`dumps_around`): a report
+streams its findings there as they are made, the rest of the document around them."""
+
+
+def dumps_around(doc: dict[str, Any], level: int) -> tuple[str, str, int]:
+    """``doc`` as the JSON text it has at nesting ``level`` of an indented document, cut at
+    :data:`HOLE` (the list written piece by piece), and the undecodable bytes it escaped."""
+    clean, escaped = escape_undecodable(doc)
+    text = json.dumps(clean, indent=2, ensure_ascii=False).replace("\n", "\n" + "  " * level)
+    before, after = text.split(json.dumps(HOLE))
+    return before, after, escaped
+
+
+def list_pieces(texts: Iterator[str], level: int) -> Iterator[str]:
+    """The pieces of a JSON list at nesting ``level`` whose items are ``texts`` (each an
+    indented document of its own): exactly what :func:`json.dumps` writes for the list."""
+    pad = "\n" + "  " * (level + 1)
+    first = True
+    for text in texts:
+        yield ("[" if first else ",") + pad + text.replace("\n", pad)
+        first = False
+    yield "[]" if first else "\n" + "  " * level + "]"

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import json
-from typing import Any
+from collections.abc import Iterator
 
-from motiontool.cli.jsontext import escape_undecodable
+from motiontool.cli.jsontext import escape_undecodable, list_pieces
 from motiontool.cli.reports.common import (
     PLAIN,
     Context,
@@ -38,31 +38,32 @@ def _lines(d: Diagnostic) -> dict[str, int]:
     return lines
 
 
-def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> str:
+def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """A JSON array of Code Quality issues: ``description``, ``check_name`` (the code),
     ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``; ``lines.end``
-    for a grouped finding).
+    for a grouped finding), written as the findings are made.
 
     A fingerprint identifies one finding across runs and commits
     (:class:`~motiontool.cli.reports.common.Fingerprints`: not its line). A run's notes (about
     no file) are left out: a Code Quality issue needs a location.
     """
-    issues: list[dict[str, Any]] = []
+    yield from list_pieces(_issues(report, context), 0)
+    yield "\n"
+
+
+def _issues(report: ValidationReport, context: Context) -> Iterator[str]:
     fingerprint = Fingerprints()
     for _file, d in findings(report, context.order):
-        path = _path(d.path)
         title = CODES[d.code].title if d.code in CODES else d.code
-        issues.append(
-            {
-                "type": "issue",
-                "description": f"{d.code} {with_hint(d)}",
-                "check_name": d.code,
-                "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
-                "content": {"body": title},
-                "fingerprint": fingerprint(d),
-                "severity": _SEVERITY[d.severity],
-                "location": {"path": path, "lines": _lines(d)},
-            }
-        )
-    clean, _count = escape_undecodable(issues)  # a name that is not UTF-8: \xNN
-    return json.dumps(clean, indent=2, ensure_ascii=False) + "\n"
+        issue = {
+            "type": "issue",
+            "description": f"{d.code} {with_hint(d)}",
+            "check_name": d.code,
+            "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
+            "content": {"body": title},
+            "fingerprint": fingerprint(d),
+            "severity": _SEVERITY[d.severity],
+            "location": {"path": _path(d.path), "lines": _lines(d)},
+        }
+        clean, _count = escape_undecodable(issue)  # a name that is not UTF-8: \xNN
+        yield json.dumps(clean, indent=2, ensure_ascii=False)

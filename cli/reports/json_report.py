@@ -7,7 +7,13 @@ import json
 from collections.abc import Iterator
 from typing import Any
 
-from motiontool.cli.jsontext import ESCAPED_BYTES, escape_undecodable
+from motiontool.cli.jsontext import (
+    ESCAPED_BYTES,
+    HOLE,
+    dumps_around,
+    escape_undecodable,
+    list_pieces,
+)
 from motiontool.cli.reports.common import PLAIN, Context, fix_json
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
@@ -60,30 +66,6 @@ def _note_json(d: Diagnostic) -> dict[str, Any]:
     return {"code": d.code, "severity": str(d.severity), "message": d.message, "hint": d.hint}
 
 
-_HOLE = "\x00 findings \x00"
-"""Where a list streamed piece by piece goes in a document written by :func:`json.dumps`."""
-
-
-def _around_hole(doc: dict[str, Any], level: int) -> tuple[str, str, int]:
-    """``doc`` as the JSON text it has at nesting ``level`` of an indented document, cut at
-    :data:`_HOLE` (the list written piece by piece), and the undecodable bytes it escaped."""
-    clean, escaped = escape_undecodable(doc)
-    text = json.dumps(clean, indent=2, ensure_ascii=False).replace("\n", "\n" + "  " * level)
-    before, after = text.split(json.dumps(_HOLE))
-    return before, after, escaped
-
-
-def _items(texts: Iterator[str], level: int) -> Iterator[str]:
-    """The pieces of a JSON list at nesting ``level`` whose items are ``texts`` (each an
-    indented document of its own): exactly what :func:`json.dumps` writes for the list."""
-    pad = "\n" + "  " * (level + 1)
-    first = True
-    for text in texts:
-        yield ("[" if first else ",") + pad + text.replace("\n", pad)
-        first = False
-    yield "[]" if first else "\n" + "  " * level + "]"
-
-
 def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """The versioned JSON report; its schema is documented in ``docs/json-report.md`` and
     shipped as ``motiontool/cli/schemas/validate.schema.json``. Written as the findings are
@@ -101,9 +83,9 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[
             "notes": report.count(Severity.INFO),
         },
         "notes": [_note_json(d) for d in report.notes],
-        "files": _HOLE,
+        "files": HOLE,
     }
-    before, after, escaped = _around_hole(doc, 0)
+    before, after, escaped = dumps_around(doc, 0)
     yield before
     counter = [escaped]
     for i, f in enumerate(report.files):
@@ -123,12 +105,12 @@ def _file(f: FileReport, escaped: list[int]) -> Iterator[str]:
         "joints": len(f.read.joints),
         "poses": len(f.read.times_ms),
         "duration_ms": f.read.times_ms[-1] if f.read.times_ms else None,
-        "diagnostics": _HOLE,
+        "diagnostics": HOLE,
     }
-    before, after, n = _around_hole(doc, 2)
+    before, after, n = dumps_around(doc, 2)
     escaped[0] += n
     yield before
-    yield from _items(_diagnostic_texts(f, escaped), 3)
+    yield from list_pieces(_diagnostic_texts(f, escaped), 3)
     yield after
 
 

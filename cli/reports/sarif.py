@@ -2,12 +2,20 @@
 
 from __future__ import annotations
 
+import json
 import os
 import urllib.parse
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from motiontool.cli.jsontext import ESCAPED_BYTES, dumps, escape_undecodable
+from motiontool.cli.jsontext import (
+    ESCAPED_BYTES,
+    HOLE,
+    dumps_around,
+    escape_undecodable,
+    list_pieces,
+)
 from motiontool.cli.reports.common import (
     PLAIN,
     Context,
@@ -146,8 +154,9 @@ def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, 
     return {"fixes": [{"description": {"text": text}, "artifactChanges": [change]}]}
 
 
-def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
-    """SARIF 2.1.0, as GitHub code scanning and other CI dashboards read it.
+def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+    """SARIF 2.1.0, as GitHub code scanning and other CI dashboards read it, its results
+    written as the findings are made.
 
     Columns are in UTF-16 code units (``columnKind`` ``utf16CodeUnits``, SARIF's default),
     converted from the diagnostics' byte columns with the source line; URIs are relative to
@@ -156,10 +165,6 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
     """
     used = sorted({d.code for f in report.files for d in f.diagnostics} | set(CODES))
     index = {code: i for i, code in enumerate(used)}
-    fingerprint = Fingerprints()
-    results = [
-        _result(f, d, index[d.code], fingerprint(d)) for f, d in findings(report, context.order)
-    ]
     notifications = [
         {
             "level": _SARIF_LEVEL[d.severity],
@@ -168,6 +173,7 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
         }
         for d in report.notes
     ]
+    properties: dict[str, Any] = {"stamps": stamps(), **context.robot_json()}
     run: dict[str, Any] = {
         "invocations": [{"executionSuccessful": True, "toolExecutionNotifications": notifications}],
         "tool": {
@@ -179,15 +185,31 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> str:
         },
         "originalUriBaseIds": {SARIF_SRCROOT: {"uri": project_root().as_uri().rstrip("/") + "/"}},
         "columnKind": "utf16CodeUnits",
-        "results": results,
-        "properties": {"stamps": stamps(), **context.robot_json()},
+        "results": HOLE,
+        "properties": properties,
     }
-    doc = {
+    doc: dict[str, Any] = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
         "runs": [run],
     }
-    clean, count = escape_undecodable(doc)
-    if count:
-        clean["runs"][0]["properties"][ESCAPED_BYTES] = count
-    return dumps(clean, count_field=False)
+    before, after, escaped = dumps_around(doc, 0)
+    yield before
+    counter = [escaped]
+    yield from list_pieces(_results(report, context, index, counter), 3)
+    if counter[0]:  # the bytes escaped, in the run's property bag after the results
+        properties[ESCAPED_BYTES] = counter[0]
+        after = dumps_around(doc, 0)[1]
+    yield after + "\n"
+
+
+def _results(
+    report: ValidationReport, context: Context, index: dict[str, int], escaped: list[int]
+) -> Iterator[str]:
+    """Each finding's result as JSON text, made as the findings are; ``escaped[0]`` adds up
+    the undecodable bytes escaped."""
+    fingerprint = Fingerprints()
+    for f, d in findings(report, context.order):
+        clean, n = escape_undecodable(_result(f, d, index[d.code], fingerprint(d)))
+        escaped[0] += n
+        yield json.dumps(clean, indent=2, ensure_ascii=False)
