@@ -10,6 +10,7 @@ motor where the later sends none. :class:`Table` merges such columns the same wa
 from __future__ import annotations
 
 import functools
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, TypeVar
@@ -44,6 +45,7 @@ __all__ = [
     "read_table",
     "runs",
     "sent_cells",
+    "settle_tables",
 ]
 
 EPS = 1e-9
@@ -179,6 +181,12 @@ class Table:
     groups: list[list[int]]
     source: npt.NDArray[np.intp]  # (P, K) file column
 
+    def settle(self) -> None:
+        """Drop the arrays derived for the checks (made again if asked for): what the findings
+        made later keep is the values, the times and the columns."""
+        for name in ("held", "commanded", "defined"):
+            self.__dict__.pop(name, None)
+
     def col(self, pose: int, k: int) -> int:
         """The file column of motor ``k``'s cell at ``pose``."""
         return int(self.source[pose, k])
@@ -241,9 +249,13 @@ def _sources(
     defined: npt.NDArray[np.bool_], sent: npt.NDArray[np.bool_], groups: list[list[int]]
 ) -> npt.NDArray[np.intp]:
     """(P, K) :attr:`Table.source`: per motor, the last column that sends at the pose, else
-    the last one that holds a number there, else the last one."""
+    the last one that holds a number there, else the last one. Where every motor has one
+    column (no joint named twice), a read-only view of one row: no memory per pose."""
     import numpy as np
 
+    if all(len(group) == 1 for group in groups):
+        row = np.array([group[0] for group in groups], dtype=np.intp)
+        return np.broadcast_to(row, (defined.shape[0], len(groups)))
     source = np.empty((defined.shape[0], len(groups)), dtype=np.intp)
     for k, group in enumerate(groups):
         source[:, k] = group[-1]
@@ -346,7 +358,40 @@ class RobotCheck:
         self.motor_index = {name: i for i, name in enumerate(spec.joint_names)}
 
     def table(self, result: ReadResult) -> Table:
-        return read_table(result, self.motor_index)
+        """``result``'s table against this robot: built once for all the checks of one robot
+        on one file (:class:`_LastTables`), and shared by the findings they make later."""
+        return _LAST_TABLES.get(result, self.spec.name, self.motor_index)
+
+
+class _LastTables:
+    """The tables of the file being checked, by robot name: the checks of a file run one after
+    another, so the last file's are the only ones kept here (its findings keep theirs)."""
+
+    def __init__(self) -> None:
+        self._result: weakref.ref[ReadResult] | None = None
+        self._tables: dict[str, Table] = {}
+
+    def get(self, result: ReadResult, robot: str, motor_index: dict[str, int]) -> Table:
+        if self._result is None or self._result() is not result:
+            self._result, self._tables = weakref.ref(result), {}
+        table = self._tables.get(robot)
+        if table is None:
+            table = self._tables[robot] = read_table(result, motor_index)
+        return table
+
+    def settle(self) -> None:
+        """The checks of the file are done: its tables drop what only the checks used (the
+        findings still to be made need the values, times and columns only)."""
+        for table in self._tables.values():
+            table.settle()
+
+
+_LAST_TABLES = _LastTables()
+
+
+def settle_tables() -> None:
+    """Tell the shared tables that the checks of the file are done (:meth:`_LastTables.settle`)."""
+    _LAST_TABLES.settle()
 
 
 class Groupable:

@@ -63,19 +63,13 @@ class Limits(GroupingCheck):
             parts: list[Sequence[Diagnostic]] = [self._beyond_runs(table, joints, below, outside)]
         else:
             poses, ks = np.nonzero(outside)
-            parts = [
-                in_order(
-                    poses,
-                    table.source[poses, ks],
-                    lambda i: self._beyond(
-                        table,
-                        int(poses[i]),
-                        int(ks[i]),
-                        joints[ks[i]],
-                        bool(below[poses[i], ks[i]]),
-                    ),
-                )
-            ]
+            lows = below[poses, ks]  # gathered: no (P, K) array is kept
+
+            def beyond(i: int) -> Diagnostic:
+                k = int(ks[i])
+                return self._beyond(table, int(poses[i]), k, joints[k], bool(lows[i]))
+
+            parts = [in_order(poses, table.source[poses, ks], beyond)]
         if self.spec.head_pitch_envelope or self.spec.coupled_joints:
             held, commanded = self._configuration(table, lower, upper)
             for per_pose in (

@@ -8,7 +8,7 @@ from collections.abc import Callable, Iterable, Sequence
 
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import install_hint
-from motiontool.kinematics.checks._table import Groupable, header_diagnostic
+from motiontool.kinematics.checks._table import Groupable, header_diagnostic, settle_tables
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import Limits
@@ -223,6 +223,7 @@ class RobotChecks(Groupable):
         if spec is None:
             return Findings.of([_skipped(result, self.wording)])
         parts = [self._run(check, result, group=group) for check in self._checks_for(spec)]
+        settle_tables()
         if "balance" in self.checks and not spec.feet:
             message = f"balance check skipped: robot {spec.name} has no feet"
             parts.append([Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message)])

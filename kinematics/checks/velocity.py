@@ -75,18 +75,13 @@ class Velocity(GroupingCheck):
             found = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
             return Findings.merge([found, group_findings(steps)])
         segs, ii = np.nonzero(fast)
-        found = in_order(
-            segs + 1,
-            driver[segs, ii],
-            lambda n: self._segment(
-                table,
-                joints[limited[ii[n]]],
-                int(segs[n]),
-                int(driver[segs[n], ii[n]]),
-                delta[segs[n], ii[n]],
-            ),
-        )
-        return Findings.merge([found, steps])
+        cols, moves = driver[segs, ii], delta[segs, ii]  # gathered: no (S, I) array is kept
+
+        def segment(n: int) -> Diagnostic:
+            joint = joints[limited[int(ii[n])]]
+            return self._segment(table, joint, int(segs[n]), int(cols[n]), float(moves[n]))
+
+        return Findings.merge([in_order(segs + 1, cols, segment), steps])
 
     @classmethod
     def _segment_runs(
@@ -114,36 +109,41 @@ class Velocity(GroupingCheck):
             np.concatenate(a) for a in zip(*found, strict=True)
         )
 
-        def segment_run(n: int) -> Diagnostic:
-            i = int(ii[n])
-            arrays = (driver[:, i], delta[:, i])
-            run = PoseRuns(first[n], last[n], worst[n], count[n], n_runs[n])
-            return cls._segment_run(table, joints[i], arrays, run)
+        # What each run's finding needs, gathered: the findings keep no (S, I) array.
+        at = {"first": first, "last": last, "worst": worst}
+        columns = {name: driver[index, ii] for name, index in at.items()}
+        moves = {name: delta[index, ii] for name, index in at.items()}
 
-        return in_order(first + 1, driver[first, ii], segment_run)
+        def segment_run(n: int) -> Diagnostic:
+            run = PoseRuns(first[n], last[n], worst[n], count[n], n_runs[n])
+            cols = {name: int(c[n]) for name, c in columns.items()}
+            deltas = {name: float(d[n]) for name, d in moves.items()}
+            return cls._segment_run(table, joints[int(ii[n])], (cols, deltas), run)
+
+        return in_order(first + 1, columns["first"], segment_run)
 
     @classmethod
     def _segment_run(
         cls,
         table: Table,
         joint: JointSpec,
-        arrays: tuple[npt.NDArray[np.intp], npt.NDArray[np.float64]],
+        gathered: tuple[dict[str, int], dict[str, float]],
         run: PoseRuns,
     ) -> Diagnostic:
-        """MT303 on ``joint`` over the segments of ``run`` (one run's scalars), whose driving
-        columns and moves are ``arrays`` (S,): one finding, grouped if it covers more than a
-        segment."""
-        driver, delta = arrays
+        """MT303 on ``joint`` over the segments of ``run`` (one run's scalars); ``gathered``:
+        the driving column and the move of its first, last and worst segments. One finding,
+        grouped if it covers more than a segment."""
+        cols, deltas = gathered
         first, last, worst = int(run.first), int(run.last), int(run.worst)
-        d = cls._segment(table, joint, first, int(driver[first]), delta[first])
+        d = cls._segment(table, joint, first, cols["first"], deltas["first"])
         if run.size == 1:
             return d
         span = table.result.cell_span
-        line, column, _end = span(worst + 1, int(driver[worst]))
+        line, column, _end = span(worst + 1, cols["worst"])
         t0, t1 = int(table.times[worst]), int(table.times[worst + 1])
-        speed = float(delta[worst]) / ((t1 - t0) / MS_PER_S)
+        speed = deltas["worst"] / ((t1 - t0) / MS_PER_S)
         w = Worst(speed, f"{joint.unit}/s", line, column, t1)
-        last_line = span(last + 1, int(driver[last]))[0]
+        last_line = span(last + 1, cols["last"])[0]
         return run_finding(d, int(run.size), last_line, w, runs=int(run.runs))
 
     @staticmethod

@@ -812,3 +812,26 @@ def test_the_velocity_check_of_a_long_motion_holds_a_chunk_of_its_stream_only() 
         tracemalloc.stop()
     assert [d.code for d in found] == ["MT303"]
     assert peak < 24 * 2**20  # a chunk: 65 536 steps; the whole stream: 1 000 000
+
+
+def test_the_checks_of_one_file_share_one_table(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Limits, velocity and collision read the file's poses against the robot once; the
+    arrays only the checks use are dropped once they are done (the findings made later keep
+    the values, times and columns)."""
+    from motiontool.kinematics.checks import _table
+
+    built: list[_table.Table] = []
+    original = _table.read_table
+
+    def counting(*args: object) -> _table.Table:
+        built.append(original(*args))  # type: ignore[arg-type]
+        return built[-1]
+
+    monkeypatch.setattr(_table, "read_table", counting)
+    checks = RobotChecks("nao", ("limits", "velocity", "collision"))
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,2.5,0\n80,P3,0,0.1\n"
+    found = validate_bytes(data, "t.motion", checks=[checks], group=True).diagnostics
+    assert len(built) == 1 and "held" not in built[0].__dict__
+    assert {d.code for d in found} == {"MT302", "MT303"}
+    again = validate_bytes(data, "u.motion", checks=[checks], group=True)  # another file
+    assert len(built) == 2 and len(again.diagnostics) == len(found)
