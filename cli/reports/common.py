@@ -6,9 +6,10 @@ from __future__ import annotations
 import enum
 import functools
 import hashlib
+import itertools
 import os
 from collections import Counter
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -28,6 +29,7 @@ __all__ = [
     "fix_counts",
     "fix_json",
     "fix_summary",
+    "per_file",
     "project_root",
     "relative_path",
     "summary",
@@ -71,14 +73,23 @@ def findings(report: ValidationReport, order: Order) -> Iterator[tuple[FileRepor
 
 
 def _shown(report: ValidationReport) -> Iterator[tuple[FileReport, Diagnostic]]:
+    for f, shown in per_file(report):
+        for d in shown:
+            yield f, d
+
+
+def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Iterable[Diagnostic]]]:
+    """Each file with the findings a report shows of it (all but those past
+    :attr:`~ValidationReport.limit`, the first ones in file order), made as they are read:
+    for the formats that write a file's findings together (JSON, JUnit)."""
     left = report.limit
     for f in report.files:
-        for d in f.diagnostics:
-            if left is not None:
-                if left == 0:
-                    return
-                left -= 1
-            yield f, d
+        if left is None:
+            yield f, f.diagnostics
+            continue
+        n = min(left, len(f.diagnostics))  # counted once (Findings keeps the counts)
+        left -= n
+        yield f, itertools.islice(f.diagnostics, n)
 
 
 class FixCounts:

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import Any
 
 from motiontool.cli.jsontext import (
@@ -14,7 +14,7 @@ from motiontool.cli.jsontext import (
     escape_undecodable,
     list_pieces,
 )
-from motiontool.cli.reports.common import PLAIN, Context, fix_json
+from motiontool.cli.reports.common import PLAIN, Context, fix_json, per_file
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
@@ -88,17 +88,17 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     before, after, escaped = dumps_around(doc, 0)
     yield before
     counter = [escaped]
-    for i, f in enumerate(report.files):
+    for i, (f, shown) in enumerate(per_file(report)):
         yield ("[" if i == 0 else ",") + "\n    "
-        yield from _file(f, counter)
+        yield from _file(f, shown, counter)
     yield "\n  ]" if report.files else "[]"
     escaped = counter[0]
     yield (f',\n  "{ESCAPED_BYTES}": {escaped}\n}}' if escaped else after) + "\n"
 
 
-def _file(f: FileReport, escaped: list[int]) -> Iterator[str]:
-    """A file's JSON text (an item of the ``files`` list), its findings written as they are
-    made; ``escaped[0]`` adds up the undecodable bytes escaped."""
+def _file(f: FileReport, shown: Iterable[Diagnostic], escaped: list[int]) -> Iterator[str]:
+    """A file's JSON text (an item of the ``files`` list), its findings ``shown`` written as
+    they are made; ``escaped[0]`` adds up the undecodable bytes escaped."""
     doc = {
         "path": f.path,
         "accepted_by_webots": f.read.accepted,
@@ -110,12 +110,14 @@ def _file(f: FileReport, escaped: list[int]) -> Iterator[str]:
     before, after, n = dumps_around(doc, 2)
     escaped[0] += n
     yield before
-    yield from list_pieces(_diagnostic_texts(f, escaped), 3)
+    yield from list_pieces(_diagnostic_texts(f, shown, escaped), 3)
     yield after
 
 
-def _diagnostic_texts(f: FileReport, escaped: list[int]) -> Iterator[str]:
-    for d in f.diagnostics:
+def _diagnostic_texts(
+    f: FileReport, shown: Iterable[Diagnostic], escaped: list[int]
+) -> Iterator[str]:
+    for d in shown:
         clean, n = escape_undecodable(_diagnostic_json(d, f))
         escaped[0] += n
         yield json.dumps(clean, indent=2, ensure_ascii=False)

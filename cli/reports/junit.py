@@ -5,7 +5,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 
 from motiontool.cli.jsontext import escape_undecodable
-from motiontool.cli.reports.common import PLAIN, Context, summary, with_hint
+from motiontool.cli.reports.common import PLAIN, Context, per_file, summary, with_hint
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
@@ -18,12 +18,13 @@ def _line(d: Diagnostic) -> str:
     return f"{d.path}:{d.line}:{d.column}: {d.severity} {d.code}: {with_hint(d)}"
 
 
-def _case(suite: ET.Element, f: FileReport, worst: Severity) -> bool:
-    """The file's test case; True when it fails (a finding at ``worst`` or above)."""
+def _case(suite: ET.Element, f: FileReport, shown: list[Diagnostic], worst: Severity) -> bool:
+    """The file's test case, with the findings ``shown`` of it; True when it fails (a finding at
+    ``worst`` or above)."""
     case = ET.SubElement(
         suite, "testcase", classname="motiontool.validate", name=f.path, file=f.path
     )
-    failing = [d for d in f.diagnostics if d.severity >= worst]
+    failing = [d for d in shown if d.severity >= worst]
     if failing:
         counts = ", ".join(
             plural(n, str(sev))
@@ -32,7 +33,7 @@ def _case(suite: ET.Element, f: FileReport, worst: Severity) -> bool:
         )
         failure = ET.SubElement(case, "failure", message=counts, type=failing[0].code)
         failure.text = "\n".join(_line(d) for d in failing) + "\n"
-    others = [d for d in f.diagnostics if d.severity < worst]
+    others = [d for d in shown if d.severity < worst]
     if others:
         ET.SubElement(case, "system-out").text = "\n".join(_line(d) for d in others) + "\n"
     return bool(failing)
@@ -48,7 +49,7 @@ def render_junit(report: ValidationReport, context: Context = PLAIN) -> str:
     properties = ET.SubElement(suite, "properties")
     for key, value in context.robot_json().get("stamps", stamps()).items():
         ET.SubElement(properties, "property", name=key, value="" if value is None else str(value))
-    failures = sum(_case(suite, f, worst) for f in report.files)
+    failures = sum(_case(suite, f, list(shown), worst) for f, shown in per_file(report))
     out = [f"{d.severity} {d.code}: {with_hint(d)}" for d in report.notes] + [summary(report)]
     ET.SubElement(suite, "system-out").text = "\n".join(out) + "\n"
     counts = {"tests": str(len(report.files)), "failures": str(failures), "errors": "0"}

@@ -9,7 +9,8 @@ from __future__ import annotations
 
 from collections import Counter
 
-from motiontool.cli.reports.common import PLAIN, Context, summary
+from motiontool.cli.reports.common import PLAIN, Context, Order, summary
+from motiontool.cli.reports.common import findings as shown_findings
 from motiontool.motionfmt.diagnostics import CODES
 from motiontool.motionfmt.validate import ValidationReport
 
@@ -24,7 +25,7 @@ def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str
     summary line."""
     findings: Counter[str] = Counter()
     per_pose: Counter[str] = Counter()
-    for d in (d for f in report.files for d in f.diagnostics):
+    for _f, d in shown_findings(report, Order.file):
         findings[d.code] += 1
         per_pose[d.code] += d.count
     rows = sorted(findings, key=lambda code: (-per_pose[code], -findings[code], code))

@@ -190,3 +190,20 @@ def test_play_and_batch_read_the_same_configuration(repo: Path) -> None:
     assert runs[0]["spec"]["options"] == [["timestep_ms", 16]]
     code, out, err = invoke("batch", "motions", "--no-cache", "--isolated", "--json", "all.json")
     assert len(json.loads((repo / "all.json").read_text())["runs"]) == 2
+
+
+def test_max_findings_is_what_every_format_shows(repo: Path) -> None:
+    """Two findings (MT203, MT302), one shown: in every format, the first in file order; the
+    summaries count both."""
+    pyproject(repo, 'max-findings = 1\nexclude = ["generated"]\n')
+    _, out, _ = invoke("validate", "motions", "-f", "json")
+    doc = json.loads(out)
+    assert codes(out) == ["MT203"] and doc["summary"]["errors"] == 1
+    _, out, _ = invoke("validate", "motions", "-f", "sarif")
+    assert [r["ruleId"] for r in json.loads(out)["runs"][0]["results"]] == ["MT203"]
+    _, out, _ = invoke("validate", "motions", "-f", "gitlab")
+    assert [i["check_name"] for i in json.loads(out)] == ["MT203"]
+    _, out, _ = invoke("validate", "motions", "-f", "junit")
+    assert out.count(" MT203: ") == 1 and " MT302: " not in out
+    _, out, _ = invoke("validate", "motions", "--statistics")
+    assert "MT203" in out and "MT302" not in out
