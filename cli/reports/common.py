@@ -9,13 +9,14 @@ import hashlib
 import itertools
 import os
 from collections import Counter
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
@@ -78,10 +79,10 @@ def _shown(report: ValidationReport) -> Iterator[tuple[FileReport, Diagnostic]]:
             yield f, d
 
 
-def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Iterable[Diagnostic]]]:
+def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Findings]]:
     """Each file with the findings a report shows of it (all but those past
-    :attr:`~ValidationReport.limit`, the first ones in file order), made as they are read:
-    for the formats that write a file's findings together (JSON, JUnit)."""
+    :attr:`~ValidationReport.limit`, the first ones in file order), made each time they are
+    read: for the formats that write a file's findings together (JSON, JUnit)."""
     left = report.limit
     for f in report.files:
         if left is None:
@@ -89,7 +90,7 @@ def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Iterable[Di
             continue
         n = min(left, len(f.diagnostics))  # counted once (Findings keeps the counts)
         left -= n
-        yield f, itertools.islice(f.diagnostics, n)
+        yield f, Findings(functools.partial(itertools.islice, f.diagnostics, n))
 
 
 class FixCounts:

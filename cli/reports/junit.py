@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
+from collections import Counter
+from collections.abc import Iterable, Iterator
 
 from motiontool.cli.jsontext import escape_undecodable
 from motiontool.cli.reports.common import PLAIN, Context, per_file, summary, with_hint
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
@@ -18,38 +22,62 @@ def _line(d: Diagnostic) -> str:
     return f"{d.path}:{d.line}:{d.column}: {d.severity} {d.code}: {with_hint(d)}"
 
 
-def _case(suite: ET.Element, f: FileReport, shown: list[Diagnostic], worst: Severity) -> bool:
-    """The file's test case, with the findings ``shown`` of it; True when it fails (a finding at
-    ``worst`` or above)."""
+_PLACE = re.compile("\x01([FO])(\\d+)\x01")
+"""Where a test case's failure (F) or output (O) lines go in the document's skeleton."""
+
+
+def _case(suite: ET.Element, i: int, f: FileReport, shown: Findings, worst: Severity) -> bool:
+    """The file's test case (its ``i``-th), with the findings ``shown`` of it: their lines are
+    written later, where its placeholders are; True when it fails (a finding at ``worst`` or
+    above)."""
     case = ET.SubElement(
         suite, "testcase", classname="motiontool.validate", name=f.path, file=f.path
     )
-    failing = [d for d in shown if d.severity >= worst]
-    if failing:
+    failing: Counter[Severity] = Counter()
+    first, others = None, False
+    for d in shown:
+        if d.severity >= worst:
+            failing[d.severity] += 1
+            first = first or d.code
+        else:
+            others = True
+    if first is not None:
         counts = ", ".join(
-            plural(n, str(sev))
+            plural(failing[sev], str(sev))
             for sev in (Severity.ERROR, Severity.WARNING)
-            if (n := sum(1 for d in failing if d.severity is sev))
+            if failing[sev]
         )
-        failure = ET.SubElement(case, "failure", message=counts, type=failing[0].code)
-        failure.text = "\n".join(_line(d) for d in failing) + "\n"
-    others = [d for d in shown if d.severity < worst]
+        failure = ET.SubElement(case, "failure", message=counts, type=first)
+        failure.text = f"\x01F{i}\x01"
     if others:
-        ET.SubElement(case, "system-out").text = "\n".join(_line(d) for d in others) + "\n"
-    return bool(failing)
+        ET.SubElement(case, "system-out").text = f"\x01O{i}\x01"
+    return first is not None
 
 
-def render_junit(report: ValidationReport, context: Context = PLAIN) -> str:
+def _lines(findings: Iterable[Diagnostic]) -> Iterator[str]:
+    """Each finding's line, escaped as XML text (as ElementTree escapes it) and as UTF-8."""
+    for d in findings:
+        text = _line(d).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+        clean, _count = escape_undecodable(text + "\n")  # a name that is not UTF-8: \xNN
+        yield str(clean)
+
+
+def render_junit(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """One ``testcase`` per file (``name`` and ``file``: its path); a file with an error (a
     warning too with ``--strict``) fails, the failure's ``message`` counting them and its body
     listing each as ``file:line:col: severity CODE: message``. Other findings go to the case's
-    ``system-out``, the run's notes and summary to the suite's; the stamps are properties."""
+    ``system-out``, the run's notes and summary to the suite's; the stamps are properties.
+
+    The document is laid out by ElementTree with a placeholder for each case's lines, then
+    written with the lines made as they are read (a pass over a file's findings counts them
+    for the failure's message first)."""
     worst = Severity.WARNING if context.strict else Severity.ERROR
     suite = ET.Element("testsuite", name="motiontool validate")
     properties = ET.SubElement(suite, "properties")
     for key, value in context.robot_json().get("stamps", stamps()).items():
         ET.SubElement(properties, "property", name=key, value="" if value is None else str(value))
-    failures = sum(_case(suite, f, list(shown), worst) for f, shown in per_file(report))
+    shown = list(per_file(report))
+    failures = sum(_case(suite, i, f, found, worst) for i, (f, found) in enumerate(shown))
     out = [f"{d.severity} {d.code}: {with_hint(d)}" for d in report.notes] + [summary(report)]
     ET.SubElement(suite, "system-out").text = "\n".join(out) + "\n"
     counts = {"tests": str(len(report.files)), "failures": str(failures), "errors": "0"}
@@ -58,6 +86,11 @@ def render_junit(report: ValidationReport, context: Context = PLAIN) -> str:
     root.attrib.update(counts)
     root.append(suite)
     ET.indent(root)
-    text = ET.tostring(root, encoding="unicode", xml_declaration=True)
-    clean, _count = escape_undecodable(text + "\n")  # a name that is not UTF-8: \xNN
-    return str(clean)
+    skeleton = ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+    pieces = _PLACE.split(skeleton)  # text, kind, index, text, kind, index, ..., text
+    for k in range(0, len(pieces) - 1, 3):
+        yield str(escape_undecodable(pieces[k])[0])
+        kind, found = pieces[k + 1], shown[int(pieces[k + 2])][1]
+        fails = kind == "F"
+        yield from _lines(d for d in found if (d.severity >= worst) == fails)
+    yield str(escape_undecodable(pieces[-1])[0])
