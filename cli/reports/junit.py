@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import re
 import xml.etree.ElementTree as ET
 from collections import Counter
@@ -22,8 +23,10 @@ def _line(d: Diagnostic) -> str:
     return f"{d.path}:{d.line}:{d.column}: {d.severity} {d.code}: {with_hint(d)}"
 
 
-_PLACE = re.compile("\x01([FO])(\\d+)\x01")
-"""Where a test case's failure (F) or output (O) lines go in the document's skeleton."""
+_MARK = "\x01" + os.urandom(8).hex()
+"""Marks where a test case's failure (F) or output (O) lines go in the document's skeleton
+(unguessable: no file name can hold it)."""
+_PLACE = re.compile(_MARK + "([FO])(\\d+)\x01")
 
 
 def _case(suite: ET.Element, i: int, f: FileReport, shown: Findings, worst: Severity) -> bool:
@@ -48,9 +51,9 @@ def _case(suite: ET.Element, i: int, f: FileReport, shown: Findings, worst: Seve
             if failing[sev]
         )
         failure = ET.SubElement(case, "failure", message=counts, type=first)
-        failure.text = f"\x01F{i}\x01"
+        failure.text = f"{_MARK}F{i}\x01"
     if others:
-        ET.SubElement(case, "system-out").text = f"\x01O{i}\x01"
+        ET.SubElement(case, "system-out").text = f"{_MARK}O{i}\x01"
     return first is not None
 
 
