@@ -295,6 +295,8 @@ def _joint_broad_phase(
 #: Configurations handled at once (bounds the memory of the batched kinematics: ~0.5 GB for
 #: 16 384 Nao configurations, ~30 MB for this many).
 _BLOCK = 1024
+#: Blocks handled side by side at most (each holds its ~30 MB; more cores do not add memory).
+_THREADS = 4
 
 
 def _candidates(
@@ -403,7 +405,7 @@ def _all_candidates(
     ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
         return _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
 
-    with ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool:
+    with ThreadPoolExecutor(max_workers=min(_THREADS, os.cpu_count() or 1)) as pool:
         blocks = list(pool.map(block, range(0, unique.shape[0], _BLOCK)))
     rows = np.concatenate([r + k * _BLOCK for k, (r, _p, _b) in enumerate(blocks)])
     pairs = np.concatenate([p for _r, p, _b in blocks])
