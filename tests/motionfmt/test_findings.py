@@ -3,6 +3,8 @@ sort of them all, made again at each reading, and made only as far as a report h
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from hypothesis import given
 from hypothesis import strategies as st
@@ -68,25 +70,28 @@ def _random_file(poses: int) -> bytes:
     return ("\n".join(lines) + "\n").encode()
 
 
+class _Counted(Limits):
+    """The Nao's limit check, counting the per-pose findings it makes."""
+
+    def __init__(self) -> None:
+        super().__init__(load_robot("nao"))
+        self.made = 0
+
+    def _beyond(self, *args: Any) -> Diagnostic:
+        self.made += 1
+        return super()._beyond(*args)
+
+
 def test_a_report_reads_the_first_finding_of_a_large_file_without_making_the_others() -> None:
     """The limit check keeps its findings as arrays: reading the first one makes one."""
     data = _random_file(1_000)
-    limits = Limits(load_robot("nao"))
-    made = 0
-    beyond = limits._beyond
-
-    def counting(*args: object, **kwargs: object) -> Diagnostic:
-        nonlocal made
-        made += 1
-        return beyond(*args, **kwargs)  # type: ignore[arg-type]
-
-    limits._beyond = counting  # type: ignore[method-assign]
+    limits = _Counted()
     report = validate_bytes(data, "random.motion", checks=[limits], group=False)
-    assert made == 0
+    assert limits.made == 0
     first = next(iter(report.diagnostics))
-    assert first.code == "MT302" and made == 1
+    assert first.code == "MT302" and limits.made == 1
     total = len(report.diagnostics)
-    assert total > 500 and made == 1 + total  # one pass counted them all, a finding each
+    assert total > 500 and limits.made == 1 + total  # one pass counted them, a finding each
 
 
 def test_a_subject_that_comes_and_goes_in_many_runs_is_one_finding() -> None:
@@ -124,28 +129,19 @@ def test_the_text_and_json_reports_write_findings_as_they_are_made() -> None:
     from motiontool.motionfmt.validate import ValidationReport
 
     data = _random_file(1_000)
-    limits = Limits(load_robot("nao"))
-    made = 0
-    beyond = limits._beyond
-
-    def counting(*args: object, **kwargs: object) -> Diagnostic:
-        nonlocal made
-        made += 1
-        return beyond(*args, **kwargs)  # type: ignore[arg-type]
-
-    limits._beyond = counting  # type: ignore[method-assign]
+    limits = _Counted()
     report = ValidationReport(files=[validate_bytes(data, "r.motion", checks=[limits])])
     text = render_pieces(report, "text")
-    assert next(text).startswith("r.motion:2:") and made == 1
+    assert next(text).startswith("r.motion:2:") and limits.made == 1
     whole = "".join(text)
-    assert made > 1000 and whole.endswith("\n") and "error" in whole.splitlines()[-1]
-    assert made == 1907  # the text report's pass counted them: the summary needs no other
-    made = 0
+    assert limits.made > 1000 and whole.endswith("\n") and "error" in whole.splitlines()[-1]
+    assert limits.made == 1907  # the text report's pass counted them: the summary needs no other
+    limits.made = 0
     report = ValidationReport(files=[validate_bytes(data, "r.motion", checks=[limits])])
     pieces = render_pieces(report, "json")
     head = next(pieces)  # the summary: a pass that counts the findings
-    assert '"errors": 1907' in head and made == 1907
-    counted = made
+    assert '"errors": 1907' in head and limits.made == 1907
+    counted = limits.made
     next(pieces), next(pieces)
-    assert made <= counted + 1
+    assert limits.made <= counted + 1
     assert "".join(pieces) and render(report, "json").startswith(head)
