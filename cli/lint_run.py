@@ -34,7 +34,6 @@ __all__ = [
     "LintRun",
     "Overrides",
     "collect",
-    "keep_first",
     "lint",
     "lint_document",
     "robot_planner",
@@ -253,9 +252,3 @@ def robot_planner(
         return None
     spec = pick_robot(robot, read_bytes(data, str(path)).joints)
     return _planner(spec, path, settings, checks, overrides)
-
-
-def keep_first(report: ValidationReport, limit: int) -> None:
-    """Show the first ``limit`` findings (in file order); the others are counted (the summary
-    and the exit code still see them): :attr:`ValidationReport.limit`."""
-    report.limit = limit

@@ -18,7 +18,6 @@ from motiontool.cli.lint_run import (
     LintRun,
     Overrides,
     collect,
-    keep_first,
     lint,
     robot_planner,
 )
@@ -328,8 +327,7 @@ def validate_command(
     with progress("validate") as step:
         run = lint(files, resolver, overrides, checker, on_step=step)
     project = resolver.for_file(Path("-"))
-    if project.max_findings is not None:
-        keep_first(run.report, project.max_findings)
+    run.report.limit = project.max_findings  # the others are counted, not shown
     _print_report(
         run, project, format, sort, strict=strict, statistics=statistics, robot=robot, output=output
     )

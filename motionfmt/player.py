@@ -116,10 +116,13 @@ def iter_elapsed(
     reverse: bool = False,
     loops: int = 1,
     chunk_steps: int = CHUNK_STEPS,
+    max_steps: int | None = None,
 ) -> Iterator[npt.NDArray[np.int64]]:
-    """:func:`elapsed_steps` in int64 chunks of at most ``chunk_steps`` steps, in order.
+    """:func:`elapsed_steps` in int64 chunks of at most ``chunk_steps`` steps, in order; the
+    first ``max_steps`` steps only (None: every step).
 
-    Endless where the motion never stops (its clock wraps: see :func:`step_count`).
+    Endless where the motion never stops (its clock wraps: see :func:`step_count`) and
+    ``max_steps`` is None.
     """
     import numpy as np
 
@@ -133,10 +136,16 @@ def iter_elapsed(
         last = end_step(duration_ms, timestep_ms)
         steps = None if last is None else last + 1
         start, step = 0, timestep_ms
+    left = max_steps
     for _ in range(loops):
         done, elapsed = 0, start
         while steps is None or done < steps:
             n = chunk_steps if steps is None else min(chunk_steps, steps - done)
+            if left is not None:
+                if left <= 0:
+                    return
+                n = min(n, left)
+                left -= n
             chunk = elapsed + np.arange(n, dtype=np.int64) * step  # |values| < 2**44: no overflow
             if not reverse:  # C int arithmetic, as Webots' player adds the time step
                 chunk = (chunk + 2**31) % 2**32 - 2**31
@@ -271,20 +280,15 @@ def sample(
     else:
         if max_steps < 1:
             raise ValueError(f"max_steps must be >= 1, got {max_steps}")
-        kept: list[npt.NDArray[np.int64]] = []
-        left = max_steps
-        for chunk in iter_elapsed(
+        chunks = iter_elapsed(
             motion.duration_ms,
             timestep_ms,
             reverse=reverse,
             loops=loops,
             chunk_steps=min(max_steps, 1 << 20),
-        ):
-            kept.append(chunk[:left])
-            left -= kept[-1].shape[0]
-            if left == 0:
-                break
-        elapsed = np.concatenate(kept)
+            max_steps=max_steps,
+        )
+        elapsed = np.concatenate(list(chunks))
     targets, commanded = commands_at(motion, elapsed)
     return CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
 
@@ -305,15 +309,14 @@ def iter_commands(
     :func:`step_count` is None) the iterator is endless, as Webots' player is: bound it with
     ``max_steps`` (the first steps only, at most this many; None: every step).
     """
-    left = max_steps
     for elapsed in iter_elapsed(
-        motion.duration_ms, timestep_ms, reverse=reverse, loops=loops, chunk_steps=chunk_steps
+        motion.duration_ms,
+        timestep_ms,
+        reverse=reverse,
+        loops=loops,
+        chunk_steps=chunk_steps,
+        max_steps=max_steps,
     ):
-        if left is not None:
-            if left <= 0:
-                return
-            elapsed = elapsed[:left]
-            left -= elapsed.shape[0]
         targets, commanded = commands_at(motion, elapsed)
         yield CommandStream(motion.joints, timestep_ms, elapsed, targets, commanded)
 

@@ -27,7 +27,6 @@ __all__ = [
     "FixCounts",
     "Order",
     "findings",
-    "fix_counts",
     "fix_json",
     "fix_summary",
     "per_file",
@@ -107,19 +106,11 @@ class FixCounts:
             self.unsafe += 1
 
 
-def fix_counts(report: ValidationReport) -> tuple[int, int]:
-    """(findings a safe fix covers, findings only an unsafe fix covers), a pass over them."""
-    counts = FixCounts()
-    for f, d in _shown(report):
-        counts.add(f.fix_summary(d))
-    return counts.safe, counts.unsafe
-
-
-def fix_summary(report: ValidationReport, counts: FixCounts | None = None) -> str:
+def fix_summary(counts: FixCounts) -> str:
     """``; 3 fixable with --fix (1 more with --fix --unsafe-fixes)``, ``; 2 fixable with --fix
     --unsafe-fixes`` where no safe fix exists, or nothing; from ``counts`` made while the
-    report was written, else from a pass over the findings."""
-    safe, unsafe = fix_counts(report) if counts is None else (counts.safe, counts.unsafe)
+    report was written."""
+    safe, unsafe = counts.safe, counts.unsafe
     if not safe:
         return f"; {unsafe} fixable with --fix --unsafe-fixes" if unsafe else ""
     more = f" ({unsafe} more with --fix --unsafe-fixes)" if unsafe else ""

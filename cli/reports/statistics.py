@@ -9,8 +9,7 @@ from __future__ import annotations
 
 from collections import Counter
 
-from motiontool.cli.reports.common import PLAIN, Context, Order, summary
-from motiontool.cli.reports.common import findings as shown_findings
+from motiontool.cli.reports.common import PLAIN, Context, Order, findings, summary
 from motiontool.motionfmt.diagnostics import CODES
 from motiontool.motionfmt.validate import ValidationReport
 
@@ -23,13 +22,13 @@ def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str
     """A header, then one line per code: its findings, the per-pose findings they stand for,
     the code, its default severity and title (the most per-pose findings first); then the
     summary line."""
-    findings: Counter[str] = Counter()
+    listed: Counter[str] = Counter()
     per_pose: Counter[str] = Counter()
-    for _f, d in shown_findings(report, Order.file):
-        findings[d.code] += 1
+    for _f, d in findings(report, Order.file):
+        listed[d.code] += 1
         per_pose[d.code] += d.count
-    rows = sorted(findings, key=lambda code: (-per_pose[code], -findings[code], code))
-    w1 = max([len(_HEADER[0])] + [len(f"{findings[c]:,}") for c in rows])
+    rows = sorted(listed, key=lambda code: (-per_pose[code], -listed[code], code))
+    w1 = max([len(_HEADER[0])] + [len(f"{listed[c]:,}") for c in rows])
     w2 = max([len(_HEADER[1])] + [len(f"{per_pose[c]:,}") for c in rows])
     lines = [context.robot_line.rstrip("\n")] if context.robot_line else []
     lines.append(f"{_HEADER[0]:>{w1}}  {_HEADER[1]:>{w2}}  code   severity  title")
@@ -37,7 +36,7 @@ def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str
         info = CODES.get(code)
         severity, title = (str(info.severity), info.title) if info else ("", "")
         lines.append(
-            f"{findings[code]:>{w1},}  {per_pose[code]:>{w2},}  {code}  {severity:<8}  {title}"
+            f"{listed[code]:>{w1},}  {per_pose[code]:>{w2},}  {code}  {severity:<8}  {title}"
         )
     lines.append(summary(report))
     return "\n".join(lines) + "\n"

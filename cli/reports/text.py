@@ -86,5 +86,5 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
         out.append(f"{sev} {d.code}: {d.message}")
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-    out.append(summary(report) + fix_summary(report, fixable))
+    out.append(summary(report) + fix_summary(fixable))
     yield "\n".join(out) + "\n"
