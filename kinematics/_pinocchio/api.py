@@ -205,13 +205,24 @@ class _DistanceResult(Protocol):
     def min_distance(self) -> float: ...
 
 
+class _QueryRequest(Protocol):
+    """coal's settings of one pair's distance or collision query."""
+
+    enable_cached_gjk_guess: bool
+
+
 class GeometryData(Protocol):
-    """Work buffers of a geometry model: world placements ``oMg``, one result per pair."""
+    """Work buffers of a geometry model: world placements ``oMg``, one result and one request
+    of each kind per pair."""
 
     @property
     def oMg(self) -> Sequence[SE3]: ...
     @property
     def collisionResults(self) -> Sequence[_CollisionResult]: ...
+    @property
+    def distanceRequests(self) -> Sequence[_QueryRequest]: ...
+    @property
+    def collisionRequests(self) -> Sequence[_QueryRequest]: ...
 
 
 class _Motion(Protocol):

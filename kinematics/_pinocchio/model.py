@@ -6,6 +6,7 @@ from __future__ import annotations
 import functools
 import math
 import threading
+import warnings
 from pathlib import Path
 from typing import Literal
 
@@ -107,7 +108,12 @@ def _package_dirs(path: Path) -> list[str]:
 
 class Built:
     """A built model, its collision geometry (with the self-collision pairs) and per-thread
-    work buffers (creating a GeometryData costs more than a whole collision check)."""
+    work buffers (creating a GeometryData costs more than a whole collision check).
+
+    The buffers' GJK starts from coal's default guess every time, not from the last answer
+    (Pinocchio's default): with a cached guess a distance depends on what was computed before
+    it, by up to 1e-6 m, so that the deepest of two near-equal overlaps, and the text of a
+    finding, changed between two checks of one file in one process."""
 
     __slots__ = ("_local", "geoms", "model")
 
@@ -119,7 +125,12 @@ class Built:
     def buffers(self) -> tuple[Data, GeometryData]:
         found: tuple[Data, GeometryData] | None = getattr(self._local, "buffers", None)
         if found is None:
-            found = (self.model.createData(), pin_module().GeometryData(self.geoms))
+            geom_data = pin_module().GeometryData(self.geoms)
+            with warnings.catch_warnings():  # coal marks the flag deprecated; it still decides
+                warnings.simplefilter("ignore", DeprecationWarning)
+                for request in (*geom_data.distanceRequests, *geom_data.collisionRequests):
+                    request.enable_cached_gjk_guess = False
+            found = (self.model.createData(), geom_data)
             self._local.buffers = found
         return found
 
