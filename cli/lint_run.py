@@ -2,13 +2,14 @@
 closest configuration file (``cli/config.py``), the command line over them.
 
 Files that share a robot, checks, time step and grouping (``group``: consecutive per-pose
-findings as one) are validated together (one set of robot checks each); findings are then kept
-or left out per file (``select``, ``ignore``, ``per-file-ignores``), and ``strict`` applies per
-file.
+findings as one) share one set of robot checks; findings are then kept or left out per file
+(``select``, ``ignore``, ``per-file-ignores``), and ``strict`` applies per file. Each file is
+validated when the report reaches it, not all before it starts.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -19,14 +20,22 @@ from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_chec
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.fileio import collect_motion_files, is_stdin
+from motiontool.motionfmt.fileio import (
+    collect_motion_files,
+    is_stdin,
+    read_file,
+    rereadable,
+    source_name,
+)
 from motiontool.motionfmt.fixes import RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
     FileReport,
+    FileReports,
     ValidationReport,
+    check_codes,
+    checkable,
     validate_bytes,
-    validate_paths,
 )
 
 __all__ = [
@@ -81,19 +90,37 @@ class Checked:
 
 @dataclass
 class LintRun:
-    """A run's report, the robot checks it used (None: no file was checked against a robot)
-    and the files whose warnings fail the run."""
+    """A run's report (its files validated as the report reads them), the robot checks of its
+    groups of files and the files whose warnings fail the run."""
 
     report: ValidationReport
-    checked: Checked | None
+    checkers: list[RobotChecks]
     strict_files: set[str]
+
+    @property
+    def checked(self) -> Checked | None:
+        """The robot checks merged over the files validated so far (None: no file of the run
+        is checked against a robot)."""
+        if not self.checkers:
+            return None
+        checked = Checked()
+        for checker in self.checkers:
+            checked.add(checker)
+        return checked
+
+    def surveyed(self) -> Checked | None:
+        """:attr:`checked` once every file is known (which robot checks it, or none): what a
+        report that starts with the robots used needs (:meth:`FileReports.survey`)."""
+        self.report.files.survey()
+        return self.checked
 
     def failed(self) -> bool:
         """An error anywhere, or a warning in a file whose settings are strict (findings past
         ``max-findings`` included)."""
-        for f in self.report.files:
-            if f.count(Severity.ERROR) or (
-                f.path in self.strict_files and f.count(Severity.WARNING)
+        files = self.report.files
+        for i, path in enumerate(files.paths):
+            if files.tally(i, Severity.ERROR) or (
+                path in self.strict_files and files.tally(i, Severity.WARNING)
             ):
                 return True
         return any(d.severity >= Severity.ERROR for d in self.report.notes)
@@ -130,48 +157,95 @@ def lint(
     make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
     on_step: Callable[[str], None] | None = None,
 ) -> LintRun:
-    """Validate ``files``, each with its settings and ``overrides`` over them.
+    """Validate ``files``, each with its settings and ``overrides`` over them, as the report
+    reads them (:class:`~motiontool.motionfmt.validate.FileReports`: memory stays flat however
+    many files there are).
 
     ``make_checker(robot, checks, timestep)`` builds the robot checks of one group (the CLI
     words its hints); ``checks`` None means the default checks (skipped with a note where a
-    library is missing), a tuple means checks asked for by name. ``on_step`` is told what is
-    being done, file by file and check by check (:mod:`motiontool.cli.progress`).
+    library is missing), a tuple means checks asked for by name. Every group's checks are
+    built here, so that an unknown robot or check fails before any output. ``on_step`` is
+    told what is being done, file by file and check by check (:mod:`motiontool.cli.progress`).
     """
-    groups: dict[_Key, list[Path]] = {}
-    settings = {f: resolver.for_file(f) for f in files}
-    for f in files:
-        groups.setdefault(_group_key(f, settings[f], overrides), []).append(f)
-    by_name: dict[str, FileReport] = {}
-    checked: Checked | None = None
-    for (robot, checks, timestep, grouped), group in groups.items():
-        checker = None if robot == NONE else make_checker(robot, checks, timestep)
-        if checker is not None:
-            checker.on_check = on_step
-        part = validate_paths(
-            group,
+    check_codes(overrides.ignore)  # an unknown code: an error before any file is read
+    sources = _Sources(files, resolver, overrides, make_checker, on_step)
+    names = [source_name(f) for f in files]
+    reports = FileReports(names, sources.make, sizes=sources.sizes, survey=sources.survey)
+    strict = {
+        name
+        for name, f, s in zip(names, files, sources.settings, strict=True)
+        if (overrides.strict if overrides.strict is not None else s.strict)
+    }
+    checkers = [c for c in sources.checkers.values() if c is not None]
+    run = LintRun(ValidationReport(files=reports), checkers, strict)
+    ignored = {c.strip().upper() for c in overrides.ignore}
+
+    def notes() -> list[Diagnostic]:
+        checked = run.checked
+        return [] if checked is None else [n for n in checked.notes if n.code not in ignored]
+
+    run.report.run_notes = notes
+    return run
+
+
+class _Sources:
+    """The files of one run with their settings and robot checks (those of each group of
+    files, built at once): each file validated (:meth:`make`) or only surveyed for its robot
+    (:meth:`survey`) when its report asks. A file that cannot be read again (standard input,
+    a pipe) is read here and held."""
+
+    def __init__(
+        self,
+        files: Sequence[Path],
+        resolver: Resolver,
+        overrides: Overrides,
+        make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
+        on_step: Callable[[str], None] | None,
+    ) -> None:
+        self.files, self.overrides, self.on_step = files, overrides, on_step
+        self.settings = [resolver.for_file(f) for f in files]
+        self.keys = [_group_key(f, s, overrides) for f, s in zip(files, self.settings, strict=True)]
+        self.checkers: dict[_Key, RobotChecks | None] = {}
+        for key in self.keys:
+            if key not in self.checkers:
+                robot, checks, timestep, _grouped = key
+                checker = None if robot == NONE else make_checker(robot, checks, timestep)
+                if checker is not None:
+                    checker.on_check = on_step
+                self.checkers[key] = checker
+        self.held = {i: read_file(f) for i, f in enumerate(files) if not rereadable(f)}
+        self.sizes = [
+            len(self.held[i]) if i in self.held else os.stat(f).st_size for i, f in enumerate(files)
+        ]
+
+    def data(self, i: int) -> bytes:
+        return self.held[i] if i in self.held else read_file(self.files[i])
+
+    def make(self, i: int) -> FileReport:
+        """The ``i``-th file validated with its settings and its group's robot checks."""
+        f, key = self.files[i], self.keys[i]
+        _robot, checks, timestep, grouped = key
+        checker = self.checkers[key]
+        report = validate_bytes(
+            self.data(i),
+            source_name(f),
             timestep_ms=timestep,
             checks=[checker] if checker is not None else [],
-            ignore=overrides.ignore,
+            ignore=self.overrides.ignore,
             group=grouped,
-            on_step=on_step,
+            on_step=self.on_step,
         )
-        for f, fr in zip(group, part.files, strict=True):
-            s = settings[f]
-            _settle(fr, f, s, checker, checks, overrides)
-            by_name[str(f)] = fr
+        _settle(report, f, self.settings[i], checker, checks, self.overrides)
+        return report
+
+    def survey(self, i: int) -> None:
+        """Record the robot that checks the ``i``-th file, reading it without checking it."""
+        checker = self.checkers[self.keys[i]]
         if checker is not None:
-            checked = checked or Checked()
-            checked.add(checker)
-    report = ValidationReport(files=[by_name[str(f)] for f in files])
-    if checked is not None:
-        ignored = {c.strip().upper() for c in overrides.ignore}
-        report.notes = [n for n in checked.notes if n.code not in ignored]
-    strict = {
-        str(f) if not is_stdin(f) else "<stdin>"
-        for f in files
-        if (overrides.strict if overrides.strict is not None else settings[f].strict)
-    }
-    return LintRun(report, checked, strict)
+            name, timestep = source_name(self.files[i]), self.keys[i][2]
+            result = read_bytes(self.data(i), name, timestep_ms=timestep)
+            if checkable(result):
+                checker.note(result)
 
 
 def lint_document(

@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 import tempfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 
 import typer
@@ -78,18 +78,37 @@ def emit(text: str, output: Path | None) -> None:
     emit_bytes(text.encode("utf-8", "surrogateescape"), output)
 
 
-def emit_pieces(pieces: Iterable[str], output: Path | None, *, color: bool = False) -> None:
+def emit_pieces(
+    pieces: Iterable[str],
+    output: Path | None,
+    *,
+    color: bool = False,
+    before_writing: Callable[[], None] | None = None,
+) -> None:
     """Write text made in pieces (a report that streams its findings) as they come, a block of
     about 64 KiB at a time, to ``output`` as :func:`emit` writes (a regular file is whole or
     untouched) or to stdout; ``color``: to a terminal through Click, which keeps the ANSI
-    colours."""
+    colours. ``before_writing`` is called once, before the first block is written (a progress
+    display on the same terminal ends there)."""
+    blocks = _blocks(pieces)
+    if before_writing is not None:
+        blocks = _after(before_writing, blocks)
     if color and output is None:
-        for block in _blocks(pieces):
+        for block in blocks:
             typer.echo(block, nl=False, color=True)
         return
     with open_output(STDOUT if output is None else output) as sink:
-        for block in _blocks(pieces):
+        for block in blocks:
             sink.write(block.encode("utf-8", "surrogateescape"))
+
+
+def _after(call: Callable[[], None], blocks: Iterator[str]) -> Iterator[str]:
+    """``blocks``, with ``call()`` made once the first is ready (or there is none)."""
+    first = next(blocks, None)
+    call()
+    if first is not None:
+        yield first
+        yield from blocks
 
 
 def _blocks(pieces: Iterable[str], size: int = 1 << 16) -> Iterator[str]:

@@ -29,7 +29,7 @@ from motiontool.cli.options import (
     timestep_option,
 )
 from motiontool.cli.output import emit_bytes, emit_pieces, refuse_overwrite
-from motiontool.cli.progress import progress
+from motiontool.cli.progress import Step, progress
 from motiontool.cli.reports import (
     DEFAULT_FORMAT,
     REPORTS,
@@ -74,8 +74,9 @@ def _unchecked(report: ValidationReport, checker: Checked) -> tuple[list[str], l
     """The files checked at syntax level only, in report order: all of them (Webots rejects
     them, or no robot was found: MT901), and those Webots rejects (no robot check reached them)."""
     skipped = {p for p, spec in checker.used.items() if spec is None}
-    rejected = [f.path for f in report.files if f.path not in checker.used]
-    every = [f.path for f in report.files if f.path not in checker.used or f.path in skipped]
+    paths = report.files.paths
+    rejected = [p for p in paths if p not in checker.used]
+    every = [p for p in paths if p not in checker.used or p in skipped]
     return every, rejected
 
 
@@ -311,7 +312,40 @@ def validate_command(
     if show_settings:
         typer.echo(_settings_text(paths, resolver), nl=False)
         return
-    overrides = Overrides(
+    overrides = _overrides(robot, checks, timestep, strict, ignore, group)
+    files = collect(paths, resolver)
+    refuse_overwrite(output, files, "-o")
+    if diff or fix:
+        _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
+    checker = partial(robot_checks, tolerance=collision_tolerance)
+    with progress("validate") as step:  # the files are validated as the report is written
+        run = lint(files, resolver, overrides, checker, on_step=step)
+        _print_report(
+            run,
+            resolver.for_file(Path("-")),
+            format,
+            sort,
+            strict=strict,
+            statistics=statistics,
+            robot=robot,
+            output=output,
+            step=step,
+        )
+    if run.failed():
+        raise typer.Exit(1)
+
+
+def _overrides(
+    robot: str | None,
+    checks: str | None,
+    timestep: int | None,
+    strict: bool | None,
+    ignore: list[str] | None,
+    group: bool | None,
+) -> Overrides:
+    """What the command line says over the configuration (``--ignore`` repeated or
+    comma-separated)."""
+    return Overrides(
         robot=robot,
         checks=None if checks is None else parse_checks(checks),
         timestep=timestep,
@@ -319,20 +353,6 @@ def validate_command(
         ignore=tuple(c for item in ignore or [] for c in item.split(",")),
         group=group,
     )
-    files = collect(paths, resolver)
-    refuse_overwrite(output, files, "-o")
-    if diff or fix:
-        _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
-    checker = partial(robot_checks, tolerance=collision_tolerance)
-    with progress("validate") as step:
-        run = lint(files, resolver, overrides, checker, on_step=step)
-    project = resolver.for_file(Path("-"))
-    run.report.limit = project.max_findings  # the others are counted, not shown
-    _print_report(
-        run, project, format, sort, strict=strict, statistics=statistics, robot=robot, output=output
-    )
-    if run.failed():
-        raise typer.Exit(1)
 
 
 def _apply_fixes(
@@ -365,10 +385,13 @@ def _print_report(
     statistics: bool,
     robot: str | None,
     output: Path | None,
+    step: Step,
 ) -> None:
     """The report of ``run`` in ``format`` (or ``--statistics``), in color where the format
     has colors and the terminal takes them, to ``output`` (None or '-': stdout); ``strict``
-    and ``robot`` as given, else the ``project``'s settings."""
+    and ``robot`` as given, else the ``project``'s settings; the progress display (``step``)
+    ends before the first byte written to a terminal."""
+    run.report.limit = project.max_findings  # the others are counted, not shown
     to_stdout = output is None or str(output) == "-"
     color = REPORTS[format.value].colors and color_enabled(sys.stdout, to_file=not to_stdout)
     requested = robot if robot is not None else project.robot
@@ -376,8 +399,8 @@ def _print_report(
         color=color,
         order=sort,
         strict=strict if strict is not None else project.strict,
-        robot_line=_robot_line(run.checked, run.report),
-        robot_json=lambda: _robot_json(run.checked, requested, run.report),
+        robot_line=lambda: _robot_line(run.surveyed(), run.report),
+        robot_json=lambda: _robot_json(run.surveyed(), requested, run.report),
     )
     report = run.report
     pieces = (
@@ -385,7 +408,13 @@ def _print_report(
         if statistics
         else render_pieces(report, format.value, context)
     )
-    emit_pieces(pieces, output, color=color)
+    before_writing = step.stop if _to_terminal(output) else None
+    emit_pieces(pieces, output, color=color, before_writing=before_writing)
+
+
+def _to_terminal(output: Path | None) -> bool:
+    """Whether the report goes to a terminal (where a progress display must end first)."""
+    return (output is None or str(output) == "-") and sys.stdout.isatty()
 
 
 def _settings_text(paths: list[Path], resolver: Resolver) -> str:

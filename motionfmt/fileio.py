@@ -30,6 +30,7 @@ __all__ = [
     "open_output",
     "output_kind",
     "read_file",
+    "rereadable",
     "source_name",
 ]
 
@@ -70,6 +71,19 @@ def _read_stdin() -> bytes:
     with contextlib.suppress(TypeError):  # a stream that takes no weak reference: not cached
         _stdin_bytes[source] = data
     return data
+
+
+def rereadable(path: str | Path) -> bool:
+    """Whether ``path`` can be read again later for the same bytes: a regular file this process
+    may read. Standard input, a pipe (``<(...)``) or a device is read once: a command that
+    reads its inputs more than once holds those (and one it may not read is read now, so that
+    the error comes before any output)."""
+    if is_stdin(path):
+        return False
+    try:
+        return stat.S_ISREG(os.stat(path).st_mode) and os.access(path, os.R_OK)
+    except OSError:
+        return False
 
 
 def read_file(path: str | Path) -> bytes:

@@ -70,6 +70,16 @@ class Findings(Sequence[Diagnostic]):
             yield d
         self._counts = counts  # a whole pass: the counts are known from now on
 
+    @property
+    def counts(self) -> dict[Severity, int] | None:
+        """How many findings of each severity, once a whole pass has made them (else None)."""
+        return None if self._counts is None else dict(self._counts)
+
+    def know(self, counts: dict[Severity, int]) -> None:
+        """Take ``counts`` (:attr:`counts` of findings made the same way, by a pass before
+        these were made again) as this sequence's counts, so that counting needs no pass."""
+        self._counts = dict(counts)
+
     def count(self, severity: Severity) -> int:
         """How many findings of ``severity`` (a pass over them the first time only)."""
         if self._counts is None:

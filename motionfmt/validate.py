@@ -1,15 +1,32 @@
-"""Validate many files in one pass: the library behind ``motiontool validate``."""
+"""Validate many files in one pass: the library behind ``motiontool validate``.
+
+A run over many files does not hold them all. A file's report holds its bytes, what the reader
+read (float64 values) and the robot checks' tables: about 4 times the file's size at syntax level,
+11 times with the robot checks. :class:`FileReports` validates each file when a report first
+reads it and holds the reports of the first files only, up to :data:`HELD_INPUT_BYTES` of
+input; a report past them is let go when the next one is read, and made again if a report reads
+it again (the JSON and JUnit reports count the findings before they write them; ``--sort
+severity`` reads the files once per severity). Memory stays flat however many files a run has;
+what a second pass costs is time.
+"""
 
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable, Iterable, Sequence
+import sys
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import overload
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
-from motiontool.motionfmt.fileio import collect_motion_files, read_file, source_name
+from motiontool.motionfmt.fileio import (
+    collect_motion_files,
+    read_file,
+    rereadable,
+    source_name,
+)
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import (
     ROBOT_CODES,
@@ -24,9 +41,13 @@ from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 __all__ = [
+    "HELD_INPUT_BYTES",
     "Check",
     "FileReport",
+    "FileReports",
     "ValidationReport",
+    "check_codes",
+    "checkable",
     "run_check",
     "validate_bytes",
     "validate_paths",
@@ -139,27 +160,167 @@ class FileReport:
         return self._file_fixes.get((d.code, d.line, d.column), ())
 
 
+HELD_INPUT_BYTES = 32 * 2**20
+"""How many bytes of input files a run holds the reports of (about 11 times that in memory
+with the robot checks); the reports of the files past them are made when read (see the module
+doc)."""
+
+
+class FileReports(Sequence[FileReport]):
+    """The files of one run, each validated when a report first reads it (see the module doc).
+
+    ``make(i)`` validates the ``i``-th file (named ``paths[i]``). The reports of the first files
+    are held while their inputs add up to at most ``budget`` bytes (None:
+    :data:`HELD_INPUT_BYTES`); the others are let go when the next is read, and their counts by
+    severity are kept once a pass over their findings has made them all (a report made again
+    knows them: counting needs no pass, and :meth:`tally` makes none). ``survey(i)`` does for a
+    file that is not held what must be known of every file before a report starts (which robot
+    checks it), without validating it (:meth:`survey`); ``sizes``: each file's size, bytes, to
+    know which fit the budget.
+    """
+
+    def __init__(
+        self,
+        paths: Sequence[str],
+        make: Callable[[int], FileReport],
+        *,
+        sizes: Sequence[int] | None = None,
+        survey: Callable[[int], None] | None = None,
+        budget: int | None = None,
+    ) -> None:
+        self.paths = list(paths)
+        self._make = make
+        self._sizes = sizes
+        self._survey = survey
+        self._budget = HELD_INPUT_BYTES if budget is None else budget
+        self._held: dict[int, FileReport] = {}
+        self._held_bytes = 0
+        self._last: tuple[int, FileReport] | None = None
+        self._counts: dict[int, dict[Severity, int]] = {}
+        self._surveyed = survey is None
+
+    @classmethod
+    def of(cls, reports: Iterable[FileReport]) -> FileReports:
+        """Reports already made, all held."""
+        held = list(reports)
+        return cls([r.path for r in held], held.__getitem__, budget=sys.maxsize)
+
+    def __len__(self) -> int:
+        return len(self.paths)
+
+    @overload
+    def __getitem__(self, index: int) -> FileReport: ...
+    @overload
+    def __getitem__(self, index: slice) -> list[FileReport]: ...
+    def __getitem__(self, index: int | slice) -> FileReport | list[FileReport]:
+        if isinstance(index, slice):
+            return [self[i] for i in range(len(self))[index]]
+        i = range(len(self))[index]  # IndexError past either end
+        held = self._held.get(i)
+        if held is not None:
+            return held
+        if self._last is not None and self._last[0] == i:
+            return self._last[1]
+        self._let_go()
+        report = self._make(i)
+        if i in self._counts:
+            report.diagnostics.know(self._counts[i])
+        size = len(report.data)
+        if self._held_bytes + size <= self._budget:
+            self._held[i] = report
+            self._held_bytes += size
+        else:
+            self._last = (i, report)
+        return report
+
+    def __iter__(self) -> Iterator[FileReport]:
+        for i in range(len(self)):
+            yield self[i]
+
+    def _let_go(self) -> None:
+        """Drop the last report made past the budget, keeping its counts if they are known."""
+        if self._last is not None:
+            i, report = self._last
+            counts = report.diagnostics.counts
+            if counts is not None:
+                self._counts[i] = counts
+            self._last = None
+
+    def _known(self, i: int) -> dict[Severity, int] | None:
+        if i in self._counts:
+            return self._counts[i]
+        report = self._held.get(i)
+        if report is None and self._last is not None and self._last[0] == i:
+            report = self._last[1]
+        return None if report is None else report.diagnostics.counts
+
+    def tally(self, i: int, severity: Severity) -> int:
+        """How many findings of ``severity`` the ``i``-th file has (validated, and a pass over
+        its findings, only where they were never counted)."""
+        counts = self._known(i)
+        if counts is None:
+            return self[i].count(severity)
+        return counts[severity]
+
+    def total(self, i: int) -> int:
+        """How many findings the ``i``-th file has."""
+        return sum(self.tally(i, s) for s in Severity)
+
+    def survey(self) -> None:
+        """Know what a report needs of every file before it starts: the files that fit the
+        budget are validated (and held), ``survey`` is told about the others; once a run."""
+        if self._surveyed:
+            return
+        self._surveyed = True
+        assert self._survey is not None
+        for i in range(len(self)):
+            if self._known(i) is not None:  # validated, all its findings made
+                continue
+            size = self._sizes[i] if self._sizes is not None else 0
+            if self._held_bytes + size <= self._budget:
+                self[i]
+            else:
+                self._survey(i)
+
+
+def _no_notes() -> list[Diagnostic]:
+    return []
+
+
 @dataclass
 class ValidationReport:
-    """The findings for every file of one ``validate`` run, and the run's own notes (about no
-    file: a check skipped for a missing library, MT902; ``path`` empty, line and column 0)."""
+    """The findings for every file of one ``validate`` run (:class:`FileReports`: a list given
+    is held as it is), and the run's own notes (about no file: a check skipped for a missing
+    library, MT902; ``path`` empty, line and column 0), from ``run_notes``: they are known once
+    the files they are about are validated."""
 
-    files: list[FileReport] = field(default_factory=list)
-    notes: list[Diagnostic] = field(default_factory=list)
+    files: FileReports = field(default_factory=lambda: FileReports.of([]))
+    run_notes: Callable[[], list[Diagnostic]] = field(default=_no_notes, repr=False)
     limit: int | None = None
     """How many findings a report shows at most (``max-findings``; None: all), the first ones
     in file order. Those past it are counted, and they fail a run as the shown ones do."""
 
+    def __setattr__(self, name: str, value: object) -> None:
+        if name == "files" and not isinstance(value, FileReports):
+            value = FileReports.of(value)  # type: ignore[arg-type]
+        object.__setattr__(self, name, value)
+
+    @property
+    def notes(self) -> list[Diagnostic]:
+        """The run's notes (those of the files validated so far)."""
+        return self.run_notes()
+
     def count(self, severity: Severity) -> int:
         """Every finding of ``severity``, shown or not (past :attr:`limit`), and the notes."""
-        return sum(f.count(severity) for f in self.files) + sum(
+        files = self.files
+        return sum(files.tally(i, severity) for i in range(len(files))) + sum(
             1 for d in self.notes if d.severity is severity
         )
 
     @property
     def hidden(self) -> int:
         """How many findings :attr:`limit` leaves out of the report."""
-        total = sum(len(f.diagnostics) for f in self.files)
+        total = sum(self.files.total(i) for i in range(len(self.files)))
         return 0 if self.limit is None else max(0, total - self.limit)
 
     @property
@@ -173,7 +334,8 @@ class ValidationReport:
         return any(self.count(sev) for sev in Severity if sev >= worst)
 
 
-def _check_codes(codes: Iterable[str]) -> frozenset[str]:
+def check_codes(codes: Iterable[str]) -> frozenset[str]:
+    """The codes of ``codes`` (stripped, upper case), or an error naming those not known."""
     codes = frozenset(c.strip().upper() for c in codes if c.strip())
     unknown = sorted(c for c in codes if c not in CODES and not c.startswith("MT3"))
     if unknown:
@@ -206,12 +368,18 @@ def validate_bytes(
     if on_step is not None and checks:
         on_step(f"{path}: checks")
     parts: list[Sequence[Diagnostic]] = [result.diagnostics]
-    if result.accepted and result.times_ms and result.joints:
+    if checkable(result):
         parts.extend(run_check(check, result, group) for check in checks)
-    skip = _check_codes(ignore)
+    skip = check_codes(ignore)
     found = Findings.merge(parts)
     kept = found.where(lambda d: d.code not in skip) if skip else found
     return FileReport(path=path, read=result, diagnostics=kept, data=data)
+
+
+def checkable(result: ReadResult) -> bool:
+    """Whether the robot checks (``validate_bytes``' ``checks``) run on ``result``: Webots
+    accepts the file, and it has poses and joints."""
+    return bool(result.accepted and result.times_ms and result.joints)
 
 
 def run_check(check: Check, result: ReadResult, group: bool) -> Sequence[Diagnostic]:
@@ -236,25 +404,26 @@ def validate_paths(
 ) -> ValidationReport:
     """Validate files and directories (every ``*.motion`` below a directory, recursively);
     ``-`` reads standard input, named ``<stdin>``; ``group``, ``on_step``: see
-    :func:`validate_bytes`.
+    :func:`validate_bytes`. Each file is validated when the report's :class:`FileReports`
+    is read (``checks`` see a file then, not before).
 
     Raises:
         MotionToolError: a path is missing or unreadable, or a directory has no motion file.
     """
-    ignore = _check_codes(ignore)
-    report = ValidationReport()
-    for p in collect_motion_files(paths):
-        data = read_file(p)
-        name = source_name(p)
-        report.files.append(
-            validate_bytes(
-                data,
-                name,
-                timestep_ms=timestep_ms,
-                checks=checks,
-                ignore=ignore,
-                group=group,
-                on_step=on_step,
-            )
+    ignore = check_codes(ignore)
+    files = collect_motion_files(paths)
+    held = {i: read_file(p) for i, p in enumerate(files) if not rereadable(p)}
+
+    def make(i: int) -> FileReport:
+        p = files[i]
+        return validate_bytes(
+            held[i] if i in held else read_file(p),
+            source_name(p),
+            timestep_ms=timestep_ms,
+            checks=checks,
+            ignore=ignore,
+            group=group,
+            on_step=on_step,
         )
-    return report
+
+    return ValidationReport(files=FileReports([source_name(p) for p in files], make))

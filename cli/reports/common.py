@@ -32,6 +32,8 @@ __all__ = [
     "per_file",
     "project_root",
     "relative_path",
+    "shown_counts",
+    "shown_of",
     "summary",
     "text_column",
     "with_hint",
@@ -82,14 +84,30 @@ def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Findings]]:
     """Each file with the findings a report shows of it (all but those past
     :attr:`~ValidationReport.limit`, the first ones in file order), made each time they are
     read: for the formats that write a file's findings together (JSON, JUnit)."""
+    for i, n in enumerate(shown_counts(report)):
+        yield report.files[i], shown_of(report, i, n)
+
+
+def shown_counts(report: ValidationReport) -> Iterator[int | None]:
+    """How many findings of each file a report shows (None: all of them), in file order: the
+    first :attr:`~ValidationReport.limit` of the run (each file counted once: the counts are
+    kept)."""
     left = report.limit
-    for f in report.files:
+    for i in range(len(report.files)):
         if left is None:
-            yield f, f.diagnostics
+            yield None
             continue
-        n = min(left, len(f.diagnostics))  # counted once (Findings keeps the counts)
+        n = min(left, report.files.total(i))
         left -= n
-        yield f, Findings(functools.partial(itertools.islice, f.diagnostics, n))
+        yield n
+
+
+def shown_of(report: ValidationReport, i: int, n: int | None) -> Findings:
+    """The first ``n`` findings (None: all) of the ``i``-th file, made as they are read."""
+    found = report.files[i].diagnostics
+    if n is None:
+        return found
+    return Findings(functools.partial(itertools.islice, found, n))
 
 
 class FixCounts:
@@ -153,7 +171,8 @@ class Context:
         color: ANSI colours (text only; the caller decides: never for a file or a pipe).
         order: the order of findings (formats that list them one by one).
         strict: warnings fail the run too (``--strict``), for formats that say pass or fail.
-        robot_line: the text report's first line (which robot checked what).
+        robot_line: the text report's first line (which robot checked what), built only by
+            the formats that show it.
         robot_json: the JSON report's ``robot`` section and ``stamps`` (with the model hash),
             built only by the formats that ask for it.
     """
@@ -161,7 +180,7 @@ class Context:
     color: bool = False
     order: Order = Order.file
     strict: bool = False
-    robot_line: str = ""
+    robot_line: Callable[[], str] = field(default=lambda: "")
     robot_json: Callable[[], dict[str, Any]] = field(default=lambda: {})
 
 

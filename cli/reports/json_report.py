@@ -71,17 +71,18 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     shipped as ``motiontool/cli/schemas/validate.schema.json``. Written as the findings are
     made (the summary first: a pass that counts them, then the pass that writes them), the
     same text as :func:`~motiontool.cli.jsontext.dumps` of the whole document."""
+    counts = {  # first: the pass that counts validates the files, then the robots are known
+        "files": len(report.files),
+        "errors": report.count(Severity.ERROR),
+        "warnings": report.count(Severity.WARNING),
+        "notes": report.count(Severity.INFO),
+    }
     doc: dict[str, Any] = {
         "schema": "motiontool.validate",
         "schema_version": JSON_SCHEMA_VERSION,
         "stamps": stamps(),
         **context.robot_json(),
-        "summary": {
-            "files": len(report.files),
-            "errors": report.count(Severity.ERROR),
-            "warnings": report.count(Severity.WARNING),
-            "notes": report.count(Severity.INFO),
-        },
+        "summary": counts,
         "notes": [_note_json(d) for d in report.notes],
         "files": HOLE,
     }

@@ -9,7 +9,14 @@ from collections import Counter
 from collections.abc import Iterable, Iterator
 
 from motiontool.cli.jsontext import escape_undecodable
-from motiontool.cli.reports.common import PLAIN, Context, per_file, summary, with_hint
+from motiontool.cli.reports.common import (
+    PLAIN,
+    Context,
+    shown_counts,
+    shown_of,
+    summary,
+    with_hint,
+)
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
@@ -79,8 +86,11 @@ def render_junit(report: ValidationReport, context: Context = PLAIN) -> Iterator
     properties = ET.SubElement(suite, "properties")
     for key, value in context.robot_json().get("stamps", stamps()).items():
         ET.SubElement(properties, "property", name=key, value="" if value is None else str(value))
-    shown = list(per_file(report))
-    failures = sum(_case(suite, i, f, found, worst) for i, (f, found) in enumerate(shown))
+    limits = list(shown_counts(report))  # an int a file: the reports are not held
+    failures = sum(
+        _case(suite, i, report.files[i], shown_of(report, i, n), worst)
+        for i, n in enumerate(limits)
+    )
     out = [f"{d.severity} {d.code}: {with_hint(d)}" for d in report.notes] + [summary(report)]
     ET.SubElement(suite, "system-out").text = "\n".join(out) + "\n"
     counts = {"tests": str(len(report.files)), "failures": str(failures), "errors": "0"}
@@ -93,7 +103,8 @@ def render_junit(report: ValidationReport, context: Context = PLAIN) -> Iterator
     pieces = _PLACE.split(skeleton)  # text, kind, index, text, kind, index, ..., text
     for k in range(0, len(pieces) - 1, 3):
         yield str(escape_undecodable(pieces[k])[0])
-        kind, found = pieces[k + 1], shown[int(pieces[k + 2])][1]
+        kind, i = pieces[k + 1], int(pieces[k + 2])
+        found = shown_of(report, i, limits[i])
         fails = kind == "F"
         yield from _lines(d for d in found if (d.severity >= worst) == fails)
     yield str(escape_undecodable(pieces[-1])[0])

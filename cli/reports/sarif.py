@@ -161,21 +161,12 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator
     Columns are in UTF-16 code units (``columnKind`` ``utf16CodeUnits``, SARIF's default),
     converted from the diagnostics' byte columns with the source line; URIs are relative to
     the repository root. The robot section goes into the run's property bag (next to the
-    stamps); a run's notes into the invocation's ``toolExecutionNotifications``.
+    stamps); a run's notes into the invocation's ``toolExecutionNotifications``: both after
+    the results, once every file is validated (one pass over the files).
     """
     used = sorted(CODES)  # every code a finding may have: no pass over the findings for it
     index = {code: i for i, code in enumerate(used)}
-    notifications = [
-        {
-            "level": _SARIF_LEVEL[d.severity],
-            "message": {"text": with_hint(d)},
-            "descriptor": {"id": d.code, "index": index[d.code]},
-        }
-        for d in report.notes
-    ]
-    properties: dict[str, Any] = {"stamps": stamps(), **context.robot_json()}
     run: dict[str, Any] = {
-        "invocations": [{"executionSuccessful": True, "toolExecutionNotifications": notifications}],
         "tool": {
             "driver": {
                 "name": "motiontool",
@@ -186,19 +177,33 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator
         "originalUriBaseIds": {SARIF_SRCROOT: {"uri": project_root().as_uri().rstrip("/") + "/"}},
         "columnKind": "utf16CodeUnits",
         "results": HOLE,
-        "properties": properties,
+        "invocations": [],  # after the results: the run's notes and robots are known then
+        "properties": {},
     }
     doc: dict[str, Any] = {
         "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
         "version": "2.1.0",
         "runs": [run],
     }
-    before, after, escaped = dumps_around(doc, 0)
-    yield before
-    counter = [escaped]
+    yield dumps_around(doc, 0)[0]
+    counter = [0]
     yield from list_pieces(_results(report, context, index, counter), 3)
-    if counter[0]:  # the bytes escaped, in the run's property bag after the results
-        properties[ESCAPED_BYTES] = counter[0]
+    notifications = [
+        {
+            "level": _SARIF_LEVEL[d.severity],
+            "message": {"text": with_hint(d)},
+            "descriptor": {"id": d.code, "index": index[d.code]},
+        }
+        for d in report.notes
+    ]
+    run["invocations"] = [
+        {"executionSuccessful": True, "toolExecutionNotifications": notifications}
+    ]
+    properties: dict[str, Any] = {"stamps": stamps(), **context.robot_json()}
+    run["properties"] = properties
+    _before, after, escaped = dumps_around(doc, 0)  # escaped: before and after the results
+    if escaped + counter[0]:  # the bytes escaped, in the run's property bag
+        properties[ESCAPED_BYTES] = escaped + counter[0]
         after = dumps_around(doc, 0)[1]
     yield after + "\n"
 

@@ -30,7 +30,8 @@ def render_statistics(report: ValidationReport, context: Context = PLAIN) -> str
     rows = sorted(listed, key=lambda code: (-per_pose[code], -listed[code], code))
     w1 = max([len(_HEADER[0])] + [len(f"{listed[c]:,}") for c in rows])
     w2 = max([len(_HEADER[1])] + [len(f"{per_pose[c]:,}") for c in rows])
-    lines = [context.robot_line.rstrip("\n")] if context.robot_line else []
+    robot_line = context.robot_line()
+    lines = [robot_line.rstrip("\n")] if robot_line else []
     lines.append(f"{_HEADER[0]:>{w1}}  {_HEADER[1]:>{w2}}  code   severity  title")
     for code in rows:
         info = CODES.get(code)

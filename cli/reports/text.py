@@ -66,8 +66,9 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     at a time as they are made; ANSI colours only with ``context.color`` (never for a file or
     a pipe, see :mod:`motiontool.cli.color`)."""
     color, order = context.color, context.order
-    if context.robot_line:
-        yield context.robot_line.rstrip("\n") + "\n"
+    robot_line = context.robot_line()
+    if robot_line:
+        yield robot_line.rstrip("\n") + "\n"
     fixable = FixCounts()
     for f, d in findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)

@@ -215,11 +215,17 @@ class RobotChecks(Groupable):
             return next(iter(self._specs.values()), None)
         return pick_robot(AUTO, result.joints)
 
+    def note(self, result: ReadResult) -> RobotSpec | None:
+        """Record in :attr:`used` the robot ``result`` is checked against (or None), and return
+        it: what checking the file records, known from its header without checking it."""
+        spec = self.spec_for(result)
+        self.used[result.path] = spec
+        return spec
+
     def _check(self, result: ReadResult, *, group: bool) -> Findings:
         if self.robot == NONE:
             return Findings.of([])
-        spec = self.spec_for(result)
-        self.used[result.path] = spec
+        spec = self.note(result)
         if spec is None:
             return Findings.of([_skipped(result, self.wording)])
         parts = [self._run(check, result, group=group) for check in self._checks_for(spec)]

@@ -9,6 +9,7 @@ import pty
 import shutil
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -76,3 +77,21 @@ def test_play_shows_it_is_running_on_a_terminal(tmp_path: Path) -> None:
     _, piped_out, piped_err = run(args, tmp_path, tty=False)
     assert b"play:" not in piped_err
     assert len(out.splitlines()) == len(piped_out.splitlines())
+
+
+def test_a_report_to_the_terminal_ends_the_display_before_its_first_byte(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    from motiontool.cli.output import emit_pieces
+
+    seen: list[str] = []
+
+    def pieces() -> Iterator[str]:
+        seen.append("made")
+        yield "robot: nao\n"
+        seen.append("made")
+        yield "checked 1 file\n"
+
+    emit_pieces(pieces(), None, before_writing=lambda: seen.append(capsys.readouterr().out))
+    assert seen == ["made", "made", ""]  # the display ended before anything was written
+    assert capsys.readouterr().out == "robot: nao\nchecked 1 file\n"

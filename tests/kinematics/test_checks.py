@@ -530,11 +530,11 @@ def test_auto_picks_the_robot_per_file_and_notes_when_none_fits(tmp_path: Path) 
     (tmp_path / "hexapod.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,hip_l0,knee_l0\n0,P,0,0\n")
     checker = RobotChecks("auto")
     report = validate_paths([tmp_path], checks=[checker])
+    by_file = {Path(f.path).name: f.diagnostics for f in report.files}  # each file validated
     robots = {Path(p).name: (s.name if s else None) for p, s in checker.used.items()}
     assert robots == {"nao.motion": "nao", "arm.motion": "ur5e", "typo.motion": "nao",
                       "stray.motion": None, "mixed.motion": None,
                       "hexapod.motion": None}  # fmt: skip
-    by_file = {Path(f.path).name: f.diagnostics for f in report.files}
     assert [d.code for d in by_file["nao.motion"]] == ["MT302"]
     assert [d.code for d in by_file["arm.motion"]] == ["MT302"]
     # Half of the joints are the Nao's: checked on the Nao, the typo named (MT301), the joint
@@ -770,7 +770,8 @@ def test_corpus_hand_wave_left_is_the_right_arm_unmirrored(corpus: Path) -> None
 def test_auto_detection_on_the_corpus_follows_the_manifest(corpus: Path) -> None:
     manifest = [line.split("\t") for line in (corpus / "MANIFEST.tsv").read_text().splitlines()[1:]]
     checker = RobotChecks("auto")
-    validate_paths([corpus], checks=[checker])
+    for _file in validate_paths([corpus], checks=[checker]).files:  # validated as read
+        pass
     for path, *_rest, robot, _verdict in manifest:
         spec = checker.used[str(corpus / path)]
         # robotbenchmark's humanoid sprint is a Nao ("other" in the manifest)
