@@ -7,6 +7,7 @@ import sys
 import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
+from typing import AnyStr
 
 import typer
 
@@ -27,6 +28,7 @@ __all__ = [
     "emit_bytes",
     "emit_pieces",
     "emit_stderr",
+    "in_blocks",
     "refuse_overwrite",
     "refuse_shared_outputs",
     "require_folder",
@@ -90,7 +92,7 @@ def emit_pieces(
     untouched) or to stdout; ``color``: to a terminal through Click, which keeps the ANSI
     colours. ``before_writing`` is called once, before the first block is written (a progress
     display on the same terminal ends there)."""
-    blocks = _blocks(pieces)
+    blocks = in_blocks(pieces)
     if before_writing is not None:
         blocks = _after(before_writing, blocks)
     if color and output is None:
@@ -111,17 +113,19 @@ def _after(call: Callable[[], None], blocks: Iterator[str]) -> Iterator[str]:
         yield from blocks
 
 
-def _blocks(pieces: Iterable[str], size: int = 1 << 16) -> Iterator[str]:
-    held: list[str] = []
+def in_blocks(pieces: Iterable[AnyStr], size: int = 1 << 16) -> Iterator[AnyStr]:
+    """``pieces`` (text or bytes) joined into blocks of about ``size`` characters or bytes:
+    what is written at once."""
+    held: list[AnyStr] = []
     n = 0
     for piece in pieces:
         held.append(piece)
         n += len(piece)
         if n >= size:
-            yield "".join(held)
+            yield piece[:0].join(held)
             held, n = [], 0
     if held:
-        yield "".join(held)
+        yield held[0][:0].join(held)
 
 
 def emit_stderr(text: str) -> None:

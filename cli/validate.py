@@ -28,7 +28,7 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit_bytes, emit_pieces, refuse_overwrite
+from motiontool.cli.output import emit_pieces, refuse_overwrite
 from motiontool.cli.progress import Step, progress
 from motiontool.cli.reports import (
     DEFAULT_FORMAT,
@@ -50,6 +50,7 @@ from motiontool.kinematics.checks import (
     parse_checks,
 )
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.fileio import STDOUT, open_output
 from motiontool.motionfmt.validate import ValidationReport
 from motiontool.stamps import stamps
 
@@ -368,9 +369,11 @@ def _apply_fixes(
     ``write``): print the fixes as a unified diff, then exit (1 if there is one)."""
     robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
     if not write:
-        changes = fix_files(files, unsafe=unsafe, write=False, robot=robot_fixes)
-        emit_bytes(b"".join(changes.diff), output)
-        raise typer.Exit(1 if changes.diff else 0)
+        with open_output(STDOUT if output is None else output) as sink:
+            changes = fix_files(
+                files, unsafe=unsafe, write=False, robot=robot_fixes, diff=sink.write
+            )
+        raise typer.Exit(1 if changes.files else 0)
     fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
     typer.echo(f"motiontool: {fixed.line()}", err=True)
 

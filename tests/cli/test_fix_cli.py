@@ -82,6 +82,28 @@ def test_diff_shows_the_fixes_writes_nothing_and_exits_1(motion: Path) -> None:
     assert invoke("validate", "m.motion", "--diff")[:2] == (0, "")
 
 
+def test_the_diff_is_written_file_by_file_as_it_is_made(motion: Path) -> None:
+    """--diff never holds the whole diff: each file's goes out before the next is read."""
+    from motiontool.cli.fixing import fix_files
+
+    other = motion.with_name("n.motion")
+    other.write_bytes(FIXABLE)
+    events: list[str] = []
+
+    def robot(path: Path, data: bytes) -> None:
+        events.append(f"read {path.name}")
+
+    run = fix_files(
+        [Path(motion.name), Path(other.name)],  # the fixture works in their folder
+        unsafe=True,
+        write=False,
+        robot=robot,
+        diff=lambda block: events.append(block.split(b"\n")[0].decode()),
+    )
+    assert events == ["read m.motion", "--- a/m.motion", "read n.motion", "--- a/n.motion"]
+    assert run.files == ["m.motion", "n.motion"]
+
+
 def test_fix_refuses_standard_input(motion: Path) -> None:
     result = runner.invoke(app, ["validate", "-", "--fix"], input=FIXABLE)
     assert result.exit_code == 2
