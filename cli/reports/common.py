@@ -237,16 +237,26 @@ class Fingerprints:
     """Stable identities of findings across runs and commits: a hash of the code, the path
     relative to the project and the message (of a grouped finding, which names lines: its
     subject and first pose time, :attr:`Diagnostic.identity`), and the finding's rank among
-    identical ones; not its line, so that a line added above a finding leaves it the same
-    finding."""
+    identical ones of its severity in its file, in file order; not its line, so that a line
+    added above a finding leaves it the same finding.
+
+    The ranks are counted for one file at a time (identical findings are of one file: the
+    path is in the key) and forgotten at the next, so that memory does not grow with the
+    run; a report by severity reads a file's findings of one severity together, and they
+    get the same ranks as in file order."""
 
     def __init__(self) -> None:
-        self._seen: Counter[bytes] = Counter()  # by a digest of the key: 32 bytes a finding
+        self._seen: Counter[bytes] = Counter()  # 16 bytes of a digest of key and severity
+        self._file: tuple[str, Severity] | None = None
 
-    def __call__(self, d: Diagnostic) -> str:
+    def __call__(self, d: Diagnostic, order: Order = Order.file) -> str:
+        block = (d.path, d.severity if order is Order.severity else Severity.INFO)
+        if block != self._file:
+            self._seen.clear()
+            self._file = block
         rel = relative_path(d.path)
         key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.identity}"
         raw = key.encode("utf-8", "surrogateescape")
-        seen = hashlib.sha256(raw).digest()
+        seen = hashlib.sha256(raw + f"\0{d.severity}".encode()).digest()[:16]
         self._seen[seen] += 1
         return hashlib.sha256(raw + f"\0{self._seen[seen]}".encode()).hexdigest()

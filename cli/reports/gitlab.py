@@ -61,7 +61,7 @@ def _issues(report: ValidationReport, context: Context) -> Iterator[str]:
             "check_name": d.code,
             "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
             "content": {"body": title},
-            "fingerprint": fingerprint(d),
+            "fingerprint": fingerprint(d, context.order),
             "severity": _SEVERITY[d.severity],
             "location": {"path": _path(d.path), "lines": _lines(d)},
         }

@@ -215,6 +215,6 @@ def _results(
     the undecodable bytes escaped."""
     fingerprint = Fingerprints()
     for f, d in findings(report, context.order):
-        clean, n = escape_undecodable(_result(f, d, index[d.code], fingerprint(d)))
+        clean, n = escape_undecodable(_result(f, d, index[d.code], fingerprint(d, context.order)))
         escaped[0] += n
         yield json.dumps(clean, indent=2, ensure_ascii=False)

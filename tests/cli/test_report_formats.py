@@ -115,6 +115,30 @@ def test_sarif_results_have_fingerprints_that_survive_a_line_added_above(here: P
     assert len(set(before)) == len(before) and set(before) <= set(prints())
 
 
+def test_identical_findings_get_the_same_fingerprints_in_either_order(here: Path) -> None:
+    """Identical findings (one message in one file) are told apart by their rank in their
+    file; the ranks are counted a file at a time, and --sort severity gives the same ones."""
+    twice = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,2rad\n00:00:040,P2,nan\n00:00:080,P3,2rad\n"
+    (here / "sub" / "twice.motion").write_bytes(twice)
+    files = ["sub/bad.motion", "sub/twice.motion"]
+
+    def prints(*extra: str) -> dict[tuple[str, int], str]:
+        run = sarif([*files, *extra])["runs"][0]  # type: ignore[index]
+        return {
+            (r["ruleId"], r["locations"][0]["physicalLocation"]["region"]["startLine"]): r[
+                "partialFingerprints"
+            ]["motiontoolFinding/v1"]
+            for r in run["results"]
+        }
+
+    by_file, by_severity = prints(), prints("--sort", "severity")
+    assert by_file == by_severity
+    assert by_file[("MT203", 2)] != by_file[("MT203", 4)]  # one message, told apart by rank
+    assert len(set(by_file.values())) == len(by_file)
+    issues = gitlab([*files, "--sort", "severity"])
+    assert {i["fingerprint"] for i in issues} == {i["fingerprint"] for i in gitlab(files)}
+
+
 def test_every_sarif_rule_has_markdown_help_and_no_dead_link(here: Path) -> None:
     run = sarif(["sub/bad.motion"])["runs"][0]  # type: ignore[index]
     driver = run["tool"]["driver"]
