@@ -51,7 +51,13 @@ def _joint_line(j: JointDiff, tolerance: float, width: int) -> str:
 
 
 def _text(diff: MotionDiff, old: Path, new: Path) -> str:
-    how = f"every joint within {num(diff.tolerance)} rad, compared every {diff.timestep_ms} ms"
+    grid = f"every {diff.timestep_ms} ms"
+    if not diff.every_step:  # a motion lasting days: the steps next to each pose time
+        grid = (
+            f"at the {diff.compared_steps:,} of the {diff.grid_steps:,} steps of {diff.timestep_ms}"
+            " ms next to each pose time, where |Δq| peaks; not the rounding between them"
+        )
+    how = f"every joint within {num(diff.tolerance)} rad, compared {grid}"
     lines = []
     if diff.same:
         lines.append(
@@ -102,6 +108,8 @@ def _json(diff: MotionDiff, old: Path, new: Path) -> str:
         },
         "tolerance": diff.tolerance,
         "timestep_ms": diff.timestep_ms,
+        "grid_steps": diff.grid_steps,
+        "compared_steps": diff.compared_steps,
         "joints_added": list(diff.added),
         "joints_removed": list(diff.removed),
         "joints_reordered": diff.reordered,

@@ -24,11 +24,12 @@ columns is the *same* motion; added or removed joints and a changed duration are
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.player import Held, commands_at, hold_targets, require_held
+from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
 if TYPE_CHECKING:
     import numpy as np
@@ -38,6 +39,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEFAULT_TOLERANCE_RAD",
+    "EVERY_STEP_LIMIT",
     "JointDiff",
     "MotionDiff",
     "compare_motions",
@@ -52,6 +54,12 @@ DEFAULT_TOLERANCE_RAD = 1e-4
 and well above the rounding of a value written with 6 decimals (5e-7)."""
 
 _CHUNK_STEPS = 1 << 16  # steps compared at once: bounds memory to a few MB per joint block
+
+EVERY_STEP_LIMIT = 4_000_000
+"""A grid of up to this many steps (66 min at 1 ms) is compared at every step, bit for bit, in
+seconds at most. A longer one (a motion lasting days would take hours) is compared at the steps
+next to each pose time, where |Δq| is largest (exactly so but for rounding: see
+:func:`_compared_steps`); :attr:`MotionDiff.compared_steps` says how many."""
 
 
 def joint_names(motion: Motion) -> tuple[str, ...]:
@@ -158,6 +166,9 @@ class MotionDiff:
         old_duration_ms, new_duration_ms: the motions' durations (last pose time), ms.
         old_poses, new_poses: pose counts.
         joints: one :class:`JointDiff` per joint both have, in the old motion's order.
+        grid_steps: the steps of the comparison grid (0 to the longer motion's end).
+        compared_steps: those compared: all of them, or past :data:`EVERY_STEP_LIMIT` those
+            next to each pose time.
     """
 
     timestep_ms: int
@@ -170,6 +181,13 @@ class MotionDiff:
     old_poses: int
     new_poses: int
     joints: tuple[JointDiff, ...] = field(default=())
+    grid_steps: int = 0
+    compared_steps: int = 0
+
+    @property
+    def every_step(self) -> bool:
+        """Whether every step of the grid was compared (else those next to the pose times)."""
+        return self.compared_steps == self.grid_steps
 
     @property
     def changed(self) -> tuple[JointDiff, ...]:
@@ -212,8 +230,16 @@ class _Extremes:
         self.new_only = np.zeros(n, dtype=np.int64)
         self.presence_first = np.full(n, -1, dtype=np.int64)
 
-    def update(self, steps: npt.NDArray[np.int64], held_old: Held, held_new: Held) -> None:
-        """Take in the steps ``steps`` (S,), where the motions hold ``held_old``, ``held_new``."""
+    def update(
+        self,
+        steps: npt.NDArray[np.int64],
+        held_old: Held,
+        held_new: Held,
+        weights: npt.NDArray[np.int64],
+    ) -> None:
+        """Take in the steps ``steps`` (S,), where the motions hold ``held_old``, ``held_new``;
+        each stands for ``weights`` steps of the grid with the same presence (itself and those
+        up to the next one taken in)."""
         import numpy as np
 
         (a, _, has_a), (b, _, has_b) = held_old, held_new
@@ -239,8 +265,8 @@ class _Extremes:
         self.presence_first = np.where(
             (self.presence_first < 0) & (counts > 0), first, self.presence_first
         )
-        self.old_only += (has_a & ~has_b).sum(axis=0)
-        self.new_only += (~has_a & has_b).sum(axis=0)
+        self.old_only += weights @ (has_a & ~has_b)
+        self.new_only += weights @ (~has_a & has_b)
 
     def joint_diffs(self, names: Sequence[str], timestep_ms: int) -> list[JointDiff]:
         """One :class:`JointDiff` per joint of ``names`` (the common joints, in order)."""
@@ -261,6 +287,92 @@ class _Extremes:
                 )
             )
         return joints
+
+
+def _compared_steps(
+    motions: Sequence[Motion], timestep_ms: int, n_steps: int
+) -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]]:
+    """The steps of the grid ``0 .. n_steps - 1`` that decide the comparison, in chunks of at
+    most :data:`_CHUNK_STEPS`, each with how many grid steps it stands for (itself and the
+    steps up to the next one).
+
+    Between two pose times of either motion, each command is a linear interpolation of the
+    step (or a constant: before the first pose, after the last, or held where nothing is
+    sent), so |Δq| is largest at a first or last step of such a run of steps, and which side
+    holds a target is the same all along it. So the steps next to each pose time (two either
+    side) are enough, whatever the motion's duration; but every step of a segment whose values
+    reach Webots' no-value marker, where one step may skip its target."""
+    import numpy as np
+
+    points = [np.array([0, n_steps - 1], dtype=np.int64)]
+    dense: list[tuple[int, int]] = []
+    for m in motions:
+        t = m.times_ms
+        below, above = t // timestep_ms, -(-t // timestep_ms)
+        points += [below - 1, below, above, above + 1]
+        for a in _marker_segments(m):
+            dense.append((int(below[a]), int(above[a + 1]) + 1))
+    sparse = np.unique(np.concatenate(points))
+    sparse = sparse[(sparse >= 0) & (sparse < n_steps)]
+    return _weighted(_merged(sparse, dense, n_steps), n_steps)
+
+
+def _marker_segments(motion: Motion) -> list[int]:
+    """The segments (index of their first pose) where a column's interpolated value can equal
+    :data:`~motiontool.motionfmt.reader.NO_VALUE_MARKER` (Webots then sends nothing), within a
+    margin far above rounding."""
+    import numpy as np
+
+    v = motion.values
+    if v.shape[0] < 2:
+        return []
+    lo, hi = np.fmin(v[:-1], v[1:]), np.fmax(v[:-1], v[1:])
+    margin = 1e-6 * abs(NO_VALUE_MARKER)
+    with np.errstate(invalid="ignore"):
+        near = (lo <= NO_VALUE_MARKER + margin) & (hi >= NO_VALUE_MARKER - margin)
+    return np.flatnonzero(near.any(axis=1)).tolist()
+
+
+def _merged(
+    sparse: npt.NDArray[np.int64], dense: list[tuple[int, int]], n_steps: int
+) -> Iterator[npt.NDArray[np.int64]]:
+    """``sparse`` steps and every step of the ``dense`` ranges ``[start, end)``, sorted, each
+    once, in arrays of at most :data:`_CHUNK_STEPS`."""
+    import numpy as np
+
+    done = 0  # every step below it is given
+    for start, end in sorted(dense):
+        start, end = max(start, done), min(end, n_steps)
+        if start >= end:
+            continue
+        yield from _chunks(sparse[(sparse >= done) & (sparse < start)])
+        for first in range(start, end, _CHUNK_STEPS):
+            yield np.arange(first, min(first + _CHUNK_STEPS, end), dtype=np.int64)
+        done = end
+    yield from _chunks(sparse[sparse >= done])
+
+
+def _chunks(steps: npt.NDArray[np.int64]) -> Iterator[npt.NDArray[np.int64]]:
+    for first in range(0, steps.shape[0], _CHUNK_STEPS):
+        yield steps[first : first + _CHUNK_STEPS]
+
+
+def _weighted(
+    chunks: Iterator[npt.NDArray[np.int64]], n_steps: int
+) -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]]:
+    """Each chunk of sorted steps with how many grid steps each stands for: up to the next
+    step of the next chunks, the last one up to ``n_steps``."""
+    import numpy as np
+
+    pending = None
+    for steps in chunks:
+        if not steps.shape[0]:
+            continue
+        if pending is not None:
+            yield pending, np.diff(np.append(pending, steps[0]))
+        pending = steps
+    if pending is not None:
+        yield pending, np.diff(np.append(pending, n_steps))
 
 
 def compare_motions(
@@ -294,12 +406,17 @@ def compare_motions(
     extremes = _Extremes(len(common))
     held_old: Held | None = None
     held_new: Held | None = None
-    for start in range(0, n_steps, _CHUNK_STEPS):
-        steps = np.arange(start, min(start + _CHUNK_STEPS, n_steps), dtype=np.int64)
+    if n_steps <= EVERY_STEP_LIMIT:
+        chunks = _weighted(_merged(np.empty(0, dtype=np.int64), [(0, n_steps)], n_steps), n_steps)
+    else:
+        chunks = _compared_steps((old, new), timestep_ms, n_steps)
+    compared = 0
+    for steps, weights in chunks:
+        compared += steps.shape[0]
         elapsed = steps * timestep_ms
         held_old = _held(old, common, elapsed, held_old)
         held_new = _held(new, common, elapsed, held_new)
-        extremes.update(steps, held_old, held_new)
+        extremes.update(steps, held_old, held_new, weights)
     joints = extremes.joint_diffs(common, timestep_ms)
     return MotionDiff(
         timestep_ms=timestep_ms,
@@ -312,4 +429,6 @@ def compare_motions(
         old_poses=old.n_poses,
         new_poses=new.n_poses,
         joints=tuple(joints),
+        grid_steps=n_steps,
+        compared_steps=compared,
     )

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from unittest import mock
+
 import numpy as np
 import pytest
 from conftest import corpus_params
@@ -65,6 +67,74 @@ def test_respelled_file_is_the_same_motion(data: bytes) -> None:
     m = read_bytes(data).motion
     canonical = read_bytes(format_motion(m, newline="\r\n").encode()).motion
     assert compare_motions(m, canonical, tolerance=0.0).same
+
+
+def _at_pose_times(old: Motion, new: Motion, timestep: int) -> MotionDiff:
+    """The comparison of a grid too long to compare at every step: the steps next to each
+    pose time only."""
+    with mock.patch("motiontool.motionfmt.compare.EVERY_STEP_LIMIT", 0):
+        return compare_motions(old, new, timestep_ms=timestep)
+
+
+def _agrees_with_every_step(old: Motion, new: Motion, timestep: int) -> None:
+    every = compare_motions(old, new, timestep_ms=timestep)
+    fast = _at_pose_times(old, new, timestep)
+    assert every.every_step and fast.grid_steps == every.grid_steps >= fast.compared_steps
+    end = max(old.duration_ms, new.duration_ms)
+    for e, f in zip(every.joints, fast.joints, strict=True):
+        # Which side holds a target is the same along a run of steps: counted exactly.
+        assert (f.old_only_steps, f.new_only_steps, f.presence_at_ms) == (
+            e.old_only_steps,
+            e.new_only_steps,
+            e.presence_at_ms,
+        )
+        # The largest |Δq| is at a step next to a pose time, but for rounding.
+        assert f.max_delta == pytest.approx(e.max_delta, rel=1e-12, abs=1e-12) or (
+            f.max_delta == e.max_delta == np.inf
+        )
+        if f.at_ms is not None:  # the step it names has that |Δq| on every step's grid too
+            _, a = held_targets(old, timestep, until_ms=end, names=[f.joint])
+            _, b = held_targets(new, timestep, until_ms=end, names=[f.joint])
+            k = f.at_ms // timestep
+            assert (a[k, 0], b[k, 0]) == pytest.approx((f.old_value, f.new_value), nan_ok=True)
+
+
+@SETTINGS
+@given(a=motion_files(non_finite=True), b=motion_files(), timestep=st.sampled_from([1, 8, 20]))
+def test_the_steps_next_to_pose_times_find_what_every_step_finds(
+    a: bytes, b: bytes, timestep: int
+) -> None:
+    _agrees_with_every_step(read_bytes(a).motion, read_bytes(b).motion, timestep)
+
+
+def test_a_segment_through_the_no_value_marker_is_compared_at_every_step() -> None:
+    # Halfway from -19999999.8 to 0 the interpolated target is Webots' no-value marker,
+    # -9999999.9, at one step (500 ms): nothing is sent there, the motor holds its last target.
+    old = motion("#WEBOTS_MOTION,V1.0,A\n0,p,-19999999.8\n1000,q,0\n")
+    new = motion("#WEBOTS_MOTION,V1.0,A\n0,p,-19999999.8\n1000,q,0.0000001\n")
+    d = _at_pose_times(old, new, 1)
+    (a,) = d.joints
+    assert a.at_ms == 500 and a.max_delta == pytest.approx(20_000, rel=1e-6)  # 499 ms held
+    _agrees_with_every_step(old, new, 1)
+
+
+def test_a_run_of_steps_that_starts_holding_is_counted_from_its_first_step() -> None:
+    # A's first command is sent at 201 ms (the segments before touch '*'): the new motion,
+    # which commands it from 0 ms, holds a target alone for 201 steps, the first one at 0 ms.
+    old = motion("#WEBOTS_MOTION,V1.0,A\n0,p,*\n100,q,*\n200,r,1\n300,s,1\n")
+    new = motion("#WEBOTS_MOTION,V1.0,A\n0,p,1\n300,s,1\n")
+    (a,) = _at_pose_times(old, new, 1).joints
+    assert (a.new_only_steps, a.presence_at_ms) == (201, 0)
+    _agrees_with_every_step(old, new, 1)
+    _agrees_with_every_step(new, old, 20)
+
+
+def test_a_motion_lasting_days_is_compared_in_a_moment() -> None:
+    days = "#WEBOTS_MOTION,V1.0,A,B\n0,p,0,0\n40,q,1.5,*\n2000000000,r,0,{}\n"
+    d = compare_motions(motion(days.format(0)), motion(days.format(0.1)))
+    assert d.grid_steps == 2_000_000_001 and d.compared_steps < 20
+    a, b = d.joints
+    assert (a.max_delta, b.max_delta, b.at_ms) == (0.0, pytest.approx(0.1), 2_000_000_000)
 
 
 def test_reports_the_largest_delta_per_joint_with_its_time() -> None:
