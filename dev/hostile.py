@@ -80,15 +80,18 @@ HUGE = [
 ]
 
 # A motion that plays for 23 days (100 million controller steps): what holds its stream whole
-# refuses it in one line; what reads it a chunk at a time finishes. Run under a 3 GiB address
-# space limit (a step too many held would need tens of GB).
+# refuses it in one line; what reads it a chunk at a time (or at its pose times) finishes. Run
+# under a 3 GiB address space limit (a step too many held would need tens of GB).
 DAYS = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n2000000000,P3,0,0.1\n"
 LONG_REFUSED = [
     ["play", "days.motion", "--headless"],
     ["plot", "days.motion", "-o", "X"],
     ["resample", "days.motion", "--step", "20", "-o", "X"],
 ]
-LONG_FINISHED = [["validate", "days.motion", "--robot", "nao"]]
+LONG_FINISHED = [
+    ["validate", "days.motion", "--robot", "nao"],
+    ["diff", "days.motion", "days.motion"],  # at the steps next to its pose times
+]
 _LONG_LIMIT = 3 << 30
 
 # Two outputs on one path: refused before anything runs.
