@@ -53,6 +53,7 @@ def clamp_fixes(
     rows = result.motion.values[poses]
     first = poses.start or 0
     fixes: list[Fix] = []
+    said: dict[tuple[str, float], tuple[bytes, str]] = {}  # one text per joint and bound
     for j, name in enumerate(result.joints):
         if name not in spec or (joint is not None and name != joint):
             continue
@@ -65,8 +66,13 @@ def clamp_fixes(
         for p in np.flatnonzero(np.isfinite(column) & (above | below)).tolist():
             bound = limit.upper if column[p] > limit.upper else limit.lower
             line, start, end = result.cell_span(first + p, j)
-            title = f"{CLAMP_TITLE}: {name} = {bound!r} {limit.unit}"
-            fixes.append(Fix("MT302", line, start, end, repr(bound).encode(), False, title, name))
+            if (name, bound) not in said:
+                said[name, bound] = (
+                    repr(bound).encode(),
+                    f"{CLAMP_TITLE}: {name} = {bound!r} {limit.unit}",
+                )
+            text, title = said[name, bound]
+            fixes.append(Fix("MT302", line, start, end, text, False, title, name))
     return fixes
 
 

@@ -89,7 +89,7 @@ _MERGE_PROOF_CELLS = 20_000_000
 millisecond; a longer file keeps its duplicate column."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Fix:
     """One edit: on physical line ``line``, bytes ``column`` .. ``end_column`` (1-based, end
     exclusive) become ``replacement``; ``end_column`` None means to the end of the line, and a
