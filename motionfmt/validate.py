@@ -267,20 +267,24 @@ class FileReports(Sequence[FileReport]):
         return sum(self.tally(i, s) for s in Severity)
 
     def survey(self) -> None:
-        """Know what a report needs of every file before it starts: the files that fit the
-        budget are validated (and held), ``survey`` is told about the others; once a run."""
+        """Know what a report needs of every file before it starts: the files up to the
+        budget are validated (and held), and the first one past it too (the report reads it
+        next: it is not made twice), so that a check skipped for a missing library is known
+        however small the budget; ``survey`` is told about the others. Once a run."""
         if self._surveyed:
             return
         self._surveyed = True
         assert self._survey is not None
+        past = False  # from the first file past the budget on, the others are surveyed
         for i in range(len(self)):
             if self._known(i) is not None:  # validated, all its findings made
                 continue
             size = self._sizes[i] if self._sizes is not None else 0
-            if self._held_bytes + size <= self._budget:
-                self[i]
-            else:
+            if past:
                 self._survey(i)
+                continue
+            past = self._held_bytes + size > self._budget
+            self[i]
 
 
 def _no_notes() -> list[Diagnostic]:

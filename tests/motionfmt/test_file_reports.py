@@ -109,12 +109,18 @@ def test_the_survey_validates_what_fits_and_only_surveys_the_rest(tmp_path: Path
         return validate_bytes(GOOD, f"f{i}")
 
     size = len(GOOD)
-    files = FileReports(
-        ["f0", "f1", "f2"], make, sizes=[size] * 3, survey=surveyed.append, budget=2 * size
-    )
+    names = ["f0", "f1", "f2", "f3"]
+    files = FileReports(names, make, sizes=[size] * 4, survey=surveyed.append, budget=2 * size)
     files.survey()
     files.survey()  # once a run
-    assert made == [0, 1] and surveyed == [2]
+    # The two that fit, then the first past the budget (the report reads it next).
+    assert made == [0, 1, 2] and surveyed == [3]
+    assert [f.path for f in files] == names and made == [0, 1, 2, 3]  # none made twice
+    made.clear()
+    surveyed.clear()
+    files = FileReports(names, make, sizes=[size] * 4, survey=surveyed.append, budget=0)
+    files.survey()
+    assert made == [0] and surveyed == [1, 2, 3]
 
 
 @pytest.mark.parametrize(
