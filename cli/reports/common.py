@@ -66,18 +66,20 @@ def summary(report: ValidationReport) -> str:
 def findings(report: ValidationReport, order: Order) -> Iterator[tuple[FileReport, Diagnostic]]:
     """The findings a report shows (the first :attr:`~ValidationReport.limit` in file order),
     each with its file, made as they are read: in file order, or by severity (a pass over the
-    files per severity, errors first, each in file order)."""
+    files per severity, errors first, each in file order; a file with none of a severity is
+    not read again for it, its counts are known)."""
     if order is Order.file:
-        yield from _shown(report)
+        for f, shown in per_file(report):
+            for d in shown:
+                yield f, d
         return
+    limits = list(shown_counts(report))  # an int a file: the reports are not held
     for severity in sorted(Severity, reverse=True):
-        yield from ((f, d) for f, d in _shown(report) if d.severity is severity)
-
-
-def _shown(report: ValidationReport) -> Iterator[tuple[FileReport, Diagnostic]]:
-    for f, shown in per_file(report):
-        for d in shown:
-            yield f, d
+        for i, n in enumerate(limits):
+            if not report.files.tally(i, severity):
+                continue
+            f = report.files[i]
+            yield from ((f, d) for d in shown_of(report, i, n) if d.severity is severity)
 
 
 def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Findings]]:
