@@ -5,7 +5,7 @@ they take gigabytes. The checks keep what they computed as arrays (a few bytes a
 each finding when a report reaches it: :class:`Findings` is a sequence whose findings are made
 every time it is read, in file order (:meth:`Diagnostic.sort_key`), so that a report streams
 them to its output one at a time. Reading it again makes them again (a report that needs two
-passes, such as the JSON report whose summary comes first, pays twice the time, never the
+passes, such as the JUnit report whose counts come first, pays twice the time, never the
 memory). The first whole pass also counts them by severity (:meth:`Findings.count`), so the
 summary and the exit code that follow a report need no pass of their own.
 """

@@ -5,8 +5,8 @@ read (float64 values) and the robot checks' tables: about 4 times the file's siz
 11 times with the robot checks. :class:`FileReports` validates each file when a report first
 reads it and holds the reports of the first files only, up to :data:`HELD_INPUT_BYTES` of
 input; a report past them is let go when the next one is read, and made again if a report reads
-it again (the JSON and JUnit reports count the findings before they write them; ``--sort
-severity`` reads a file again for each severity it has findings of). Memory stays flat however
+it again (the JUnit report counts the findings before it writes them; ``--sort severity``
+reads a file again for each severity it has findings of). Memory stays flat however
 many files a run has; what a second pass costs is time.
 """
 

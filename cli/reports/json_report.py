@@ -68,33 +68,37 @@ def _note_json(d: Diagnostic) -> dict[str, Any]:
 
 def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """The versioned JSON report; its schema is documented in ``docs/json-report.md`` and
-    shipped as ``motiontool/cli/schemas/validate.schema.json``. Written as the findings are
-    made (the summary first: a pass that counts them, then the pass that writes them), the
-    same text as :func:`~motiontool.cli.jsontext.dumps` of the whole document."""
-    counts = {  # first: the pass that counts validates the files, then the robots are known
-        "files": len(report.files),
-        "errors": report.count(Severity.ERROR),
-        "warnings": report.count(Severity.WARNING),
-        "notes": report.count(Severity.INFO),
-    }
+    shipped as ``motiontool/cli/schemas/validate.schema.json``. Written in one pass as the
+    findings are made: the files first, then the summary and the run's notes, known once
+    every file is validated; the same text as :func:`~motiontool.cli.jsontext.dumps` of the
+    whole document."""
     doc: dict[str, Any] = {
         "schema": "motiontool.validate",
         "schema_version": JSON_SCHEMA_VERSION,
         "stamps": stamps(),
         **context.robot_json(),
-        "summary": counts,
-        "notes": [_note_json(d) for d in report.notes],
         "files": HOLE,
+        "summary": {},
+        "notes": [],
     }
-    before, after, escaped = dumps_around(doc, 0)
-    yield before
-    counter = [escaped]
+    yield dumps_around(doc, 0)[0]
+    counter = [0]
     for i, (f, shown) in enumerate(per_file(report)):
         yield ("[" if i == 0 else ",") + "\n    "
         yield from _file(f, shown, counter)
     yield "\n  ]" if report.files else "[]"
-    escaped = counter[0]
-    yield (f',\n  "{ESCAPED_BYTES}": {escaped}\n}}' if escaped else after) + "\n"
+    doc["summary"] = {
+        "files": len(report.files),
+        "errors": report.count(Severity.ERROR),
+        "warnings": report.count(Severity.WARNING),
+        "notes": report.count(Severity.INFO),
+    }
+    doc["notes"] = [_note_json(d) for d in report.notes]
+    _before, after, escaped = dumps_around(doc, 0)  # escaped: before and after the files
+    if escaped + counter[0]:
+        doc[ESCAPED_BYTES] = escaped + counter[0]
+        after = dumps_around(doc, 0)[1]
+    yield after + "\n"
 
 
 def _file(f: FileReport, shown: Iterable[Diagnostic], escaped: list[int]) -> Iterator[str]:
