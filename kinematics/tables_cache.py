@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.kinematics._pinocchio import KinematicTables, kinematic_tables
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.fileio import cache_root
 
 if TYPE_CHECKING:
     import numpy as np
@@ -40,8 +41,7 @@ _NAMES = ("geom_body", "geom_limb")
 
 def cache_dir() -> Path:
     """``$XDG_CACHE_HOME/motiontool/kinematics`` (``~/.cache/motiontool/kinematics``)."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "motiontool" / "kinematics"
+    return cache_root() / "kinematics"
 
 
 @functools.cache

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from motiontool.motionfmt.fileio import atomic_write
+from motiontool.motionfmt.fileio import atomic_write, cache_root
 
 __all__ = ["BYTES_PER_MB", "DEFAULT_MAX_MB", "CacheUsage", "ResultCache", "default_cache_dir"]
 
@@ -27,8 +27,7 @@ DEFAULT_MAX_MB = 500
 
 def default_cache_dir() -> Path:
     """``$XDG_CACHE_HOME/motiontool/batch`` (``~/.cache/motiontool/batch``)."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "motiontool" / "batch"
+    return cache_root() / "batch"
 
 
 @dataclass(frozen=True)
