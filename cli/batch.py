@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -13,6 +14,7 @@ from motiontool.cli.lint_run import collect
 from motiontool.cli.options import Timestep, finite, robot_option
 from motiontool.cli.output import (
     emit,
+    emit_pieces,
     refuse_overwrite,
     refuse_shared_outputs,
     require_folder,
@@ -169,17 +171,17 @@ def batch_command(
         sidecar=not no_sidecar,
         rrd_dir=rrd_dir,
     )
-    batch = _run(
-        specs,
-        executor=executor,
-        jobs=jobs,
-        timeout=timeout,
-        cache_dir=cache_dir,
-        no_cache=no_cache,
-        cache_max_mb=cache_max_mb,
-        ray_address=ray_address,
-    )
-    _write_reports(batch, profile, outputs)
+    with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
+        batch = _run(
+            specs,
+            executor=executor,
+            jobs=jobs,
+            timeout=timeout,
+            cache=(cache_dir, no_cache, cache_max_mb),
+            ray_address=ray_address,
+            spool_dir=Path(spool),  # the runs' reports wait there, not in memory
+        )
+        _write_reports(batch, profile, outputs)
     if batch.failures:
         raise typer.Exit(1)
 
@@ -312,13 +314,14 @@ def _run(
     executor: str,
     jobs: int,
     timeout: float | None,
-    cache_dir: Path | None,
-    no_cache: bool,
-    cache_max_mb: float,
+    cache: tuple[Path | None, bool, float],
     ray_address: str | None,
+    spool_dir: Path,
 ) -> BatchResult:
     """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
-    (a terminal only), cached in ``cache_dir`` (default: the user's) unless ``no_cache``."""
+    (a terminal only), cached (``cache``: the folder, default the user's; no cache; its size
+    limit in MB), each run's report stored in ``spool_dir`` as it ends."""
+    cache_dir, no_cache, cache_max_mb = cache
     from motiontool.sim.batch import default_cache_dir, run_batch
     from motiontool.sim.cache import BYTES_PER_MB
     from motiontool.sim.runs import run_outputs, run_spec
@@ -345,6 +348,7 @@ def _run(
             ray_address=ray_address,
             outputs=run_outputs,
             progress=progress,
+            spool_dir=spool_dir,
         )
 
 
@@ -392,7 +396,7 @@ def _write_reports(batch: BatchResult, profile: Profile, outputs: dict[str, Path
         typer.echo(f"note: {WEBOTS_PROFILE_NOTE}")
     typer.echo(render_summary(batch), nl=False)
     if json_out is not None:
-        emit(render_json(batch), json_out)
+        emit_pieces(render_json(batch), json_out)
     if markdown is not None:
         emit(render_markdown(batch), markdown)
     if junit is not None:

@@ -2,16 +2,24 @@
 
 from __future__ import annotations
 
+import json
 import re
 import tempfile
 from collections import defaultdict
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from motiontool.cli.jsontext import dumps
+from motiontool.cli.jsontext import (
+    ESCAPED_BYTES,
+    HOLE,
+    dumps_around,
+    escape_undecodable,
+    list_pieces,
+)
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write
-from motiontool.sim.batch import BatchResult, RunResult, result_json
+from motiontool.sim.batch_results import BatchResult, RunResult, result_json
 from motiontool.stamps import stamps
 
 __all__ = [
@@ -24,11 +32,6 @@ __all__ = [
 ]
 
 
-def _metric(r: RunResult, key: str) -> float | None:
-    value = ((r.report or {}).get("base") or {}).get(key)
-    return float(value) if isinstance(value, int | float) else None
-
-
 def motion_rows(batch: BatchResult) -> list[dict[str, Any]]:
     """Per (motion, robot): runs, share clean, and the worst run (largest tilt, or a failure)."""
     groups: dict[tuple[str, str], list[RunResult]] = defaultdict(list)
@@ -39,7 +42,7 @@ def motion_rows(batch: BatchResult) -> list[dict[str, Any]]:
         clean = sum(r.ok for r in runs)
 
         def badness(r: RunResult) -> tuple[int, float]:
-            return (0 if r.ok else 1, _metric(r, "max_tilt_deg") or 0.0)
+            return (0 if r.ok else 1, r.tilt_deg or 0.0)
 
         worst = max(runs, key=badness)
         rows.append(
@@ -52,7 +55,7 @@ def motion_rows(batch: BatchResult) -> list[dict[str, Any]]:
                 "worst": worst.spec.label,
                 "worst_status": worst.status,
                 "worst_reason": worst.reason,
-                "worst_max_tilt_deg": _metric(worst, "max_tilt_deg"),
+                "worst_max_tilt_deg": worst.tilt_deg,
             }
         )
     return rows
@@ -87,9 +90,11 @@ def render_summary(batch: BatchResult) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_json(batch: BatchResult) -> str:
-    """Every run's full report, with the batch's stamps and totals (units in the keys)."""
-    doc = {
+def render_json(batch: BatchResult) -> Iterator[str]:
+    """Every run's full report, with the batch's stamps and totals (units in the keys), in
+    pieces: one run's report at a time, read back where the batch stored it; the same text as
+    :func:`~motiontool.cli.jsontext.dumps` of the whole document."""
+    doc: dict[str, Any] = {
         "schema": "motiontool.batch",
         "schema_version": 1,
         "stamps": stamps(),
@@ -103,9 +108,22 @@ def render_json(batch: BatchResult) -> str:
             "cached": sum(r.cached for r in batch.runs),
         },
         "motions": motion_rows(batch),
-        "runs": [result_json(r) for r in batch.runs],
+        "runs": HOLE,
     }
-    return dumps(doc)
+    before, after, escaped = dumps_around(doc, 0)
+    yield before
+    counter = [escaped]
+    yield from list_pieces(_runs(batch, counter), 1)
+    yield (f',\n  "{ESCAPED_BYTES}": {counter[0]}\n}}' if counter[0] else after) + "\n"
+
+
+def _runs(batch: BatchResult, escaped: list[int]) -> Iterator[str]:
+    """Each run as JSON text, its report read as it is written; ``escaped[0]`` adds up the
+    undecodable bytes escaped."""
+    for r in batch.runs:
+        clean, n = escape_undecodable(result_json(r))
+        escaped[0] += n
+        yield json.dumps(clean, indent=2, ensure_ascii=False)
 
 
 def md_cell(text: object) -> str:

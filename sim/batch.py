@@ -20,15 +20,21 @@ import os
 import random
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 from motiontool import __version__
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.sim.batch_results import (
+    CACHED_STATUSES,
+    BatchResult,
+    RunResult,
+    RunStatus,
+)
 from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 from motiontool.sim.expect import parse_expectations
@@ -130,53 +136,6 @@ class RunSpec:
             "tool": __version__,
         }
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
-
-
-RunStatus = Literal["clean", "failed", "error", "crashed", "timeout"]
-"""How a run ended: ``clean`` (upright, no collision, no warning, every expectation met),
-``failed`` (the run says why: fell, collided, simulator warning, an expectation not met),
-``error`` (the runner raised), ``crashed`` (its worker died) or ``timeout``."""
-
-CACHED_STATUSES: tuple[RunStatus, ...] = ("clean", "failed")
-"""Runs that are cached: the simulation's own verdict (an error, crash or timeout is run again)."""
-
-
-@dataclass
-class RunResult:
-    """The outcome of one run.
-
-    Attributes:
-        status: see :data:`RunStatus`.
-        reason: one line for anything but ``clean``.
-        report: the runner's full report (JSON-able), or None.
-        wall_s: wall-clock seconds (0 for a cached result).
-        cached: whether it came from the cache.
-    """
-
-    spec: RunSpec
-    status: RunStatus
-    reason: str = ""
-    report: dict[str, Any] | None = None
-    wall_s: float = 0.0
-    cached: bool = False
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "clean"
-
-
-@dataclass
-class BatchResult:
-    """Every run of a batch, in plan order, with totals."""
-
-    runs: list[RunResult] = field(default_factory=list)
-    wall_s: float = 0.0
-    executor: str = "local"
-    jobs: int = 1
-
-    @property
-    def failures(self) -> list[RunResult]:
-        return [r for r in self.runs if not r.ok]
 
 
 def check_robots(robots: Sequence[str]) -> None:
@@ -380,6 +339,7 @@ def run_batch(
     ray_address: str | None = None,
     outputs: Callable[[RunSpec], Sequence[Path]] | None = None,
     progress: Callable[[RunResult, int, int], None] | None = None,
+    spool_dir: Path | None = None,
 ) -> BatchResult:
     """Run ``specs`` (cached ones are not run again) and return every result in plan order.
 
@@ -400,13 +360,16 @@ def run_batch(
             :func:`motiontool.sim.runs.run_outputs`): a cached run one of whose files is
             missing is run again.
         progress: called after every run with (result, runs done, runs total).
+        spool_dir: an empty folder where each run's report is stored as it ends, and read
+            back when a report of the batch needs it (:meth:`RunResult.full_report`), so that
+            a batch of any number of runs holds none of their reports; None: held.
     """
     _check_timeout(timeout_s)
     t0 = time.monotonic()
     run = get_executor(executor, ray_address=ray_address)
     cache = None if cache_dir is None else ResultCache(cache_dir, cache_max_bytes)
     keys = [s.cache_key(model_hash(s.robot)) for s in specs]
-    results = _Results(len(specs), progress)
+    results = _Results(len(specs), progress, spool_dir)
     hits = [_cached(cache, spec, key, outputs) for spec, key in zip(specs, keys, strict=True)]
     todo = [i for i, hit in enumerate(hits) if hit is None]
     for i, hit in enumerate(hits):
@@ -424,16 +387,28 @@ def run_batch(
 
 class _Results:
     """The results of a batch as they come (cached first, then as runs end), each judged on its
-    expectations and told to ``progress`` with the count done."""
+    expectations, its report stored in ``spool`` (if given), and told to ``progress`` with
+    the count done."""
 
-    def __init__(self, total: int, progress: Callable[[RunResult, int, int], None] | None):
+    def __init__(
+        self,
+        total: int,
+        progress: Callable[[RunResult, int, int], None] | None,
+        spool: Path | None = None,
+    ):
         self._results: list[RunResult | None] = [None] * total
         self._done = 0
         self._progress = progress
+        self._spool = spool
 
     def finish(self, i: int, result: RunResult) -> None:
         """``result`` is the result of run ``i``: judged, kept, and told."""
-        self._results[i] = judged = _judged(result)
+        judged = _judged(result)
+        if self._spool is not None and judged.report is not None:
+            path = self._spool / f"{i}.json"
+            path.write_text(json.dumps(judged.report), encoding="ascii")  # exact: NaN, \udcxx
+            judged = replace(judged, report=None, stored=path)
+        self._results[i] = judged
         self._done += 1
         if self._progress:
             self._progress(judged, self._done, len(self._results))
@@ -465,15 +440,3 @@ def _cached(
 
 def _outputs_exist(spec: RunSpec, outputs: Callable[[RunSpec], Sequence[Path]] | None) -> bool:
     return outputs is None or all(path.exists() for path in outputs(spec))
-
-
-def result_json(result: RunResult) -> dict[str, Any]:
-    """A run as JSON: its spec, status, reason, wall time (s), cache flag and full report."""
-    return {
-        "spec": asdict(result.spec),
-        "status": result.status,
-        "reason": result.reason,
-        "wall_s": round(result.wall_s, 3),
-        "cached": result.cached,
-        "report": result.report,
-    }

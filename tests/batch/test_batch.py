@@ -114,13 +114,72 @@ def test_cache_replays_only_what_is_missing(motions: list[Path], tmp_path: Path)
     assert [r.status for r in first.runs] == expected
 
 
+def big_runner(spec: RunSpec) -> dict[str, Any]:
+    """A report of about 100 kB (a long run's joint rows), with what JSON cannot spell plainly:
+    NaN, and a name that is not UTF-8."""
+    report = runner(spec)
+    report["rows"] = [
+        {"joint": f"J{k}", "rms": k / 7, "name": "Head\udcffYaw"} for k in range(2000)
+    ]
+    report["nan"] = float("nan")
+    return report
+
+
+def test_a_spooled_batch_holds_no_report_and_writes_the_same_json(
+    motions: list[Path], tmp_path: Path
+) -> None:
+    specs = plan(
+        motions, ["nao"], perturbations=[parse_perturbation("friction=0.7:1.3")], samples=3
+    )
+    held = run_batch(specs, big_runner, model_hash=lambda r: "h", jobs=2, cache_dir=None)
+    spool = tmp_path / "spool"
+    spool.mkdir()
+    spooled = run_batch(
+        specs, big_runner, model_hash=lambda r: "h", jobs=2, cache_dir=None, spool_dir=spool
+    )
+    assert all(r.report is None and r.stored is not None for r in spooled.runs)
+    assert [r.tilt_deg for r in spooled.runs] == [r.tilt_deg for r in held.runs]
+    spooled.wall_s = held.wall_s
+    for a, b in zip(held.runs, spooled.runs, strict=True):
+        b.wall_s = a.wall_s
+    text = "".join(render_json(spooled))
+    assert text == "".join(render_json(held))
+    assert render_markdown(spooled) == render_markdown(held)
+    doc = json.loads(text)
+    assert doc["escaped_bytes"] == 6 * 2000 and len(doc["runs"]) == 6
+
+
+def test_a_spooled_batch_holds_memory_flat_in_its_runs(motions: list[Path], tmp_path: Path) -> None:
+    import tracemalloc
+
+    specs = plan(
+        motions, ["nao"], perturbations=[parse_perturbation("friction=0.7:1.3")], samples=4
+    )
+
+    def kept(spool: Path | None) -> int:
+        tracemalloc.start()
+        try:
+            batch = run_batch(
+                specs, big_runner, model_hash=lambda r: "h", jobs=2, cache_dir=None, spool_dir=spool
+            )
+            return tracemalloc.get_traced_memory()[0] if batch.runs else 0
+        finally:
+            tracemalloc.stop()
+
+    spool = tmp_path / "spool"
+    spool.mkdir()
+    held, spooled = kept(None), kept(spool)
+    assert held > 8 * 200_000  # 8 reports of about 300 kB held
+    assert spooled < held / 5, (held, spooled)
+
+
 def test_reports(motions: list[Path], tmp_path: Path) -> None:
     specs = plan(motions, ["nao"])
     batch = run_batch(specs, runner, model_hash=lambda r: "h", jobs=2, cache_dir=None)
     summary = render_summary(batch)
     assert "long.motion" in summary and "failed: fell at 0.5 s" in summary
     assert summary.splitlines()[-1].startswith("2 runs: 1 clean, 1 not clean, 0 from cache;")
-    doc = json.loads(render_json(batch))
+    doc = json.loads("".join(render_json(batch)))
     assert doc["summary"] == {"runs": 2, "clean": 1, "not_clean": 1, "cached": 0}
     assert doc["runs"][1]["report"]["base"]["max_tilt_deg"] == 60.0
     md = render_markdown(batch)

@@ -128,7 +128,7 @@ def test_batch_json_of_a_non_utf8_joint_name(tmp_path: Path) -> None:
     batch = run_batch(
         plan([motion], ["nao"]), _stand_in, model_hash=lambda r: "h", jobs=1, cache_dir=None
     )
-    doc = strict_json(render_batch_json(batch).encode("utf-8", "surrogateescape"))
+    doc = strict_json("".join(render_batch_json(batch)).encode("utf-8", "surrogateescape"))
     assert doc["runs"][0]["report"]["ignored_joints"] == [ESCAPED, "HeadPitch"]
     assert doc["escaped_bytes"] == 1
 
