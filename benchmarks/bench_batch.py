@@ -1,15 +1,25 @@
-"""Benchmark: batch throughput, ``--jobs 1`` vs ``--jobs 2`` on the local pool, and Ray vs local.
+"""Benchmark: batch throughput, ``--jobs 1`` vs ``--jobs 2`` on the local pool, and Ray vs local;
+and the memory of ``motiontool batch`` against its number of runs.
 
-Run: ``python benchmarks/bench_batch.py``. Plays the same batch (a Nao motion x perturbation
-samples, no cache) with each executor and prints runs per second and the ratios measured in the
-same run. Targets (issue 6): jobs 2 >= 1.7x jobs 1; Ray >= 0.8x the local pool at 2 jobs.
+Run: ``python benchmarks/bench_batch.py`` (``--memory-only`` for the last part). Plays the same
+batch (a Nao motion x perturbation samples, no cache) with each executor and prints runs per
+second and the ratios measured in the same run. Targets (issue 6): jobs 2 >= 1.7x jobs 1; Ray
+>= 0.8x the local pool at 2 jobs. Then the whole ``batch`` command with 20 and 80 samples of a
+short motion and a JSON report: the peak of the larger against the smaller (target: flat, at
+most 1.1x: the runs' reports are stored on disk as they end, not held).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
+import sys
+import tempfile
 import time
 from pathlib import Path
+
+from _timing import best_child  # benchmarks/_timing.py (run as a script)
 
 from motiontool.kinematics.robots import load_robot
 from motiontool.sim.batch import parse_perturbation, plan, run_batch
@@ -23,7 +33,11 @@ def main() -> None:
     parser.add_argument("--motion", default=str(ROOT / "motions" / "nao" / "wave_right.motion"))
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument("--no-ray", action="store_true")
+    parser.add_argument("--memory-only", action="store_true")
     args = parser.parse_args()
+    if args.memory_only:
+        memory()
+        return
     specs = plan([args.motion], ["nao"], perturbations=[parse_perturbation("friction=0.8:1.2")],
                  samples=args.samples, seed=1)  # fmt: skip
 
@@ -57,6 +71,27 @@ def main() -> None:
         print(
             f"ray (local cluster), 2 in flight: {rr:.2f} runs/s  ratio {rr / r2:.2f}x local pool  (target >= 0.8)"
         )
+    memory()
+
+
+def memory(counts: tuple[int, int] = (20, 80)) -> None:
+    """The batch command's peak with few and many runs, and their ratio."""
+    script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
+    motion = ROOT / "motions" / "nao" / "head_no.motion"
+    peaks = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in counts:
+            cmd = [script, "batch", str(motion), "--samples", str(n), "--perturb",
+                   "start-yaw=0:10", "--no-cache", "--json", str(Path(tmp) / "r.json")]  # fmt: skip
+            child = best_child(1, cmd)
+            peaks[n] = child.peak_bytes
+            print(
+                f"batch, {n} runs and a JSON report: {child.wall_s:.1f} s, {child.peak_mib:.0f} MiB peak"
+            )
+    few, many = counts
+    ratio = peaks[many] / peaks[few]
+    verdict = "met" if ratio <= 1.1 else "not met"
+    print(f"{many} runs peak at {ratio:.2f}x {few} runs' (target <= 1.1x, flat: {verdict})")
 
 
 if __name__ == "__main__":
