@@ -11,11 +11,11 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import (
-    ESCAPED_BYTES,
     HOLE,
     dumps_around,
     escape_undecodable,
     list_pieces,
+    text_after,
 )
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write
@@ -110,11 +110,10 @@ def render_json(batch: BatchResult) -> Iterator[str]:
         "motions": motion_rows(batch),
         "runs": HOLE,
     }
-    before, after, escaped = dumps_around(doc, 0)
-    yield before
-    counter = [escaped]
+    yield dumps_around(doc, 0)[0]
+    counter = [0]
     yield from list_pieces(_runs(batch, counter), 1)
-    yield (f',\n  "{ESCAPED_BYTES}": {counter[0]}\n}}' if counter[0] else after) + "\n"
+    yield text_after(doc, counter[0])
 
 
 def _runs(batch: BatchResult, escaped: list[int]) -> Iterator[str]:

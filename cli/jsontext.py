@@ -15,7 +15,15 @@ import re
 from collections.abc import Iterator
 from typing import Any
 
-__all__ = ["ESCAPED_BYTES", "HOLE", "dumps", "dumps_around", "escape_undecodable", "list_pieces"]
+__all__ = [
+    "ESCAPED_BYTES",
+    "HOLE",
+    "dumps",
+    "dumps_around",
+    "escape_undecodable",
+    "list_pieces",
+    "text_after",
+]
 
 ESCAPED_BYTES = "escaped_bytes"
 """The top-level field that counts the bytes written as ``\\xNN`` (absent when none were)."""
@@ -95,6 +103,20 @@ def dumps_around(doc: dict[str, Any], level: int) -> tuple[str, str, int]:
     text = json.dumps(clean, indent=2, ensure_ascii=False).replace("\n", "\n" + "  " * level)
     before, after = text.split(json.dumps(HOLE))
     return before, after, escaped
+
+
+def text_after(
+    doc: dict[str, Any], escaped_in_list: int, count_in: dict[str, Any] | None = None
+) -> str:
+    """The text of ``doc`` after its :data:`HOLE` list, once that list is written (the fields
+    after it filled in by now), with one trailing newline. Where bytes were escaped (those
+    of the list, ``escaped_in_list``, and those of the rest of ``doc``), their number is
+    ``escaped_bytes``, the last field of ``count_in`` (default: ``doc``)."""
+    _before, after, escaped = dumps_around(doc, 0)
+    if escaped + escaped_in_list:
+        (doc if count_in is None else count_in)[ESCAPED_BYTES] = escaped + escaped_in_list
+        after = dumps_around(doc, 0)[1]
+    return after + "\n"
 
 
 def list_pieces(texts: Iterator[str], level: int) -> Iterator[str]:

@@ -9,7 +9,6 @@ validated when the report reaches it, not all before it starts.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,13 +19,7 @@ from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_chec
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.fileio import (
-    collect_motion_files,
-    is_stdin,
-    read_file,
-    rereadable,
-    source_name,
-)
+from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_stdin
 from motiontool.motionfmt.fixes import RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
@@ -169,11 +162,11 @@ def lint(
     """
     check_codes(overrides.ignore)  # an unknown code: an error before any file is read
     sources = _Sources(files, resolver, overrides, make_checker, on_step)
-    names = [source_name(f) for f in files]
-    reports = FileReports(names, sources.make, sizes=sources.sizes, survey=sources.survey)
+    names = sources.inputs.names
+    reports = FileReports(names, sources.make, sizes=sources.inputs.sizes, survey=sources.survey)
     strict = {
         name
-        for name, f, s in zip(names, files, sources.settings, strict=True)
+        for name, s in zip(names, sources.settings, strict=True)
         if (overrides.strict if overrides.strict is not None else s.strict)
     }
     checkers = [c for c in sources.checkers.values() if c is not None]
@@ -191,8 +184,8 @@ def lint(
 class _Sources:
     """The files of one run with their settings and robot checks (those of each group of
     files, built at once): each file validated (:meth:`make`) or only surveyed for its robot
-    (:meth:`survey`) when its report asks. A file that cannot be read again (standard input,
-    a pipe) is read here and held."""
+    (:meth:`survey`) when its report asks, read from its
+    :class:`~motiontool.motionfmt.fileio.Inputs`."""
 
     def __init__(
         self,
@@ -213,13 +206,7 @@ class _Sources:
                 if checker is not None:
                     checker.on_check = on_step
                 self.checkers[key] = checker
-        self.held = {i: read_file(f) for i, f in enumerate(files) if not rereadable(f)}
-        self.sizes = [
-            len(self.held[i]) if i in self.held else os.stat(f).st_size for i, f in enumerate(files)
-        ]
-
-    def data(self, i: int) -> bytes:
-        return self.held[i] if i in self.held else read_file(self.files[i])
+        self.inputs = Inputs(files)
 
     def make(self, i: int) -> FileReport:
         """The ``i``-th file validated with its settings and its group's robot checks."""
@@ -227,8 +214,8 @@ class _Sources:
         _robot, checks, timestep, grouped = key
         checker = self.checkers[key]
         report = validate_bytes(
-            self.data(i),
-            source_name(f),
+            self.inputs.read(i),
+            self.inputs.names[i],
             timestep_ms=timestep,
             checks=[checker] if checker is not None else [],
             ignore=self.overrides.ignore,
@@ -242,8 +229,8 @@ class _Sources:
         """Record the robot that checks the ``i``-th file, reading it without checking it."""
         checker = self.checkers[self.keys[i]]
         if checker is not None:
-            name, timestep = source_name(self.files[i]), self.keys[i][2]
-            result = read_bytes(self.data(i), name, timestep_ms=timestep)
+            name, timestep = self.inputs.names[i], self.keys[i][2]
+            result = read_bytes(self.inputs.read(i), name, timestep_ms=timestep)
             if checkable(result):
                 checker.note(result)
 

@@ -46,8 +46,13 @@ from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.tables_cache import stored_tables
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     import numpy as np
     import numpy.typing as npt
+
+    _Candidates = tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]
+    """(configuration rows, pair indices, upper bounds on the depth in m), one entry each."""
 
 __all__ = [
     "Contact",
@@ -305,7 +310,7 @@ def _candidates(
     unique: npt.NDArray[np.float64],
     active: npt.NDArray[np.int64],
     tolerance: float,
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+) -> _Candidates:
     """(rows of ``unique``, pair indices, depth upper bounds in m) of the (configuration,
     pair)s that may penetrate at least ``tolerance`` m deep (see the module doc)."""
     import numpy as np
@@ -373,7 +378,10 @@ def scan_self_collisions(
     if active.size == 0:
         return []
 
-    rows, pairs, bound = _all_candidates(spec, tables, unique, active, tolerance)
+    rows, pairs, bound = _in_blocks(
+        lambda k: _candidates(spec, tables, unique[k : k + _BLOCK], active, tolerance),
+        unique.shape[0],
+    )
     if rows.size == 0:
         return []
     # coal's EPA can overshoot on flat-capped cylinders (a 12.4 mm sphere-in-cylinder
@@ -388,26 +396,17 @@ def scan_self_collisions(
     return contacts
 
 
-def _all_candidates(
-    spec: RobotSpec,
-    tables: KinematicTables,
-    unique: npt.NDArray[np.float64],
-    active: npt.NDArray[np.int64],
-    tolerance: float,
-) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-    """:func:`_candidates` of every configuration of ``unique``, a block of them at a time:
+def _in_blocks(block: Callable[[int], _Candidates], n: int) -> _Candidates:
+    """``block(start)`` (:func:`_candidates` of the :data:`_BLOCK` configurations from
+    ``start``) of every block of ``n`` configurations, their rows counted from the first:
     numpy lets go of the GIL in its loops, so the blocks run side by side on the machine's
     cores."""
     import numpy as np
 
-    def block(
-        start: int,
-    ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64], npt.NDArray[np.float64]]:
-        return _candidates(spec, tables, unique[start : start + _BLOCK], active, tolerance)
-
+    starts = range(0, n, _BLOCK)
     with ThreadPoolExecutor(max_workers=min(_THREADS, os.cpu_count() or 1)) as pool:
-        blocks = list(pool.map(block, range(0, unique.shape[0], _BLOCK)))
-    rows = np.concatenate([r + k * _BLOCK for k, (r, _p, _b) in enumerate(blocks)])
+        blocks = list(pool.map(block, starts))
+    rows = np.concatenate([r + k for k, (r, _p, _b) in zip(starts, blocks, strict=True)])
     pairs = np.concatenate([p for _r, p, _b in blocks])
     bound = np.concatenate([b for _r, _p, b in blocks])
     return rows, pairs, bound

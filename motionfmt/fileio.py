@@ -11,7 +11,7 @@ import stat
 import sys
 import tempfile
 import weakref
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
@@ -22,6 +22,7 @@ __all__ = [
     "STDIN_NAME",
     "STDOUT",
     "STDOUT_NAME",
+    "Inputs",
     "Sink",
     "atomic_write",
     "cache_root",
@@ -31,7 +32,6 @@ __all__ = [
     "open_output",
     "output_kind",
     "read_file",
-    "rereadable",
     "source_name",
 ]
 
@@ -81,17 +81,40 @@ def cache_root() -> Path:
     return Path(base) / "motiontool"
 
 
-def rereadable(path: str | Path) -> bool:
+def _rereadable(path: str | Path) -> bool:
     """Whether ``path`` can be read again later for the same bytes: a regular file this process
-    may read. Standard input, a pipe (``<(...)``) or a device is read once: a command that
-    reads its inputs more than once holds those (and one it may not read is read now, so that
-    the error comes before any output)."""
+    may read (standard input, a pipe or a device cannot)."""
     if is_stdin(path):
         return False
     try:
         return stat.S_ISREG(os.stat(path).st_mode) and os.access(path, os.R_OK)
     except OSError:
         return False
+
+
+class Inputs:
+    """Input files read as often as a command needs them, not held: standard input, a pipe
+    (``<(...)``) or a device, which cannot be read again, are read here once and held, and so
+    is a file this process may not read (read now, its error comes before any output).
+
+    Attributes:
+        paths: the files, in order.
+        names: how reports name them (:func:`source_name`).
+        sizes: each one's size, bytes (of the file on disk, or of the bytes held).
+    """
+
+    def __init__(self, paths: Sequence[Path]) -> None:
+        self.paths = list(paths)
+        self.names = [source_name(p) for p in self.paths]
+        self._held = {i: read_file(p) for i, p in enumerate(self.paths) if not _rereadable(p)}
+        self.sizes = [
+            len(self._held[i]) if i in self._held else os.stat(p).st_size
+            for i, p in enumerate(self.paths)
+        ]
+
+    def read(self, i: int) -> bytes:
+        """The bytes of the ``i``-th file (read again, or held)."""
+        return self._held[i] if i in self._held else read_file(self.paths[i])
 
 
 def read_file(path: str | Path) -> bytes:

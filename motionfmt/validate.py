@@ -21,12 +21,7 @@ from typing import overload
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
-from motiontool.motionfmt.fileio import (
-    collect_motion_files,
-    read_file,
-    rereadable,
-    source_name,
-)
+from motiontool.motionfmt.fileio import Inputs, collect_motion_files
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import (
     ROBOT_CODES,
@@ -415,14 +410,12 @@ def validate_paths(
         MotionToolError: a path is missing or unreadable, or a directory has no motion file.
     """
     ignore = check_codes(ignore)
-    files = collect_motion_files(paths)
-    held = {i: read_file(p) for i, p in enumerate(files) if not rereadable(p)}
+    inputs = Inputs(collect_motion_files(paths))
 
     def make(i: int) -> FileReport:
-        p = files[i]
         return validate_bytes(
-            held[i] if i in held else read_file(p),
-            source_name(p),
+            inputs.read(i),
+            inputs.names[i],
             timestep_ms=timestep_ms,
             checks=checks,
             ignore=ignore,
@@ -430,4 +423,4 @@ def validate_paths(
             on_step=on_step,
         )
 
-    return ValidationReport(files=FileReports([source_name(p) for p in files], make))
+    return ValidationReport(files=FileReports(inputs.names, make, sizes=inputs.sizes))

@@ -8,11 +8,11 @@ from collections.abc import Iterable, Iterator
 from typing import Any
 
 from motiontool.cli.jsontext import (
-    ESCAPED_BYTES,
     HOLE,
     dumps_around,
     escape_undecodable,
     list_pieces,
+    text_after,
 )
 from motiontool.cli.reports.common import PLAIN, Context, fix_json, per_file
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
@@ -94,11 +94,7 @@ def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[
         "notes": report.count(Severity.INFO),
     }
     doc["notes"] = [_note_json(d) for d in report.notes]
-    _before, after, escaped = dumps_around(doc, 0)  # escaped: before and after the files
-    if escaped + counter[0]:
-        doc[ESCAPED_BYTES] = escaped + counter[0]
-        after = dumps_around(doc, 0)[1]
-    yield after + "\n"
+    yield text_after(doc, counter[0])
 
 
 def _file(f: FileReport, shown: Iterable[Diagnostic], escaped: list[int]) -> Iterator[str]:

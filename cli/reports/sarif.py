@@ -10,11 +10,11 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import (
-    ESCAPED_BYTES,
     HOLE,
     dumps_around,
     escape_undecodable,
     list_pieces,
+    text_after,
 )
 from motiontool.cli.reports.common import (
     PLAIN,
@@ -201,11 +201,7 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator
     ]
     properties: dict[str, Any] = {"stamps": stamps(), **context.robot_json()}
     run["properties"] = properties
-    _before, after, escaped = dumps_around(doc, 0)  # escaped: before and after the results
-    if escaped + counter[0]:  # the bytes escaped, in the run's property bag
-        properties[ESCAPED_BYTES] = escaped + counter[0]
-        after = dumps_around(doc, 0)[1]
-    yield after + "\n"
+    yield text_after(doc, counter[0], count_in=properties)  # the count in the run's bag
 
 
 def _results(
