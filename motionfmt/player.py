@@ -46,6 +46,7 @@ __all__ = [
     "hold_targets",
     "iter_commands",
     "iter_elapsed",
+    "played_steps",
     "require_held",
     "sample",
     "step_count",
@@ -107,6 +108,23 @@ def step_count(
         return (-(-duration_ms // timestep_ms) + 1) * loops
     last = end_step(duration_ms, timestep_ms)
     return None if last is None else (last + 1) * loops
+
+
+def played_steps(
+    duration_ms: int, timestep_ms: int, *, reverse: bool = False, loops: int = 1
+) -> int:
+    """:func:`step_count` of a motion that is played to its end.
+
+    Raises:
+        PlaybackNeverEndsError: the motion never stops at this time step (Webots' clock wraps).
+    """
+    _check_play(timestep_ms, loops)
+    overflow = None if reverse else clock_overflow(duration_ms, timestep_ms)
+    if overflow is not None and not overflow.ends:
+        raise PlaybackNeverEndsError(overflow)
+    steps = step_count(duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    assert steps is not None  # the clock does not wrap forever
+    return steps
 
 
 def iter_elapsed(
@@ -196,12 +214,8 @@ def elapsed_steps(
     """
     import numpy as np
 
-    _check_play(timestep_ms, loops)
-    overflow = None if reverse else clock_overflow(duration_ms, timestep_ms)
-    if overflow is not None and not overflow.ends:
-        raise PlaybackNeverEndsError(overflow)
-    steps = step_count(duration_ms, timestep_ms, reverse=reverse, loops=loops)
-    require_held(steps or 0, timestep_ms)
+    steps = played_steps(duration_ms, timestep_ms, reverse=reverse, loops=loops)
+    require_held(steps, timestep_ms)
     cycle = np.concatenate(
         list(iter_elapsed(duration_ms, timestep_ms, reverse=reverse, chunk_steps=1 << 20))
     )

@@ -15,8 +15,9 @@ the simulated tool at the first frame at or after the keyframe time.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Sequence
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
 from motiontool.sim.report import EndEffectorStats, KeyframePose
@@ -29,7 +30,7 @@ if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.trace import Trace
 
-__all__ = ["DEFAULT_REACH_TOLERANCE_MM", "TRAIL_STEP_S", "measure_end_effector"]
+__all__ = ["DEFAULT_REACH_TOLERANCE_MM", "TRAIL_STEP_S", "ToolMeter"]
 
 DEFAULT_REACH_TOLERANCE_MM = 1.0
 """A keyframe counts as reached once the tool is this close (mm) to its commanded position."""
@@ -40,11 +41,10 @@ TRAIL_STEP_S = 0.05
 
 def _keyframe_steps(
     motions: Sequence[Motion], lengths: Sequence[int], timestep_ms: int, reverse: bool, loops: int
-) -> list[tuple[int, int, float, int]]:
+) -> Iterator[tuple[int, int, float, int]]:
     """(file index, pose index, time s, first control step at or after it) of every keyframe,
     in the order played (:func:`motiontool.motionfmt.player.elapsed_steps`: each cycle of a
     motion has ceil(D / T) + 1 steps, its playback time ``k T`` at its step ``k``)."""
-    out = []
     start = 0
     for f, (motion, length) in enumerate(zip(motions, lengths, strict=True)):
         duration = int(motion.duration_ms)
@@ -57,9 +57,8 @@ def _keyframe_steps(
                 k = -(-played_ms // timestep_ms)
                 step = start + loop * cycle + k
                 time_ms = (start + loop * cycle) * timestep_ms + played_ms
-                out.append((f, p, time_ms / MS_PER_S, step))
+                yield f, p, time_ms / MS_PER_S, step
         start += length
-    return out
 
 
 def _angle_deg(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> float:
@@ -70,138 +69,198 @@ def _angle_deg(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> float:
     return math.degrees(2.0 * math.acos(dot))
 
 
-def measure_end_effector(
-    scene: Scene,
-    trace: Trace,
-    motions: Sequence[Motion],
-    lengths: Sequence[int],
-    timestep_ms: int,
-    *,
-    reverse: bool = False,
-    loops: int = 1,
-    reach_tolerance_mm: float = DEFAULT_REACH_TOLERANCE_MM,
-) -> EndEffectorStats | None:
-    """The tool's keyframe poses, lags and deviation over the run; None without a tool.
+class _Keyframe:
+    """A keyframe the run reached, measured but for its lag (see :meth:`ToolMeter.add`)."""
 
-    Args:
-        scene: the scene that was run (its ``tool``, model and motor limits).
-        trace: the run (``tool_pos`` / ``tool_quat`` every frame).
-        motions: the motions played, in order; lengths: the control steps of each.
-        timestep_ms: the control step, ms; reverse, loops: as played.
-        reach_tolerance_mm: the distance within which a keyframe counts as reached, mm.
+    __slots__ = ("end", "index", "next_frame", "position", "step", "time_s")
+
+    def __init__(self, index: int, step: int, time_s: float, position: Any) -> None:
+        self.index, self.step, self.time_s, self.position = index, step, time_s, position
+        self.next_frame = step  # the next frame to look at for its lag
+        self.end: int | None = None  # the last frame to look at: None while not known
+
+
+class ToolMeter:
+    """The tool's keyframe poses, lags and deviation over a run, measured a chunk at a time as
+    :class:`motiontool.sim.measure.RunMeter` measures the rest (:meth:`add` each chunk, then
+    :meth:`stats`); a keyframe stays held only until its lag is known.
+
+    For every keyframe reached, the commanded pose is the forward kinematics of its targets
+    and the measured one the tool at its frame. Its lag is looked for from its frame until the
+    motion goes on to another position (the frame of the next keyframe reached whose commanded
+    position is further than the tolerance) or the run ends.
     """
-    import numpy as np
 
-    from motiontool.sim import _mujoco
+    def __init__(
+        self,
+        scene: Scene,
+        motions: Sequence[Motion],
+        lengths: Sequence[int],
+        timestep_ms: int,
+        *,
+        reverse: bool = False,
+        loops: int = 1,
+        reach_tolerance_mm: float = DEFAULT_REACH_TOLERANCE_MM,
+    ) -> None:
+        assert scene.tool is not None
+        self.scene, self.motions = scene, motions
+        self.reach_tolerance_mm = reach_tolerance_mm
+        self._tolerance_m = reach_tolerance_mm / MM_PER_M
+        self._coming = _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
+        self._next = next(self._coming, None)
+        self._keyframes: list[KeyframePose] = []
+        self._open: list[_Keyframe] = []
+        self._worst: tuple[Any, float] | None = None  # deviation m, at s
+        self._trail: list[tuple[float, tuple[float, float, float]]] = []
+        self._last: Trace | None = None
 
-    if scene.tool is None or trace.tool_pos is None or trace.tool_quat is None:
-        return None
-    lim = scene.limits
-    targets = np.clip(trace.targets, lim.lower, lim.upper)  # (S', J), S' = steps simulated
-    reached = [  # every keyframe the run reached
-        kf
-        for kf in _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
-        if kf[3] < len(targets) and kf[3] < len(trace.time_s)
-    ]
-    rows = _keyframe_targets(scene, motions, reached, targets)
-    fk_pos, fk_quat = _mujoco.tool_poses(scene, np.concatenate([rows, targets]))
-    keyframes = _keyframe_poses(
-        trace, motions, reached, fk_pos[: len(rows)], fk_quat[: len(rows)], reach_tolerance_mm
-    )
-    # The command stream: the target step k sends at time_s[k] against the tool at that time
-    # (frame k), aligned as the keyframes are (their target and the tool at their frame).
-    deviation = np.linalg.norm(trace.tool_pos[: len(targets)] - fk_pos[len(rows) :], axis=1)
-    worst = int(np.argmax(deviation)) if len(deviation) else -1
-    samples = _trail_frames(trace)
-    return EndEffectorStats(
-        frame=scene.tool[0],
-        kind=scene.tool[1],
-        reach_tolerance_mm=reach_tolerance_mm,
-        keyframes=tuple(keyframes),
-        max_deviation_mm=float(deviation[worst]) * MM_PER_M if worst >= 0 else 0.0,
-        max_deviation_at_s=float(trace.time_s[worst]) if worst >= 0 else 0.0,
-        trail_time_s=tuple(float(trace.time_s[k]) for k in samples),
-        trail_position_m=tuple(_vec3(trace.tool_pos[k]) for k in samples),
-    )
+    def add(self, chunk: Trace) -> None:
+        """Measure the next chunk of the run."""
+        import numpy as np
 
+        from motiontool.sim import _mujoco
 
-def _keyframe_targets(
-    scene: Scene,
-    motions: Sequence[Motion],
-    reached: Sequence[tuple[int, int, float, int]],
-    targets: npt.NDArray[np.float64],
-) -> npt.NDArray[np.float64]:
-    """(K, J) the motor targets of each keyframe reached: the targets in force at its step with
-    the keyframe's own commands over them, clipped to the motor limits."""
-    import numpy as np
+        assert chunk.tool_pos is not None and chunk.tool_quat is not None
+        lim = self.scene.limits
+        targets = np.clip(chunk.targets[: chunk.steps_done], lim.lower, lim.upper)
+        reached = self._reached(chunk.first_frame + len(targets))
+        rows = self._keyframe_targets(reached, targets, chunk.first_frame)
+        fk_pos, fk_quat = _mujoco.tool_poses(self.scene, np.concatenate([rows, targets]))
+        self._new_keyframes(chunk, reached, fk_pos[: len(rows)], fk_quat[: len(rows)])
+        self._lags(chunk)
+        # The command stream: the target step k sends at time_s[k] against the tool at that
+        # time (frame k), aligned as the keyframes are (their target and the tool at their frame).
+        deviation = np.linalg.norm(chunk.tool_pos[: len(targets)] - fk_pos[len(rows) :], axis=1)
+        if len(deviation):
+            k = int(np.argmax(deviation))
+            if self._worst is None or deviation[k] > self._worst[0]:
+                self._worst = (deviation[k], float(chunk.time_s[k]))
+        self._sample_trail(chunk)
+        self._last = chunk
 
-    lim = scene.limits
-    column = {name: j for j, name in enumerate(scene.joints)}
-    rows = np.empty((len(reached), len(scene.joints)))
-    for i, (f, p, _t, step) in enumerate(reached):
-        row = targets[step].copy()
-        motion = motions[f]
-        for m, name in enumerate(motion.joints):
-            if name in column and bool(motion.commanded[p, m]):
-                row[column[name]] = motion.values[p, m]
-        rows[i] = np.clip(row, lim.lower, lim.upper)
-    return rows
+    def _reached(self, steps: int) -> list[tuple[int, int, float, int]]:
+        """The keyframes not met yet whose step is before ``steps`` (the steps simulated)."""
+        out = []
+        while self._next is not None and self._next[3] < steps:
+            out.append(self._next)
+            self._next = next(self._coming, None)
+        return out
 
+    def _keyframe_targets(
+        self,
+        reached: Sequence[tuple[int, int, float, int]],
+        targets: npt.NDArray[np.float64],
+        first: int,
+    ) -> npt.NDArray[np.float64]:
+        """(K, J) the motor targets of each keyframe reached: the targets in force at its step
+        (row ``step - first`` of ``targets``) with the keyframe's own commands over them,
+        clipped to the motor limits."""
+        import numpy as np
 
-def _keyframe_poses(
-    trace: Trace,
-    motions: Sequence[Motion],
-    reached: Sequence[tuple[int, int, float, int]],
-    kf_pos: npt.NDArray[np.float64],
-    kf_quat: npt.NDArray[np.float64],
-    reach_tolerance_mm: float,
-) -> list[KeyframePose]:
-    """Each keyframe reached: the tool's commanded pose (``kf_pos`` m, ``kf_quat`` w, x, y, z)
-    against the measured one at its frame, and its lag: from the keyframe's frame until the
-    tool is within the reach tolerance, looked for until the motion goes on to another
-    position (None: not reached before)."""
-    import numpy as np
+        scene, lim = self.scene, self.scene.limits
+        column = {name: j for j, name in enumerate(scene.joints)}
+        rows = np.empty((len(reached), len(scene.joints)))
+        for i, (f, p, _t, step) in enumerate(reached):
+            row = targets[step - first].copy()
+            motion = self.motions[f]
+            for m, name in enumerate(motion.joints):
+                if name in column and bool(motion.commanded[p, m]):
+                    row[column[name]] = motion.values[p, m]
+            rows[i] = np.clip(row, lim.lower, lim.upper)
+        return rows
 
-    assert trace.tool_pos is not None and trace.tool_quat is not None
-    tolerance_m = reach_tolerance_mm / MM_PER_M
-    keyframes = []
-    for i, (f, p, time_s, step) in enumerate(reached):
-        end = len(trace.time_s) - 1
-        for later in range(i + 1, len(reached)):
-            if np.linalg.norm(kf_pos[later] - kf_pos[i]) > tolerance_m:
-                end = max(step, reached[later][3])
-                break
-        dist = np.linalg.norm(trace.tool_pos[step : end + 1] - kf_pos[i], axis=1)
-        within = np.flatnonzero(dist <= tolerance_m)
-        lag = (
-            None if not len(within) else (float(trace.time_s[step + within[0]]) - time_s) * MS_PER_S
-        )
-        keyframes.append(
-            KeyframePose(
-                file_index=f,
-                name=motions[f].pose_names[p],
-                time_s=time_s,
-                commanded_position_m=_vec3(kf_pos[i]),
-                commanded_quat_wxyz=_vec4(kf_quat[i]),
-                measured_position_m=_vec3(trace.tool_pos[step]),
-                measured_quat_wxyz=_vec4(trace.tool_quat[step]),
-                position_error_mm=float(np.linalg.norm(trace.tool_pos[step] - kf_pos[i]))
-                * MM_PER_M,
-                orientation_error_deg=_angle_deg(kf_quat[i], trace.tool_quat[step]),
-                lag_ms=lag,
+    def _new_keyframes(
+        self,
+        chunk: Trace,
+        reached: Sequence[tuple[int, int, float, int]],
+        kf_pos: npt.NDArray[np.float64],
+        kf_quat: npt.NDArray[np.float64],
+    ) -> None:
+        """Measure the keyframes ``reached`` in ``chunk`` (commanded pose ``kf_pos`` m,
+        ``kf_quat`` w, x, y, z), and close the lag window of those before that they end."""
+        import numpy as np
+
+        assert chunk.tool_pos is not None and chunk.tool_quat is not None
+        for (f, p, time_s, step), pos, quat in zip(reached, kf_pos, kf_quat, strict=True):
+            for earlier in self._open:
+                if (
+                    earlier.end is None
+                    and np.linalg.norm(pos - earlier.position) > self._tolerance_m
+                ):
+                    earlier.end = max(earlier.step, step)
+            measured_pos, measured_quat = (
+                chunk.tool_pos[step - chunk.first_frame],
+                chunk.tool_quat[step - chunk.first_frame],
             )
+            self._open.append(_Keyframe(len(self._keyframes), step, time_s, pos))
+            self._keyframes.append(
+                KeyframePose(
+                    file_index=f,
+                    name=self.motions[f].pose_names[p],
+                    time_s=time_s,
+                    commanded_position_m=_vec3(pos),
+                    commanded_quat_wxyz=_vec4(quat),
+                    measured_position_m=_vec3(measured_pos),
+                    measured_quat_wxyz=_vec4(measured_quat),
+                    position_error_mm=float(np.linalg.norm(measured_pos - pos)) * MM_PER_M,
+                    orientation_error_deg=_angle_deg(quat, measured_quat),
+                    lag_ms=None,
+                )
+            )
+
+    def _lags(self, chunk: Trace) -> None:
+        """Look for each open keyframe's lag in the frames of ``chunk``; a keyframe whose lag
+        is found, or whose window is over, is closed."""
+        import numpy as np
+
+        assert chunk.tool_pos is not None
+        still = []
+        for kf in self._open:
+            stop = chunk.last_frame if kf.end is None else min(kf.end, chunk.last_frame)
+            dist = np.linalg.norm(
+                chunk.tool_pos[kf.next_frame - chunk.first_frame : stop - chunk.first_frame + 1]
+                - kf.position,
+                axis=1,
+            )
+            within = np.flatnonzero(dist <= self._tolerance_m)
+            if len(within):
+                frame = kf.next_frame + int(within[0]) - chunk.first_frame
+                lag = (float(chunk.time_s[frame]) - kf.time_s) * MS_PER_S
+                self._keyframes[kf.index] = replace(self._keyframes[kf.index], lag_ms=lag)
+                continue
+            kf.next_frame = stop + 1
+            if kf.end is None or kf.next_frame <= kf.end:
+                still.append(kf)
+        self._open = still
+
+    def _sample_trail(self, chunk: Trace) -> None:
+        """The tool's trail in ``chunk``: a frame every :data:`TRAIL_STEP_S`."""
+        assert chunk.tool_pos is not None
+        stride = max(1, round(TRAIL_STEP_S / chunk.control_step_s))
+        new = 0 if self._last is None else 1
+        first = chunk.first_frame + new
+        for frame in range(-(-first // stride) * stride, chunk.last_frame + 1, stride):
+            k = frame - chunk.first_frame
+            self._trail.append((float(chunk.time_s[k]), _vec3(chunk.tool_pos[k])))
+
+    def stats(self) -> EndEffectorStats:
+        """The end effector's report over the chunks measured."""
+        last = self._last
+        assert last is not None and last.tool_pos is not None and self.scene.tool is not None
+        trail = list(self._trail)
+        if not trail or trail[-1][0] != float(last.time_s[-1]):  # the last frame, always
+            trail.append((float(last.time_s[-1]), _vec3(last.tool_pos[-1])))
+        worst_m, worst_s = self._worst if self._worst is not None else (0.0, 0.0)
+        return EndEffectorStats(
+            frame=self.scene.tool[0],
+            kind=self.scene.tool[1],
+            reach_tolerance_mm=self.reach_tolerance_mm,
+            keyframes=tuple(self._keyframes),
+            max_deviation_mm=float(worst_m) * MM_PER_M,
+            max_deviation_at_s=worst_s,
+            trail_time_s=tuple(t for t, _ in trail),
+            trail_position_m=tuple(p for _, p in trail),
         )
-    return keyframes
-
-
-def _trail_frames(trace: Trace) -> list[int]:
-    """The frames of the tool's trail: one every :data:`TRAIL_STEP_S`, and the last."""
-    frames = len(trace.time_s)
-    stride = max(1, round(TRAIL_STEP_S / trace.control_step_s))
-    samples = list(range(0, frames, stride))
-    if samples[-1] != frames - 1:
-        samples.append(frames - 1)
-    return samples
 
 
 def _vec3(v: npt.NDArray[np.float64]) -> tuple[float, float, float]:

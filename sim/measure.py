@@ -6,6 +6,7 @@ the fall and which way), the feet, each joint's tracking and time at its caps, a
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -31,10 +32,10 @@ if TYPE_CHECKING:
 __all__ = [
     "LIMIT_TOLERANCE",
     "TORQUE_CAP_FRACTION",
+    "RunMeter",
     "SimulatedRun",
     "counted_contacts",
     "down_frames",
-    "measure",
     "tilt_and_heading",
 ]
 
@@ -95,98 +96,198 @@ def _fall_direction_deg(quat: npt.NDArray[np.float64], heading_deg: float) -> fl
     return 180.0 if turned == -180.0 else turned
 
 
-def _base(trace: Trace, opts: PlayOptions) -> BaseStats:
-    import numpy as np
+class _BaseMeter:
+    """The root body: displacement, heading, tilt, the fall and which way (:class:`BaseStats`)."""
 
-    tilt, heading = tilt_and_heading(trace.base_quat)
-    down = down_frames(trace, opts)
-    up = np.flatnonzero(~down)
-    yaw: float | None = None
-    if len(up):
-        steps = np.diff(heading[up])
-        yaw = float(np.sum((steps + 180.0) % 360.0 - 180.0))
-    fell_at: float | None = None
-    direction: float | None = None
-    if len(up):
-        after = np.flatnonzero(down[up[0] :])
-        if len(after):
-            k = up[0] + after[0]  # the first frame down; k - 1 was up
-            fell_at = float(trace.time_s[k])
-            direction = _fall_direction_deg(trace.base_quat[k], float(heading[k - 1]))
-    d = trace.base_pos[-1] - trace.base_pos[0]
-    return BaseStats(
-        dx_m=float(d[0]),
-        dy_m=float(d[1]),
-        dz_m=float(d[2]),
-        yaw_change_deg=yaw,
-        max_tilt_deg=float(tilt.max()),
-        final_tilt_deg=float(tilt[-1]),
-        min_height_m=float(trace.base_pos[:, 2].min()),
-        final_height_m=float(trace.base_pos[-1, 2]),
-        started_down=bool(down[0]),
-        fell=fell_at is not None,
-        fell_at_s=fell_at,
-        upright_at_end=not bool(down[-1]),
-        fall_direction_deg=direction,
-    )
+    def __init__(self, opts: PlayOptions) -> None:
+        self.opts = opts
+        self.start: npt.NDArray[np.float64] | None = None
+        self.started_down = False
+        self.max_tilt: Any = None
+        self.min_height: Any = None
+        self.yaw_parts: list[Any] = []
+        self.last_up_heading: Any = None  # the heading at the last frame up so far
+        self.fell_at: float | None = None
+        self.direction: float | None = None
+        self.end: tuple[npt.NDArray[np.float64], float, bool] | None = None
+
+    def add(self, trace: Trace, new: int) -> None:
+        """Measure the frames of ``trace`` from its frame ``new`` on (those before were
+        measured with the chunk before)."""
+        import numpy as np
+
+        tilt, heading = tilt_and_heading(trace.base_quat)
+        down = down_frames(trace, self.opts)
+        if self.start is None:
+            self.start, self.started_down = trace.base_pos[0].copy(), bool(down[0])
+        height = trace.base_pos[new:, 2]
+        self.max_tilt = _fold(np.maximum, self.max_tilt, tilt[new:].max())
+        self.min_height = _fold(np.minimum, self.min_height, height.min())
+        up = np.flatnonzero(~down[new:]) + new
+        if len(up):
+            headings = heading[up]
+            if self.last_up_heading is not None:
+                headings = np.concatenate(([self.last_up_heading], headings))
+            if self.fell_at is None:
+                self._fall(trace, down, heading, new if self.last_up_heading is not None else up[0])
+            steps = np.diff(headings)
+            self.yaw_parts.append(np.sum((steps + 180.0) % 360.0 - 180.0))
+            self.last_up_heading = heading[up[-1]]
+        elif self.fell_at is None and self.last_up_heading is not None:
+            self._fall(trace, down, heading, new)
+        self.end = (trace.base_pos[-1].copy(), float(tilt[-1]), bool(down[-1]))
+
+    def _fall(self, trace: Trace, down: Any, heading: Any, after: int) -> None:
+        """The first frame down from frame ``after`` of the chunk on, which was up before."""
+        import numpy as np
+
+        later = np.flatnonzero(down[after:])
+        if len(later):
+            k = int(after + later[0])  # the first frame down; k - 1 was up
+            self.fell_at = float(trace.time_s[k])
+            self.direction = _fall_direction_deg(trace.base_quat[k], float(heading[k - 1]))
+
+    def stats(self) -> BaseStats:
+        assert self.start is not None and self.end is not None
+        end, final_tilt, down_at_end = self.end
+        d = end - self.start
+        return BaseStats(
+            dx_m=float(d[0]),
+            dy_m=float(d[1]),
+            dz_m=float(d[2]),
+            yaw_change_deg=float(sum(self.yaw_parts)) if self.yaw_parts else None,
+            max_tilt_deg=float(self.max_tilt),
+            final_tilt_deg=final_tilt,
+            min_height_m=float(self.min_height),
+            final_height_m=float(end[2]),
+            started_down=self.started_down,
+            fell=self.fell_at is not None,
+            fell_at_s=self.fell_at,
+            upright_at_end=not down_at_end,
+            fall_direction_deg=self.direction,
+        )
 
 
-def _feet(trace: Trace) -> list[FootStats]:
-    import numpy as np
+def _fold(op: Any, total: Any, part: Any) -> Any:
+    """``op(total, part)``, or ``part`` for the first part (NaN propagates, as in numpy)."""
+    return part if total is None else op(total, part)
 
-    out = []
-    dt = trace.control_step_s
-    for f, name in enumerate(trace.feet):
-        xy = trace.foot_pos[:, f, :2]
-        touching = trace.foot_contact[:, f]
-        moves = np.linalg.norm(np.diff(xy, axis=0), axis=1)
+
+class _FeetMeter:
+    """Each foot: time in contact, slip, displacement (:class:`FootStats`)."""
+
+    def __init__(self) -> None:
+        self.start: npt.NDArray[np.float64] | None = None
+        self.contact: Any = 0
+        self.slip: list[Any] = []
+        self.max_away: Any = None
+        self.final_away: Any = None
+
+    def add(self, trace: Trace, new: int) -> None:
+        import numpy as np
+
+        xy = trace.foot_pos[:, :, :2]
+        touching = trace.foot_contact
+        if self.start is None:
+            self.start = xy[0].copy()
+        self.contact = self.contact + touching[1:].sum(axis=0)
+        moves = np.linalg.norm(np.diff(xy, axis=0), axis=2)
         both = touching[1:] & touching[:-1]
-        away = np.linalg.norm(xy - xy[0], axis=1)
-        out.append(
+        self.slip.append([moves[both[:, f], f].sum() for f in range(xy.shape[1])])
+        away = np.linalg.norm(xy - self.start, axis=2)
+        self.max_away = _fold(np.maximum, self.max_away, away[new:].max(axis=0))
+        self.final_away = away[-1]
+
+    def stats(self, feet: Sequence[str], dt: float) -> list[FootStats]:
+        return [
             FootStats(
                 name=name,
-                contact_s=float(touching[1:].sum() * dt),
-                slip_m=float(moves[both].sum()),
-                max_displacement_m=float(away.max()),
-                final_displacement_m=float(away[-1]),
+                contact_s=float(self.contact[f] * dt),
+                slip_m=float(sum(part[f] for part in self.slip)),
+                max_displacement_m=float(self.max_away[f]),
+                final_displacement_m=float(self.final_away[f]),
             )
-        )
-    return out
+            for f, name in enumerate(feet)
+        ]
 
 
-def _joints(scene: Scene, trace: Trace) -> list[JointStats]:
-    import numpy as np
+class _JointMeter:
+    """Each motor: tracking error from its first command on, time at its caps
+    (:class:`JointStats`)."""
 
-    lim = scene.limits
-    dt = trace.control_step_s
-    clipped = np.clip(trace.targets, lim.lower, lim.upper)
-    error = clipped - trace.position[1:]
-    at_velocity_cap = np.abs(trace.velocity_cmd) >= lim.max_velocity
-    at_torque_cap = np.abs(trace.torque) >= TORQUE_CAP_FRACTION * lim.max_torque
-    outside_target = (trace.targets < lim.lower) | (trace.targets > lim.upper)
-    pos = trace.position[1:]
-    beyond = (pos < lim.lower - LIMIT_TOLERANCE) | (pos > lim.upper + LIMIT_TOLERANCE)
-    ever: npt.NDArray[np.bool_] = np.asarray(trace.commanded.any(axis=0))
-    first = np.where(ever, trace.commanded.argmax(axis=0), 0)
-    out = []
-    for j, name in enumerate(trace.joints):
-        e = error[first[j] :, j]
-        unit = scene.robot.joint(name).unit
-        out.append(
-            JointStats(
-                name=name,
-                limb=scene.joint_limbs[j],
-                unit=unit,
-                commanded=bool(ever[j]),
-                rms_error=float(np.sqrt(np.mean(e * e))) if len(e) else 0.0,
-                max_error=float(np.abs(e).max()) if len(e) else 0.0,
-                velocity_cap_s=float(at_velocity_cap[:, j].sum() * dt),
-                torque_cap_s=float(at_torque_cap[:, j].sum() * dt),
-                target_clipped_s=float(outside_target[:, j].sum() * dt),
-                beyond_limits_s=float(beyond[:, j].sum() * dt),
+    def __init__(self, scene: Scene) -> None:
+        import numpy as np
+
+        n = len(scene.joints)
+        self.scene = scene
+        self.counts = np.zeros((4, n), dtype=np.int64)  # velocity cap, torque cap, clip, beyond
+        self.ever = np.zeros(n, dtype=np.bool_)
+        self.sums: list[list[Any]] = [[] for _ in range(n)]  # sum of squared errors, by chunk
+        self.steps = [0] * n
+        self.max: list[Any] = [None] * n
+        self.before = [(0.0, 0, None)] * n  # the same, before the first command (never sent)
+
+    def add(self, trace: Trace) -> None:
+        import numpy as np
+
+        lim = self.scene.limits
+        clipped = np.clip(trace.targets, lim.lower, lim.upper)
+        error = clipped - trace.position[1:]
+        pos = trace.position[1:]
+        self.counts += np.stack(
+            [
+                np.abs(trace.velocity_cmd) >= lim.max_velocity,
+                np.abs(trace.torque) >= TORQUE_CAP_FRACTION * lim.max_torque,
+                (trace.targets < lim.lower) | (trace.targets > lim.upper),
+                (pos < lim.lower - LIMIT_TOLERANCE) | (pos > lim.upper + LIMIT_TOLERANCE),
+            ]
+        ).sum(axis=1)
+        sent: npt.NDArray[np.bool_] = np.asarray(trace.commanded.any(axis=0))
+        first = trace.commanded.argmax(axis=0)
+        for j in range(len(self.ever)):
+            if not self.ever[j] and not sent[j]:
+                e = error[:, j]
+                total, steps, worst = self.before[j]
+                if len(e):
+                    self.before[j] = (
+                        total + np.sum(e * e),
+                        steps + len(e),
+                        _fold(np.maximum, worst, np.abs(e).max()),
+                    )
+                continue
+            e = error[:, j] if self.ever[j] else error[first[j] :, j]
+            self.ever[j] = True
+            if len(e):
+                self.sums[j].append(np.sum(e * e))
+                self.steps[j] += len(e)
+                self.max[j] = _fold(np.maximum, self.max[j], np.abs(e).max())
+
+    def stats(self, dt: float) -> list[JointStats]:
+        import numpy as np
+
+        out = []
+        scene = self.scene
+        for j, name in enumerate(scene.joints):
+            if self.ever[j]:
+                total, steps, worst = sum(self.sums[j]), self.steps[j], self.max[j]
+            else:
+                total, steps, worst = self.before[j]
+            velocity, torque, clipped, beyond = (int(c) for c in self.counts[:, j])
+            out.append(
+                JointStats(
+                    name=name,
+                    limb=scene.joint_limbs[j],
+                    unit=scene.robot.joint(name).unit,
+                    commanded=bool(self.ever[j]),
+                    rms_error=float(np.sqrt(total / steps)) if steps else 0.0,
+                    max_error=float(worst) if steps else 0.0,
+                    velocity_cap_s=float(velocity * dt),
+                    torque_cap_s=float(torque * dt),
+                    target_clipped_s=float(clipped * dt),
+                    beyond_limits_s=float(beyond * dt),
+                )
             )
-        )
-    return out
+        return out
 
 
 def counted_contacts(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactEvent]:
@@ -200,49 +301,97 @@ def counted_contacts(trace: Trace, kind: str, opts: PlayOptions) -> list[Contact
     ]
 
 
-def _contact_summaries(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactSummary]:
-    """One summary per pair of bodies: first frame, frames seen (as a duration), deepest."""
-    first: dict[tuple[str, str], int] = {}
-    frames: dict[tuple[str, str], set[int]] = {}
-    depth: dict[tuple[str, str], float] = {}
-    for e in counted_contacts(trace, kind, opts):
-        key = (e.body_a, e.body_b)
-        first[key] = min(first.get(key, e.frame), e.frame)
-        frames.setdefault(key, set()).add(e.frame)
-        depth[key] = max(depth.get(key, 0.0), e.depth_m)
-    return [
-        ContactSummary(
-            key[0],
-            key[1],
-            float(trace.time_s[first[key]]),
-            len(frames[key]) * trace.control_step_s,
-            depth[key],
+class _ContactMeter:
+    """One summary per pair of bodies and kind of contact: first frame, frames seen (as a
+    duration), deepest (:class:`ContactSummary`)."""
+
+    def __init__(self, opts: PlayOptions) -> None:
+        self.opts = opts
+        self.pairs: dict[str, dict[tuple[str, str], list[Any]]] = {k: {} for k in CONTACT_KINDS}
+
+    def add(self, trace: Trace) -> None:
+        for kind, pairs in self.pairs.items():
+            for e in counted_contacts(trace, kind, self.opts):
+                seen = pairs.get((e.body_a, e.body_b))
+                if seen is None:
+                    pairs[(e.body_a, e.body_b)] = [e.frame, e.frame, 1, max(0.0, e.depth_m)]
+                    continue
+                if e.frame != seen[1]:  # events come in frame order
+                    seen[1] = e.frame
+                    seen[2] += 1
+                seen[3] = max(seen[3], e.depth_m)
+
+    def summaries(self, kind: str, dt: float) -> list[ContactSummary]:
+        pairs = self.pairs[kind]
+        return [
+            ContactSummary(
+                key[0], key[1], float(pairs[key][0] * dt), pairs[key][2] * dt, pairs[key][3]
+            )
+            for key in sorted(pairs, key=lambda k: (pairs[k][0], k))
+        ]
+
+
+CONTACT_KINDS = ("self", "scene", "ground")
+"""The kinds of counted contacts the report summarises (:func:`counted_contacts`)."""
+
+
+class RunMeter:
+    """Measures a run a chunk at a time (:func:`motiontool.sim._mujoco.run_chunks`): feed it
+    every chunk in order (:meth:`add`), then make the report (:meth:`report`). Nothing of a
+    chunk is kept: memory is flat whatever the run's duration. One chunk or many give the
+    same report, sums of many terms (a root mean square, the yaw, the slip) to rounding."""
+
+    def __init__(self, scene: Scene, opts: PlayOptions) -> None:
+        self.scene, self.opts = scene, opts
+        self._joints = _JointMeter(scene)
+        self._base = _BaseMeter(opts) if scene.floating else None
+        self._feet = _FeetMeter()
+        self._contacts = _ContactMeter(opts)
+        self._last: Trace | None = None
+
+    def add(self, chunk: Trace) -> None:
+        """Measure the next chunk of the run."""
+        new = 0 if self._last is None else 1  # its frame 0 is the last frame of the one before
+        self._joints.add(chunk)
+        if self._base is not None:
+            self._base.add(chunk, new)
+        self._feet.add(chunk, new)
+        self._contacts.add(chunk)
+        self._last = chunk
+
+    @property
+    def control_steps(self) -> int:
+        """The control steps measured so far."""
+        last = self._last
+        return 0 if last is None else last.first_frame + last.steps_done
+
+    def report(
+        self,
+        files: list[FileRun],
+        options_doc: dict[str, Any],
+        stamps: dict[str, Any],
+        ignored: list[str],
+    ) -> PlayReport:
+        """The report of the run: its ``files``, ``options`` and ``stamps`` as given, the
+        joints, base, feet and contacts measured, the columns ``ignored`` (no motor of the
+        robot), the simulator's warnings and error."""
+        last = self._last
+        assert last is not None, "a run has at least one chunk"
+        dt = last.control_step_s
+        return PlayReport(
+            robot=self.scene.robot.name,
+            files=files,
+            options=options_doc,
+            stamps=stamps,
+            simulated_s=float(last.time_s[-1]),
+            control_steps=self.control_steps,
+            joints=self._joints.stats(dt),
+            base=None if self._base is None else self._base.stats(),
+            feet=self._feet.stats(last.feet, dt),
+            self_collisions=self._contacts.summaries("self", dt),
+            scene_contacts=self._contacts.summaries("scene", dt),
+            ground_contacts=self._contacts.summaries("ground", dt),
+            warnings=dict(last.warnings),
+            ignored_joints=ignored,
+            error=last.error,
         )
-        for key in sorted(first, key=lambda k: (first[k], k))
-    ]
-
-
-def measure(
-    run: SimulatedRun, options_doc: dict[str, Any], stamps: dict[str, Any], ignored: list[str]
-) -> PlayReport:
-    """The report of ``run``: its ``options`` and ``stamps`` as given, the joints, base, feet
-    and contacts measured on the trace, the columns ``ignored`` (no motor of the robot), the
-    simulator's warnings and error."""
-    scene, trace, opts = run.scene, run.trace, run.opts
-    return PlayReport(
-        robot=scene.robot.name,
-        files=run.files,
-        options=options_doc,
-        stamps=stamps,
-        simulated_s=float(trace.time_s[-1]),
-        control_steps=trace.steps_done,
-        joints=_joints(scene, trace),
-        base=_base(trace, opts) if scene.floating else None,
-        feet=_feet(trace),
-        self_collisions=_contact_summaries(trace, "self", opts),
-        scene_contacts=_contact_summaries(trace, "scene", opts),
-        ground_contacts=_contact_summaries(trace, "ground", opts),
-        warnings=dict(trace.warnings),
-        ignored_joints=ignored,
-        error=trace.error,
-    )

@@ -27,20 +27,18 @@ from motiontool.kinematics.robots import RobotSpec, resolve_robot
 from motiontool.motionfmt import Motion, iter_commands, read_bytes, read_file
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.units import MS_PER_S
-from motiontool.sim.arm import measure_end_effector
+from motiontool.sim.arm import ToolMeter
 from motiontool.sim.bag import write_run_bag
-from motiontool.sim.commands import command_matrix
+from motiontool.sim.commands import CommandChunks, command_matrix, command_stream
 from motiontool.sim.markers import Marker, markers
-from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, SimulatedRun, measure
+from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMeter, SimulatedRun
 from motiontool.sim.physics import read_back, resolve_physics
 from motiontool.sim.play_options import PlayOptions
 from motiontool.sim.report import FileRun, PlayReport
 from motiontool.sim.start import StartState
+from motiontool.sim.trace import Trace, concatenate
 
 if TYPE_CHECKING:
-    import numpy as np
-    import numpy.typing as npt
-
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.physics import Physics
 
@@ -117,7 +115,6 @@ def play(
             that fails (falls, collides, raises a warning, stops on a MuJoCo error) is reported,
             not raised.
     """
-    from motiontool.sim import _mujoco
 
     opts = options or PlayOptions()
     opts.check()
@@ -127,34 +124,68 @@ def play(
     labels = _names(motions, names)
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep = opts.timestep_ms or spec.default_timestep_ms
-    physics = resolve_physics(
-        timestep,
+    physics = _physics(timestep, opts)
+    scene = _scene(spec, timestep, physics, opts, loaded[0])
+    stream = _commands(loaded, scene, timestep, opts)
+    files = _file_runs(labels, stream.lengths, scene.control_step_s)
+    meter = RunMeter(scene, opts)
+    tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
+    kept = _simulate(scene, stream, meter, tool, record=rrd is not None, keep=bag is not None)
+    all_stamps = _all_stamps(stamps, scene, timestep, opts)
+    report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
+    report.end_effector = None if tool is None else tool.stats()
+    if kept:
+        trace = concatenate(kept)
+        run = SimulatedRun(scene, trace, opts, loaded, stream.lengths, timestep, files)
+        if rrd is not None:
+            _record(Path(rrd), run, report, all_stamps, labels)
+        if bag is not None:
+            write_run_bag(bag, trace, floating_base=scene.floating)
+    return report
+
+
+def _physics(timestep_ms: int, opts: PlayOptions) -> Physics:
+    """The physics settings of a run at control step ``timestep_ms`` with ``opts``."""
+    return resolve_physics(
+        timestep_ms,
         profile=opts.profile,
         physics_step_ms=opts.physics_step_ms,
         friction=opts.floor_friction,
         friction_scale=opts.friction_scale,
     )
-    scene = _scene(spec, timestep, physics, opts, loaded[0])
-    targets, commanded, lengths, ignored = _commands(loaded, scene, timestep, opts)
-    trace = _mujoco.run(scene, targets, commanded, record_bodies=rrd is not None)
-    files = _file_runs(labels, lengths, scene.control_step_s)
-    run = SimulatedRun(scene, trace, opts, loaded, lengths, timestep, files)
-    all_stamps = _all_stamps(stamps, scene, timestep, opts)
-    report = _report(run, physics, all_stamps, ignored)
-    if rrd is not None:
-        _record(Path(rrd), run, report, all_stamps, labels)
-    if bag is not None:
-        write_run_bag(bag, trace, floating_base=scene.floating)
-    return report
+
+
+def _simulate(
+    scene: Scene,
+    stream: CommandChunks,
+    meter: RunMeter,
+    tool: ToolMeter | None,
+    *,
+    record: bool,
+    keep: bool,
+) -> list[Trace]:
+    """Play ``stream`` in ``scene`` a chunk at a time, each measured as it comes; the chunks
+    are kept (and returned) only for a recording (``record``: with every body's pose) or when
+    ``keep``."""
+    from motiontool.sim import _mujoco
+
+    kept: list[Trace] = []
+    for chunk in _mujoco.run_chunks(scene, stream.chunks, record_bodies=record):
+        meter.add(chunk)
+        if tool is not None:
+            tool.add(chunk)
+        if record or keep:
+            kept.append(chunk)
+    return kept
 
 
 def _commands(
     motions: Sequence[Motion], scene: Scene, timestep_ms: int, opts: PlayOptions
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], list[int], list[str]]:
-    """The command stream of ``motions`` on the scene's motors (:func:`command_matrix`, from
+) -> CommandChunks:
+    """The command stream of ``motions`` on the scene's motors (:func:`command_stream`, from
     the positions the scene starts at, then ``opts.hold_s`` of holding); the columns that are
     no motor are logged, as Webots warns of them."""
-    targets, commanded, lengths, ignored = command_matrix(
+    stream = command_stream(
         motions,
         scene.joints,
         timestep_ms,
@@ -163,11 +194,32 @@ def _commands(
         loops=opts.loops,
         hold_steps=round(opts.hold_s * MS_PER_S / timestep_ms),
     )
-    for name in ignored:
+    for name in stream.ignored:
         log.info(
             "joint %r is not a motor of robot %s: ignored (as Webots does)", name, scene.robot.name
         )
-    return targets, commanded, lengths, ignored
+    return stream
+
+
+def _tool_meter(
+    scene: Scene,
+    motions: Sequence[Motion],
+    lengths: Sequence[int],
+    timestep_ms: int,
+    opts: PlayOptions,
+) -> ToolMeter | None:
+    """What measures the end effector of an arm (None: the robot has none)."""
+    if scene.tool is None:
+        return None
+    return ToolMeter(
+        scene,
+        motions,
+        lengths,
+        timestep_ms,
+        reverse=opts.reverse,
+        loops=opts.loops,
+        reach_tolerance_mm=opts.reach_tolerance_mm,
+    )
 
 
 def _columns(motions: Sequence[Motion]) -> Iterator[str]:
@@ -268,28 +320,23 @@ def _options_doc(opts: PlayOptions, physics: Physics) -> dict[str, Any]:
 
 
 def _report(
-    run: SimulatedRun, physics: Physics, stamps: dict[str, Any], ignored: list[str]
+    meter: RunMeter,
+    files: list[FileRun],
+    motions: Sequence[Motion],
+    physics: Physics,
+    stamps: dict[str, Any],
+    ignored: list[str],
 ) -> PlayReport:
-    """The report of ``run``."""
-    scene, opts = run.scene, run.opts
-    report = measure(run, _options_doc(opts, physics), stamps, ignored)
+    """The report of the run ``meter`` measured."""
+    scene, opts = meter.scene, meter.opts
+    report = meter.report(files, _options_doc(opts, physics), stamps, ignored)
     report.unplayed_files = [
         f.path
-        for f, m in zip(run.files, run.motions, strict=True)
+        for f, m in zip(files, motions, strict=True)
         if not any(j in scene.robot for j in m.joints)
     ]
     timestep_ms, friction = read_back(scene)  # what the compiled model really has
     report.physics = {**physics.to_json(), "timestep_ms": timestep_ms, "friction": friction}
-    report.end_effector = measure_end_effector(
-        scene,
-        run.trace,
-        run.motions,
-        run.lengths,
-        run.timestep_ms,
-        reverse=opts.reverse,
-        loops=opts.loops,
-        reach_tolerance_mm=opts.reach_tolerance_mm,
-    )
     return report
 
 

@@ -6,18 +6,25 @@ report and :mod:`motiontool.sim.recording` into a Rerun recording, neither touch
 Frames: frame 0 is the state before the first control step; frame ``k >= 1`` the state after
 control step ``k - 1``, at ``time_s[k] = k * control_step_s``. Step ``k`` sends ``targets[k]``
 at ``time_s[k]`` (from the state of frame ``k``) and runs the physics to frame ``k + 1``.
+
+A run is simulated a chunk of control steps at a time, so that memory stays flat whatever its
+duration (:func:`motiontool.sim._mujoco.run_chunks`): each chunk is a :class:`Trace` of its own
+steps, whose frame 0 repeats the last frame of the chunk before (``first_frame`` says which
+frame of the run it is). Its ``events`` are those of its frames but that first one (the chunk
+before has them), and :func:`concatenate` joins chunks into the trace of the whole run.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-__all__ = ["BodyShapes", "ContactEvent", "Shape", "Trace"]
+__all__ = ["BodyShapes", "ContactEvent", "Shape", "Trace", "concatenate"]
 
 
 @dataclass(frozen=True)
@@ -63,7 +70,7 @@ class ContactEvent:
     """A contact or interpenetration seen at one frame.
 
     Attributes:
-        frame: frame index (see the module docstring).
+        frame: frame index in the run (see the module docstring).
         kind: ``self`` (two robot bodies interpenetrate, seen by the self-collision probe; the
             Webots Nao has selfCollision FALSE, so they pass through each other, but the motion
             asks for it), ``touch`` (two robot bodies in contact in the simulation itself, for
@@ -85,13 +92,14 @@ class ContactEvent:
 
 @dataclass(eq=False)
 class Trace:
-    """Per-frame arrays of a run (float64 unless noted; S control steps, S + 1 frames).
+    """Per-frame arrays of a run, or of a chunk of it (float64 unless noted; S control steps,
+    S + 1 frames).
 
     Attributes:
         joints: the J motors, in model order.
         control_step_s: control period T, s.
         physics_step_s: MuJoCo step, s.
-        time_s: (S + 1,) frame times, s.
+        time_s: (S + 1,) frame times, s (from ``first_frame * control_step_s``).
         commanded: (S, J) bool, whether the motion file commanded the joint at that step (as
             opposed to keeping the previous target).
         targets: (S, J) target in force at each step before clipping, rad (m).
@@ -110,10 +118,12 @@ class Trace:
             chain; :func:`motiontool.sim._mujoco.build_scene`), '' when there is none.
         tool_pos: (S + 1, 3) its position in the world, m (None without a tool).
         tool_quat: (S + 1, 4) its orientation, unit quaternion (w, x, y, z) (same).
-        events: contacts seen, frame by frame.
-        warnings: MuJoCo warning name -> count over the run.
+        events: contacts seen, frame by frame (frames of the run).
+        warnings: MuJoCo warning name -> count over the run (so far, for a chunk).
         steps_done: control steps actually simulated (< S if the run stopped on an error).
         error: why the run stopped early, or None.
+        first_frame: the frame of the run that is this trace's frame 0 (0: the whole run, or
+            its first chunk).
     """
 
     joints: tuple[str, ...]
@@ -140,6 +150,12 @@ class Trace:
     warnings: dict[str, int] = field(default_factory=dict)
     steps_done: int = 0
     error: str | None = None
+    first_frame: int = 0
+
+    @property
+    def last_frame(self) -> int:
+        """The frame of the run that is this trace's last frame."""
+        return self.first_frame + len(self.time_s) - 1
 
     def truncated(self) -> Trace:
         """The trace cut to the steps actually simulated (a copy of the arrays' views)."""
@@ -166,8 +182,54 @@ class Trace:
             tool=self.tool,
             tool_pos=None if self.tool_pos is None else self.tool_pos[: s + 1],
             tool_quat=None if self.tool_quat is None else self.tool_quat[: s + 1],
-            events=[e for e in self.events if e.frame <= s],
+            events=[e for e in self.events if e.frame <= self.first_frame + s],
             warnings=dict(self.warnings),
             steps_done=s,
             error=self.error,
+            first_frame=self.first_frame,
         )
+
+
+def concatenate(chunks: Sequence[Trace]) -> Trace:
+    """The trace of a run from its consecutive chunks (the one chunk itself when there is one)."""
+    import numpy as np
+
+    if len(chunks) == 1:
+        return chunks[0]
+    first, last = chunks[0], chunks[-1]
+
+    def steps(name: str) -> Any:
+        return np.concatenate([getattr(c, name) for c in chunks])
+
+    def frames(name: str) -> Any:
+        parts = [getattr(first, name)] + [getattr(c, name)[1:] for c in chunks[1:]]
+        return np.concatenate(parts)
+
+    recorded = first.body_pos.shape[0] > 0
+    return Trace(
+        joints=first.joints,
+        control_step_s=first.control_step_s,
+        physics_step_s=first.physics_step_s,
+        time_s=frames("time_s"),
+        commanded=steps("commanded"),
+        targets=steps("targets"),
+        velocity_cmd=steps("velocity_cmd"),
+        torque=steps("torque"),
+        position=frames("position"),
+        base_pos=frames("base_pos"),
+        base_quat=frames("base_quat"),
+        feet=first.feet,
+        foot_pos=frames("foot_pos"),
+        foot_contact=frames("foot_contact"),
+        bodies=first.bodies,
+        body_pos=frames("body_pos") if recorded else first.body_pos,
+        body_quat=frames("body_quat") if recorded else first.body_quat,
+        tool=first.tool,
+        tool_pos=None if first.tool_pos is None else frames("tool_pos"),
+        tool_quat=None if first.tool_quat is None else frames("tool_quat"),
+        events=[e for c in chunks for e in c.events],
+        warnings=dict(last.warnings),
+        steps_done=sum(c.steps_done for c in chunks),
+        error=last.error,
+        first_frame=first.first_frame,
+    )

@@ -36,7 +36,7 @@ from motiontool.sim._mujoco.build import (
 from motiontool.sim._mujoco.scene import TOOL_SITE_PATTERN, GeomClass, Scene
 from motiontool.sim._mujoco.shapes import scene_shapes
 from motiontool.sim._mujoco.start import SPAWN_CLEARANCE_M
-from motiontool.sim._mujoco.stepping import run, tool_poses
+from motiontool.sim._mujoco.stepping import run, run_chunks, tool_poses
 
 __all__ = [
     "BOX_HEIGHT_M",
@@ -49,6 +49,7 @@ __all__ = [
     "build_scene",
     "mujoco_version",
     "run",
+    "run_chunks",
     "scene_shapes",
     "tool_poses",
     "warning_label",

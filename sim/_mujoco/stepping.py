@@ -4,7 +4,7 @@ self-collisions); the tool's forward kinematics (:func:`tool_poses`)."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
@@ -12,7 +12,7 @@ from motiontool.sim._mujoco._lib import warning_labels
 from motiontool.sim._mujoco.api import mj
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES, GeomClass, Scene
 from motiontool.sim.motor import velocity_command
-from motiontool.sim.trace import ContactEvent, Trace
+from motiontool.sim.trace import ContactEvent, Trace, concatenate
 
 if TYPE_CHECKING:
     import numpy as np
@@ -28,41 +28,78 @@ def run(
     *,
     record_bodies: bool = False,
 ) -> Trace:
-    """Play ``targets`` (S, J), one row per control step, from the scene's start state.
+    """Play ``targets`` (S, J), one row per control step, from the scene's start state, and
+    return the trace of the whole run (:func:`run_chunks` with one chunk)."""
+    return concatenate(list(run_chunks(scene, [(targets, commanded)], record_bodies=record_bodies)))
+
+
+def run_chunks(
+    scene: Scene,
+    commands: Iterable[tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]],
+    *,
+    record_bodies: bool = False,
+) -> Iterator[Trace]:
+    """Play the command stream ``commands`` from the scene's start state, a chunk at a time: the
+    trace of each chunk of steps as it is simulated (see :mod:`motiontool.sim.trace`), so that
+    nothing of the run need be held.
 
     Args:
         scene: a freshly built scene (its data is stepped in place).
-        targets: (S, J) target positions in force at each step (NaN-free), rad (m), before
-            clipping to the motor limits.
-        commanded: (S, J) bool, whether the motion sent the target at that step.
+        commands: the stream in consecutive chunks: (K, J) target positions in force at each
+            step (NaN-free), rad (m), before clipping to the motor limits, and (K, J) bool,
+            whether the motion sent the target at that step.
         record_bodies: also keep every robot body's pose at every frame (for a recording).
 
-    An error MuJoCo raises (:class:`mujoco.FatalError`) stops the run: the trace keeps what was
-    simulated and says why. Any other exception is a bug, and propagates.
+    An error MuJoCo raises (:class:`mujoco.FatalError`) stops the run: the chunk it stopped in
+    keeps what was simulated, says why, and is the last. Any other exception is a bug, and
+    propagates.
     """
     mujoco = mj()
     import numpy as np
 
     model, data = scene.model, scene.data
-    trace = _new_trace(scene, targets, commanded, record_bodies)
-    observe = _observer(scene, trace, record_bodies)
     limits, driver_dof, substeps = scene.limits, scene.driver_dof, scene.control_substeps
-    position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
-    try:
-        observe(0)
-        for k in range(len(targets)):
-            command = velocity_command(limits, targets[k], position[k])  # Webots' motor law
-            velocity_cmd[k] = command
-            data.qvel[driver_dof] = command
-            mujoco.mj_step(model, data, substeps)
-            torque[k] = data.qfrc_constraint[driver_dof]
-            np.negative(torque[k], out=torque[k])
-            observe(k + 1)
-            trace.steps_done = k + 1
-    except mujoco.FatalError as exc:  # MuJoCo's own error: the report says why the run stopped
-        trace.error = f"simulation stopped at step {trace.steps_done}: {exc}"
-    trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
-    return trace if trace.steps_done == len(targets) else trace.truncated()
+    before: Trace | None = None
+    for targets, commanded in commands:
+        first = 0 if before is None else before.last_frame
+        trace = _new_trace(scene, targets, commanded, record_bodies, first)
+        observe = _observer(scene, trace, record_bodies)
+        position, velocity_cmd, torque = trace.position, trace.velocity_cmd, trace.torque
+        try:
+            if before is None:
+                observe(0)
+            else:
+                _carry(before, trace)
+            for k in range(len(targets)):
+                command = velocity_command(limits, targets[k], position[k])  # Webots' motor law
+                velocity_cmd[k] = command
+                data.qvel[driver_dof] = command
+                mujoco.mj_step(model, data, substeps)
+                torque[k] = data.qfrc_constraint[driver_dof]
+                np.negative(torque[k], out=torque[k])
+                observe(k + 1)
+                trace.steps_done = k + 1
+        except mujoco.FatalError as exc:  # MuJoCo's own error: the report says why it stopped
+            trace.error = f"simulation stopped at step {first + trace.steps_done}: {exc}"
+        trace.warnings = {name: int(data.warning[i].number) for i, name in warning_labels().items()}
+        if trace.error is not None:
+            yield trace.truncated()
+            return
+        yield trace
+        before = trace
+
+
+def _carry(before: Trace, trace: Trace) -> None:
+    """Frame 0 of the chunk ``trace``: the last frame of the chunk ``before``."""
+    for name in ("position", "base_pos", "base_quat", "foot_pos", "foot_contact"):
+        getattr(trace, name)[0] = getattr(before, name)[-1]
+    if trace.body_pos.shape[0]:
+        trace.body_pos[0] = before.body_pos[-1]
+        trace.body_quat[0] = before.body_quat[-1]
+    if trace.tool_pos is not None and before.tool_pos is not None:
+        trace.tool_pos[0] = before.tool_pos[-1]
+    if trace.tool_quat is not None and before.tool_quat is not None:
+        trace.tool_quat[0] = before.tool_quat[-1]
 
 
 def _new_trace(
@@ -70,8 +107,9 @@ def _new_trace(
     targets: npt.NDArray[np.float64],
     commanded: npt.NDArray[np.bool_],
     record_bodies: bool,
+    first_frame: int = 0,
 ) -> Trace:
-    """An empty trace for ``targets`` (S, J): S + 1 frames, zero-filled."""
+    """An empty trace for ``targets`` (S, J): S + 1 frames from ``first_frame``, zero-filled."""
     import numpy as np
 
     steps, n_joints = targets.shape
@@ -82,7 +120,8 @@ def _new_trace(
         joints=scene.joints,
         control_step_s=scene.control_step_s,
         physics_step_s=scene.physics_step_s,
-        time_s=np.arange(n_frames, dtype=np.float64) * scene.control_step_s,
+        time_s=np.arange(first_frame, first_frame + n_frames, dtype=np.int64).astype(np.float64)
+        * scene.control_step_s,
         commanded=commanded,
         targets=targets,
         velocity_cmd=np.zeros((steps, n_joints)),
@@ -99,6 +138,7 @@ def _new_trace(
         tool=scene.tool[0] if scene.tool else "",
         tool_pos=np.zeros((n_frames, 3)) if scene.tool else None,
         tool_quat=np.zeros((n_frames, 4)) if scene.tool else None,
+        first_frame=first_frame,
     )
 
 
@@ -124,7 +164,7 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
         if data.ncon:
             _contacts(scene, data, frame, trace)
         if scene.probe is not None:
-            _self_collisions(mujoco, scene, data, frame, trace)
+            _self_collisions(mujoco, scene, data, trace.first_frame + frame, trace)
 
     return observe
 
@@ -192,7 +232,8 @@ def tool_poses(
 
 
 def _contacts(scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
-    """Foot-floor contacts into ``foot_contact``; every other robot contact into events."""
+    """Foot-floor contacts into ``foot_contact`` (``frame``: of the trace); every other robot
+    contact into events."""
     cls = scene.geom_class
     seen: dict[tuple[str, str, str], float] = {}
     for (g1, g2), d in zip(data.contact.geom.tolist(), data.contact.dist.tolist(), strict=True):
@@ -205,8 +246,9 @@ def _contacts(scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
             continue
         key = _contact_event_key(scene, g1, g2)
         seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
+    at = trace.first_frame + frame
     for (kind, body, other), depth in seen.items():
-        trace.events.append(ContactEvent(frame, kind, body, other, depth))  # type: ignore[arg-type]
+        trace.events.append(ContactEvent(at, kind, body, other, depth))  # type: ignore[arg-type]
 
 
 def _contact_event_key(scene: Scene, robot_geom: int, other_geom: int) -> tuple[str, str, str]:
