@@ -41,7 +41,7 @@ def main() -> int:
 
     from motiontool.kinematics import load_robot
     from motiontool.motionfmt import read_motion
-    from motiontool.sim import PlayOptions, command_matrix, play
+    from motiontool.sim import PlayOptions, command_matrix, command_stream, play
     from motiontool.sim._mujoco import build_scene
 
     robot = load_robot("nao")
@@ -50,7 +50,9 @@ def main() -> int:
     probe = build_scene(robot, step_ms)
     initial = probe.data.qpos[probe.qpos_adr].copy()
     targets, _commanded, _lengths, _ignored = command_matrix(
-        [read_motion(str(args.motion))], probe.joints, step_ms, initial, loops=args.loops
+        command_stream(
+            [read_motion(str(args.motion))], probe.joints, step_ms, initial, loops=args.loops
+        )
     )
     steps = len(targets)
     simulated = steps * probe.control_step_s

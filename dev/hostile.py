@@ -79,8 +79,9 @@ HUGE = [
     ["validate", "in.motion", "-t", "2147483648"],
 ]
 
-# A motion that plays for 23 days (100 million controller steps): what holds its stream whole
-# refuses it in one line; what reads it a chunk at a time (or at its pose times) finishes. Run
+# A motion that plays for 23 days (100 million controller steps): what holds its stream whole,
+# and play (it would simulate for days), refuse it in one line; what reads it a chunk at a time
+# (or at its pose times) finishes. Run
 # under a 3 GiB address space limit (a step too many held would need tens of GB).
 DAYS = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n2000000000,P3,0,0.1\n"
 LONG_REFUSED = [

@@ -18,6 +18,7 @@ from motiontool.sim.play import (
     Marker,
     PlayOptions,
     command_matrix,
+    command_stream,
     play,
     read_playable,
 )
@@ -63,6 +64,7 @@ __all__ = [
     "StartState",
     "Trace",
     "command_matrix",
+    "command_stream",
     "evaluate",
     "parse_expectation",
     "play",

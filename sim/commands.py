@@ -10,16 +10,22 @@ from typing import TYPE_CHECKING, NamedTuple
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt import Motion
 from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-__all__ = ["CHUNK_STEPS", "CommandChunks", "command_matrix", "command_stream"]
+__all__ = ["CHUNK_STEPS", "MAX_RUN_STEPS", "CommandChunks", "command_matrix", "command_stream"]
 
-CHUNK_STEPS = 8192
-"""Control steps a run simulates and measures at once: 164 s at the Nao's 20 ms, 66 s at the
-UR5e's 8 ms; a longer run goes on a chunk at a time, in flat memory."""
+CHUNK_STEPS = 2048
+"""Control steps a run simulates and measures at once: 41 s at the Nao's 20 ms, 16 s at the
+UR5e's 8 ms; a longer run goes on a chunk at a time, in flat memory (larger chunks gain no
+speed, and hold more)."""
+
+MAX_RUN_STEPS = 2_000_000
+"""Most control steps a run simulates (11 h at the Nao's 20 ms): its memory stays flat, but a
+longer run would compute for hours; it is refused in one line before it starts."""
 
 Chunk = tuple["npt.NDArray[np.float64]", "npt.NDArray[np.bool_]"]
 """(K, J) targets in force and (K, J) whether each was sent, for K consecutive steps."""
@@ -65,11 +71,20 @@ def command_stream(
 
     Raises:
         PlaybackNeverEndsError: a motion never stops at this time step: before any chunk.
-        MotionToolError: (while the chunks are read) a motion commands a non-finite target.
+        MotionToolError: more than :data:`MAX_RUN_STEPS` steps, before any chunk; (while the
+            chunks are read) a motion commands a non-finite target.
     """
     lengths = [
         played_steps(m.duration_ms, timestep_ms, reverse=reverse, loops=loops) for m in motions
     ]
+    steps = sum(lengths) + hold_steps
+    if steps > MAX_RUN_STEPS:
+        hours = steps * timestep_ms / MS_PER_S / 3600
+        raise MotionToolError(
+            f"the run: {steps:,} control steps of {timestep_ms} ms ({hours:,.1f} h), more than "
+            f"the {MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim) or play "
+            "fewer loops"
+        )
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
     size = chunk_steps or CHUNK_STEPS
@@ -136,16 +151,9 @@ def _sized(chunks: Iterator[Chunk], size: int) -> Iterator[Chunk]:
 
 
 def command_matrix(
-    motions: Sequence[Motion],
-    joints: Sequence[str],
-    timestep_ms: int,
-    initial: npt.NDArray[np.float64],
-    *,
-    reverse: bool = False,
-    loops: int = 1,
-    hold_steps: int = 0,
+    stream: CommandChunks,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], list[int], list[str]]:
-    """The whole command stream of :func:`command_stream`, in memory.
+    """The whole of a command stream (:func:`command_stream`), in memory.
 
     Returns:
         targets (S, J) float64, commanded (S, J) bool, the number of steps of each motion, and
@@ -153,9 +161,6 @@ def command_matrix(
     """
     import numpy as np
 
-    stream = command_stream(
-        motions, joints, timestep_ms, initial, reverse=reverse, loops=loops, hold_steps=hold_steps
-    )
     chunks = list(stream.chunks)
     targets = np.concatenate([c[0] for c in chunks])
     commanded = np.concatenate([c[1] for c in chunks])

@@ -4,11 +4,12 @@ the simulator's warnings and errors, as :class:`Marker` in time order."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from motiontool.sim.measure import LIMIT_TOLERANCE, SimulatedRun, counted_contacts, down_frames
+from motiontool.sim.measure import LIMIT_TOLERANCE, counted_contacts, down_frames
 
 if TYPE_CHECKING:
     import numpy as np
@@ -16,10 +17,10 @@ if TYPE_CHECKING:
 
     from motiontool.sim.motor import MotorLimits
     from motiontool.sim.play_options import PlayOptions
-    from motiontool.sim.report import PlayReport
+    from motiontool.sim.report import FileRun
     from motiontool.sim.trace import Trace
 
-__all__ = ["Marker", "markers"]
+__all__ = ["Marker", "MarkerMeter"]
 
 
 @dataclass(frozen=True)
@@ -38,82 +39,112 @@ class Marker:
     entity: str
 
 
-def _starts(flags: npt.NDArray[np.bool_]) -> npt.NDArray[np.intp]:
-    """Indices where a boolean series turns true."""
+def _starts(flags: npt.NDArray[np.bool_], before: Any = False) -> npt.NDArray[np.intp]:
+    """Indices where a boolean series turns true (``before``: the value before its first)."""
     import numpy as np
 
-    prev = np.concatenate([[False], flags[:-1]])
+    prev = np.concatenate([np.broadcast_to(before, flags[:1].shape), flags[:-1]])
     return np.flatnonzero(flags & ~prev)
-
-
-def markers(run: SimulatedRun, report: PlayReport) -> list[Marker]:
-    """Events of the run for the recording's timeline, in time order."""
-    trace = run.trace
-    out = [Marker(f.start_s, "INFO", f"start {Path(f.path).name}", "motion") for f in run.files]
-    if report.base is not None:
-        out += _fall_markers(trace, run.opts)
-    out += _contact_markers(trace, run.opts)
-    out += _limit_markers(trace, run.scene.limits)
-    t_end = float(trace.time_s[-1])
-    raised = {k: v for k, v in trace.warnings.items() if v}
-    if raised:
-        out.append(Marker(t_end, "ERROR", f"MuJoCo warnings: {raised}", "simulator"))
-    if trace.error:
-        out.append(Marker(t_end, "ERROR", trace.error, "simulator"))
-    out.sort(key=lambda m: m.time_s)
-    return out
-
-
-def _fall_markers(trace: Trace, opts: PlayOptions) -> list[Marker]:
-    """Where the robot goes down and gets up again (not at the start)."""
-    t = trace.time_s
-    down = down_frames(trace, opts)
-    out = [
-        Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall")
-        for k in _starts(down).tolist()
-        if k
-    ]
-    out += [Marker(float(t[k]), "INFO", "upright", "fall") for k in _starts(~down).tolist() if k]
-    return out
 
 
 _CONTACT_WORDS = {"self": "self-collision", "scene": "contact", "ground": "on the floor"}
 """How the recording's event log names each kind of counted contact."""
 
 
-def _contact_markers(trace: Trace, opts: PlayOptions) -> list[Marker]:
-    """Where each pair of bodies starts touching, for each counted kind of contact."""
-    import numpy as np
+class MarkerMeter:
+    """The events of a run, found a chunk at a time (:meth:`add` each chunk of
+    :func:`motiontool.sim._mujoco.run_chunks` in order, then :meth:`markers`): only the
+    events and what the last frame or step was are kept."""
 
-    t = trace.time_s
-    frames: dict[tuple[str, str, str], list[int]] = {}
-    for kind in _CONTACT_WORDS:
-        for e in counted_contacts(trace, kind, opts):
-            frames.setdefault((kind, e.body_a, e.body_b), []).append(e.frame)
-    out = []
-    for (kind, a, b), ks in frames.items():
-        flags = np.zeros(len(t), dtype=bool)
-        flags[ks] = True
-        level = "INFO" if kind == "ground" else "WARN"
-        text = f"{_CONTACT_WORDS[kind]}: {a} / {b}"
-        out += [Marker(float(t[k]), level, text, "collision") for k in _starts(flags).tolist()]
-    return out
+    def __init__(self, limits: MotorLimits, opts: PlayOptions, *, floating: bool) -> None:
+        self.limits, self.opts, self.floating = limits, opts, floating
+        self._falls: tuple[list[Marker], list[Marker]] = ([], [])  # fell, upright
+        self._contacts: dict[str, dict[tuple[str, str], list[Marker]]] = {
+            k: {} for k in _CONTACT_WORDS
+        }
+        self._last_contact: dict[tuple[str, str, str], int] = {}
+        self._limits: list[tuple[list[Marker], list[Marker]]] = []  # targets, positions
+        self._last_target: Any = False  # each joint's target was outside at the last step
+        self._last: Trace | None = None
 
+    def add(self, chunk: Trace) -> None:
+        """Find the events of the next chunk of the run."""
+        new = 0 if self._last is None else 1  # its frame 0 is the last frame of the one before
+        if self.floating:
+            self._fall_markers(chunk, new)
+        self._contact_markers(chunk)
+        self._limit_markers(chunk, new)
+        self._last = chunk
 
-def _limit_markers(trace: Trace, lim: MotorLimits) -> list[Marker]:
-    """Where a target starts to lie outside the limits (it is clipped), and where a position
-    starts to lie past them by more than :data:`LIMIT_TOLERANCE`."""
-    t = trace.time_s
-    out = []
-    for j, name in enumerate(trace.joints):
-        lower, upper = lim.lower[j], lim.upper[j]
-        target = trace.targets[:, j]
-        for k in _starts((target < lower) | (target > upper)).tolist():
-            text = f"{name} target {target[k]:.4g} outside [{lower:.4g}, {upper:.4g}]: clipped"
-            out.append(Marker(float(t[k]), "WARN", text, "limit"))
-        pos = trace.position[:, j]
-        beyond = (pos < lower - LIMIT_TOLERANCE) | (pos > upper + LIMIT_TOLERANCE)
-        for k in _starts(beyond).tolist():
-            text = f"{name} at {pos[k]:.4g}, past its limits"
-            out.append(Marker(float(t[k]), "WARN", text, "limit"))
-    return out
+    def markers(self, files: Sequence[FileRun]) -> list[Marker]:
+        """Events of the run for the recording's timeline, in time order: each motion's start,
+        falls, contacts, limits, then the simulator's warnings and error."""
+        last = self._last
+        assert last is not None, "a run has at least one chunk"
+        out = [Marker(f.start_s, "INFO", f"start {Path(f.path).name}", "motion") for f in files]
+        out += self._falls[0] + self._falls[1]
+        out += [m for pairs in self._contacts.values() for ms in pairs.values() for m in ms]
+        out += [m for targets, positions in self._limits for m in targets + positions]
+        t_end = float(last.time_s[-1])
+        raised = {k: v for k, v in last.warnings.items() if v}
+        if raised:
+            out.append(Marker(t_end, "ERROR", f"MuJoCo warnings: {raised}", "simulator"))
+        if last.error:
+            out.append(Marker(t_end, "ERROR", last.error, "simulator"))
+        out.sort(key=lambda m: m.time_s)
+        return out
+
+    def _fall_markers(self, trace: Trace, new: int) -> None:
+        """Where the robot goes down and gets up again (not at the start)."""
+        t = trace.time_s
+        down = down_frames(trace, self.opts)
+        before = False if new == 0 else down[0]
+        fell, upright = self._falls
+        for k in (_starts(down[new:], before) + new).tolist():
+            if trace.first_frame + k:
+                fell.append(Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall"))
+        for k in (_starts(~down[new:], not before if new else False) + new).tolist():
+            if trace.first_frame + k:
+                upright.append(Marker(float(t[k]), "INFO", "upright", "fall"))
+
+    def _contact_markers(self, trace: Trace) -> None:
+        """Where each pair of bodies starts touching, for each counted kind of contact (events
+        come in frame order)."""
+        for kind, pairs in self._contacts.items():
+            level = "INFO" if kind == "ground" else "WARN"
+            for e in counted_contacts(trace, kind, self.opts):
+                key = (kind, e.body_a, e.body_b)
+                last = self._last_contact.get(key)
+                if last == e.frame:
+                    continue
+                self._last_contact[key] = e.frame
+                started = pairs.setdefault((e.body_a, e.body_b), [])
+                if last is None or last != e.frame - 1:
+                    text = f"{_CONTACT_WORDS[kind]}: {e.body_a} / {e.body_b}"
+                    time_s = float(trace.time_s[e.frame - trace.first_frame])
+                    started.append(Marker(time_s, level, text, "collision"))
+
+    def _limit_markers(self, trace: Trace, new: int) -> None:
+        """Where a target starts to lie outside the limits (it is clipped), and where a
+        position starts to lie past them by more than :data:`LIMIT_TOLERANCE`."""
+        lim, t = self.limits, trace.time_s
+        if not self._limits:
+            self._limits = [([], []) for _ in trace.joints]
+        outside = (trace.targets < lim.lower) | (trace.targets > lim.upper)
+        pos = trace.position
+        beyond = (pos < lim.lower - LIMIT_TOLERANCE) | (pos > lim.upper + LIMIT_TOLERANCE)
+        for j, name in enumerate(trace.joints):
+            lower, upper = lim.lower[j], lim.upper[j]
+            target = trace.targets[:, j]
+            clipped, past = self._limits[j]
+            before = False if new == 0 else bool(self._last_target[j])
+            for k in _starts(outside[:, j], before).tolist():
+                text = f"{name} target {target[k]:.4g} outside [{lower:.4g}, {upper:.4g}]: clipped"
+                clipped.append(Marker(float(t[k]), "WARN", text, "limit"))
+            for k in (
+                _starts(beyond[new:, j], bool(beyond[0, j]) if new else False) + new
+            ).tolist():
+                text = f"{name} at {pos[k, j]:.4g}, past its limits"
+                past.append(Marker(float(t[k]), "WARN", text, "limit"))
+        if len(outside):
+            self._last_target = outside[-1]

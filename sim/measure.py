@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.units import MM_PER_M
@@ -24,7 +23,6 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-    from motiontool.motionfmt import Motion
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.play_options import PlayOptions
     from motiontool.sim.trace import ContactEvent, Trace
@@ -33,7 +31,6 @@ __all__ = [
     "LIMIT_TOLERANCE",
     "TORQUE_CAP_FRACTION",
     "RunMeter",
-    "SimulatedRun",
     "counted_contacts",
     "down_frames",
     "tilt_and_heading",
@@ -44,25 +41,6 @@ TORQUE_CAP_FRACTION = 0.999
 
 LIMIT_TOLERANCE = 0.01
 """How far past a motor limit (rad, or m) a position must be to count as beyond the limits."""
-
-
-@dataclass(frozen=True)
-class SimulatedRun:
-    """A simulated run and how it was asked for: what the report and the recording are made of.
-
-    Attributes:
-        scene: the MuJoCo scene it ran in; trace: what happened; opts: how it was played.
-        motions: the motions played, ``lengths`` their control steps, ``files`` their
-            report entries; timestep_ms: the control step, ms.
-    """
-
-    scene: Scene
-    trace: Trace
-    opts: PlayOptions
-    motions: list[Motion]
-    lengths: list[int]
-    timestep_ms: int
-    files: list[FileRun]
 
 
 def tilt_and_heading(quat: npt.NDArray[np.float64]) -> tuple[Any, Any]:

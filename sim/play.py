@@ -16,31 +16,33 @@ Their public names are importable from here as before.
 
 from __future__ import annotations
 
+import contextlib
 import logging
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.kinematics.robots import RobotSpec, resolve_robot
 from motiontool.motionfmt import Motion, iter_commands, read_bytes, read_file
-from motiontool.motionfmt.fileio import source_name
+from motiontool.motionfmt.fileio import open_output, source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import ToolMeter
-from motiontool.sim.bag import write_run_bag
+from motiontool.sim.bag import RunBag
 from motiontool.sim.commands import CommandChunks, command_matrix, command_stream
-from motiontool.sim.markers import Marker, markers
-from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMeter, SimulatedRun
+from motiontool.sim.markers import Marker, MarkerMeter
+from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMeter
 from motiontool.sim.physics import read_back, resolve_physics
 from motiontool.sim.play_options import PlayOptions
 from motiontool.sim.report import FileRun, PlayReport
 from motiontool.sim.start import StartState
-from motiontool.sim.trace import Trace, concatenate
+from motiontool.sim.trace import Trace
 
 if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.physics import Physics
+    from motiontool.sim.recording import RunRecorder
 
 __all__ = [
     "LIMIT_TOLERANCE",
@@ -48,6 +50,7 @@ __all__ = [
     "Marker",
     "PlayOptions",
     "command_matrix",
+    "command_stream",
     "play",
     "read_playable",
 ]
@@ -105,7 +108,7 @@ def play(
             (``auto``: the built-in robot the joints of all the motions fit).
         options: how to play (:class:`PlayOptions`).
         rrd: write a Rerun recording of the run there (also when the run fails).
-        bag: write the run there as a ROS 2 bag (:func:`motiontool.sim.bag.write_run_bag`).
+        bag: write the run there as a ROS 2 bag (:class:`motiontool.sim.bag.RunBag`).
         stamps: versions to stamp the report and the recording with (tool, libraries, model
             hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
 
@@ -130,17 +133,15 @@ def play(
     files = _file_runs(labels, stream.lengths, scene.control_step_s)
     meter = RunMeter(scene, opts)
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
-    kept = _simulate(scene, stream, meter, tool, record=rrd is not None, keep=bag is not None)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
-    report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
-    report.end_effector = None if tool is None else tool.stats()
-    if kept:
-        trace = concatenate(kept)
-        run = SimulatedRun(scene, trace, opts, loaded, stream.lengths, timestep, files)
-        if rrd is not None:
-            _record(Path(rrd), run, report, all_stamps, labels)
-        if bag is not None:
-            write_run_bag(bag, trace, floating_base=scene.floating)
+    with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
+        events = MarkerMeter(scene.limits, opts, floating=scene.floating) if recorder else None
+        takers = (meter, tool, events, recorder, run_bag)
+        _simulate(scene, stream, takers, record=recorder is not None)
+        report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
+        report.end_effector = None if tool is None else tool.stats()
+        if recorder is not None and events is not None:
+            recorder.finish(events.markers(files), report.end_effector)
     return report
 
 
@@ -155,28 +156,61 @@ def _physics(timestep_ms: int, opts: PlayOptions) -> Physics:
     )
 
 
+class _Measures(Protocol):
+    """What takes a run's chunks as they are simulated."""
+
+    def add(self, chunk: Trace) -> None: ...
+
+
 def _simulate(
-    scene: Scene,
-    stream: CommandChunks,
-    meter: RunMeter,
-    tool: ToolMeter | None,
-    *,
-    record: bool,
-    keep: bool,
-) -> list[Trace]:
-    """Play ``stream`` in ``scene`` a chunk at a time, each measured as it comes; the chunks
-    are kept (and returned) only for a recording (``record``: with every body's pose) or when
-    ``keep``."""
+    scene: Scene, stream: CommandChunks, takers: Sequence[_Measures | None], *, record: bool
+) -> None:
+    """Play ``stream`` in ``scene`` a chunk at a time, each given to the ``takers`` (but None)
+    as it comes (``record``: with every body's pose); nothing of a chunk is kept here."""
     from motiontool.sim import _mujoco
 
-    kept: list[Trace] = []
+    present = [m for m in takers if m is not None]
     for chunk in _mujoco.run_chunks(scene, stream.chunks, record_bodies=record):
-        meter.add(chunk)
-        if tool is not None:
-            tool.add(chunk)
-        if record or keep:
-            kept.append(chunk)
-    return kept
+        for taker in present:
+            taker.add(chunk)
+
+
+@contextlib.contextmanager
+def _bag(path: str | Path | None, scene: Scene) -> Iterator[RunBag | None]:
+    """The ROS 2 bag of the run, to ``path`` (None: no bag) (:class:`motiontool.sim.bag.RunBag`),
+    written as every output is (:func:`motiontool.motionfmt.fileio.open_output`): whole, or
+    not at all when the run fails to end."""
+    if path is None:
+        yield None
+        return
+    with open_output(path) as sink:
+        bag = RunBag(sink, scene.joints, floating_base=scene.floating)
+        yield bag
+        bag.finish()
+
+
+@contextlib.contextmanager
+def _recorder(
+    rrd: str | Path | None, scene: Scene, stamps: dict[str, Any], names: Sequence[str]
+) -> Iterator[RunRecorder | None]:
+    """The Rerun recording of the run, to ``rrd`` (None: no recording)
+    (:class:`motiontool.sim.recording.RunRecorder`): its temporary file is removed however
+    the run ends."""
+    if rrd is None:
+        yield None
+        return
+    from motiontool.sim import _mujoco, recording
+
+    with recording.RunRecorder(
+        Path(rrd),
+        _mujoco.scene_shapes(scene),
+        limits=scene.limits,
+        joints=scene.joints,
+        joint_limbs=scene.joint_limbs,
+        properties={k: "" if v is None else str(v) for k, v in stamps.items()},
+        name=" + ".join(Path(n).name for n in names) + f" on {scene.robot.name}",
+    ) as recorder:
+        yield recorder
 
 
 def _commands(
@@ -338,23 +372,3 @@ def _report(
     timestep_ms, friction = read_back(scene)  # what the compiled model really has
     report.physics = {**physics.to_json(), "timestep_ms": timestep_ms, "friction": friction}
     return report
-
-
-def _record(
-    path: Path, run: SimulatedRun, report: PlayReport, stamps: dict[str, Any], names: Sequence[str]
-) -> None:
-    """Write the Rerun recording of ``run`` (:mod:`motiontool.sim.recording`)."""
-    from motiontool.sim import _mujoco, recording
-
-    scene = run.scene
-    recording.write_recording(
-        path,
-        run.trace,
-        _mujoco.scene_shapes(scene),
-        limits=scene.limits,
-        joint_limbs=scene.joint_limbs,
-        markers=markers(run, report),
-        end_effector=report.end_effector,
-        properties={k: "" if v is None else str(v) for k, v in stamps.items()},
-        name=" + ".join(Path(n).name for n in names) + f" on {scene.robot.name}",
-    )

@@ -1,19 +1,21 @@
 """Rerun recordings of ``play`` runs: one ``.rrd`` per run, written without a viewer.
 
-The only module that imports :mod:`rerun` (lazily). It logs to an explicit
-:class:`rerun.RecordingStream` (never the global one) whose sink is a memory buffer, written to
-the file atomically at the end. Layout of a recording:
+The module that imports :mod:`rerun` (lazily; :mod:`motiontool.sim.recording_shapes` draws the
+collision primitives). It logs to an explicit :class:`rerun.RecordingStream` (never the global
+one) whose sink is a temporary file, logged a chunk of the run at a time and copied to the
+output at the end (:class:`RunRecorder`). Layout of a recording:
 
 - timeline ``sim_time`` (simulated seconds, a duration);
 - ``/joints/<limb>/<joint>/commanded`` (the target as sent, clipped to the limits, at the time
   it is sent), ``.../measured`` (the joint position at every frame), ``.../lower`` and
-  ``.../upper`` (the motor limits, two points each): scalar series, each logged with one
-  ``send_columns`` call;
+  ``.../upper`` (the motor limits, two points each): scalar series, logged with one
+  ``send_columns`` call a chunk of the run;
 - ``/world/robot/<body>``: the body's pose at every frame (``Transform3D`` columns), its
   collision primitives as static ``Boxes3D`` / ``Capsules3D`` / ``Cylinders3D`` /
   ``Ellipsoids3D`` children; ``/world/scene/<body>``: the floor, the box;
-- ``/world/base_trail``: the root body's path (``LineStrips3D``), ``/world/base``: its position
-  at every frame (``Points3D``);
+- ``/world/base_trail``: the root body's path (``LineStrips3D``, at most
+  :data:`BASE_TRAIL_POINTS` frames of it), ``/world/base``: its position at every frame
+  (``Points3D``);
 - an arm's end effector (the report's ``end_effector``): ``/world/tool`` its position at every
   frame (``Points3D``), ``/world/tool/trail`` its path so far, a growing ``LineStrips3D`` logged
   at the report's trail samples (the last one is the report's ``trail_position_m``),
@@ -30,13 +32,15 @@ Read one back with ``rerun.chunk.RrdReader(path).stream().collect()`` (see the t
 from __future__ import annotations
 
 import math
+import tempfile
 import uuid
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from motiontool.extras import require
-from motiontool.motionfmt.fileio import atomic_write
+from motiontool.motionfmt.fileio import atomic_write, open_output
+from motiontool.sim.recording_shapes import log_shapes
 
 if TYPE_CHECKING:
     import numpy as np
@@ -47,9 +51,9 @@ if TYPE_CHECKING:
     from motiontool.sim.motor import MotorLimits
     from motiontool.sim.play import Marker
     from motiontool.sim.report import EndEffectorStats
-    from motiontool.sim.trace import BodyShapes, Shape, Trace
+    from motiontool.sim.trace import BodyShapes, Trace
 
-__all__ = ["APPLICATION_ID", "TIMELINE", "write_failure", "write_recording"]
+__all__ = ["APPLICATION_ID", "BASE_TRAIL_POINTS", "TIMELINE", "RunRecorder", "write_failure"]
 
 APPLICATION_ID = "motiontool"
 TIMELINE = "sim_time"
@@ -87,21 +91,20 @@ TOOL_TRAIL_RADIUS_M = 0.002
 KEYFRAME_RADIUS_M = 0.006
 """Radius of a keyframe's commanded tool position, m."""
 
-PLANE_HALF_SIZE_M = 2.0
-"""Half the side of an infinite plane as drawn (a 4 m x 4 m floor), m."""
-
-PLANE_THICKNESS_M = 1e-4
-"""Half the thickness of a plane as drawn (a thin box just below its surface), m."""
-
 TOOL_TRAIL_ROWS = 400
 """At most this many rows of the growing tool trail (a longer run logs every n-th sample; the
 last row is always the whole path)."""
 
+TOOL_TRAIL_POINTS = 1000
+"""At most this many points in a row of the tool trail (a longer path keeps every n-th sample
+and its last one): the trail of a long run holds 400 x 1000 points, not 400 x its samples."""
+
 
 def _stream(
-    name: str, properties: Mapping[str, str]
-) -> tuple[rerun.RecordingStream, rerun.MemoryRecording]:
-    """A recording stream into memory, with its name and stamps.
+    name: str, properties: Mapping[str, str], file: Path | None = None
+) -> tuple[rerun.RecordingStream, rerun.MemoryRecording | None]:
+    """A recording stream into memory (None: into ``file``, as it is logged), with its name
+    and stamps.
 
     Every recording starts here, so this is where a missing rerun is one line naming
     ``motiontool[rerun]``; rerun ships its own types (``py.typed``), so the helpers below import
@@ -111,15 +114,20 @@ def _stream(
 
     recording_id = uuid.uuid5(uuid.NAMESPACE_URL, name + repr(sorted(properties.items())))
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
-    memory = rec.memory_recording()
+    memory = None
+    if file is None:
+        memory = rec.memory_recording()
+    else:
+        rec.save(file)
     rec.send_recording_name(name)
     if properties:
         rec.send_property("stamps", rr.AnyValues(drop_untyped_nones=True, **properties))
     return rec, memory
 
 
-def _finish(rec: rerun.RecordingStream, memory: rerun.MemoryRecording, path: Path) -> None:
+def _finish(rec: rerun.RecordingStream, memory: rerun.MemoryRecording | None, path: Path) -> None:
     rec.flush()
+    assert memory is not None
     data = memory.drain_as_bytes()
     rec.disconnect()
     atomic_write(path, data)
@@ -139,52 +147,170 @@ def write_failure(path: Path, message: str, properties: Mapping[str, str], name:
     _finish(rec, memory, path)
 
 
-def write_recording(
-    path: Path,
-    trace: Trace,
-    shapes: Sequence[BodyShapes],
-    *,
-    limits: MotorLimits,
-    joint_limbs: Sequence[str],
-    markers: Sequence[Marker],
-    properties: Mapping[str, str],
-    name: str,
-    end_effector: EndEffectorStats | None = None,
-) -> None:
-    """Write the recording of one run to ``path`` (atomically)."""
-    rec, memory = _stream(name, properties)
-    limbs = _log_joints(rec, trace, limits, joint_limbs)
-    _log_bodies(rec, trace, shapes)
-    _log_base(rec, trace)
-    if end_effector is not None and trace.tool_pos is not None:
-        _log_tool(rec, trace, end_effector)
-    if markers:
-        _log_events(rec, markers)
-    rec.send_blueprint(_blueprint(limbs))
-    _finish(rec, memory, path)
+class RunRecorder:
+    """The recording of one run, logged a chunk of the run at a time (:meth:`add` each chunk
+    of :func:`motiontool.sim._mujoco.run_chunks` in order, then :meth:`finish`).
+
+    What is logged goes to a temporary file as it is logged, so memory stays flat whatever the
+    run's duration; :meth:`finish` copies that file to ``path`` as every output is written
+    (:func:`motiontool.motionfmt.fileio.open_output`: a regular file whole or not at all, a
+    FIFO or a device straight through). :meth:`close` (also on leaving a ``with`` block)
+    removes the temporary file. The root body's whole path keeps at most
+    :data:`BASE_TRAIL_POINTS` of its frames (every other one, then every fourth, ..., as the
+    run goes on); its position at every frame is logged in full.
+    """
+
+    def __init__(
+        self,
+        path: Path,
+        shapes: Sequence[BodyShapes],
+        *,
+        limits: MotorLimits,
+        joints: Sequence[str],
+        joint_limbs: Sequence[str],
+        properties: Mapping[str, str],
+        name: str,
+    ) -> None:
+        import rerun as rr
+
+        self.path, self.limits, self.joint_limbs, self.shapes = path, limits, joint_limbs, shapes
+        self._folder = tempfile.TemporaryDirectory(prefix="motiontool-rrd-")
+        self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
+        self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        self._entities = _joint_entities(joints, joint_limbs)
+        for body in shapes:
+            log_shapes(
+                self.rec, _body_entity(body), body, _limb_color(shapes).get(body.limb, _SCENE)
+            )
+        self._trail = _Thinned(BASE_TRAIL_POINTS)
+        self._first: Trace | None = None
+        self._last: Trace | None = None
+
+    def __enter__(self) -> RunRecorder:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Stop logging and remove the temporary file (the recording is lost unless
+        :meth:`finish` wrote it)."""
+        self.rec.disconnect()
+        self._folder.cleanup()
+
+    def add(self, chunk: Trace) -> None:
+        """Log the next chunk of the run: its frames (but the first, the last of the chunk
+        before) and its steps."""
+        new = 0 if self._last is None else 1
+        _log_joints(self.rec, chunk, new, self.limits, self._entities)
+        _log_bodies(self.rec, chunk, new, self.shapes)
+        _log_base(self.rec, chunk, new)
+        if chunk.tool_pos is not None:
+            _log_points(self.rec, "/world/tool", chunk.time_s[new:], chunk.tool_pos[new:])
+        self._trail.add(chunk.first_frame + new, chunk.base_pos[new:])
+        self._first = self._first or chunk
+        self._last = chunk
+
+    def finish(self, markers: Sequence[Marker], end_effector: EndEffectorStats | None) -> None:
+        """Log what is known at the end of the run (the limits over its time, the root body's
+        path, the tool's keyframes and path, the events, the blueprint) and write the
+        recording to ``path``."""
+        import rerun as rr
+
+        assert self._first is not None and self._last is not None, "a run has at least one chunk"
+        rec = self.rec
+        span = (float(self._first.time_s[0]), float(self._last.time_s[-1]))
+        for j, base in enumerate(self._entities):
+            _log_limits(rec, base, span, self.limits.lower[j], self.limits.upper[j])
+        trail = self._trail.points(self._last.last_frame, self._last.base_pos[-1])
+        rec.log(
+            "/world/base_trail",
+            rr.LineStrips3D([trail], colors=[_BASE_TRAIL], radii=[BASE_TRAIL_RADIUS_M]),
+            static=True,
+        )
+        if end_effector is not None:
+            _log_tool(rec, end_effector)
+        if markers:
+            _log_events(rec, markers)
+        limbs: dict[str, list[str]] = {}
+        for limb, base in zip(self.joint_limbs, self._entities, strict=True):
+            limbs.setdefault(limb, []).append(base)
+        rec.send_blueprint(_blueprint(limbs))
+        rec.flush()
+        rec.disconnect()
+        with open_output(self.path) as sink, open(Path(self._folder.name) / "run.rrd", "rb") as f:
+            while block := f.read(1 << 20):
+                sink.write(block)
+
+
+BASE_TRAIL_POINTS = 20_000
+"""At most this many frames in the root body's whole path (400 s at the Nao's 20 ms)."""
+
+
+class _Thinned:
+    """Points of consecutive frames, thinned to at most ``most``: the frames that are a
+    multiple of a stride that doubles whenever they would be more."""
+
+    def __init__(self, most: int) -> None:
+        self.most, self.stride = most, 1
+        self.frames: list[npt.NDArray[np.int64]] = []
+        self.rows: list[npt.NDArray[np.float64]] = []
+        self.count = 0
+
+    def add(self, first: int, points: npt.NDArray[np.float64]) -> None:
+        """Points of the frames ``first``, ``first + 1``, ... ."""
+        import numpy as np
+
+        frames = np.arange(first, first + len(points))
+        keep = frames % self.stride == 0
+        self.frames.append(frames[keep])
+        self.rows.append(points[keep].copy())
+        self.count += int(keep.sum())
+        while self.count > self.most:
+            self.stride *= 2
+            kept = [(f % self.stride == 0) for f in self.frames]
+            self.frames = [f[k] for f, k in zip(self.frames, kept, strict=True)]
+            self.rows = [r[k] for r, k in zip(self.rows, kept, strict=True)]
+            self.count = sum(len(f) for f in self.frames)
+        if len(self.rows) > 64:  # few arrays: join them
+            self.frames, self.rows = [np.concatenate(self.frames)], [np.concatenate(self.rows)]
+
+    def points(self, last_frame: int, last: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """The points kept, and the last frame's ``last`` if it was not."""
+        import numpy as np
+
+        rows = np.concatenate(self.rows) if self.rows else np.empty((0, 3))
+        frames = np.concatenate(self.frames) if self.frames else np.empty(0, dtype=np.int64)
+        if not len(frames) or frames[-1] != last_frame:
+            rows = np.concatenate([rows, last[None, :]])
+        return rows
+
+
+def _joint_entities(joints: Sequence[str], joint_limbs: Sequence[str]) -> list[str]:
+    """Each joint's entity: ``/joints/<limb>/<joint>``."""
+    import rerun as rr
+
+    esc = rr.escape_entity_path_part
+    return [f"/joints/{esc(limb)}/{esc(j)}" for j, limb in zip(joints, joint_limbs, strict=True)]
 
 
 def _log_joints(
-    rec: rerun.RecordingStream, trace: Trace, limits: MotorLimits, joint_limbs: Sequence[str]
-) -> dict[str, list[str]]:
-    """Joint series: commanded (clipped, as the motor sees it), measured, limits. Returns the
-    entity of each joint, by limb."""
+    rec: rerun.RecordingStream, trace: Trace, new: int, limits: MotorLimits, entities: Sequence[str]
+) -> None:
+    """Joint series of a chunk: commanded (clipped, as the motor sees it) at its steps,
+    measured at its frames from ``new`` on."""
     import numpy as np
     import rerun as rr
 
-    times = trace.time_s
-    frames = rr.TimeColumn(TIMELINE, duration=times)
-    steps = rr.TimeColumn(TIMELINE, duration=times[:-1])
+    frames = rr.TimeColumn(TIMELINE, duration=trace.time_s[new:])
+    steps = rr.TimeColumn(TIMELINE, duration=trace.time_s[:-1])
     clipped = np.clip(trace.targets, limits.lower, limits.upper)
-    limbs: dict[str, list[str]] = {}
-    for j, joint in enumerate(trace.joints):
-        base = f"/joints/{rr.escape_entity_path_part(joint_limbs[j])}/"
-        base += rr.escape_entity_path_part(joint)
-        limbs.setdefault(joint_limbs[j], []).append(base)
-        _log_series(rec, f"{base}/commanded", steps, clipped[:, j], _COMMANDED, "commanded")
-        _log_series(rec, f"{base}/measured", frames, trace.position[:, j], _MEASURED, "measured")
-        _log_limits(rec, base, times, limits.lower[j], limits.upper[j])
-    return limbs
+    first = new == 0 and trace.first_frame == 0
+    for j, base in enumerate(entities):
+        _log_series(rec, f"{base}/commanded", steps, clipped[:, j], _COMMANDED, "commanded", first)
+        _log_series(
+            rec, f"{base}/measured", frames, trace.position[new:, j], _MEASURED, "measured", first
+        )
 
 
 def _log_series(
@@ -194,26 +320,26 @@ def _log_series(
     values: npt.NDArray[np.float64],
     color: tuple[int, int, int],
     name: str,
+    style: bool,
 ) -> None:
-    """One scalar series (one ``send_columns``; none when empty) and its static line style."""
+    """Part of a scalar series (one ``send_columns``; none when empty), and with ``style`` its
+    static line style."""
     import rerun as rr
 
     if len(values):
         rec.send_columns(entity, indexes=[index], columns=rr.Scalars.columns(scalars=values))
-    rec.log(entity, rr.SeriesLines(colors=[color], names=[name]), static=True)
+    if style:
+        rec.log(entity, rr.SeriesLines(colors=[color], names=[name]), static=True)
 
 
 def _log_limits(
-    rec: rerun.RecordingStream,
-    base: str,
-    times: npt.NDArray[np.float64],
-    lower: float,
-    upper: float,
+    rec: rerun.RecordingStream, base: str, span: tuple[float, float], lower: float, upper: float
 ) -> None:
-    """A joint's finite limits: a flat line each, from the first frame to the last."""
+    """A joint's finite limits: a flat line each, over ``span`` (the first and last frame's
+    times, s)."""
     import rerun as rr
 
-    ends = rr.TimeColumn(TIMELINE, duration=[float(times[0]), float(times[-1])])
+    ends = rr.TimeColumn(TIMELINE, duration=list(span))
     for side, value in (("lower", lower), ("upper", upper)):
         if math.isfinite(value):
             rec.send_columns(
@@ -228,49 +354,62 @@ def _log_limits(
             )
 
 
-def _log_bodies(rec: rerun.RecordingStream, trace: Trace, shapes: Sequence[BodyShapes]) -> None:
-    """Bodies: static primitives in the body frame, a robot body posed every frame."""
+def _body_entity(body: BodyShapes) -> str:
+    """``/world/robot/<body>`` or ``/world/scene/<body>``."""
     import rerun as rr
 
-    esc = rr.escape_entity_path_part
-    frames = rr.TimeColumn(TIMELINE, duration=trace.time_s)
-    limb_color = {
-        limb: _LIMB_COLORS[i % len(_LIMB_COLORS)]
-        for i, limb in enumerate(dict.fromkeys(s.limb for s in shapes if s.robot))
-    }
+    group = "robot" if body.robot else "scene"
+    return f"/world/{group}/{rr.escape_entity_path_part(body.name)}"
+
+
+def _limb_color(shapes: Sequence[BodyShapes]) -> dict[str, tuple[int, int, int]]:
+    """The colour of each limb of the robot, in the order its bodies come."""
+    limbs = dict.fromkeys(s.limb for s in shapes if s.robot)
+    return {limb: _LIMB_COLORS[i % len(_LIMB_COLORS)] for i, limb in enumerate(limbs)}
+
+
+def _log_bodies(
+    rec: rerun.RecordingStream, trace: Trace, new: int, shapes: Sequence[BodyShapes]
+) -> None:
+    """Each robot body's pose at the chunk's frames from ``new`` on."""
+    import rerun as rr
+
+    if not len(trace.body_pos):
+        return
+    frames = rr.TimeColumn(TIMELINE, duration=trace.time_s[new:])
     body_index = {b: i for i, b in enumerate(trace.bodies)}
-    rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
     for body in shapes:
-        root = f"/world/robot/{esc(body.name)}" if body.robot else f"/world/scene/{esc(body.name)}"
-        _log_shapes(rec, root, body, limb_color.get(body.limb, _SCENE))
-        if body.robot and body.name in body_index and len(trace.body_pos):
+        if body.robot and body.name in body_index:
             b = body_index[body.name]
             rec.send_columns(
-                root,
+                _body_entity(body),
                 indexes=[frames],
                 columns=rr.Transform3D.columns(
-                    translation=trace.body_pos[:, b],
-                    quaternion=trace.body_quat[:, b][:, [1, 2, 3, 0]],  # xyzw
+                    translation=trace.body_pos[new:, b],
+                    quaternion=trace.body_quat[new:, b][:, [1, 2, 3, 0]],  # xyzw
                 ),
             )
 
 
-def _log_base(rec: rerun.RecordingStream, trace: Trace) -> None:
-    """The root body: its whole path (static), its position at every frame."""
+def _log_base(rec: rerun.RecordingStream, trace: Trace, new: int) -> None:
+    """The root body's position at the chunk's frames from ``new`` on."""
+    _log_points(rec, "/world/base", trace.time_s[new:], trace.base_pos[new:])
+
+
+def _log_points(
+    rec: rerun.RecordingStream,
+    entity: str,
+    times: npt.NDArray[np.float64],
+    positions: npt.NDArray[np.float64],
+) -> None:
+    """A moving point: its position (m) at each of ``times`` (s)."""
     import numpy as np
     import rerun as rr
 
-    rec.log(
-        "/world/base_trail",
-        rr.LineStrips3D([trace.base_pos], colors=[_BASE_TRAIL], radii=[BASE_TRAIL_RADIUS_M]),
-        static=True,
-    )
     rec.send_columns(
-        "/world/base",
-        indexes=[rr.TimeColumn(TIMELINE, duration=trace.time_s)],
-        columns=rr.Points3D.columns(
-            positions=trace.base_pos, radii=np.full(len(trace.time_s), POINT_RADIUS_M)
-        ),
+        entity,
+        indexes=[rr.TimeColumn(TIMELINE, duration=times)],
+        columns=rr.Points3D.columns(positions=positions, radii=np.full(len(times), POINT_RADIUS_M)),
     )
 
 
@@ -313,19 +452,22 @@ def _blueprint(limbs: Mapping[str, Sequence[str]]) -> rerun.blueprint.Blueprint:
     )
 
 
-def _log_tool(rec: rerun.RecordingStream, trace: Trace, ee: EndEffectorStats) -> None:
-    """The tool: its position every frame, its growing path, the keyframes' targets."""
+def _thin(path: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """``path`` with at most :data:`TOOL_TRAIL_POINTS` points: every n-th one and the last."""
+    n = len(path)
+    if n <= TOOL_TRAIL_POINTS:
+        return path
+    every = math.ceil(n / (TOOL_TRAIL_POINTS - 1))
+    kept = path[::every]
+    return kept if (n - 1) % every == 0 else path[[*range(0, n, every), n - 1]]
+
+
+def _log_tool(rec: rerun.RecordingStream, ee: EndEffectorStats) -> None:
+    """The tool (its position every frame is logged with each chunk): its growing path, the
+    keyframes' targets."""
     import numpy as np
     import rerun as rr
 
-    assert trace.tool_pos is not None
-    rec.send_columns(
-        "/world/tool",
-        indexes=[rr.TimeColumn(TIMELINE, duration=trace.time_s)],
-        columns=rr.Points3D.columns(
-            positions=trace.tool_pos, radii=np.full(len(trace.time_s), POINT_RADIUS_M)
-        ),
-    )
     trail = np.array(ee.trail_position_m, dtype=np.float64).reshape(-1, 3)
     n = len(trail)
     if n:
@@ -336,7 +478,7 @@ def _log_tool(rec: rerun.RecordingStream, trace: Trace, ee: EndEffectorStats) ->
         rec.send_columns(
             "/world/tool/trail",
             indexes=[rr.TimeColumn(TIMELINE, duration=[ee.trail_time_s[r] for r in rows])],
-            columns=rr.LineStrips3D.columns(strips=[trail[: r + 1] for r in rows]),
+            columns=rr.LineStrips3D.columns(strips=[_thin(trail[: r + 1]) for r in rows]),
         )
         rec.log(
             "/world/tool/trail",
@@ -354,71 +496,3 @@ def _log_tool(rec: rerun.RecordingStream, trace: Trace, ee: EndEffectorStats) ->
             ),
             static=True,
         )
-
-
-def _log_shapes(
-    rec: rerun.RecordingStream, root: str, body: BodyShapes, color: tuple[int, int, int]
-) -> None:
-    """Log ``body``'s primitives under ``root``, in the body frame, one entity per kind."""
-    by_kind: dict[str, list[Shape]] = {}
-    for shape in body.shapes:
-        by_kind.setdefault(shape.kind, []).append(shape)
-    for kind, group in by_kind.items():
-        drawn = _primitives(kind, group, color)
-        if drawn is not None:
-            rec.log(f"{root}/{drawn[0]}", drawn[1], static=True)
-
-
-def _primitives(
-    kind: str, group: Sequence[Shape], color: tuple[int, int, int]
-) -> tuple[str, rerun.AsComponents] | None:
-    """(entity name, archetype) of the primitives ``group`` of one ``kind``, or None for a kind
-    that is not drawn."""
-    import numpy as np
-    import rerun as rr
-
-    pos = np.array([s.pos for s in group], dtype=np.float64)
-    quat = np.array([s.quat for s in group], dtype=np.float64)
-    xyzw = quat[:, [1, 2, 3, 0]]
-    size = np.array([s.size for s in group], dtype=np.float64)
-    colors = [color] * len(group)
-    if kind == "box":
-        return "boxes", rr.Boxes3D(half_sizes=size, centers=pos, quaternions=xyzw, colors=colors)
-    if kind == "capsule":  # Rerun's starts at its origin along +z; MuJoCo's is centred
-        start = [_rotate(q, (0.0, 0.0, s[1])) for q, s in zip(quat, size, strict=True)]
-        return "capsules", rr.Capsules3D(
-            lengths=2 * size[:, 1],
-            radii=size[:, 0],
-            translations=pos - np.array(start),
-            quaternions=xyzw,
-            colors=colors,
-        )
-    if kind == "cylinder":
-        return "cylinders", rr.Cylinders3D(
-            lengths=2 * size[:, 1], radii=size[:, 0], centers=pos, quaternions=xyzw, colors=colors
-        )
-    if kind in ("sphere", "ellipsoid"):
-        half = np.repeat(size[:, :1], 3, axis=1) if kind == "sphere" else size
-        return f"{kind}s", rr.Ellipsoids3D(
-            half_sizes=half, centers=pos, quaternions=xyzw, colors=colors, fill_mode="solid"
-        )
-    if kind == "plane":
-        half = np.where(size[:, :2] > 0, size[:, :2], PLANE_HALF_SIZE_M)  # 0: infinite
-        return "planes", rr.Boxes3D(
-            half_sizes=np.column_stack([half, np.full(len(group), PLANE_THICKNESS_M)]),
-            centers=pos - [0.0, 0.0, PLANE_THICKNESS_M],
-            quaternions=xyzw,
-            colors=colors,
-            fill_mode="solid",
-        )
-    return None
-
-
-def _rotate(quat: Iterable[float], v: tuple[float, float, float]) -> tuple[float, float, float]:
-    """Rotate ``v`` by the unit quaternion ``quat`` (w, x, y, z)."""
-    w, x, y, z = (float(c) for c in quat)
-    vx, vy, vz = v
-    # v + 2 w (q x v) + 2 q x (q x v)
-    cx, cy, cz = y * vz - z * vy, z * vx - x * vz, x * vy - y * vx
-    ddx, ddy, ddz = y * cz - z * cy, z * cx - x * cz, x * cy - y * cx
-    return (vx + 2 * (w * cx + ddx), vy + 2 * (w * cy + ddy), vz + 2 * (w * cz + ddz))

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
 from motiontool.extras import require
+from motiontool.motionfmt.fileio import Sink
 
 if TYPE_CHECKING:
     import numpy as np
@@ -33,6 +34,7 @@ __all__ = [
     "NS_PER_MS",
     "POSE_STAMPED",
     "BagTopic",
+    "BagWriter",
     "JointStates",
     "duration",
     "read_joint_states",
@@ -91,25 +93,72 @@ def duration(ms: int) -> dict[str, int]:
     return stamp(ms * NS_PER_MS)
 
 
+class BagWriter:
+    """An MCAP file written a message at a time into ``stream`` (anything with ``write``; the
+    bytes written are counted for MCAP's offsets), each topic's schema registered when its
+    first message comes: deterministic, no wall clock in it. :meth:`finish` writes the
+    summary.
+
+    Args:
+        topics: each topic's ROS 2 type, by topic name.
+        what: what needs the libraries, for the missing-extra message (``a ROS 2 bag``).
+    """
+
+    def __init__(self, stream: Any, topics: dict[str, str], what: str) -> None:
+        require("rosbags", _EXTRA, what)
+        writer_module = require("mcap_ros2.writer", _EXTRA, what)
+        typesys = require("rosbags.typesys", _EXTRA, what)
+        self._store = typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
+        self._out = _Counted(stream)
+        self._writer = writer_module.Writer(self._out)
+        self._types = topics
+        self._schemas: dict[str, Any] = {}
+        self._sequence: dict[str, int] = {}
+
+    def write(self, topic: str, ns: int, message: dict[str, Any]) -> None:
+        """Write ``message`` (nested dicts) on ``topic`` at the bag time ``ns``."""
+        schema = self._schemas.get(topic)
+        if schema is None:
+            text, _ = self._store.generate_msgdef(self._types[topic], ros_version=2)
+            schema = self._schemas[topic] = self._writer.register_msgdef(self._types[topic], text)
+        k = self._sequence.get(topic, 0)
+        self._sequence[topic] = k + 1
+        self._writer.write_message(topic, schema, message, log_time=ns, publish_time=ns, sequence=k)
+
+    def finish(self) -> None:
+        """Write the bag's summary: the file is complete."""
+        self._writer.finish()
+
+
+class _Counted(Sink):
+    """A write-only stream that counts what it writes (MCAP's writer asks where it is)."""
+
+    __slots__ = ("_written",)
+
+    def __init__(self, stream: Any) -> None:
+        super().__init__(stream)
+        self._written = 0
+
+    def write(self, data: bytes | bytearray | memoryview) -> int:
+        n = super().write(data)
+        self._written += n
+        return n
+
+    def tell(self) -> int:
+        return self._written
+
+
 def write_bag(topics: Sequence[BagTopic], what: str) -> bytes:
-    """The MCAP file holding ``topics`` (deterministic: no wall clock in it).
+    """The MCAP file holding ``topics``, one after another (:class:`BagWriter`).
 
     Args:
         what: what needs the libraries, for the missing-extra message (``a ROS 2 bag``).
     """
-    require("rosbags", _EXTRA, what)
-    writer_module = require("mcap_ros2.writer", _EXTRA, what)
-    typesys = require("rosbags.typesys", _EXTRA, what)
-    store = typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
     out = io.BytesIO()
-    writer = writer_module.Writer(out)
+    writer = BagWriter(out, {t.name: t.msgtype for t in topics}, what)
     for topic in topics:
-        text, _ = store.generate_msgdef(topic.msgtype, ros_version=2)
-        schema = writer.register_msgdef(topic.msgtype, text)
-        for k, (ns, message) in enumerate(topic.messages):
-            writer.write_message(
-                topic.name, schema, message, log_time=ns, publish_time=ns, sequence=k
-            )
+        for ns, message in topic.messages:
+            writer.write(topic.name, ns, message)
     writer.finish()
     return out.getvalue()
 

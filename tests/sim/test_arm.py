@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import pytest
 from conftest import ROOT
+from rrds import rrd_contents
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -44,16 +45,6 @@ ARM = (
 )
 NOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:200,B,0.3,-0.2\n"
 SORTING = ROOT / "motions" / "ur5e" / "sorting.motion"
-
-
-def rrd_contents(path: Path) -> dict[str, list[Any]]:
-    """Entity path -> the record batches of its chunks, read with Rerun's own reader."""
-    from rerun.chunk import RrdReader
-
-    out: dict[str, list[Any]] = {}
-    for chunk in RrdReader(path).stream().collect().stream().to_chunks():
-        out.setdefault(chunk.entity_path, []).append(chunk.to_record_batch())
-    return out
 
 
 def column(batches: list[Any], name: str) -> list[Any]:

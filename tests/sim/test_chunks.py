@@ -129,3 +129,51 @@ def test_memory_of_a_run_does_not_grow_with_its_duration(monkeypatch: pytest.Mon
     run(1)  # imports and caches
     short, long = peak_kib(lambda: run(2)), peak_kib(lambda: run(8))
     assert long < 1.15 * short, (short, long)
+
+
+@pytest.mark.parametrize(
+    ("motion", "robot", "steps"),
+    [
+        (ROOT / "motions" / "nao" / "bow.motion", "nao", 7),
+        (ROOT / "motions" / "ur5e" / "jog.motion", "ur5e", 13),
+    ],
+    ids=["nao", "ur5e"],
+)
+def test_recording_and_bag_logged_a_chunk_at_a_time_hold_what_one_chunk_does(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, motion: Path, robot: str, steps: int
+) -> None:
+    """Every entity and column of the recording holds the same rows (events, limits and the
+    base's whole path included), and the bag the same messages, whatever the chunks."""
+    pytest.importorskip("rerun")
+    pytest.importorskip("mcap_ros2")
+    from bags import read_bag
+    from rrds import rrd_rows
+
+    def outputs(chunk_steps: int, name: str) -> tuple[Any, Any]:
+        rrd, bag = tmp_path / f"{name}.rrd", tmp_path / f"{name}.mcap"
+        with monkeypatch.context() as m:
+            m.setattr(commands, "CHUNK_STEPS", chunk_steps)
+            play([motion], robot=robot, rrd=rrd, bag=bag, stamps={"motiontool": "x"})
+        messages = {
+            topic: [(ns, repr(msg)) for ns, msg in rows] for topic, rows in read_bag(bag).items()
+        }
+        return rrd_rows(rrd), messages
+
+    whole_rrd, whole_bag = outputs(1 << 30, "whole")
+    cut_rrd, cut_bag = outputs(steps, "cut")
+    assert any(entity == "/events" for entity, _ in whole_rrd)  # the motion's start at least
+    assert set(cut_rrd) == set(whole_rrd)
+    for key, rows in whole_rrd.items():
+        assert cut_rrd[key] == rows, key
+    assert cut_bag == whole_bag and whole_bag
+
+
+def test_a_run_of_more_steps_than_a_run_simulates_is_refused_before_it_starts(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from motiontool.errors import MotionToolError
+
+    motion = ROOT / "motions" / "nao" / "head_no.motion"
+    monkeypatch.setattr(commands, "MAX_RUN_STEPS", 100)
+    with pytest.raises(MotionToolError, match=r"the run: [\d,]+ control steps of 20 ms .* 100 a"):
+        play([motion], robot="nao", options=PlayOptions(loops=3))

@@ -16,7 +16,7 @@ import pytest
 
 from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt import read_bytes, sample
-from motiontool.sim import MotorLimits, command_matrix, velocity_command
+from motiontool.sim import MotorLimits, command_matrix, command_stream, velocity_command
 from motiontool.sim import _mujoco as mj
 from motiontool.sim._mujoco import stepping
 
@@ -115,7 +115,7 @@ def test_command_matrix_keeps_targets_without_command_and_chains_motions() -> No
     b = _motion("#WEBOTS_MOTION,V1.0,B\n0,P,5\n20,P,6\n")
     initial = np.array([0.5, -0.5, 9.0])
     targets, commanded, lengths, ignored = command_matrix(
-        [a, b], ["A", "B", "C"], 20, initial, hold_steps=2
+        command_stream([a, b], ["A", "B", "C"], 20, initial, hold_steps=2)
     )
     assert lengths == [3, 2]
     assert ignored == []
@@ -135,7 +135,7 @@ def test_command_matrix_keeps_targets_without_command_and_chains_motions() -> No
 def test_command_matrix_is_the_sample_stream_with_webots_loop_and_reverse() -> None:
     m = _motion("#WEBOTS_MOTION,V1.0,A,X\n0,P,0,1\n100,P,1,1\n150,P,0.5,1\n")
     targets, _c, lengths, ignored = command_matrix(
-        [m], ["A"], 32, np.zeros(1), reverse=True, loops=3
+        command_stream([m], ["A"], 32, np.zeros(1), reverse=True, loops=3)
     )
     stream = sample(m, 32, reverse=True, loops=3)
     assert ignored == ["X"]
@@ -145,7 +145,7 @@ def test_command_matrix_is_the_sample_stream_with_webots_loop_and_reverse() -> N
 
 def test_command_matrix_later_duplicate_column_wins_where_it_has_a_value() -> None:
     m = _motion("#WEBOTS_MOTION,V1.0,A,A\n0,P,1,*\n20,P,2,3\n")
-    targets, _c, _l, _i = command_matrix([m], ["A"], 20, np.zeros(1))
+    targets, _c, _l, _i = command_matrix(command_stream([m], ["A"], 20, np.zeros(1)))
     assert targets[:, 0].tolist() == [1.0, 3.0]
     assert not math.isnan(targets[0, 0])
 

@@ -8,6 +8,7 @@ from typing import Any
 
 import pytest
 from conftest import ROOT
+from rrds import rrd_contents
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -26,18 +27,6 @@ def nod(tmp_path: Path) -> Path:
     path = tmp_path / "nod.motion"
     path.write_bytes(NOD)
     return path
-
-
-def rrd_contents(path: Path) -> dict[str, list[Any]]:
-    """Entity path -> the record batches of its chunks, read with Rerun's own reader."""
-    from rerun.chunk import RrdReader
-
-    reader = RrdReader(path)
-    assert reader.recordings(), "no recording store"
-    out: dict[str, list[Any]] = {}
-    for chunk in reader.stream().collect().stream().to_chunks():
-        out.setdefault(chunk.entity_path, []).append(chunk.to_record_batch())
-    return out
 
 
 def column(batches: list[Any], name: str) -> list[Any]:

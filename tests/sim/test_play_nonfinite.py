@@ -11,7 +11,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.motionfmt import Motion, MotionSyntaxError, MotionToolError
-from motiontool.sim import command_matrix, play
+from motiontool.sim import command_matrix, command_stream, play
 
 NAN_FILE = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n500,P2,0.2,nan\n"
 
@@ -37,9 +37,9 @@ def test_cli_play_of_a_nan_cell_is_one_line_and_exit_2(tmp_path: Path) -> None:
 def test_command_matrix_fails_on_a_commanded_nan_and_keeps_star_held() -> None:
     values = np.array([[0.5], [np.nan]])
     star = Motion(("A",), ("P", "Q"), np.array([0, 40]), values)  # no mask: NaN is '*'
-    targets, commanded, _l, _i = command_matrix([star], ["A"], 20, np.zeros(1))
+    targets, commanded, _l, _i = command_matrix(command_stream([star], ["A"], 20, np.zeros(1)))
     assert commanded[:, 0].tolist() == [True, False, False]
     assert targets[:, 0].tolist() == [0.5, 0.5, 0.5]
     nan = Motion(("A",), ("P", "Q"), np.array([0, 40]), values, np.array([[True], [True]]))
     with pytest.raises(MotionToolError, match="non-finite target"):
-        command_matrix([nan], ["A"], 20, np.zeros(1))
+        command_matrix(command_stream([nan], ["A"], 20, np.zeros(1)))
