@@ -11,16 +11,23 @@ wall-clock second for
 
 and the ratios. Targets (issue 5): play >= 0.8 x the bare loop; recording overhead < 25 %.
 Best of ``--repeat`` runs each; the machine's other load shows in the spread.
+
+``--memory-only``: the peak memory of the ``play`` command (a child process, GNU time) with a
+recording, a bag and a JSON report, for the Nao's ``head_no.motion`` looped 40 and 160 times
+(about 5 000 and 21 000 control steps), and their ratio (target <= 1.1x: a run is simulated
+and written a chunk at a time, so its memory does not grow with its duration).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
 import tempfile
 from pathlib import Path
 
-from _timing import best_of  # benchmarks/_timing.py (run as a script)
+from _timing import best_child, best_of  # benchmarks/_timing.py (run as a script)
 
 ROOT = Path(__file__).resolve().parent.parent
 CORPUS = ROOT / "tests" / "data" / "corpus" / "webots"  # vendored (see its NOTICE)
@@ -32,7 +39,11 @@ def main() -> int:
     parser.add_argument("--motion", type=Path, default=CORPUS / WALK)
     parser.add_argument("--loops", type=int, default=4)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--memory-only", action="store_true")
     args = parser.parse_args()
+    if args.memory_only:
+        memory()
+        return 0
     if not args.motion.is_file():
         print(f"motion {args.motion} not found (the Webots corpus is needed)", file=sys.stderr)
         return 2
@@ -100,6 +111,30 @@ def main() -> int:
         f".rrd {size_mb:.1f} MB"
     )
     return 0
+
+
+def memory(loops: tuple[int, int] = (40, 160)) -> None:
+    """The play command's peak with a short and a four times longer run, and their ratio."""
+    script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
+    motion = ROOT / "motions" / "nao" / "head_no.motion"
+    peaks = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp)
+        for n in loops:
+            cmd = [script, "play", str(motion), "--headless", "--loop", str(n), "--rrd",
+                   str(out / "r.rrd"), "--bag", str(out / "r.mcap"), "--json", str(out / "r.json")]  # fmt: skip
+            child = best_child(1, cmd)
+            if child.returncode not in (0, 1):
+                raise SystemExit(f"play --loop {n}: exit status {child.returncode}")
+            peaks[n] = child.peak_bytes
+            print(
+                f"play --loop {n} --rrd --bag --json: {child.wall_s:.1f} s, "
+                f"{child.peak_mib:.0f} MiB peak, .rrd {(out / 'r.rrd').stat().st_size / 1e6:.0f} MB"
+            )
+    short, long = loops
+    ratio = peaks[long] / peaks[short]
+    verdict = "met" if ratio <= 1.1 else "not met"
+    print(f"{long // short}x the duration peaks at {ratio:.2f}x (target <= 1.1x, flat: {verdict})")
 
 
 if __name__ == "__main__":

@@ -207,3 +207,22 @@ def test_a_bug_in_our_own_contact_code_is_raised_not_reported_as_a_stopped_run(
     # Before: trace.error = "simulation stopped at step N: a bug in ...", a clean-looking exit 2.
     with pytest.raises(IndexError, match="contact bookkeeping"):
         mj.run(scene, *hold(0.0, 50))
+
+
+def test_a_mujoco_error_in_a_later_chunk_stops_the_run_where_one_chunk_does(
+    tmp_path: Path,
+) -> None:
+    """The run stops at the same step, with the same message, whatever the chunks; the chunk it
+    stopped in is the last, cut to the steps simulated."""
+    from motiontool.sim.trace import concatenate
+
+    whole = mj.run(mj.build_scene(_small_arena_arm(tmp_path), 20), *hold(0.0, 50))
+    targets, commanded = hold(0.0, 50)
+    pieces = [(targets[k : k + 3], commanded[k : k + 3]) for k in range(0, 50, 3)]
+    scene = mj.build_scene(_small_arena_arm(tmp_path), 20)
+    chunks = list(mj.run_chunks(scene, pieces))
+    assert len(chunks) < len(pieces) and chunks[-1].error == whole.error
+    assert all(c.error is None for c in chunks[:-1])
+    joined = concatenate(chunks)
+    assert joined.steps_done == whole.steps_done
+    assert np.array_equal(joined.position, whole.position)
