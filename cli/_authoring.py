@@ -6,9 +6,9 @@ checks they run on their result, and how they report it. Their options are in
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import typer
 
@@ -26,6 +26,9 @@ from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 from motiontool.stamps import stamps
 
+if TYPE_CHECKING:
+    from motiontool.kinematics.checks._table import Groupable
+
 __all__ = [
     "check_result",
     "destination",
@@ -36,6 +39,7 @@ __all__ = [
     "parse_time_ms",
     "report_header",
     "say",
+    "values_count",
     "write_result",
 ]
 
@@ -90,11 +94,17 @@ def say(text: str, target: Path | None) -> None:
     typer.echo(text, nl=False, err=target is None)
 
 
-def check_result(
-    doc: MotionDocument, check: Callable[[ReadResult], Sequence[Diagnostic]]
-) -> list[Diagnostic]:
-    """What one of validate's robot checks reports on ``doc``."""
-    return list(check(read_bytes(doc.to_bytes(), doc.path)))
+def check_result(doc: MotionDocument | ReadResult, check: Groupable) -> list[Diagnostic]:
+    """What one of validate's robot checks reports on ``doc``, grouped as validate groups it
+    by default (a run of one code on one joint is one finding: a handful, whatever the
+    file's size)."""
+    result = doc if isinstance(doc, ReadResult) else read_bytes(doc.to_bytes(), doc.path)
+    return list(check.grouped(result))
+
+
+def values_count(findings: Sequence[Diagnostic]) -> int:
+    """How many values (poses, segments) ``findings`` stand for (a grouped finding, many)."""
+    return sum(d.count for d in findings)
 
 
 def findings_lines(findings: list[Diagnostic], heading: str, clean: str) -> list[str]:
@@ -106,9 +116,11 @@ def findings_lines(findings: list[Diagnostic], heading: str, clean: str) -> list
 
 
 def findings_json(findings: list[Diagnostic]) -> list[dict[str, Any]]:
-    """The JSON of a check's findings on a command's result: code, line, column, message."""
+    """The JSON of a check's findings on a command's result: code, line, column, message and
+    how many values a finding stands for."""
     return [
-        {"code": d.code, "line": d.line, "column": d.column, "message": d.message} for d in findings
+        {"code": d.code, "line": d.line, "column": d.column, "message": d.message, "count": d.count}
+        for d in findings
     ]
 
 

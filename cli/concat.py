@@ -9,7 +9,6 @@ import typer
 
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
-    check_result,
     destination,
     findings_json,
     findings_lines,
@@ -35,6 +34,7 @@ from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.concat import Concatenated, Transition, concat
+from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import DEFAULT_MARGIN
 from motiontool.stamps import stamps
 
@@ -121,8 +121,10 @@ def _transition_findings(
     if spec is None:
         return 0, []
     step = timestep or spec.default_timestep_ms
-    every = check_result(result.document, Velocity(spec, timestep))
-    return step, [d for d in every if _in_transition(d, result.transitions, step)]
+    every = Velocity(spec, timestep)(read_bytes(result.document.to_bytes(), result.document.path))
+    return step, [
+        d for d in every if _in_transition(d, result.transitions, step)
+    ]  # made one by one
 
 
 def _text(

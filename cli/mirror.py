@@ -9,6 +9,7 @@ import typer
 
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
+    check_result,
     destination,
     findings_json,
     findings_lines,
@@ -16,6 +17,7 @@ from motiontool.cli._authoring import (
     output_target,
     report_header,
     say,
+    values_count,
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, Output, robot_option
 from motiontool.cli.output import emit_bytes, say_wrote, written_motion
@@ -99,8 +101,8 @@ def _text(
         lines.extend(_map_lines(m))
     lines += findings_lines(
         new,
-        f"limits: {len(new)} mirrored values fall outside the partner's limits (the model's "
-        "left and right ranges differ):",
+        f"limits: {values_count(new)} mirrored values fall outside the partner's limits (the "
+        "model's left and right ranges differ):",
         "limits: every mirrored value within the partner's limits",
     )
     return "\n".join(lines) + "\n"
@@ -169,9 +171,9 @@ def mirror_command(
         step(f"{source_name(path)} ({plural(doc.n_poses, 'pose')})")
         result = mirror(doc, m.as_dict())
     limits = Limits(spec)
-    before = limits(doc.result)
-    after = limits(read_bytes(result.data, result.path))  # the one read of the result
-    new = list(after) if len(after) > len(before) else []
+    before = check_result(doc.result, limits)
+    after = check_result(read_bytes(result.data, result.path), limits)  # its one read
+    new = after if values_count(after) > values_count(before) else []
     emit_bytes(result.data, target)
     say_wrote(target, written_motion(doc.n_poses, doc.motion.duration_ms))  # mirror keeps the times
     if format is Format.json:

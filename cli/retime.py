@@ -17,6 +17,7 @@ from motiontool.cli._authoring import (
     output_target,
     report_header,
     say,
+    values_count,
     write_result,
 )
 from motiontool.cli.options import (
@@ -220,7 +221,7 @@ def _text(
         step = timestep or spec.default_timestep_ms
         lines += findings_lines(
             findings,
-            f"velocity check ({step} ms controller step): {len(findings)} warnings remain "
+            f"velocity check ({step} ms controller step): {values_count(findings)} warnings remain "
             "that retiming cannot remove:",
             f"velocity check ({step} ms controller step): no warning",
         )

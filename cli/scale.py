@@ -17,6 +17,7 @@ from motiontool.cli._authoring import (
     output_target,
     report_header,
     say,
+    values_count,
     write_result,
 )
 from motiontool.cli.options import (
@@ -84,7 +85,7 @@ def scale_command(
         check = Velocity(spec, timestep)
         before = check_result(doc, check)
         after = check_result(result.document, check)
-        new = after if len(after) > len(before) else []
+        new = after if values_count(after) > values_count(before) else []
     write_result(result.document, target)
     if format is Format.json:
         say(_json(result, path, target, spec, new), target)
@@ -128,7 +129,7 @@ def _text(
             lines.append(f"not motors of {spec.name}, not clipped: " + ", ".join(unlimited))
         lines += findings_lines(
             new,
-            f"velocity check: {len(new)} warnings (more than the input's); "
+            f"velocity check: {values_count(new)} warnings (more than the input's); "
             "motiontool retime --fit-limits slows the fast segments down:",
             "velocity check: no warning more than the input's",
         )

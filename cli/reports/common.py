@@ -12,13 +12,16 @@ from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
+
+if TYPE_CHECKING:
+    import sqlite3
 
 __all__ = [
     "PLAIN",
@@ -245,20 +248,61 @@ class Fingerprints:
     The ranks are counted for one file at a time (identical findings are of one file: the
     path is in the key) and forgotten at the next, so that memory does not grow with the
     run; a report by severity reads a file's findings of one severity together, and they
-    get the same ranks as in file order."""
+    get the same ranks as in file order. A file with more than :data:`HELD_KEYS` distinct
+    findings (one finding per pose of a file of random values, ``--no-group``: millions) has
+    them counted in a temporary SQLite table on disk from then on, so that memory does not
+    grow with one file either."""
+
+    HELD_KEYS = 1 << 18
+    """Distinct findings of a file counted in memory (16 bytes of digest each, about 100
+    bytes with the counter's own); past them, on disk."""
 
     def __init__(self) -> None:
         self._seen: Counter[bytes] = Counter()  # 16 bytes of a digest of key and severity
         self._file: tuple[str, Severity] | None = None
+        self._disk: sqlite3.Connection | None = None
 
     def __call__(self, d: Diagnostic, order: Order = Order.file) -> str:
         block = (d.path, d.severity if order is Order.severity else Severity.INFO)
         if block != self._file:
-            self._seen.clear()
+            self._forget()
             self._file = block
         rel = relative_path(d.path)
         key = f"{d.code}\0{rel.as_posix() if rel else d.path}\0{d.identity}"
         raw = key.encode("utf-8", "surrogateescape")
         seen = hashlib.sha256(raw + f"\0{d.severity}".encode()).digest()[:16]
-        self._seen[seen] += 1
-        return hashlib.sha256(raw + f"\0{self._seen[seen]}".encode()).hexdigest()
+        return hashlib.sha256(raw + f"\0{self._rank(seen)}".encode()).hexdigest()
+
+    def _rank(self, seen: bytes) -> int:
+        """How many times ``seen`` has come in this file, this one included."""
+        if self._disk is None:
+            self._seen[seen] += 1
+            rank = self._seen[seen]
+            if len(self._seen) > self.HELD_KEYS:
+                self._spill()
+            return rank
+        self._disk.execute(_BUMP, (seen,))
+        row = self._disk.execute("SELECT n FROM seen WHERE k = ?", (seen,)).fetchone()
+        return int(row[0])
+
+    def _spill(self) -> None:
+        """Go on counting in a temporary table on disk (deleted when it is closed)."""
+        import sqlite3
+
+        self._disk = sqlite3.connect("")  # '': a private temporary database on disk
+        self._disk.execute(
+            "CREATE TABLE seen (k BLOB PRIMARY KEY, n INTEGER NOT NULL) WITHOUT ROWID"
+        )
+        self._disk.executemany("INSERT INTO seen VALUES (?, ?)", self._seen.items())
+        self._seen.clear()
+
+    def _forget(self) -> None:
+        """A new file: no finding seen yet."""
+        self._seen.clear()
+        if self._disk is not None:
+            self._disk.close()
+            self._disk = None
+
+
+_BUMP = "INSERT INTO seen VALUES (?, 1) ON CONFLICT(k) DO UPDATE SET n = n + 1"
+"""Count one more of a finding (SQLite >= 3.24)."""

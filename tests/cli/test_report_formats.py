@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
@@ -189,3 +190,42 @@ def test_statistics_count_each_code_most_frequent_first(here: Path) -> None:
     ]
     refused = runner.invoke(app, ["validate", "--statistics", "-f", "json", "more.motion"])
     assert refused.exit_code == 2 and "--statistics is a text report" in refused.stderr
+
+
+def test_ranks_counted_on_disk_past_a_files_held_keys_give_the_same_fingerprints(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A file with more distinct findings than are counted in memory goes on counting them in
+    a temporary SQLite table: the same ranks, so the same fingerprints, in either order."""
+    from motiontool.cli.reports.common import Fingerprints, Order
+    from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+
+    rng = np.random.default_rng(5)
+    found = [
+        Diagnostic(
+            f"MT{code}",
+            Severity.WARNING if code == 203 else Severity.ERROR,
+            path,
+            line,
+            1,
+            f"message {rng.integers(0, 6)}",
+        )
+        for path in ("a.motion", "b.motion")
+        for line in range(1, 60)
+        for code in (203, 301)
+    ]
+
+    def prints(held: int, order: Order) -> list[str]:
+        with monkeypatch.context() as m:
+            m.setattr(Fingerprints, "HELD_KEYS", held)
+            fingerprint = Fingerprints()
+            if order is Order.severity:  # as a report by severity reads them
+                return [
+                    fingerprint(d, order) for d in sorted(found, key=lambda d: (d.path, d.severity))
+                ]
+            return [fingerprint(d, order) for d in found]
+
+    for order in (Order.file, Order.severity):
+        in_memory = prints(1 << 30, order)
+        assert len(set(in_memory)) == len(found)  # ranks tell identical findings apart
+        assert prints(2, order) == in_memory
