@@ -24,10 +24,11 @@ from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult, read_bytes
+from motiontool.motionfmt.validate import run_check
 from motiontool.stamps import stamps
 
 if TYPE_CHECKING:
-    from motiontool.kinematics.checks._table import Groupable
+    from motiontool.motionfmt.validate import Check
 
 __all__ = [
     "check_result",
@@ -94,12 +95,12 @@ def say(text: str, target: Path | None) -> None:
     typer.echo(text, nl=False, err=target is None)
 
 
-def check_result(doc: MotionDocument | ReadResult, check: Groupable) -> list[Diagnostic]:
+def check_result(doc: MotionDocument | ReadResult, check: Check) -> list[Diagnostic]:
     """What one of validate's robot checks reports on ``doc``, grouped as validate groups it
     by default (a run of one code on one joint is one finding: a handful, whatever the
     file's size)."""
     result = doc if isinstance(doc, ReadResult) else read_bytes(doc.to_bytes(), doc.path)
-    return list(check.grouped(result))
+    return list(run_check(check, result, group=True))
 
 
 def values_count(findings: Sequence[Diagnostic]) -> int:

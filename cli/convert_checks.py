@@ -24,6 +24,7 @@ from motiontool.motionfmt.convert.base import Imported, RobotStream
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.units import MS_PER_S
+from motiontool.motionfmt.validate import run_check
 from motiontool.motionfmt.writer import format_motion
 
 if TYPE_CHECKING:
@@ -71,7 +72,8 @@ def refuse_unknown_joints(imported: Imported, spec: RobotSpec) -> None:
 def motion_findings(
     imported: Imported, spec: RobotSpec, timestep_ms: int, *, for_robot: bool
 ) -> tuple[list[str], list[str]]:
-    """validate's limit, velocity and joint checks on the motion to export.
+    """validate's limit, velocity and joint checks on the motion to export, their findings
+    grouped as validate groups them by default (a run of one code on one joint is one).
 
     Returns:
         (blocking, other): one ``where: severity CODE: message`` line per finding; blocking
@@ -82,15 +84,13 @@ def motion_findings(
     if source is None:
         text = format_motion(motion).encode("utf-8", "surrogateescape")
         source = read_bytes(text, imported.path)
-    findings: list[Diagnostic] = []
-    for check in (UnknownJoints(spec), Limits(spec), Velocity(spec, timestep_ms)):
-        findings.extend(check(source))
     blocking: list[str] = []
     other: list[str] = []
-    for d in findings:
-        line = f"{_where(d, imported, motion)}: {d.severity} {d.code}: {d.message}"
-        stops = d.severity is Severity.ERROR or (for_robot and d.severity is Severity.WARNING)
-        (blocking if stops else other).append(line)
+    for check in (UnknownJoints(spec), Limits(spec), Velocity(spec, timestep_ms)):
+        for d in run_check(check, source, group=True):  # grouped, as validate reports them
+            line = f"{_where(d, imported, motion)}: {d.severity} {d.code}: {d.message}"
+            stops = d.severity is Severity.ERROR or (for_robot and d.severity is Severity.WARNING)
+            (blocking if stops else other).append(line)
     return blocking, other
 
 

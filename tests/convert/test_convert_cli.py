@@ -63,6 +63,21 @@ def test_a_limit_error_writes_nothing(tmp_path: Path) -> None:
     assert not (tmp_path / "out.motion").exists()
 
 
+def test_the_findings_that_refuse_an_export_are_grouped_as_validate_groups_them(
+    tmp_path: Path,
+) -> None:
+    """A run of one code on one joint is one line with its count (the 26 MB random file got
+    1.1 million lines, 96 s and 4.2 GB before; 40 lines in 3 s now)."""
+    src = tmp_path / "over.csv"
+    rows = [f"{40 * k},{3 if k % 5 else 0.1},0" for k in range(200)]
+    src.write_text("time_ms,HeadYaw,HeadPitch\n" + "\n".join(rows) + "\n")
+    code, _, err = _run(src, tmp_path / "out.motion")
+    assert code == 1 and not (tmp_path / "out.motion").exists()
+    over = [line for line in err.splitlines() if "MT302" in line]
+    assert len(over) == 1, over
+    assert "HeadYaw above its upper limit" in over[0] and "on 160 poses in 40 runs" in over[0]
+
+
 def test_never_over_the_input(tmp_path: Path) -> None:
     src = tmp_path / "w.csv"
     assert _run(WAVE, src)[0] == 0
