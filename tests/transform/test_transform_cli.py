@@ -463,3 +463,27 @@ def test_corpus_resample_retime_diff(path: Path, tmp_path: Path) -> None:
         codes = {d["code"] for f in json.loads(report)["files"] for d in f["diagnostics"]}
         assert not codes & {"MT303", "MT304"}
     assert read_file(source) == before
+
+
+def test_plot_draws_every_fast_segment_of_a_joint_as_one_artist() -> None:
+    """A file of random values has millions of segments above maxVelocity: one line each took
+    the plot of the 26 MB benchmark file past 20 GB; one broken line per joint draws them in
+    27 s and 1 GB."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from motiontool.cli._plotting import JointLimits, _mark_too_fast
+
+    t = np.arange(1000) * 0.04
+    v = np.where(np.arange(1000) % 2, 1.0, -1.0)  # every segment 50 rad/s
+    fig, ax = plt.subplots()
+    try:
+        n = _mark_too_fast(ax, t, v, JointLimits(-2.0, 2.0, 5.0, "rad"))
+        assert n == 999 and len(ax.lines) == 1
+        x, y = ax.lines[0].get_data()
+        assert np.isnan(x[2::3]).all() and list(x[:2]) == [0.0, 0.04] and list(y[:2]) == [-1, 1]
+    finally:
+        plt.close(fig)
