@@ -31,6 +31,7 @@ Read one back with ``rerun.chunk.RrdReader(path).stream().collect()`` (see the t
 
 from __future__ import annotations
 
+import contextlib
 import math
 import tempfile
 import uuid
@@ -38,6 +39,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write, open_output
 from motiontool.sim.recording_shapes import log_shapes
@@ -174,7 +176,12 @@ class RunRecorder:
         import rerun as rr
 
         self.path, self.limits, self.joint_limbs, self.shapes = path, limits, joint_limbs, shapes
-        self._folder = tempfile.TemporaryDirectory(prefix="motiontool-rrd-")
+        try:
+            self._folder = tempfile.TemporaryDirectory(prefix="motiontool-rrd-")
+        except OSError as exc:
+            raise MotionToolError(
+                f"cannot write the recording '{path}': no temporary folder: {exc.strerror or exc}"
+            ) from exc
         self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
         self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         self._entities = _joint_entities(joints, joint_limbs)
@@ -195,7 +202,8 @@ class RunRecorder:
     def close(self) -> None:
         """Stop logging and remove the temporary file (the recording is lost unless
         :meth:`finish` wrote it)."""
-        self.rec.disconnect()
+        with contextlib.suppress(RuntimeError):  # a sink that failed: finish said so
+            self.rec.disconnect()
         self._folder.cleanup()
 
     def add(self, chunk: Trace) -> None:
@@ -236,7 +244,13 @@ class RunRecorder:
         for limb, base in zip(self.joint_limbs, self._entities, strict=True):
             limbs.setdefault(limb, []).append(base)
         rec.send_blueprint(_blueprint(limbs))
-        rec.flush()
+        try:
+            rec.flush()
+        except RuntimeError as exc:  # the file sink stopped: a full or unwritable disk
+            raise MotionToolError(
+                f"cannot write the recording '{self.path}': its temporary file under "
+                f"{tempfile.gettempdir()} could not be written ({exc}); is that disk full?"
+            ) from exc
         rec.disconnect()
         with open_output(self.path) as sink, open(Path(self._folder.name) / "run.rrd", "rb") as f:
             while block := f.read(1 << 20):

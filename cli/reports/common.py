@@ -8,6 +8,7 @@ import functools
 import hashlib
 import itertools
 import os
+import tempfile
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -15,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from motiontool.cli.text import plural
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import Fix
@@ -281,19 +283,27 @@ class Fingerprints:
             if len(self._seen) > self.HELD_KEYS:
                 self._spill()
             return rank
-        self._disk.execute(_BUMP, (seen,))
-        row = self._disk.execute("SELECT n FROM seen WHERE k = ?", (seen,)).fetchone()
+        import sqlite3
+
+        try:
+            self._disk.execute(_BUMP, (seen,))
+            row = self._disk.execute("SELECT n FROM seen WHERE k = ?", (seen,)).fetchone()
+        except sqlite3.Error as exc:
+            raise _no_disk(exc) from exc
         return int(row[0])
 
     def _spill(self) -> None:
         """Go on counting in a temporary table on disk (deleted when it is closed)."""
         import sqlite3
 
-        self._disk = sqlite3.connect("")  # '': a private temporary database on disk
-        self._disk.execute(
-            "CREATE TABLE seen (k BLOB PRIMARY KEY, n INTEGER NOT NULL) WITHOUT ROWID"
-        )
-        self._disk.executemany("INSERT INTO seen VALUES (?, ?)", self._seen.items())
+        try:
+            self._disk = sqlite3.connect("")  # '': a private temporary database on disk
+            self._disk.execute(
+                "CREATE TABLE seen (k BLOB PRIMARY KEY, n INTEGER NOT NULL) WITHOUT ROWID"
+            )
+            self._disk.executemany("INSERT INTO seen VALUES (?, ?)", self._seen.items())
+        except sqlite3.Error as exc:
+            raise _no_disk(exc) from exc
         self._seen.clear()
 
     def _forget(self) -> None:
@@ -302,6 +312,13 @@ class Fingerprints:
         if self._disk is not None:
             self._disk.close()
             self._disk = None
+
+
+def _no_disk(exc: Exception) -> MotionToolError:
+    return MotionToolError(
+        f"cannot count a file's findings in a temporary file under {tempfile.gettempdir()}: "
+        f"{exc}; is that disk full?"
+    )
 
 
 _BUMP = "INSERT INTO seen VALUES (?, 1) ON CONFLICT(k) DO UPDATE SET n = n + 1"

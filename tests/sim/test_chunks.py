@@ -177,3 +177,26 @@ def test_a_run_of_more_steps_than_a_run_simulates_is_refused_before_it_starts(
     monkeypatch.setattr(commands, "MAX_RUN_STEPS", 100)
     with pytest.raises(MotionToolError, match=r"the run: [\d,]+ control steps of 20 ms .* 100 a"):
         play([motion], robot="nao", options=PlayOptions(loops=3))
+
+
+def test_a_recording_whose_temporary_file_fails_is_one_error_and_no_file(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """Rerun's file sink stops on a full disk (its flush raises): one MotionToolError naming
+    the recording, nothing at the destination, no temporary file left."""
+    rr = pytest.importorskip("rerun")
+    from motiontool.errors import MotionToolError
+
+    def full(self: Any, *args: Any, **kwargs: Any) -> None:
+        raise RuntimeError("File-writer thread shut down prematurely")
+
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    monkeypatch.setattr("tempfile.tempdir", None)  # TMPDIR read again
+    monkeypatch.setattr(rr.RecordingStream, "flush", full)
+    rrd = tmp_path / "run.rrd"
+    with pytest.raises(
+        MotionToolError, match=r"cannot write the recording '.*run\.rrd'.*disk full"
+    ):
+        play([ROOT / "motions" / "nao" / "head_no.motion"], robot="nao", rrd=rrd)
+    assert not rrd.exists() and not any((tmp_path / "tmp").iterdir())
