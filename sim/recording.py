@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write, open_output
+from motiontool.sim.recording_paths import Thinned, thin
 from motiontool.sim.recording_shapes import log_shapes
 
 if TYPE_CHECKING:
@@ -189,7 +190,7 @@ class RunRecorder:
             log_shapes(
                 self.rec, _body_entity(body), body, _limb_color(shapes).get(body.limb, _SCENE)
             )
-        self._trail = _Thinned(BASE_TRAIL_POINTS)
+        self._trail = Thinned(BASE_TRAIL_POINTS)
         self._first: Trace | None = None
         self._last: Trace | None = None
 
@@ -259,45 +260,6 @@ class RunRecorder:
 
 BASE_TRAIL_POINTS = 20_000
 """At most this many frames in the root body's whole path (400 s at the Nao's 20 ms)."""
-
-
-class _Thinned:
-    """Points of consecutive frames, thinned to at most ``most``: the frames that are a
-    multiple of a stride that doubles whenever they would be more."""
-
-    def __init__(self, most: int) -> None:
-        self.most, self.stride = most, 1
-        self.frames: list[npt.NDArray[np.int64]] = []
-        self.rows: list[npt.NDArray[np.float64]] = []
-        self.count = 0
-
-    def add(self, first: int, points: npt.NDArray[np.float64]) -> None:
-        """Points of the frames ``first``, ``first + 1``, ... ."""
-        import numpy as np
-
-        frames = np.arange(first, first + len(points))
-        keep = frames % self.stride == 0
-        self.frames.append(frames[keep])
-        self.rows.append(points[keep].copy())
-        self.count += int(keep.sum())
-        while self.count > self.most:
-            self.stride *= 2
-            kept = [(f % self.stride == 0) for f in self.frames]
-            self.frames = [f[k] for f, k in zip(self.frames, kept, strict=True)]
-            self.rows = [r[k] for r, k in zip(self.rows, kept, strict=True)]
-            self.count = sum(len(f) for f in self.frames)
-        if len(self.rows) > 64:  # few arrays: join them
-            self.frames, self.rows = [np.concatenate(self.frames)], [np.concatenate(self.rows)]
-
-    def points(self, last_frame: int, last: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-        """The points kept, and the last frame's ``last`` if it was not."""
-        import numpy as np
-
-        rows = np.concatenate(self.rows) if self.rows else np.empty((0, 3))
-        frames = np.concatenate(self.frames) if self.frames else np.empty(0, dtype=np.int64)
-        if not len(frames) or frames[-1] != last_frame:
-            rows = np.concatenate([rows, last[None, :]])
-        return rows
 
 
 def _joint_entities(joints: Sequence[str], joint_limbs: Sequence[str]) -> list[str]:
@@ -466,16 +428,6 @@ def _blueprint(limbs: Mapping[str, Sequence[str]]) -> rerun.blueprint.Blueprint:
     )
 
 
-def _thin(path: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """``path`` with at most :data:`TOOL_TRAIL_POINTS` points: every n-th one and the last."""
-    n = len(path)
-    if n <= TOOL_TRAIL_POINTS:
-        return path
-    every = math.ceil(n / (TOOL_TRAIL_POINTS - 1))
-    kept = path[::every]
-    return kept if (n - 1) % every == 0 else path[[*range(0, n, every), n - 1]]
-
-
 def _log_tool(rec: rerun.RecordingStream, ee: EndEffectorStats) -> None:
     """The tool (its position every frame is logged with each chunk): its growing path, the
     keyframes' targets."""
@@ -492,7 +444,9 @@ def _log_tool(rec: rerun.RecordingStream, ee: EndEffectorStats) -> None:
         rec.send_columns(
             "/world/tool/trail",
             indexes=[rr.TimeColumn(TIMELINE, duration=[ee.trail_time_s[r] for r in rows])],
-            columns=rr.LineStrips3D.columns(strips=[_thin(trail[: r + 1]) for r in rows]),
+            columns=rr.LineStrips3D.columns(
+                strips=[thin(trail[: r + 1], TOOL_TRAIL_POINTS) for r in rows]
+            ),
         )
         rec.log(
             "/world/tool/trail",
