@@ -93,16 +93,20 @@ def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[s
     location: dict[str, Any] = {"uri": uri}
     if base is not None:
         location["uriBaseId"] = base
-    return {
+    fixes, left = _fixes(f, d, location)
+    result: dict[str, Any] = {
         "ruleId": d.code,
         "ruleIndex": rule,
         "level": _SARIF_LEVEL[d.severity],
         "message": {"text": with_hint(d)},
         "locations": [{"physicalLocation": {"artifactLocation": location, "region": region}}],
         "partialFingerprints": {FINGERPRINT_KEY: fingerprint},
-        **_fixes(f, d, location),
+        **fixes,
         **_run(f, d, location),
     }
+    if left:  # a fix too large to carry: left to validate --fix, counted
+        result.setdefault("properties", {})["fixEdits"] = left
+    return result
 
 
 def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, Any]:
@@ -143,15 +147,25 @@ def _replacement(f: FileReport, fix: Fix) -> dict[str, Any]:
     return {"deletedRegion": region, "insertedContent": {"text": text}}
 
 
-def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, Any]:
-    """``fixes`` of a result with a fix: its description (unsafe ones say so) and edits."""
+MAX_FIX_EDITS = 1000
+"""Most edits a result's ``fixes`` carries. A larger fix (a grouped finding over thousands of
+poses: 33 000 clamps) is left to ``validate --fix`` and counted in the result's properties
+(``fixEdits``): GitHub code scanning refuses a SARIF file over 10 MB compressed, and no
+editor applies such a fix from a dashboard."""
+
+
+def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> tuple[dict[str, Any], int]:
+    """``fixes`` of a result with a fix: its description (unsafe ones say so) and edits; and
+    how many edits a fix of more than :data:`MAX_FIX_EDITS` has, left out (else 0)."""
     fixes = f.fix_of(d)
     if not fixes:
-        return {}
+        return {}, 0
+    if len(fixes) > MAX_FIX_EDITS:
+        return {}, len(fixes)
     safe = all(x.safe for x in fixes)
     text = fixes[0].title + ("" if safe else " (unsafe: it changes what the robot does)")
     change = {"artifactLocation": location, "replacements": [_replacement(f, x) for x in fixes]}
-    return {"fixes": [{"description": {"text": text}, "artifactChanges": [change]}]}
+    return {"fixes": [{"description": {"text": text}, "artifactChanges": [change]}]}, 0
 
 
 def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:

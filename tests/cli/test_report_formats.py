@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -229,3 +230,39 @@ def test_ranks_counted_on_disk_past_a_files_held_keys_give_the_same_fingerprints
         in_memory = prints(1 << 30, order)
         assert len(set(in_memory)) == len(found)  # ranks tell identical findings apart
         assert prints(2, order) == in_memory
+
+
+def test_a_sarif_fix_of_more_edits_than_it_carries_is_counted_not_written(
+    here: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A grouped limit finding over many poses has a fix of one clamp per pose: past
+    MAX_FIX_EDITS the result carries no ``fixes`` but their number (``fixEdits``)."""
+    from motiontool.cli.reports import sarif as sarif_report
+
+    rows = "".join(f"00:00:{40 * k:03d},P{k},3\n" for k in range(20))
+    (here / "sub" / "over.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n" + rows.encode())
+
+    def result(most: int) -> dict[str, Any]:
+        with monkeypatch.context() as m:
+            m.setattr(sarif_report, "MAX_FIX_EDITS", most)
+            args = [
+                "validate",
+                "sub/over.motion",
+                "--robot",
+                "nao",
+                "--unsafe-fixes",
+                "-f",
+                "sarif",
+            ]
+            out = runner.invoke(app, args)
+        assert out.exit_code == 1, out.output
+        results = json.loads(out.stdout)["runs"][0]["results"]
+        found: dict[str, Any] = next(r for r in results if r["ruleId"] == "MT302")
+        return found
+
+    carried = result(1000)
+    assert len(carried["fixes"][0]["artifactChanges"][0]["replacements"]) == 20
+    assert "fixEdits" not in carried["properties"]
+    counted = result(19)
+    assert "fixes" not in counted and counted["properties"]["fixEdits"] == 20
+    assert counted["properties"]["count"] == 20
