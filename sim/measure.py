@@ -83,7 +83,7 @@ class _BaseMeter:
         self.started_down = False
         self.max_tilt: Any = None
         self.min_height: Any = None
-        self.yaw_parts: list[Any] = []
+        self.yaw: Any = None  # the heading change over the frames up, deg: a running sum
         self.last_up_heading: Any = None  # the heading at the last frame up so far
         self.fell_at: float | None = None
         self.direction: float | None = None
@@ -109,7 +109,7 @@ class _BaseMeter:
             if self.fell_at is None:
                 self._fall(trace, down, heading, new if self.last_up_heading is not None else up[0])
             steps = np.diff(headings)
-            self.yaw_parts.append(np.sum((steps + 180.0) % 360.0 - 180.0))
+            self.yaw = _fold(np.add, self.yaw, np.sum((steps + 180.0) % 360.0 - 180.0))
             self.last_up_heading = heading[up[-1]]
         elif self.fell_at is None and self.last_up_heading is not None:
             self._fall(trace, down, heading, new)
@@ -133,7 +133,7 @@ class _BaseMeter:
             dx_m=float(d[0]),
             dy_m=float(d[1]),
             dz_m=float(d[2]),
-            yaw_change_deg=float(sum(self.yaw_parts)) if self.yaw_parts else None,
+            yaw_change_deg=None if self.yaw is None else float(self.yaw),
             max_tilt_deg=float(self.max_tilt),
             final_tilt_deg=final_tilt,
             min_height_m=float(self.min_height),
@@ -157,7 +157,7 @@ class _FeetMeter:
     def __init__(self) -> None:
         self.start: npt.NDArray[np.float64] | None = None
         self.contact: Any = 0
-        self.slip: list[Any] = []
+        self.slip: Any = 0.0  # each foot's, a running sum
         self.max_away: Any = None
         self.final_away: Any = None
 
@@ -171,7 +171,7 @@ class _FeetMeter:
         self.contact = self.contact + touching[1:].sum(axis=0)
         moves = np.linalg.norm(np.diff(xy, axis=0), axis=2)
         both = touching[1:] & touching[:-1]
-        self.slip.append([moves[both[:, f], f].sum() for f in range(xy.shape[1])])
+        self.slip = self.slip + np.array([moves[both[:, f], f].sum() for f in range(xy.shape[1])])
         away = np.linalg.norm(xy - self.start, axis=2)
         self.max_away = _fold(np.maximum, self.max_away, away[new:].max(axis=0))
         self.final_away = away[-1]
@@ -181,7 +181,7 @@ class _FeetMeter:
             FootStats(
                 name=name,
                 contact_s=float(self.contact[f] * dt),
-                slip_m=float(sum(part[f] for part in self.slip)),
+                slip_m=float(self.slip[f]),
                 max_displacement_m=float(self.max_away[f]),
                 final_displacement_m=float(self.final_away[f]),
             )
@@ -200,7 +200,7 @@ class _JointMeter:
         self.scene = scene
         self.counts = np.zeros((4, n), dtype=np.int64)  # velocity cap, torque cap, clip, beyond
         self.ever = np.zeros(n, dtype=np.bool_)
-        self.sums: list[list[Any]] = [[] for _ in range(n)]  # sum of squared errors, by chunk
+        self.sums: list[Any] = [0.0] * n  # sum of squared errors: running sums
         self.steps = [0] * n
         self.max: list[Any] = [None] * n
         self.before = [(0.0, 0, None)] * n  # the same, before the first command (never sent)
@@ -236,7 +236,7 @@ class _JointMeter:
             e = error[:, j] if self.ever[j] else error[first[j] :, j]
             self.ever[j] = True
             if len(e):
-                self.sums[j].append(np.sum(e * e))
+                self.sums[j] = self.sums[j] + np.sum(e * e)
                 self.steps[j] += len(e)
                 self.max[j] = _fold(np.maximum, self.max[j], np.abs(e).max())
 
@@ -247,7 +247,7 @@ class _JointMeter:
         scene = self.scene
         for j, name in enumerate(scene.joints):
             if self.ever[j]:
-                total, steps, worst = sum(self.sums[j]), self.steps[j], self.max[j]
+                total, steps, worst = self.sums[j], self.steps[j], self.max[j]
             else:
                 total, steps, worst = self.before[j]
             velocity, torque, clipped, beyond = (int(c) for c in self.counts[:, j])
