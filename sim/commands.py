@@ -82,8 +82,8 @@ def command_stream(
         hours = steps * timestep_ms / MS_PER_S / 3600
         raise MotionToolError(
             f"the run: {steps:,} control steps of {timestep_ms} ms ({hours:,.1f} h), more than "
-            f"the {MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim) or play "
-            "fewer loops"
+            f"the {MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim), play "
+            "fewer loops or hold the end for less time (--hold)"
         )
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
