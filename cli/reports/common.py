@@ -196,6 +196,8 @@ def text_column(raw: bytes, column: int, *, utf16: bool) -> int:
     (Unicode code points), or in UTF-16 code units with ``utf16``. An undecodable byte counts
     as one; a column past the end of the line stays that many past it."""
     head = raw[: max(column - 1, 0)]
+    if head.isascii():  # a byte, a character, a UTF-16 unit each (most lines)
+        return max(column, 1)
     text = head.decode("utf-8", "surrogateescape")
     units = len(text)
     if utf16:
@@ -226,12 +228,12 @@ def relative_path(path: str) -> Path | None:
     """``path`` relative to :func:`project_root` (as written, then with links resolved), or
     None for a file outside it (found once per path and working directory: a report asks for
     each of its findings)."""
-    return _relative(Path.cwd(), path)
+    return _relative(os.getcwd(), path)
 
 
 @functools.lru_cache(maxsize=4096)
-def _relative(cwd: Path, path: str) -> Path | None:
-    root = _root_of(cwd)
+def _relative(cwd: str, path: str) -> Path | None:
+    root = _root_of(Path(cwd))
     for candidate in (Path(os.path.abspath(path)), Path(path).resolve()):
         try:
             return candidate.relative_to(root)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import urllib.parse
@@ -45,7 +46,12 @@ def _uri(path: str) -> tuple[str, str | None]:
     """The SARIF ``artifactLocation``: a percent-encoded URI reference relative to
     ``%SRCROOT%`` (the repository root, :func:`~motiontool.cli.reports.common.project_root`)
     for a file below it, else an absolute ``file://`` URI; the file's name is encoded as its
-    bytes on disk (UTF-8 or not)."""
+    bytes on disk (UTF-8 or not). Found once per path and working directory."""
+    return _uri_from(os.getcwd(), path)
+
+
+@functools.lru_cache(maxsize=4096)
+def _uri_from(cwd: str, path: str) -> tuple[str, str | None]:
     rel = relative_path(path)
     if rel is not None:
         return urllib.parse.quote(os.fsencode(rel.as_posix()), safe="/"), SARIF_SRCROOT
