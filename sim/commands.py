@@ -83,7 +83,7 @@ def command_stream(
         raise MotionToolError(
             f"the run: {steps:,} control steps of {timestep_ms} ms ({hours:,.1f} h), more than "
             f"the {MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim), play "
-            "fewer loops or hold the end for less time (--hold)"
+            "fewer loops or hold the last targets for less time"
         )
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
