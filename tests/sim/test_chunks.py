@@ -136,18 +136,22 @@ def test_memory_of_a_run_does_not_grow_with_its_duration(monkeypatch: pytest.Mon
     [
         (ROOT / "motions" / "nao" / "bow.motion", "nao", 7),
         (ROOT / "motions" / "ur5e" / "jog.motion", "ur5e", 13),
+        ("Fall.motion", "nao", 9),
     ],
-    ids=["nao", "ur5e"],
+    ids=["nao", "ur5e", "nao-fall"],
 )
 def test_recording_and_bag_logged_a_chunk_at_a_time_hold_what_one_chunk_does(
-    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, motion: Path, robot: str, steps: int
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, motion: Path | str, robot: str, steps: int
 ) -> None:
     """Every entity and column of the recording holds the same rows (events, limits and the
-    base's whole path included), and the bag the same messages, whatever the chunks."""
+    base's whole path included: a fall and the contacts with the floor too), and the bag the
+    same messages, whatever the chunks."""
     pytest.importorskip("rerun")
     pytest.importorskip("mcap_ros2")
     from bags import read_bag
     from rrds import rrd_rows
+
+    motion = corpus(motion) if isinstance(motion, str) else motion
 
     def outputs(chunk_steps: int, name: str) -> tuple[Any, Any]:
         rrd, bag = tmp_path / f"{name}.rrd", tmp_path / f"{name}.mcap"
@@ -162,6 +166,9 @@ def test_recording_and_bag_logged_a_chunk_at_a_time_hold_what_one_chunk_does(
     whole_rrd, whole_bag = outputs(1 << 30, "whole")
     cut_rrd, cut_bag = outputs(steps, "cut")
     assert any(entity == "/events" for entity, _ in whole_rrd)  # the motion's start at least
+    if "Fall" in motion.name:
+        events = " ".join(whole_rrd[("/events", "TextLog:text")])
+        assert "fell" in events and "on the floor" in events, events[:300]
     assert set(cut_rrd) == set(whole_rrd)
     for key, rows in whole_rrd.items():
         assert cut_rrd[key] == rows, key
