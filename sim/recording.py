@@ -186,12 +186,11 @@ class RunRecorder:
         self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
         self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         self._entities = _joint_entities(joints, joint_limbs)
+        colors = _limb_color(shapes)
         for body in shapes:
-            log_shapes(
-                self.rec, _body_entity(body), body, _limb_color(shapes).get(body.limb, _SCENE)
-            )
+            log_shapes(self.rec, _body_entity(body), body, colors.get(body.limb, _SCENE))
         self._trail = Thinned(BASE_TRAIL_POINTS)
-        self._first: Trace | None = None
+        self._start_s: float | None = None  # the run's first frame's time
         self._last: Trace | None = None
 
     def __enter__(self) -> RunRecorder:
@@ -217,7 +216,8 @@ class RunRecorder:
         if chunk.tool_pos is not None:
             _log_points(self.rec, "/world/tool", chunk.time_s[new:], chunk.tool_pos[new:])
         self._trail.add(chunk.first_frame + new, chunk.base_pos[new:])
-        self._first = self._first or chunk
+        if self._start_s is None:
+            self._start_s = float(chunk.time_s[0])
         self._last = chunk
 
     def finish(self, markers: Sequence[Marker], end_effector: EndEffectorStats | None) -> None:
@@ -226,9 +226,9 @@ class RunRecorder:
         recording to ``path``."""
         import rerun as rr
 
-        assert self._first is not None and self._last is not None, "a run has at least one chunk"
+        assert self._start_s is not None and self._last is not None, "a run has a chunk at least"
         rec = self.rec
-        span = (float(self._first.time_s[0]), float(self._last.time_s[-1]))
+        span = (self._start_s, float(self._last.time_s[-1]))
         for j, base in enumerate(self._entities):
             _log_limits(rec, base, span, self.limits.lower[j], self.limits.upper[j])
         trail = self._trail.points(self._last.last_frame, self._last.base_pos[-1])
