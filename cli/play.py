@@ -249,8 +249,13 @@ def play_command(
     robot = robot if robot is not None else settings.robot_for(files[0])
     with progress("play") as step:
         names = ", ".join(file_name(f) for f in files)
-        step(f"{names}, {plural(loop, 'cycle')} in MuJoCo")
-        result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag)
+        label = f"{names}, {plural(loop, 'cycle')} in MuJoCo"
+        step(label)
+
+        def simulated(done_s: float, total_s: float) -> None:
+            step(f"{label}: {done_s:,.0f} of {total_s:,.0f} s simulated")
+
+        result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag, progress=simulated)
     say_bag(result, bag)
     _render(result, json_path, rrd)
 

@@ -40,11 +40,13 @@ class CommandChunks(NamedTuple):
             consecutive chunks of at most ``CHUNK_STEPS`` steps.
         lengths: the number of steps of each motion.
         ignored: the motion columns that are not motors (ignored, as Webots does).
+        hold_steps: the steps after the last motion, holding its targets.
     """
 
     chunks: Iterator[Chunk]
     lengths: list[int]
     ignored: list[str]
+    hold_steps: int = 0
 
 
 def command_stream(
@@ -89,7 +91,9 @@ def command_stream(
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
     size = chunk_steps or CHUNK_STEPS
     streams = _streams(motions, joints, timestep_ms, reverse, loops, hold_steps, size)
-    return CommandChunks(_sized(_held(streams, joints, initial), size), lengths, ignored)
+    return CommandChunks(
+        _sized(_held(streams, joints, initial), size), lengths, ignored, hold_steps
+    )
 
 
 def _streams(

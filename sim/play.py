@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
@@ -49,6 +49,7 @@ __all__ = [
     "TORQUE_CAP_FRACTION",
     "Marker",
     "PlayOptions",
+    "Progress",
     "command_matrix",
     "command_stream",
     "play",
@@ -96,6 +97,7 @@ def play(
     rrd: str | Path | None = None,
     stamps: Mapping[str, Any] | None = None,
     bag: str | Path | None = None,
+    progress: Progress | None = None,
 ) -> PlayReport:
     """Play ``motions`` one after another on ``robot`` and measure the run.
 
@@ -111,6 +113,8 @@ def play(
         bag: write the run there as a ROS 2 bag (:class:`motiontool.sim.bag.RunBag`).
         stamps: versions to stamp the report and the recording with (tool, libraries, model
             hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
+        progress: called after each chunk of the run with the simulated seconds done and in
+            all (for a progress display).
 
     Raises:
         MotionToolError: a file Webots would reject, a bad option, or no robot
@@ -136,7 +140,7 @@ def play(
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
         events = MarkerMeter(scene.limits, opts, floating=scene.floating) if recorder else None
-        takers = (meter, tool, events, recorder, run_bag)
+        takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
         _simulate(scene, stream, takers, record=recorder is not None)
         report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
         report.end_effector = None if tool is None else tool.stats()
@@ -160,6 +164,26 @@ class _Measures(Protocol):
     """What takes a run's chunks as they are simulated."""
 
     def add(self, chunk: Trace) -> None: ...
+
+
+Progress = Callable[[float, float], None]
+"""Told the simulated seconds done and in all, after each chunk of a run."""
+
+
+class _Progress:
+    """Tells a :data:`Progress` how far the run is, a chunk at a time."""
+
+    def __init__(self, tell: Progress, total_s: float) -> None:
+        self.tell, self.total_s = tell, total_s
+
+    @classmethod
+    def of(cls, tell: Progress | None, stream: CommandChunks, scene: Scene) -> _Progress | None:
+        if tell is None:
+            return None
+        return cls(tell, (sum(stream.lengths) + stream.hold_steps) * scene.control_step_s)
+
+    def add(self, chunk: Trace) -> None:
+        self.tell(float(chunk.time_s[-1]), self.total_s)
 
 
 def _simulate(

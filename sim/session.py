@@ -28,7 +28,7 @@ from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.fileio import is_stdin, source_name
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
-from motiontool.sim.play import PlayOptions, play, read_playable
+from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
 from motiontool.sim.sidecar import Sidecar, expectations_for
 from motiontool.sim.start import StartState
@@ -147,6 +147,7 @@ class PlayPlan:
         options: PlayOptions | None = None,
         rrd: Path | None = None,
         bag: Path | None = None,
+        progress: Progress | None = None,
     ) -> PlayResult:
         """Read the files, resolve ``robot`` on their joints, play them with ``options`` (its
         ``start`` replaced by the plan's), judge the expectations on the report.
@@ -157,6 +158,7 @@ class PlayPlan:
             rrd: write a Rerun recording there, also when the run could not start (then it
                 holds the stamps and the error).
             bag: write a ROS 2 bag of the run there (:mod:`motiontool.sim.bag`), when it ran.
+            progress: told how far the run is (:func:`motiontool.sim.play.play`).
 
         Returns:
             The result; a :class:`MotionToolError` before the simulation starts (a file Webots
@@ -177,6 +179,7 @@ class PlayPlan:
                 rrd=rrd,
                 stamps=result.stamps,
                 bag=bag,
+                progress=progress,
             )
             report.expectations = evaluate(self.motion.expectations, report)
         except MotionToolError as exc:

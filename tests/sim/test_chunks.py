@@ -207,3 +207,18 @@ def test_a_recording_whose_temporary_file_fails_is_one_error_and_no_file(
     ):
         play([ROOT / "motions" / "nao" / "head_no.motion"], robot="nao", rrd=rrd)
     assert not rrd.exists() and not any((tmp_path / "tmp").iterdir())
+
+
+def test_a_run_tells_how_far_it_is_after_each_chunk(monkeypatch: pytest.MonkeyPatch) -> None:
+    """play's progress: the simulated seconds done after each chunk, up to the whole run."""
+    monkeypatch.setattr(commands, "CHUNK_STEPS", 20)
+    told: list[tuple[float, float]] = []
+    report = play(
+        [ROOT / "motions" / "nao" / "head_no.motion"],
+        robot="nao",
+        progress=lambda done, total: told.append((done, total)),
+    )
+    assert len(told) == -(-report.control_steps // 20)
+    assert [t for _, t in told] == [report.simulated_s] * len(told)
+    done = [d for d, _ in told]
+    assert done == sorted(done) and done[0] == pytest.approx(0.4) and done[-1] == report.simulated_s
