@@ -38,6 +38,7 @@ __all__ = [
     "load_input",
     "output_target",
     "parse_time_ms",
+    "read_result",
     "report_header",
     "say",
     "values_count",
@@ -95,12 +96,16 @@ def say(text: str, target: Path | None) -> None:
     typer.echo(text, nl=False, err=target is None)
 
 
+def read_result(doc: MotionDocument | ReadResult) -> ReadResult:
+    """``doc`` as Webots reads it (a command's result is read again from its bytes)."""
+    return doc if isinstance(doc, ReadResult) else read_bytes(doc.to_bytes(), doc.path)
+
+
 def check_result(doc: MotionDocument | ReadResult, check: Check) -> list[Diagnostic]:
     """What one of validate's robot checks reports on ``doc``, grouped as validate groups it
     by default (a run of one code on one joint is one finding: a handful, whatever the
     file's size)."""
-    result = doc if isinstance(doc, ReadResult) else read_bytes(doc.to_bytes(), doc.path)
-    return list(run_check(check, result, group=True))
+    return list(run_check(check, read_result(doc), group=True))
 
 
 def values_count(findings: Sequence[Diagnostic]) -> int:

@@ -14,6 +14,7 @@ from motiontool.cli._authoring import (
     findings_lines,
     load_input,
     output_target,
+    read_result,
     say,
     write_result,
 )
@@ -34,7 +35,6 @@ from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.concat import Concatenated, Transition, concat
-from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import DEFAULT_MARGIN
 from motiontool.stamps import stamps
 
@@ -121,10 +121,8 @@ def _transition_findings(
     if spec is None:
         return 0, []
     step = timestep or spec.default_timestep_ms
-    every = Velocity(spec, timestep)(read_bytes(result.document.to_bytes(), result.document.path))
-    return step, [
-        d for d in every if _in_transition(d, result.transitions, step)
-    ]  # made one by one
+    every = Velocity(spec, timestep)(read_result(result.document))  # made one by one as read
+    return step, [d for d in every if _in_transition(d, result.transitions, step)]
 
 
 def _text(

@@ -50,6 +50,7 @@ __all__ = [
     "require_held",
     "sample",
     "step_count",
+    "steps_span",
     "targets_at",
 ]
 
@@ -189,12 +190,17 @@ def require_held(steps: int, step_ms: int, what: str = "the command stream") -> 
         StreamTooLongError: ``the command stream: 100,000,001 steps of 20 ms (555.6 h), ...``.
     """
     if steps > MAX_HELD_STEPS:
-        hours = steps * step_ms / MS_PER_S / 3600
         raise StreamTooLongError(
-            f"{what}: {steps:,} steps of {step_ms} ms ({hours:,.1f} h), more than the "
-            f"{MAX_HELD_STEPS:,} held in memory at once; trim the motion first (motiontool "
-            "trim), or read its command stream a chunk at a time (motiontool sample)"
+            f"{what}: {steps_span(steps, step_ms)}, more than the {MAX_HELD_STEPS:,} held in "
+            "memory at once; trim the motion first (motiontool trim), or read its command "
+            "stream a chunk at a time (motiontool sample)"
         )
+
+
+def steps_span(steps: int, step_ms: int, noun: str = "steps") -> str:
+    """``100,000,001 steps of 20 ms (555.6 h)``: how long ``steps`` of ``step_ms`` ms last."""
+    hours = steps * step_ms / MS_PER_S / 3600
+    return f"{steps:,} {noun} of {step_ms} ms ({hours:,.1f} h)"
 
 
 def elapsed_steps(

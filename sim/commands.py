@@ -9,8 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt import Motion
-from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps
-from motiontool.motionfmt.units import MS_PER_S
+from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps, steps_span
 
 if TYPE_CHECKING:
     import numpy as np
@@ -40,13 +39,13 @@ class CommandChunks(NamedTuple):
             consecutive chunks of at most ``CHUNK_STEPS`` steps.
         lengths: the number of steps of each motion.
         ignored: the motion columns that are not motors (ignored, as Webots does).
-        hold_steps: the steps after the last motion, holding its targets.
+        steps: the control steps of the whole run, the motions' and the hold's.
     """
 
     chunks: Iterator[Chunk]
     lengths: list[int]
     ignored: list[str]
-    hold_steps: int = 0
+    steps: int
 
 
 def command_stream(
@@ -58,7 +57,6 @@ def command_stream(
     reverse: bool = False,
     loops: int = 1,
     hold_steps: int = 0,
-    chunk_steps: int | None = None,
 ) -> CommandChunks:
     """The targets in force at each control step of the sequence ``motions``, in chunks.
 
@@ -69,7 +67,6 @@ def command_stream(
         initial: (J,) positions the motors hold before their first command, rad (m).
         reverse, loops: Webots' reverse and loop modes, applied to each motion.
         hold_steps: steps appended after the last motion, with no command.
-        chunk_steps: steps a chunk at most (None: :data:`CHUNK_STEPS`).
 
     Raises:
         PlaybackNeverEndsError: a motion never stops at this time step: before any chunk.
@@ -81,19 +78,16 @@ def command_stream(
     ]
     steps = sum(lengths) + hold_steps
     if steps > MAX_RUN_STEPS:
-        hours = steps * timestep_ms / MS_PER_S / 3600
         raise MotionToolError(
-            f"the run: {steps:,} control steps of {timestep_ms} ms ({hours:,.1f} h), more than "
-            f"the {MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim), play "
-            "fewer loops or hold the last targets for less time"
+            f"the run: {steps_span(steps, timestep_ms, 'control steps')}, more than the "
+            f"{MAX_RUN_STEPS:,} a run simulates; trim the motion (motiontool trim), play fewer "
+            "loops or hold the last targets for less time"
         )
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
-    size = chunk_steps or CHUNK_STEPS
+    size = CHUNK_STEPS  # read when called: a test may set it
     streams = _streams(motions, joints, timestep_ms, reverse, loops, hold_steps, size)
-    return CommandChunks(
-        _sized(_held(streams, joints, initial), size), lengths, ignored, hold_steps
-    )
+    return CommandChunks(_sized(_held(streams, joints, initial), size), lengths, ignored, steps)
 
 
 def _streams(

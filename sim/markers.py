@@ -98,12 +98,14 @@ class MarkerMeter:
         """Where the robot goes down and gets up again (not at the start)."""
         t = trace.time_s
         down = down_frames(trace, self.opts)
-        before = False if new == 0 else down[0]
+        # the frame before this chunk's new ones (none at the run's start: neither down nor up)
+        down_before = new == 1 and bool(down[0])
+        up_before = new == 1 and not down[0]
         fell, upright = self._falls
-        for k in (_starts(down[new:], before) + new).tolist():
+        for k in (_starts(down[new:], down_before) + new).tolist():
             if trace.first_frame + k:
                 fell.append(Marker(float(t[k]), "ERROR", "fell (root low or tilted)", "fall"))
-        for k in (_starts(~down[new:], not before if new else False) + new).tolist():
+        for k in (_starts(~down[new:], up_before) + new).tolist():
             if trace.first_frame + k:
                 upright.append(Marker(float(t[k]), "INFO", "upright", "fall"))
 

@@ -200,10 +200,9 @@ class _JointMeter:
         self.scene = scene
         self.counts = np.zeros((4, n), dtype=np.int64)  # velocity cap, torque cap, clip, beyond
         self.ever = np.zeros(n, dtype=np.bool_)
-        self.sums: list[Any] = [0.0] * n  # sum of squared errors: running sums
-        self.steps = [0] * n
-        self.max: list[Any] = [None] * n
-        self.before = [(0.0, 0, None)] * n  # the same, before the first command (never sent)
+        # (sum of squared errors, steps, largest |error|): from the joint's first command on,
+        # over every step while it has none (what a joint never commanded reports)
+        self.error: list[tuple[Any, int, Any]] = [(0.0, 0, None)] * n
 
     def add(self, trace: Trace) -> None:
         import numpy as np
@@ -223,22 +222,18 @@ class _JointMeter:
         sent: npt.NDArray[np.bool_] = np.asarray(trace.commanded.any(axis=0))
         first = trace.commanded.argmax(axis=0)
         for j in range(len(self.ever)):
-            if not self.ever[j] and not sent[j]:
-                e = error[:, j]
-                total, steps, worst = self.before[j]
-                if len(e):
-                    self.before[j] = (
-                        total + np.sum(e * e),
-                        steps + len(e),
-                        _fold(np.maximum, worst, np.abs(e).max()),
-                    )
-                continue
-            e = error[:, j] if self.ever[j] else error[first[j] :, j]
-            self.ever[j] = True
+            e = error[:, j]
+            if sent[j] and not self.ever[j]:  # its first command: the steps before do not count
+                self.ever[j] = True
+                self.error[j] = (0.0, 0, None)
+                e = error[first[j] :, j]
             if len(e):
-                self.sums[j] = self.sums[j] + np.sum(e * e)
-                self.steps[j] += len(e)
-                self.max[j] = _fold(np.maximum, self.max[j], np.abs(e).max())
+                total, steps, worst = self.error[j]
+                self.error[j] = (
+                    total + np.sum(e * e),
+                    steps + len(e),
+                    _fold(np.maximum, worst, np.abs(e).max()),
+                )
 
     def stats(self, dt: float) -> list[JointStats]:
         import numpy as np
@@ -246,10 +241,7 @@ class _JointMeter:
         out = []
         scene = self.scene
         for j, name in enumerate(scene.joints):
-            if self.ever[j]:
-                total, steps, worst = self.sums[j], self.steps[j], self.max[j]
-            else:
-                total, steps, worst = self.before[j]
+            total, steps, worst = self.error[j]
             velocity, torque, clipped, beyond = (int(c) for c in self.counts[:, j])
             out.append(
                 JointStats(

@@ -180,7 +180,7 @@ class _Progress:
     def of(cls, tell: Progress | None, stream: CommandChunks, scene: Scene) -> _Progress | None:
         if tell is None:
             return None
-        return cls(tell, (sum(stream.lengths) + stream.hold_steps) * scene.control_step_s)
+        return cls(tell, stream.steps * scene.control_step_s)
 
     def add(self, chunk: Trace) -> None:
         self.tell(float(chunk.time_s[-1]), self.total_s)

@@ -281,7 +281,7 @@ def _log_joints(
     frames = rr.TimeColumn(TIMELINE, duration=trace.time_s[new:])
     steps = rr.TimeColumn(TIMELINE, duration=trace.time_s[:-1])
     clipped = np.clip(trace.targets, limits.lower, limits.upper)
-    first = new == 0 and trace.first_frame == 0
+    first = new == 0  # the run's first chunk: the series' styles are logged once
     for j, base in enumerate(entities):
         _log_series(rec, f"{base}/commanded", steps, clipped[:, j], _COMMANDED, "commanded", first)
         _log_series(
