@@ -14,8 +14,10 @@ Best of ``--repeat`` runs each; the machine's other load shows in the spread.
 
 ``--memory-only``: the peak memory of the ``play`` command (a child process, GNU time) with a
 recording, a bag and a JSON report, for the Nao's ``head_no.motion`` looped 40 and 160 times
-(about 5 000 and 21 000 control steps), and their ratio (target <= 1.1x: a run is simulated
-and written a chunk at a time, so its memory does not grow with its duration).
+(about 5 000 and 21 000 control steps) and the UR5e's ``jog.motion`` looped 20 and 80 times
+(about 22 000 and 90 000 control steps: 180 and 717 s), and their ratios (target <= 1.1x: a
+run is simulated and written a chunk at a time, and an arm's report folds a keyframe's visits
+into one entry, so memory does not grow with the run's duration).
 """
 
 from __future__ import annotations
@@ -113,10 +115,16 @@ def main() -> int:
     return 0
 
 
-def memory(loops: tuple[int, int] = (40, 160)) -> None:
-    """The play command's peak with a short and a four times longer run, and their ratio."""
+def memory() -> None:
+    """The play command's peak with a short and a four times longer run, and their ratio, for
+    a humanoid and an arm."""
+    memory_of(ROOT / "motions" / "nao" / "head_no.motion", (40, 160))
+    memory_of(ROOT / "motions" / "ur5e" / "jog.motion", (20, 80))
+
+
+def memory_of(motion: Path, loops: tuple[int, int]) -> None:
+    """``play motion`` looped ``loops`` times: each peak, and their ratio."""
     script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
-    motion = ROOT / "motions" / "nao" / "head_no.motion"
     peaks = {}
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp)
@@ -128,7 +136,7 @@ def memory(loops: tuple[int, int] = (40, 160)) -> None:
                 raise SystemExit(f"play --loop {n}: exit status {child.returncode}")
             peaks[n] = child.peak_bytes
             print(
-                f"play --loop {n} --rrd --bag --json: {child.wall_s:.1f} s, "
+                f"play {motion.name} --loop {n} --rrd --bag --json: {child.wall_s:.1f} s, "
                 f"{child.peak_mib:.0f} MiB peak, .rrd {(out / 'r.rrd').stat().st_size / 1e6:.0f} MB"
             )
     short, long = loops

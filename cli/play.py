@@ -60,7 +60,7 @@ def _contacts(title: str, rows: list[ContactSummary], limit: int = 8) -> list[st
 
 def _end_effector(report: PlayReport, limit: int = 32) -> list[str]:
     """An arm's tool: the largest deviation, then a table of keyframes (time, position error,
-    lag); past ``limit`` keyframes, the ``limit // 2`` worst, in time order."""
+    lag); past ``limit`` keyframes, the ``limit // 2`` worst, in the order first played."""
     ee = report.end_effector
     if ee is None:
         return []
@@ -75,11 +75,16 @@ def _end_effector(report: PlayReport, limit: int = 32) -> list[str]:
         rows = sorted(worst, key=lambda r: r[0])
     if not rows:
         return lines
+    folded = any(k.visits > 1 for k in ee.keyframes)
+    if folded:
+        lines[0] += "; a keyframe reached several times: its worst visit, its longest lag"
     wn = max(8, *(len(k.name) for _i, k in rows))
-    lines.append(f"  {'keyframe':<{wn}} {'time':>9} {'error':>10} {'lag':>8}")
+    visits = f" {'visits':>6}" if folded else ""
+    lines.append(f"  {'keyframe':<{wn}} {'time':>9} {'error':>10} {'lag':>8}{visits}")
     for _i, k in rows:
         lag = "-" if k.lag_ms is None else f"{k.lag_ms:.0f} ms"
-        lines.append(f"  {k.name:<{wn}} {k.time_s:>7.3f} s {k.position_error_mm:>7.1f} mm {lag:>8}")
+        row = f"  {k.name:<{wn}} {k.time_s:>7.3f} s {k.position_error_mm:>7.1f} mm {lag:>8}"
+        lines.append(row + (f" {k.visits:>6}" if folded else ""))
     if len(rows) < len(ee.keyframes):
         lines.append(
             f"  ... {len(ee.keyframes) - len(rows)} more keyframes with smaller errors (see --json)"

@@ -20,6 +20,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
+from motiontool.sim.recording_paths import Thinned
 from motiontool.sim.report import EndEffectorStats, KeyframePose
 
 if TYPE_CHECKING:
@@ -30,13 +31,17 @@ if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.trace import Trace
 
-__all__ = ["DEFAULT_REACH_TOLERANCE_MM", "TRAIL_STEP_S", "ToolMeter"]
+__all__ = ["DEFAULT_REACH_TOLERANCE_MM", "TRAIL_POINTS", "TRAIL_STEP_S", "ToolMeter"]
 
 DEFAULT_REACH_TOLERANCE_MM = 1.0
 """A keyframe counts as reached once the tool is this close (mm) to its commanded position."""
 
 TRAIL_STEP_S = 0.05
 """About how often the report samples the tool's path, s (a whole number of control steps)."""
+
+TRAIL_POINTS = 5_000
+"""The most samples of the tool's path a report keeps (250 s of run at :data:`TRAIL_STEP_S`):
+past them, every other one is let go, as often as needed (samples every 100 ms, 200 ms, ...)."""
 
 
 def _keyframe_steps(
@@ -69,15 +74,46 @@ def _angle_deg(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> float:
     return math.degrees(2.0 * math.acos(dot))
 
 
-class _Keyframe:
-    """A keyframe the run reached, measured but for its lag (see :meth:`ToolMeter.add`)."""
+class _Visit:
+    """A visit of a keyframe whose lag is not known yet (see :meth:`ToolMeter.add`)."""
 
-    __slots__ = ("end", "index", "next_frame", "position", "step", "time_s")
+    __slots__ = ("end", "entry", "next_frame", "position", "step", "time_s")
 
-    def __init__(self, index: int, step: int, time_s: float, position: Any) -> None:
-        self.index, self.step, self.time_s, self.position = index, step, time_s, position
+    def __init__(self, entry: _Entry, step: int, time_s: float, position: Any) -> None:
+        self.entry, self.step, self.time_s, self.position = entry, step, time_s, position
         self.next_frame = step  # the next frame to look at for its lag
         self.end: int | None = None  # the last frame to look at: None while not known
+
+
+class _Entry:
+    """A keyframe of a motion over the visits measured so far: the visit with the largest
+    position error, how many, the longest lag found, whether a visit never came within the
+    tolerance, the box of the measured positions (m)."""
+
+    __slots__ = ("high", "lag_ms", "low", "never", "pose", "visits")
+
+    def __init__(self, pose: KeyframePose) -> None:
+        self.pose, self.visits = pose, 1
+        self.low = self.high = pose.measured_position_m
+        self.lag_ms: float | None = None
+        self.never = False
+
+    def visit(self, pose: KeyframePose) -> None:
+        self.visits += 1
+        p = pose.measured_position_m
+        self.low = (min(self.low[0], p[0]), min(self.low[1], p[1]), min(self.low[2], p[2]))
+        self.high = (max(self.high[0], p[0]), max(self.high[1], p[1]), max(self.high[2], p[2]))
+        if pose.position_error_mm > self.pose.position_error_mm:
+            self.pose = pose
+
+    def reached(self, lag_ms: float) -> None:
+        self.lag_ms = lag_ms if self.lag_ms is None else max(self.lag_ms, lag_ms)
+
+    def folded(self, never: bool) -> KeyframePose:
+        """The report's entry; ``never``: a visit's lag is still open at the end of the run."""
+        lag = None if self.never or never else self.lag_ms
+        box = (self.low, self.high)
+        return replace(self.pose, lag_ms=lag, visits=self.visits, measured_box_m=box)
 
 
 class ToolMeter:
@@ -88,7 +124,9 @@ class ToolMeter:
     For every keyframe reached, the commanded pose is the forward kinematics of its targets
     and the measured one the tool at its frame. Its lag is looked for from its frame until the
     motion goes on to another position (the frame of the next keyframe reached whose commanded
-    position is further than the tolerance) or the run ends.
+    position is further than the tolerance) or the run ends. The visits of one keyframe of a
+    motion (``--loop``) fold into one entry (:class:`KeyframePose`), and the trail keeps at
+    most :data:`TRAIL_POINTS` samples: what the meter holds does not grow with the run.
     """
 
     def __init__(
@@ -108,10 +146,10 @@ class ToolMeter:
         self._tolerance_m = reach_tolerance_mm / MM_PER_M
         self._coming = _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
         self._next = next(self._coming, None)
-        self._keyframes: list[KeyframePose] = []
-        self._open: list[_Keyframe] = []
+        self._entries: dict[tuple[int, int], _Entry] = {}  # (file, pose): in the order first met
+        self._open: list[_Visit] = []
         self._worst: tuple[Any, float] | None = None  # deviation m, at s
-        self._trail: list[tuple[float, tuple[float, float, float]]] = []
+        self._trail = Thinned(TRAIL_POINTS)  # rows (time s, x, y, z m), by sample index
         self._last: Trace | None = None
 
     def add(self, chunk: Trace) -> None:
@@ -192,21 +230,24 @@ class ToolMeter:
                 chunk.tool_pos[step - chunk.first_frame],
                 chunk.tool_quat[step - chunk.first_frame],
             )
-            self._open.append(_Keyframe(len(self._keyframes), step, time_s, pos))
-            self._keyframes.append(
-                KeyframePose(
-                    file_index=f,
-                    name=self.motions[f].pose_names[p],
-                    time_s=time_s,
-                    commanded_position_m=_vec3(pos),
-                    commanded_quat_wxyz=_vec4(quat),
-                    measured_position_m=_vec3(measured_pos),
-                    measured_quat_wxyz=_vec4(measured_quat),
-                    position_error_mm=float(np.linalg.norm(measured_pos - pos)) * MM_PER_M,
-                    orientation_error_deg=_angle_deg(quat, measured_quat),
-                    lag_ms=None,
-                )
+            pose = KeyframePose(
+                file_index=f,
+                name=self.motions[f].pose_names[p],
+                time_s=time_s,
+                commanded_position_m=_vec3(pos),
+                commanded_quat_wxyz=_vec4(quat),
+                measured_position_m=_vec3(measured_pos),
+                measured_quat_wxyz=_vec4(measured_quat),
+                position_error_mm=float(np.linalg.norm(measured_pos - pos)) * MM_PER_M,
+                orientation_error_deg=_angle_deg(quat, measured_quat),
+                lag_ms=None,
             )
+            entry = self._entries.get((f, p))
+            if entry is None:
+                entry = self._entries[f, p] = _Entry(pose)
+            else:
+                entry.visit(pose)
+            self._open.append(_Visit(entry, step, time_s, pos))
 
     def _lags(self, chunk: Trace) -> None:
         """Look for each open keyframe's lag in the frames of ``chunk``; a keyframe whose lag
@@ -225,37 +266,43 @@ class ToolMeter:
             within = np.flatnonzero(dist <= self._tolerance_m)
             if len(within):
                 frame = kf.next_frame + int(within[0]) - chunk.first_frame
-                lag = (float(chunk.time_s[frame]) - kf.time_s) * MS_PER_S
-                self._keyframes[kf.index] = replace(self._keyframes[kf.index], lag_ms=lag)
+                kf.entry.reached((float(chunk.time_s[frame]) - kf.time_s) * MS_PER_S)
                 continue
             kf.next_frame = stop + 1
             if kf.end is None or kf.next_frame <= kf.end:
                 still.append(kf)
+            else:
+                kf.entry.never = True
         self._open = still
 
     def _sample_trail(self, chunk: Trace) -> None:
         """The tool's trail in ``chunk``: a frame every :data:`TRAIL_STEP_S`."""
         assert chunk.tool_pos is not None
+        import numpy as np
+
         stride = max(1, round(TRAIL_STEP_S / chunk.control_step_s))
         new = 0 if self._last is None else 1
-        first = chunk.first_frame + new
-        for frame in range(-(-first // stride) * stride, chunk.last_frame + 1, stride):
-            k = frame - chunk.first_frame
-            self._trail.append((float(chunk.time_s[k]), _vec3(chunk.tool_pos[k])))
+        first = -(-(chunk.first_frame + new) // stride) * stride
+        frames = np.arange(first, chunk.last_frame + 1, stride) - chunk.first_frame
+        if len(frames):
+            rows = np.column_stack([chunk.time_s[frames], chunk.tool_pos[frames]])
+            self._trail.add(first // stride, rows)
 
     def stats(self) -> EndEffectorStats:
         """The end effector's report over the chunks measured."""
         last = self._last
         assert last is not None and last.tool_pos is not None and self.scene.tool is not None
-        trail = list(self._trail)
+        trail = [(float(r[0]), _vec3(r[1:])) for r in self._trail.kept(4)]
         if not trail or trail[-1][0] != float(last.time_s[-1]):  # the last frame, always
             trail.append((float(last.time_s[-1]), _vec3(last.tool_pos[-1])))
+        open_at_end = {id(kf.entry) for kf in self._open}
+        keyframes = tuple(e.folded(id(e) in open_at_end) for e in self._entries.values())
         worst_m, worst_s = self._worst if self._worst is not None else (0.0, 0.0)
         return EndEffectorStats(
             frame=self.scene.tool[0],
             kind=self.scene.tool[1],
             reach_tolerance_mm=self.reach_tolerance_mm,
-            keyframes=tuple(self._keyframes),
+            keyframes=keyframes,
             max_deviation_mm=float(worst_m) * MM_PER_M,
             max_deviation_at_s=worst_s,
             trail_time_s=tuple(t for t, _ in trail),

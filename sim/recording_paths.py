@@ -1,6 +1,7 @@
-"""Paths a recording keeps bounded however long the run: the root body's whole path thinned by
-a stride that doubles as the run goes on (:class:`Thinned`), a row of the tool's growing trail
-cut to a number of points (:func:`thin`). Numpy only."""
+"""Paths kept bounded however long the run: the root body's whole path in a recording and the
+tool's trail in a report, thinned by a stride that doubles as the run goes on
+(:class:`Thinned`); a row of the tool's growing trail in a recording cut to a number of points
+(:func:`thin`). Numpy only."""
 
 from __future__ import annotations
 
@@ -42,11 +43,17 @@ class Thinned:
         if len(self.rows) > 64:  # few arrays: join them
             self.frames, self.rows = [np.concatenate(self.frames)], [np.concatenate(self.rows)]
 
+    def kept(self, width: int = 3) -> npt.NDArray[np.float64]:
+        """The points kept, (n, ``width``)."""
+        import numpy as np
+
+        return np.concatenate(self.rows) if self.rows else np.empty((0, width))
+
     def points(self, last_frame: int, last: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
         """The points kept, and the last frame's ``last`` if it was not."""
         import numpy as np
 
-        rows = np.concatenate(self.rows) if self.rows else np.empty((0, 3))
+        rows = self.kept(last.shape[0])
         frames = np.concatenate(self.frames) if self.frames else np.empty(0, dtype=np.int64)
         if not len(frames) or frames[-1] != last_frame:
             rows = np.concatenate([rows, last[None, :]])

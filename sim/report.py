@@ -33,17 +33,22 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
         "frame", "kind" ("site"|"body"),     # the tool: a site named tool/tcp/ee/flange/...,
                                              #   else the last body of the chain
         "reach_tolerance_mm",                # what "reached" means for lag_ms
-        "keyframes": [{"file_index", "name", "time_s",   # every keyframe the run reached, in
-                                                         #   the order played (loops repeat)
+        "keyframes": [{"file_index", "name", "time_s",   # every keyframe the run reached,
+                                                         #   once, in the order first played;
+                                                         #   its worst visit (--loop repeats)
                        "commanded_position_m", "commanded_quat_wxyz",  # FK of its targets
                        "measured_position_m", "measured_quat_wxyz",    # at time_s
                        "position_error_mm", "orientation_error_deg",
-                       "lag_ms"}],           # after time_s, when the tool first came within
-                                             #   the tolerance (null: not before the motion
-                                             #   went on to another position, or the end)
+                       "lag_ms",             # after time_s, when the tool first came within
+                                             #   the tolerance, the longest of the visits (null:
+                                             #   a visit did not before the motion went on to
+                                             #   another position, or the end)
+                       "visits",             # how many times the run reached it
+                       "measured_box_m"}],   # [[min x, y, z], [max x, y, z]] of the visits
         "max_deviation_mm", "max_deviation_at_s",  # tool vs FK of the command stream
         "trail_time_s": [...], "trail_position_m": [[x, y, z], ...]},  # the tool's path,
-                                                                         # about every 50 ms
+                                  # about every 50 ms (arm.TRAIL_POINTS at most: a longer
+                                  # run's samples are every 100 ms, 200 ms, ...)
       "joints": [{"name", "limb", "unit" ("rad"|"m"), "commanded",
                   "rms_error", "max_error",          # target (clipped) - position, in "unit"
                   "velocity_cap_s", "torque_cap_s",  # time with |Vc| at maxVelocity / |torque|
@@ -80,6 +85,8 @@ from pathlib import PurePath
 from typing import TYPE_CHECKING, Any, TypeVar
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from motiontool.sim.expect import ExpectationResult
 
 __all__ = [
@@ -170,7 +177,12 @@ class BaseStats:
 
 @dataclass(frozen=True)
 class KeyframePose:
-    """The tool at one keyframe (world frame, m; quaternions (w, x, y, z)).
+    """The tool at one keyframe of a motion (world frame, m; quaternions (w, x, y, z)).
+
+    A run that reaches a keyframe several times (``--loop``) has one entry for it: the fields
+    but ``lag_ms`` are those of its visit with the largest position error, ``lag_ms`` is the
+    longest of its visits', and ``measured_box_m`` holds where the tool was at every visit.
+    The report stays the same size however long the run.
 
     Attributes:
         file_index: which motion of ``files`` the keyframe belongs to.
@@ -185,7 +197,11 @@ class KeyframePose:
         lag_ms: how long after ``time_s`` the tool first came within the reach tolerance of
             the commanded position; None when it did not before the motion went on to another
             position (the next keyframe whose commanded position is further than the
-            tolerance) or the run ended.
+            tolerance) or the run ended; with several visits, the longest, None when one
+            visit did not.
+        visits: how many times the run reached the keyframe.
+        measured_box_m: (min, max) corners of the box holding the measured positions of
+            every visit, m; None in a report written before visits were folded.
     """
 
     file_index: int
@@ -198,6 +214,20 @@ class KeyframePose:
     position_error_mm: float
     orientation_error_deg: float
     lag_ms: float | None
+    visits: int = 1
+    measured_box_m: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+
+    def farthest_from(self, point: Sequence[float]) -> tuple[float, float, float]:
+        """Where the tool was farthest from ``point`` (m) at a visit, at most: the corner of
+        ``measured_box_m`` farthest from it (the measured position itself for one visit)."""
+        if self.measured_box_m is None or self.visits == 1:
+            return self.measured_position_m
+        low, high = self.measured_box_m
+        x, y, z = (
+            lo if abs(lo - p) >= abs(hi - p) else hi
+            for lo, hi, p in zip(low, high, point, strict=True)
+        )
+        return (x, y, z)
 
 
 @dataclass(frozen=True)
@@ -207,11 +237,13 @@ class EndEffectorStats:
     Attributes:
         frame: the tool's site (or body) name; kind: ``site`` or ``body``.
         reach_tolerance_mm: the distance within which a keyframe counts as reached.
-        keyframes: the tool at every keyframe the run reached, in the order played.
+        keyframes: the tool at every keyframe the run reached, once each (its visits
+            folded), in the order first played.
         max_deviation_mm, max_deviation_at_s: the largest distance between the measured tool
             and the forward kinematics of the targets in force (the command stream), and when.
         trail_time_s, trail_position_m: the tool's path, about every 50 ms (and the last
-            frame), m.
+            frame), m; at most :data:`~motiontool.sim.arm.TRAIL_POINTS` samples (every 100 ms,
+            200 ms, ... in a longer run).
     """
 
     frame: str
@@ -237,7 +269,7 @@ class EndEffectorStats:
         return _make(cls, values)
 
     def at(self, name: str) -> list[KeyframePose]:
-        """The keyframes named ``name`` (several when a name repeats or the motion loops)."""
+        """The keyframes named ``name`` (several when poses or motions share the name)."""
         return [k for k in self.keyframes if k.name == name]
 
 

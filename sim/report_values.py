@@ -12,13 +12,13 @@ import bisect
 import difflib
 import math
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
     from motiontool.sim.expect_syntax import Expectation
-    from motiontool.sim.report import PlayReport
+    from motiontool.sim.report import KeyframePose, PlayReport
 
 __all__ = [
     "Measure",
@@ -131,7 +131,7 @@ def _no_tool(report: PlayReport) -> str:
     return f"{report.robot}: no end effector was measured"
 
 
-def _keyframes(report: PlayReport, e: Expectation | None) -> tuple[list[Any], str]:
+def _keyframes(report: PlayReport, e: Expectation | None) -> tuple[list[KeyframePose], str]:
     """The keyframes an expectation names (all of them when it names none), or [] and why."""
     ee = report.end_effector
     if ee is None:
@@ -148,8 +148,10 @@ def _keyframes(report: PlayReport, e: Expectation | None) -> tuple[list[Any], st
     return [], f"no keyframe named '{name}' was reached{hint}"
 
 
-def _where(k: Any) -> str:
-    return f"at {k.name} ({k.time_s:.2f} s)"
+def _where(k: KeyframePose) -> str:
+    """A keyframe entry in words; a folded one says how many visits it holds."""
+    many = f", worst of {k.visits} visits" if k.visits > 1 else ""
+    return f"at {k.name} ({k.time_s:.2f} s){many}"
 
 
 def ee_error(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
@@ -167,16 +169,23 @@ def ee_lag(report: PlayReport, e: Expectation | None) -> tuple[float | None, str
     if not found:
         return None, why
     assert report.end_effector is not None
-    never = [k for k in found if k.lag_ms is None]
+    lags = [(k.lag_ms, k) for k in found]
+    never = [k for lag, k in lags if lag is None]
     if never:
         k = never[0]
         tol = report.end_effector.reach_tolerance_mm
+        if k.visits > 1:
+            return None, (
+                f"the tool never came within {tol:g} mm of {k.name} at one of its {k.visits} "
+                f"visits before the motion moved on (error at the keyframe time up to "
+                f"{k.position_error_mm:.1f} mm)"
+            )
         return None, (
             f"the tool never came within {tol:g} mm of {k.name} ({k.time_s:.2f} s) before the "
             f"motion moved on (closest at the keyframe time: {k.position_error_mm:.1f} mm)"
         )
-    worst = max(found, key=lambda k: float(k.lag_ms))
-    return float(worst.lag_ms), _where(worst)
+    lag, worst = max(((lag, k) for lag, k in lags if lag is not None), key=lambda p: p[0])
+    return lag, _where(worst)
 
 
 def ee_deviation(report: PlayReport, e: Expectation | None) -> tuple[float | None, str]:
@@ -210,7 +219,7 @@ def ee_position(report: PlayReport, e: Expectation | None) -> tuple[float | None
         found, why = _keyframes(report, e)
         if not found:
             return None, why
-        points += [(k.measured_position_m, _where(k)) for k in found]
+        points += [(k.farthest_from(e.point), _where(k)) for k in found]
     distances = [(math.dist(p, e.point), p, where) for p, where in points]
     distance, p, where = max(distances)
     shown = ", ".join(f"{v:.4f}" for v in p)

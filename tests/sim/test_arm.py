@@ -304,20 +304,72 @@ def test_the_largest_deviation_is_at_least_every_keyframe_error(motion: str) -> 
 def test_keyframe_times_follow_loops_and_reverse(arm_motion: Path) -> None:
     # A cycle of the 800 ms motion at 8 ms is ceil(800 / 8) + 1 = 101 steps: the second loop
     # starts at 0.808 s (elapsed_steps); reversed, 'turn' comes first.
+    once = play([arm_motion], robot="ur5e", options=PlayOptions(hold_s=0.0))
     looped = play([arm_motion], robot="ur5e", options=PlayOptions(hold_s=0.0, loops=2))
-    assert looped.end_effector is not None
-    times = [(k.name, round(k.time_s, 6)) for k in looped.end_effector.keyframes]
-    assert times == [
-        ("start", 0.0),
-        ("up", 0.4),
-        ("turn", 0.8),
-        ("start", 0.808),
-        ("up", 1.208),
-        ("turn", 1.608),
+    assert once.end_effector is not None and looped.end_effector is not None
+    # One entry per keyframe of the motion: its worst visit of the two.
+    assert [(k.name, k.visits) for k in looped.end_effector.keyframes] == [
+        ("start", 2),
+        ("up", 2),
+        ("turn", 2),
     ]
+    for first, k in zip(once.end_effector.keyframes, looped.end_effector.keyframes, strict=True):
+        assert k.position_error_mm >= first.position_error_mm
+        assert round(k.time_s, 6) in {round(first.time_s, 6), round(first.time_s + 0.808, 6)}
+        assert k.measured_box_m is not None
+        low, high = np.array(k.measured_box_m)
+        for p in (first.measured_position_m, k.measured_position_m):
+            assert (low <= p).all() and (p <= high).all()
+    # The loop jumps back to 'start' from 'turn': its second visit is the worse one.
+    start = looped.end_effector.keyframes[0]
+    assert round(start.time_s, 6) == 0.808 and start.position_error_mm > 50
     reverse = play([arm_motion], robot="ur5e", options=PlayOptions(hold_s=0.0, reverse=True))
     assert reverse.end_effector is not None
-    names = [(k.name, k.time_s) for k in reverse.end_effector.keyframes]
-    assert names == [("turn", 0.0), ("up", 0.4), ("start", 0.8)]
+    names = [(k.name, k.time_s, k.visits) for k in reverse.end_effector.keyframes]
+    assert names == [("turn", 0.0, 1), ("up", 0.4, 1), ("start", 0.8, 1)]
     first = reverse.end_effector.keyframes[0]
     assert first.position_error_mm > 50  # the arm starts at zero, the motion at 'turn'
+
+
+def test_a_folded_keyframe_is_the_worst_of_its_visits_and_the_report_does_not_grow(
+    arm_motion: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Each visit measured alone (a one-keyframe-per-visit copy of the looped motion played
+    # once) against the looped run's folded entries; then 3 and 12 loops give reports of one
+    # size, the trail held to TRAIL_POINTS samples.
+    from motiontool.sim import arm
+
+    monkeypatch.setattr(arm, "TRAIL_POINTS", 40)
+    runs = {
+        n: play([arm_motion], robot="ur5e", options=PlayOptions(hold_s=0.0, loops=n))
+        for n in (3, 12)
+    }
+    sizes = {}
+    for n, report in runs.items():
+        ee = report.end_effector
+        assert ee is not None and len(ee.keyframes) == 3
+        assert {k.visits for k in ee.keyframes} == {n}
+        assert 20 < len(ee.trail_time_s) <= 41  # the samples kept, and the last frame
+        assert ee.trail_time_s[-1] == pytest.approx(report.simulated_s, abs=0.01)
+        step = np.diff(ee.trail_time_s[:-1])
+        assert np.allclose(step, step[0])  # evenly spaced, the stride doubled as needed
+        sizes[n] = len(json.dumps(report.to_json()))
+    assert abs(sizes[12] - sizes[3]) < 200  # the same entries, a few digits apart
+
+
+def test_a_folded_keyframe_is_judged_by_its_worst_visit(
+    arm_motion: Path,
+) -> None:
+    report = play([arm_motion], robot="ur5e", options=PlayOptions(hold_s=0.0, loops=2))
+    ee = report.end_effector
+    assert ee is not None
+    start = ee.keyframes[0]
+    assert start.measured_box_m is not None
+    low, high = start.measured_box_m
+    # From the box's low corner, the farthest visit is at most at the high corner.
+    point, lag = evaluate([f"ee[start]=[{low[0]},{low[1]},{low[2]}]±1mm", "ee_lag[up]<1s"], report)
+    assert not point.passed
+    assert point.measured == pytest.approx(math.dist(low, high))
+    assert "worst of 2 visits" in point.reason
+    assert not lag.passed  # passed through at speed, at both visits
+    assert "never came within 1 mm of up at one of its 2 visits" in lag.reason
