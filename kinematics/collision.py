@@ -18,7 +18,8 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
    projected overlap over any set of directions: first along the line between the centres of
    bounding spheres (the sphere test), then, for what is left, along the line between the
    centres, the 3 + 3 axes of the two shapes and their 9 cross products (for two boxes this
-   is the separating-axis theorem, and the bound is the exact depth);
+   is the separating-axis theorem, and the bound is the exact depth;
+   :mod:`motiontool.kinematics.overlap_bound`);
 5. only the remaining candidates go to coal (GJK/EPA signed distance, through Pinocchio).
 
 Pinocchio is imported (lazily) by :mod:`motiontool.kinematics._pinocchio` only, and only
@@ -34,14 +35,8 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import _pinocchio
-from motiontool.kinematics._pinocchio import (
-    BOX,
-    CAPSULE,
-    CYLINDER,
-    PRISMATIC,
-    REVOLUTE,
-    KinematicTables,
-)
+from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTables
+from motiontool.kinematics.overlap_bound import overlap_bound
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.tables_cache import stored_tables
 
@@ -160,106 +155,6 @@ def geometry_centers(
     return geometry_poses(tables, q_motors)[1]
 
 
-def _support(
-    tables: KinematicTables,
-    geoms: npt.NDArray[np.int64],
-    axes: npt.NDArray[np.float64],
-    directions: npt.NDArray[np.float64],
-) -> npt.NDArray[np.float64]:
-    """Half extent (n, D) of each geometry along each unit direction: max over the shape of
-    ``x . L`` about its centre. ``geoms`` (n,), ``axes`` (n, 3, 3) (columns = the geometry's
-    axes in the world), ``directions`` (n, D, 3)."""
-    import numpy as np
-
-    proj = np.abs(directions @ axes)  # |L . axis_j|, (n, D, 3)
-    shape = tables.geom_shape[geoms]
-    size = tables.geom_size[geoms]
-    r = size[:, 0][:, None]
-    half = size[:, 1][:, None]
-    out = np.repeat(r, directions.shape[1], axis=1)  # spheres; bounding spheres of meshes
-    box = shape == BOX
-    if box.any():
-        out[box] = (proj[box] @ size[box][:, :, None])[:, :, 0]
-    for code in (CAPSULE, CYLINDER):
-        sel = shape == code
-        if sel.any():
-            along = proj[sel, :, 2]
-            if code == CAPSULE:
-                out[sel] = r[sel] + half[sel] * along
-            else:
-                side = np.sqrt(np.clip(1.0 - along * along, 0.0, None))
-                out[sel] = half[sel] * along + r[sel] * side
-    return out
-
-
-def _overlap_bound(
-    tables: KinematicTables,
-    rot: npt.NDArray[np.float64],
-    centers: npt.NDArray[np.float64],
-    rows: npt.NDArray[np.int64],
-    pairs: npt.NDArray[np.int64],
-    cutoff: float | None = None,
-) -> npt.NDArray[np.float64]:
-    """Upper bound (n,) m on the penetration depth of pair ``pairs[i]`` at configuration
-    ``rows[i]``: the smallest projected overlap over 16 directions (see the module doc).
-
-    With ``cutoff`` (m), entries whose bound over the 7 face directions is already below it
-    are left at that value (still an upper bound, and below ``cutoff``)."""
-    import numpy as np
-
-    a = tables.pair_first[pairs]
-    b = tables.pair_second[pairs]
-    axes_a = rot[rows, a]  # (n, 3, 3)
-    axes_b = rot[rows, b]
-    d = centers[rows, b] - centers[rows, a]  # (n, 3)
-    ua = np.swapaxes(axes_a, 1, 2)  # rows = axes
-    ub = np.swapaxes(axes_b, 1, 2)
-    faces = _projected_overlap(tables, a, b, axes_a, axes_b, d, [d[:, None, :], ua, ub])
-    if cutoff is not None:  # the cross products only for what the 7 face axes keep
-        keep = faces >= cutoff
-        if not keep.all():
-            out = faces.copy()
-            if keep.any():
-                sub = _overlap_bound(tables, rot, centers, rows[keep], pairs[keep])
-                out[keep] = sub
-            return out
-    x, y = ua[:, :, None, :], ub[:, None, :, :]
-    cross = np.stack(
-        [
-            x[..., 1] * y[..., 2] - x[..., 2] * y[..., 1],
-            x[..., 2] * y[..., 0] - x[..., 0] * y[..., 2],
-            x[..., 0] * y[..., 1] - x[..., 1] * y[..., 0],
-        ],
-        axis=-1,
-    ).reshape(-1, 9, 3)
-    edges = _projected_overlap(tables, a, b, axes_a, axes_b, d, [cross])
-    bound: npt.NDArray[np.float64] = np.minimum(faces, edges)
-    return bound
-
-
-def _projected_overlap(
-    tables: KinematicTables,
-    a: npt.NDArray[np.int64],
-    b: npt.NDArray[np.int64],
-    axes_a: npt.NDArray[np.float64],
-    axes_b: npt.NDArray[np.float64],
-    d: npt.NDArray[np.float64],
-    directions: list[npt.NDArray[np.float64]],
-) -> npt.NDArray[np.float64]:
-    """Smallest overlap (n,) m of the two shapes' projections on the given directions (each
-    (n, k, 3), not necessarily unit; near-zero ones are skipped)."""
-    import numpy as np
-
-    dirs = np.concatenate(directions, axis=1)
-    norm = np.sqrt((dirs * dirs).sum(axis=2, keepdims=True))
-    usable = norm[:, :, 0] > 1e-9
-    dirs = dirs / np.where(usable[:, :, None], norm, 1.0)
-    extent = _support(tables, a, axes_a, dirs) + _support(tables, b, axes_b, dirs)
-    overlap = extent - np.abs((dirs @ d[:, :, None])[:, :, 0])
-    smallest: npt.NDArray[np.float64] = np.where(usable, overlap, np.inf).min(axis=1)
-    return smallest
-
-
 def _joint_broad_phase(
     tables: KinematicTables,
     fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
@@ -332,10 +227,18 @@ def _candidates(
     rows, pairs = rows[near], pairs[near]
     bound = np.full(rows.shape[0], np.inf)
     if rot is not None and rows.size:
-        bound = _overlap_bound(tables, rot, centers, rows, pairs, cutoff=tolerance)
+        bound = overlap_bound(tables, rot, centers, rows, pairs, cutoff=tolerance)
         tight = bound >= tolerance
         rows, pairs, bound = rows[tight], pairs[tight], bound[tight]
     return rows, pairs, bound
+
+
+KNOWN_CONFIGURATIONS = 1 << 15
+"""The most configurations a ``known`` memo of :func:`scan_self_collisions` keeps (about 15 MB
+for the Nao): the first ones met, which a long motion that repeats a cycle meets again."""
+
+_Found = tuple[tuple[str, str, float], ...]
+"""The contacts at one configuration: (body_a, body_b, depth m), sorted by bodies."""
 
 
 def scan_self_collisions(
@@ -344,6 +247,7 @@ def scan_self_collisions(
     *,
     penetration_tolerance_m: float = 0.0,
     fingers_in_hand: bool = False,
+    known: dict[bytes, _Found] | None = None,
 ) -> list[Contact]:
     """Every pair of bodies in collision, at each of N configurations.
 
@@ -355,6 +259,9 @@ def scan_self_collisions(
         fingers_in_hand: name a finger by its hand (``r_phalanx4`` counts as ``r_hand``), so
             that a hand with its fingers in contact is one contact; a finger touching its own
             hand is then not reported.
+        known: a memo shared by calls with the same robot and options (a motion scanned a
+            block of configurations at a time): the contacts of configurations already
+            scanned, by their bytes; the first :data:`KNOWN_CONFIGURATIONS` are added to it.
 
     Returns:
         One :class:`Contact` per configuration and pair of bodies, sorted by configuration
@@ -364,36 +271,54 @@ def scan_self_collisions(
     Raises:
         MotionToolError: ``q_motors`` has the wrong shape or a value that is not finite.
     """
-    import numpy as np
 
     q = _checked(spec, q_motors)
     if q.shape[0] == 0:
         return []
+    unique, inverse, keys = _unique_rows(q)
+    memo: dict[bytes, _Found] = {} if known is None else known
+    new = [i for i, key in enumerate(keys) if key not in memo]
+    found = _scan_unique(spec, unique[new], penetration_tolerance_m, fingers_in_hand)
+    at_row = [memo.get(key, ()) for key in keys]
+    for n, i in enumerate(new):
+        at_row[i] = tuple(found.get(n, ()))
+        if len(memo) < KNOWN_CONFIGURATIONS:
+            memo[keys[i]] = at_row[i]
+    contacts: list[Contact] = []
+    for config, row in enumerate(inverse.tolist()):
+        contacts.extend(Contact(config, a, b, d) for a, b, d in at_row[row])
+    return contacts
+
+
+def _scan_unique(
+    spec: RobotSpec, unique: npt.NDArray[np.float64], tolerance_m: float, fingers_in_hand: bool
+) -> dict[int, list[tuple[str, str, float]]]:
+    """The contacts (body_a, body_b, depth m) at each of the distinct configurations
+    ``unique``, by row (rows without one left out); see :func:`scan_self_collisions`."""
+    import numpy as np
+
+    if unique.shape[0] == 0:
+        return {}
     tables = stored_tables(spec)
-    unique, inverse = _unique_rows(q)
     moving = (unique != 0.0).any(axis=0)
-    tolerance = max(penetration_tolerance_m, 0.0)
+    tolerance = max(tolerance_m, 0.0)
     reach = tables.geom_radius[tables.pair_first] + tables.geom_radius[tables.pair_second]
     active = np.flatnonzero(tables.pair_motors[:, moving].any(axis=1) & (reach >= tolerance))
     if active.size == 0:
-        return []
+        return {}
 
     rows, pairs, bound = _in_blocks(
         lambda k: _candidates(spec, tables, unique[k : k + _BLOCK], active, tolerance),
         unique.shape[0],
     )
     if rows.size == 0:
-        return []
+        return {}
     # coal's EPA can overshoot on flat-capped cylinders (a 12.4 mm sphere-in-cylinder
     # penetration read as 29 mm); the projected-overlap bound is a true upper bound.
     depth = np.minimum(-_pinocchio.pair_signed_distances(spec, unique, rows, pairs), bound)
-    hit = (depth > 0.0) & (depth >= penetration_tolerance_m)
+    hit = (depth > 0.0) & (depth >= tolerance_m)
     bodies = tables.geom_limb if fingers_in_hand else tables.geom_body
-    by_row = _deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
-    contacts: list[Contact] = []
-    for config, row in enumerate(inverse.tolist()):
-        contacts.extend(Contact(config, a, b, d) for a, b, d in by_row.get(row, ()))
-    return contacts
+    return _deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
 
 
 def _in_blocks(block: Callable[[int], _Candidates], n: int) -> _Candidates:
@@ -429,9 +354,9 @@ def _checked(spec: RobotSpec, q_motors: npt.ArrayLike) -> npt.NDArray[np.float64
 
 def _unique_rows(
     q: npt.NDArray[np.float64],
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]:
-    """The distinct rows of ``q`` in first-seen order, and each row's index among them
-    (identical configurations are checked once)."""
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], list[bytes]]:
+    """The distinct rows of ``q`` in first-seen order, each row's index among them (identical
+    configurations are checked once), and the distinct rows' bytes."""
     import numpy as np
 
     index_of: dict[bytes, int] = {}
@@ -442,7 +367,7 @@ def _unique_rows(
         if k == len(firsts):
             firsts.append(i)
         inverse[i] = k
-    return q[firsts], inverse
+    return q[firsts], inverse, list(index_of)
 
 
 def _deepest_by_row(

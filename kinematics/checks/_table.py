@@ -219,13 +219,17 @@ class Table:
         names = [self.result.joints[group[-1]] for group in self.groups]
         return hold_targets(self.raw, self.raw_sent, self.result.joints, names).targets
 
-    def segments(self) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.bool_]]:
-        """Which file column drives each motor over each keyframe segment: (P-1, K) the last
-        column with a number at both ends (Webots interpolates it, and it wins), and (P-1, K)
+    def segments(
+        self, lo: int = 0, hi: int | None = None
+    ) -> tuple[npt.NDArray[np.intp], npt.NDArray[np.bool_]]:
+        """Which file column drives each motor over keyframe segments ``lo`` to ``hi - 1``
+        (segment s goes from pose s to pose s + 1; all P - 1 by default): (S, K) the last
+        column with a number at both ends (Webots interpolates it, and it wins), and (S, K)
         bool whether one does."""
         import numpy as np
 
-        both = self.raw_defined[:-1] & self.raw_defined[1:]
+        hi = self.times.shape[0] - 1 if hi is None else hi
+        both = self.raw_defined[lo:hi] & self.raw_defined[lo + 1 : hi + 1]
         driver = np.zeros((both.shape[0], len(self.groups)), dtype=np.intp)
         driven = np.zeros(driver.shape, dtype=np.bool_)
         for k, group in enumerate(self.groups):
@@ -234,15 +238,25 @@ class Table:
                 driven[:, k] |= both[:, c]
         return driver, driven
 
-    def segment_values(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-        """(start, end) values (P-1, K) of each motor's keyframe segments from the column that
-        drives it (:meth:`segments`), NaN where none does."""
+    def segment_values(
+        self,
+        lo: int = 0,
+        hi: int | None = None,
+        driving: tuple[npt.NDArray[np.intp], npt.NDArray[np.bool_]] | None = None,
+    ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+        """(start, end) values (S, K) of each motor's keyframe segments ``lo`` to ``hi - 1``
+        (all by default) from the column that drives it (:meth:`segments`, or ``driving``
+        where the caller has it), NaN where none does."""
         import numpy as np
 
-        driver, driven = self.segments()
-        start = np.take_along_axis(self.raw[:-1], driver, axis=1)
-        end = np.take_along_axis(self.raw[1:], driver, axis=1)
-        return np.where(driven, start, np.nan), np.where(driven, end, np.nan)
+        hi = self.times.shape[0] - 1 if hi is None else hi
+        driver, driven = self.segments(lo, hi) if driving is None else driving
+        start = np.take_along_axis(self.raw[lo:hi], driver, axis=1)
+        end = np.take_along_axis(self.raw[lo + 1 : hi + 1], driver, axis=1)
+        idle = ~driven
+        start[idle] = np.nan
+        end[idle] = np.nan
+        return start, end
 
 
 def _sources(
@@ -321,32 +335,37 @@ def cell(
 
 
 def configurations(
-    table: Table, spec: RobotSpec
+    table: Table, spec: RobotSpec, lo: int = 0, hi: int | None = None
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """Whole-robot configurations at every keyframe and segment midpoint, in that order.
+    """Whole-robot configurations at keyframes ``lo`` to ``hi - 1`` (all by default) and the
+    segment midpoints after each, in that order.
 
-    Returns (Q (2P-1, M) float64 in ``spec.joints`` order, times (2P-1,) float64 ms): row 2p is
-    pose p, row 2p+1 halfway to pose p+1. Held targets where no column sends a command, 0 for a
-    joint not commanded yet or not in the file, everything clamped to the motor limits.
+    Returns (Q (R, M) float64 in ``spec.joints`` order, times (R,) float64 ms): row 2i is pose
+    lo + i, row 2i+1 halfway to the next pose (none after the last pose of the file); over the
+    whole file, R = 2P - 1 and row r is configuration r. Held targets where no column sends a
+    command, 0 for a joint not commanded yet or not in the file, everything clamped to the
+    motor limits.
     """
     import numpy as np
 
     n_poses = table.times.shape[0]
+    hi = n_poses if hi is None else min(hi, n_poses)
+    seg_hi = min(hi, n_poses - 1)  # the segments lo .. seg_hi - 1 have their midpoint here
     held = table.held
-    start, end = table.segment_values()
-    mid = (start + end) / 2.0
-    mid = np.where(np.isnan(mid), held[:-1], mid)
-    rows = np.empty((2 * n_poses - 1, len(table.motors)))
-    rows[0::2] = held
-    rows[1::2] = mid
-    q = np.zeros((rows.shape[0], len(spec.joints)))
-    q[:, table.motors] = np.nan_to_num(rows, nan=0.0)
+    mid, end = table.segment_values(lo, seg_hi)
+    mid += end
+    mid /= 2.0
+    np.copyto(mid, held[lo:seg_hi], where=np.isnan(mid))
+    del end
+    q = np.zeros((hi - lo + seg_hi - lo, len(spec.joints)))
+    q[0::2, table.motors] = np.nan_to_num(held[lo:hi], nan=0.0)
+    q[1::2, table.motors] = np.nan_to_num(mid, nan=0.0)
     lower = np.array([j.lower for j in spec.joints])
     upper = np.array([j.upper for j in spec.joints])
-    q = np.clip(q, lower, upper)
-    times = np.empty(rows.shape[0])
-    times[0::2] = table.times
-    times[1::2] = (table.times[:-1] + table.times[1:]) / 2.0
+    np.clip(q, lower, upper, out=q)
+    times = np.empty(q.shape[0])
+    times[0::2] = table.times[lo:hi]
+    times[1::2] = (table.times[lo:seg_hi] + table.times[lo + 1 : seg_hi + 1]) / 2.0
     return q, times
 
 

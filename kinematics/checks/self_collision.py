@@ -47,6 +47,11 @@ those measurements; ``--collision-tolerance`` sets another (0 reports every over
 """
 
 
+_POSES = 8192
+"""Keyframes whose configurations (and the segment midpoints after them) are scanned at a time:
+the arrays of a block, not of the whole file, are held (:func:`scan_self_collisions`)."""
+
+
 class Collision(GroupingCheck):
     """MT307: self-collision at every keyframe and segment midpoint (one diagnostic per pair
     of bodies and run of consecutive checked instants; grouped, one per pair where it has more
@@ -69,20 +74,27 @@ class Collision(GroupingCheck):
         table = self.table(result)
         if not table.motors:
             return Findings.of([])
-        q, times = configurations(table, self.spec)
-        try:
-            contacts = scan_self_collisions(
-                self.spec,
-                q,
-                penetration_tolerance_m=self.tolerance_mm / MM_PER_M,
-                fingers_in_hand=True,
-            )
-        except MissingExtraError as exc:  # installed, but it (or coal) fails to import
-            raise MissingExtraError(exc.module, exc.extra, what, exc.library) from exc
+        n_poses = table.times.shape[0]
+        times = np.empty(2 * n_poses - 1)
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
-        for c in contacts:
-            by_pair.setdefault((c.body_a, c.body_b), {})[c.config] = c.depth_m
-        del contacts
+        known: dict[bytes, tuple[tuple[str, str, float], ...]] = {}  # a cycle met again
+        for lo in range(0, n_poses, _POSES):  # configuration 2 * lo is the block's first
+            q, times[2 * lo : 2 * lo + 2 * _POSES] = configurations(
+                table, self.spec, lo, lo + _POSES
+            )
+            try:
+                contacts = scan_self_collisions(
+                    self.spec,
+                    q,
+                    penetration_tolerance_m=self.tolerance_mm / MM_PER_M,
+                    fingers_in_hand=True,
+                    known=known,
+                )
+            except MissingExtraError as exc:  # installed, but it (or coal) fails to import
+                raise MissingExtraError(exc.module, exc.extra, what, exc.library) from exc
+            for c in contacts:
+                by_pair.setdefault((c.body_a, c.body_b), {})[2 * lo + c.config] = c.depth_m
+            del contacts
         found = []
         for pair, depths in sorted(by_pair.items()):
             each = runs(sorted(depths), 1)

@@ -32,9 +32,13 @@ if TYPE_CHECKING:
 
 __all__ = ["Velocity"]
 
-_STREAM_CHUNK = 1 << 16
-"""Controller steps of the command stream the velocity check reads at a time (a few tens of MB
-of arrays for a Nao, whatever the motion's duration)."""
+_STREAM_CHUNK = 1 << 13
+"""Controller steps of the command stream the velocity check reads at a time (a few MB of arrays
+for a Nao, whatever the motion's duration)."""
+
+_SEGMENTS = 1 << 14
+"""Keyframe segments whose values are compared at a time: what the check keeps of the whole
+motion is, per joint and segment, the move and whether it is too fast (9 bytes)."""
 
 #: A fast controller step of one motor: (speed (unit/s), its start and end playback times (ms),
 #: how many controller steps apart the two commands are).
@@ -61,15 +65,7 @@ class Velocity(GroupingCheck):
         limited = [k for k, j in enumerate(joints) if math.isfinite(j.max_velocity)]
         if not limited or table.times.shape[0] < 2:
             return Findings.of([])
-        vmax = np.array([joints[k].max_velocity for k in limited])
-        start, end = table.segment_values()
-        driver = table.segments()[0][:, limited]
-        dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
-        with np.errstate(invalid="ignore"):
-            delta = np.abs(end[:, limited] - start[:, limited])
-            speed = delta / dt_s[:, None]
-            # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
-            fast = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
+        driver, delta, fast = self._segments(table, joints, limited)
         steps = self._stream(table, joints, limited, fast)
         if group:
             found = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
@@ -83,12 +79,41 @@ class Velocity(GroupingCheck):
 
         return Findings.merge([in_order(segs + 1, cols, segment), steps])
 
+    @staticmethod
+    def _segments(
+        table: Table, joints: Sequence[JointSpec], limited: list[int]
+    ) -> tuple[npt.NDArray[np.int32], npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+        """(S, I) for each motor of ``limited`` and keyframe segment: the file column that
+        drives it (:meth:`Table.segments`), how far it moves (NaN where no column drives it),
+        and whether faster than its maximum velocity; a block of :data:`_SEGMENTS` segments
+        at a time (no (S, K) array)."""
+        import numpy as np
+
+        vmax = np.array([joints[k].max_velocity for k in limited])
+        n_segments = table.times.shape[0] - 1
+        driver = np.empty((n_segments, len(limited)), dtype=np.int32)
+        delta = np.empty(driver.shape)
+        fast = np.empty(driver.shape, dtype=np.bool_)
+        dt_s = np.diff(table.times).astype(np.float64) / MS_PER_S
+        for lo in range(0, n_segments, _SEGMENTS):
+            hi = min(lo + _SEGMENTS, n_segments)
+            driving = table.segments(lo, hi)
+            start, end = table.segment_values(lo, hi, driving)
+            driver[lo:hi] = driving[0][:, limited]
+            with np.errstate(invalid="ignore"):
+                moved = np.abs(end[:, limited] - start[:, limited])
+                speed = moved / dt_s[lo:hi, None]
+                # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
+                fast[lo:hi] = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
+            delta[lo:hi] = moved
+        return driver, delta, fast
+
     @classmethod
     def _segment_runs(
         cls,
         table: Table,
         joints: list[JointSpec],
-        driver: npt.NDArray[np.intp],
+        driver: npt.NDArray[np.int32],
         delta: npt.NDArray[np.float64],
         fast: npt.NDArray[np.bool_],
     ) -> Findings:
@@ -204,7 +229,7 @@ class Velocity(GroupingCheck):
         )
         names = [table.result.joints[group[-1]] for group in table.groups]
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
-        fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int64)
+        fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int32)
         np.cumsum(fast, axis=0, out=fast_before[1:])
         defined = table.defined
         worst: dict[tuple[int, int], _Step] = {}
@@ -241,7 +266,7 @@ class Velocity(GroupingCheck):
         times: npt.NDArray[np.int64],
         elapsed: npt.NDArray[np.int64],
         targets: npt.NDArray[np.float64],
-        motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int64]],
+        motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int32]],
     ) -> list[tuple[int, _Step]]:
         """The steps of one motor whose target moves faster than its maximum velocity, each
         with the pose to report it on.

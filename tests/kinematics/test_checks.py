@@ -10,6 +10,7 @@ import subprocess
 import sys
 from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import CORPUS, DATA, ROBOT_FACTS, ROOT, require
@@ -307,6 +308,79 @@ def test_the_command_stream_read_in_chunks_finds_what_the_whole_stream_finds(
         assert found() == whole
     finally:
         velocity._STREAM_CHUNK = saved
+
+
+@st.composite
+def arm_motions(draw: st.DrawFn) -> bytes:
+    """Nao motions whose right hand may go into the hip (a self-collision), their poses drawn
+    from a small pool so that configurations repeat, with '*' cells."""
+    names = ["RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "LShoulderRoll"]
+    cell = st.one_of(
+        st.just("*"), st.floats(-2.0, 2.0, allow_nan=False).map(lambda x: repr(round(x, 2)))
+    )
+    hand_in_hip = ["1.7", "0.3", "-1.8", "0.3", "0"]
+    pose = st.one_of(st.just(hand_in_hip), st.lists(cell, min_size=5, max_size=5))
+    pool = draw(st.lists(pose, min_size=1, max_size=4))
+    gaps = draw(st.lists(st.integers(1, 200), min_size=1, max_size=12))
+    lines = ["#WEBOTS_MOTION,V1.0," + ",".join(names)]
+    for p in range(len(gaps)):
+        time_ms = sum(gaps[:p])
+        lines.append(",".join([str(time_ms), f"P{p}", *draw(st.sampled_from(pool))]))
+    return ("\n".join(lines) + "\n").encode()
+
+
+@settings(max_examples=40, deadline=None)
+@given(arm_motions(), st.integers(1, 5), st.integers(0, 3), st.booleans())
+def test_the_checks_read_in_blocks_find_what_one_block_finds(
+    data: bytes, block: int, memo: int, group: bool
+) -> None:
+    """The velocity check compares keyframe segments, the collision check scans configurations
+    a block of poses at a time and remembers so many configurations it met (flat memory
+    whatever the motion's length): blocks of 1 to 5 and memos of 0 to 3 give the findings of
+    one block for it all, grouped or not."""
+    from unittest import mock
+
+    from motiontool.kinematics import collision
+    from motiontool.kinematics.checks import self_collision, velocity
+
+    def found() -> list[Diagnostic]:
+        checks = robot_checks(_NAO, ["velocity", "collision"])
+        return list(validate_bytes(data, "t.motion", checks=checks, group=group).diagnostics)
+
+    whole = found()
+    with (
+        mock.patch.object(velocity, "_SEGMENTS", block),
+        mock.patch.object(self_collision, "_POSES", block),
+        mock.patch.object(collision, "KNOWN_CONFIGURATIONS", memo),
+    ):
+        assert found() == whole
+
+
+def test_a_cycle_met_again_is_not_scanned_again(monkeypatch: pytest.MonkeyPatch) -> None:
+    # A motion repeating one cycle over 6 blocks of poses, the right hand into the hip at its
+    # first two poses: its configurations are scanned in the first block only, and the
+    # contacts found in every block.
+    from motiontool.kinematics import collision
+    from motiontool.kinematics.checks import self_collision
+
+    monkeypatch.setattr(self_collision, "_POSES", 4)
+    cycle = ["1.7,0.3,-1.8,0.3", "1.7,0.3,-1.8,0.3", "-1.0,-0.3,1.5,1.5", "0,0,0,0"]
+    lines = ["#WEBOTS_MOTION,V1.0,RShoulderPitch,RShoulderRoll,RElbowYaw,RElbowRoll"]
+    lines += [f"{400 * p},P{p},{cycle[p % 4]}" for p in range(24)]
+    scanned: list[int] = []
+    scan = collision._scan_unique
+
+    def counted(spec: Any, unique: Any, *args: Any) -> Any:
+        scanned.append(unique.shape[0])
+        return scan(spec, unique, *args)
+
+    monkeypatch.setattr(collision, "_scan_unique", counted)
+    checks = robot_checks(_NAO, ["collision"])
+    report = validate_bytes(("\n".join(lines) + "\n").encode(), "t.motion", checks=checks)
+    assert scanned[0] > 0 and scanned[1:] == [0] * 5
+    hits = [d for d in report.diagnostics if d.code == "MT307"]
+    assert [d.line for d in hits] == [2 + 4 * k for k in range(6)]  # a run of 2 poses each
+    assert all("r_hand and r_hip overlap by 28.7 mm" in d.message for d in hits)
 
 
 @settings(max_examples=150, deadline=None)

@@ -11,11 +11,8 @@ import pytest
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import RobotSpec, _pinocchio, load_robot, self_collision_depths
 from motiontool.kinematics._pinocchio import BOX, SPHERE
-from motiontool.kinematics.collision import (
-    _overlap_bound,
-    geometry_poses,
-    scan_self_collisions,
-)
+from motiontool.kinematics.collision import geometry_poses, scan_self_collisions
+from motiontool.kinematics.overlap_bound import overlap_bound
 
 pin = pytest.importorskip("pinocchio")
 
@@ -93,7 +90,7 @@ def test_overlap_bound_is_exact_for_boxes_and_spheres_and_never_below_the_depth(
     rot, centers = geometry_poses(tables, q)
     rows = np.repeat(np.arange(q.shape[0]), tables.pair_first.shape[0])
     pairs = np.tile(np.arange(tables.pair_first.shape[0]), q.shape[0])
-    bound = _overlap_bound(tables, rot, centers, rows, pairs)
+    bound = overlap_bound(tables, rot, centers, rows, pairs)
     hit = bound > 0
     depth = -_pinocchio.pair_signed_distances(spec, q, rows[hit], pairs[hit])
     shapes = {SPHERE, BOX}
