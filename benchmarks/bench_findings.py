@@ -17,6 +17,11 @@ Each command's report goes to a file (the bytes are written, then thrown away), 
 - memory across files: runs over 10 and 40 files of 10 000 random poses (2.6 MB each), the
   larger run's peak against the smaller's (flat: a run holds the reports of its first 32 MiB
   of input, the others are validated as the report reaches them).
+- memory along a file (``--part long``): clean motions (every joint of the Nao on a slow sine
+  within its limits, no finding) of 25 000 and 100 000 poses: the robot checks' peak above the
+  syntax level's, per MB of file. No target: the checks keep a few bytes a cell (the held
+  targets, the velocity check's moves), so what they add grows with the file; the blocks they
+  work on do not (16 MiB per MB before they worked a block at a time).
 """
 
 from __future__ import annotations
@@ -39,7 +44,10 @@ def main() -> None:
     parser.add_argument("--poses", type=int, default=100_000)
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument(
-        "--part", choices=("all", "big", "many"), default="all", help="the big file, many files"
+        "--part",
+        choices=("all", "big", "many", "long"),
+        default="all",
+        help="the big file, many files, clean files of two lengths",
     )
     args = parser.parse_args()
     script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
@@ -48,6 +56,8 @@ def main() -> None:
             big_file(script, Path(tmp), args.poses, args.repeat)
         if args.part in ("all", "many"):
             many_files(script, Path(tmp), args.repeat)
+        if args.part in ("all", "long"):
+            long_files(script, Path(tmp), args.repeat)
 
 
 def big_file(script: str, tmp: Path, poses: int, repeat: int) -> None:
@@ -114,6 +124,54 @@ def many_files(script: str, tmp: Path, repeat: int, counts: tuple[int, int] = (1
             f"--robot {robot}: {many} files peak at {ratio:.2f}x {few} files' (target <= 1.3x, "
             f"flat: {'met' if ratio <= 1.3 else 'not met'})"
         )
+
+
+def clean_file(path: Path, poses: int) -> None:
+    """Every Nao joint on a 0.05 Hz sine about the middle of its range (a tenth of the range
+    each side), a pose every 40 ms: within the limits and the velocities, no self-collision."""
+    import numpy as np
+
+    from motiontool.kinematics import load_robot
+
+    joints = load_robot("nao").joints
+    lower, upper = np.array([j.lower for j in joints]), np.array([j.upper for j in joints])
+    t_s = np.arange(poses) * 0.04
+    phase = 2 * np.pi * 0.05 * t_s[:, None] + np.arange(len(joints))
+    values = (lower + upper) / 2 + (upper - lower) * 0.1 * np.sin(phase)
+    with path.open("w", newline="\n") as f:
+        f.write("#WEBOTS_MOTION,V1.0," + ",".join(j.name for j in joints) + "\n")
+        for p in range(poses):
+            ms = 40 * p
+            cells = ",".join(f"{v:.4f}" for v in values[p])
+            f.write(
+                f"{ms // 60000:02d}:{ms // 1000 % 60:02d}:{ms % 1000:03d},Pose{p + 1},{cells}\n"
+            )
+
+
+def long_files(
+    script: str, tmp: Path, repeat: int, lengths: tuple[int, int] = (25_000, 100_000)
+) -> None:
+    """What the default robot checks add to the syntax level's peak, per MB of a clean file,
+    for a file and one four times as long."""
+    added = {}
+    for poses in lengths:
+        path = tmp / f"clean{poses}.motion"
+        clean_file(path, poses)
+        size_mb = path.stat().st_size / 1e6
+        syntax = best_child(repeat, [script, "validate", str(path), "--robot", "none"])
+        checks = best_child(repeat, [script, "validate", str(path), "--robot", "nao"])
+        if syntax.returncode != 0 or checks.returncode != 0:
+            raise SystemExit(f"clean file: exit status {syntax.returncode}, {checks.returncode}")
+        added[poses] = (checks.peak_bytes - syntax.peak_bytes) / 2**20 / size_mb
+        print(
+            f"clean file, {poses} poses ({size_mb:.0f} MB): syntax {syntax.wall_s:.2f} s, "
+            f"{syntax.peak_mib:.0f} MiB; --robot nao {checks.wall_s:.2f} s, "
+            f"{checks.peak_mib:.0f} MiB: the checks add {added[poses]:.1f} MiB per MB of file"
+        )
+    short, long = lengths
+    print(
+        f"{long // short}x the poses: the checks add {added[long] / added[short]:.2f}x as much per MB"
+    )
 
 
 if __name__ == "__main__":
