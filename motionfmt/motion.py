@@ -31,7 +31,8 @@ class Motion:
             ``*``), as before this mask existed. ``values`` is NaN wherever ``commanded`` is
             False.
 
-    The arrays are read-only.
+    The arrays are read-only. A read-only float64 ``values`` array is kept as it is (no one
+    can write it: a read's own rows, shared, not copied); any other is copied.
     """
 
     joints: tuple[str, ...]
@@ -44,15 +45,25 @@ class Motion:
         import numpy as np
 
         times = np.array(self.times_ms, dtype=np.int64)
-        values = np.array(self.values, dtype=np.float64).reshape(len(times), len(self.joints))
+        given = self.values
+        shared = (
+            isinstance(given, np.ndarray)
+            and given.dtype == np.float64
+            and not given.flags.writeable
+        )
+        values = np.array(given, dtype=np.float64, copy=not shared)
+        values = values.reshape(len(times), len(self.joints))
         if self.commanded is None:
             commanded = ~np.isnan(values)
         else:
             commanded = np.array(self.commanded, dtype=np.bool_)
             if commanded.shape != values.shape:
                 raise ValueError(f"commanded has shape {commanded.shape}, values {values.shape}")
-            if not bool(commanded.all()):
-                values[~commanded] = np.nan
+            idle = ~commanded
+            if not bool(np.isnan(values[idle]).all()):
+                if shared:
+                    values = values.copy()
+                values[idle] = np.nan
         times.flags.writeable = False
         values.flags.writeable = False
         commanded.flags.writeable = False

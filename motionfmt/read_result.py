@@ -116,13 +116,19 @@ class ReadResult:
             d = self.rejected_at
             raise MotionSyntaxError(f"{d.message} [{d.code}]", d.path, d.line, d.column)
         if self._motion is None:
+            import numpy as np
+
             from motiontool.motionfmt.motion import Motion
 
+            # The motion shares the rows (no copy; read-only): the bulk read's array, or an
+            # array made of the line-by-line read's lists here.
+            rows = np.asarray(self.rows, dtype=np.float64)
+            rows.flags.writeable = False
             self._motion = Motion(
                 joints=tuple(self.joints),
                 pose_names=tuple(self.pose_names),
                 times_ms=self.times_ms,  # type: ignore[arg-type]
-                values=self.rows,  # type: ignore[arg-type]
+                values=rows,
                 commanded=self.commanded,
             )
         return self._motion

@@ -128,6 +128,29 @@ def test_motion_arrays_are_read_only() -> None:
     assert m.times_ms.dtype == np.int64 and m.values.dtype == np.float64
 
 
+def test_a_motion_shares_a_read_only_array_and_copies_any_other() -> None:
+    # A read's rows are the motion's values (one copy of a large file's values, not two); an
+    # array its caller may still write is copied, and stays writable.
+    from motiontool.motionfmt.motion import Motion
+
+    times = ((t // 60000, t // 1000 % 60, t % 1000) for t in range(0, 4 * 10**6, 40))
+    big = b"#WEBOTS_MOTION,V1.0,A,B\n" + b"".join(b"%02d:%02d:%03d,P,1,2\n" % t for t in times)
+    result = read_bytes(big)
+    assert np.shares_memory(result.motion.values, result.rows)  # the bulk path's array
+    small = read_bytes(b"#WEBOTS_MOTION,V1.0,A\n0,P,1\n").motion
+    assert not small.values.flags.writeable
+    mine = np.array([[1.0, 5.0], [2.0, 3.0]])
+    m = Motion(("A", "B"), ("P", "Q"), [0, 10], mine, np.array([[True, False], [True, True]]))
+    assert not np.shares_memory(m.values, mine) and mine.flags.writeable
+    assert np.isnan(m.values[0, 1]) and mine[0, 1] == 5.0
+    frozen = mine.copy()
+    frozen.flags.writeable = False
+    m = Motion(("A", "B"), ("P", "Q"), [0, 10], frozen, np.array([[True, False], [True, True]]))
+    assert np.isnan(m.values[0, 1]) and frozen[0, 1] == 5.0  # '*' made NaN in a copy
+    m = Motion(("A", "B"), ("P", "Q"), [0, 10], frozen)
+    assert np.shares_memory(m.values, frozen)
+
+
 # -- robustness: only diagnostics or MotionToolError, never another exception -----------------
 
 
