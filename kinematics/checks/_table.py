@@ -29,6 +29,9 @@ if TYPE_CHECKING:
 #: The cell type of a (P, K) table: float64 values or bool flags.
 _Cell = TypeVar("_Cell", "np.float64", "np.bool_")
 
+_HOLD_POSES = 1 << 14
+"""Poses whose held targets are worked out at a time (:attr:`Table.held`)."""
+
 __all__ = [
     "EPS",
     "PoseRuns",
@@ -192,8 +195,17 @@ class Table:
         return int(self.source[pose, k])
 
     def _at_source(self, cells: npt.NDArray[_Cell]) -> npt.NDArray[_Cell]:
+        """(P, K) ``cells`` of the file column each motor gets; ``cells`` itself (no copy) where
+        that is every file column, once, in order (every joint of the file is a motor)."""
         import numpy as np
 
+        row = self.source[0] if self.source.shape[0] else None
+        if (
+            row is not None
+            and self.source.strides[0] == 0  # one row for every pose (:func:`_sources`)
+            and np.array_equal(row, np.arange(cells.shape[1]))
+        ):
+            return cells
         return np.take_along_axis(cells, self.source, axis=1)
 
     @functools.cached_property
@@ -216,8 +228,24 @@ class Table:
     def held(self) -> npt.NDArray[np.float64]:
         """(P, K) float64: each motor's target at each pose, its last commanded value where no
         column sends one, NaN before the motion first commands it."""
+        import numpy as np
+
         names = [self.result.joints[group[-1]] for group in self.groups]
-        return hold_targets(self.raw, self.raw_sent, self.result.joints, names).targets
+        held = np.empty((self.raw.shape[0], len(names)))
+        initial = holding = None
+        for lo in range(0, held.shape[0], _HOLD_POSES):  # each block goes on from the last
+            hi = lo + _HOLD_POSES
+            part = hold_targets(
+                self.raw[lo:hi],
+                self.raw_sent[lo:hi],
+                self.result.joints,
+                names,
+                initial=initial,
+                holding=holding,
+            )
+            held[lo:hi] = part.targets
+            initial, holding = part.targets[-1], part.holding[-1]
+        return held
 
     def segments(
         self, lo: int = 0, hi: int | None = None

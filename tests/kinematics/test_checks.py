@@ -335,16 +335,16 @@ def test_the_checks_read_in_blocks_find_what_one_block_finds(
     data: bytes, block: int, memo: int, group: bool
 ) -> None:
     """The velocity check compares keyframe segments, the collision check scans configurations
-    a block of poses at a time and remembers so many configurations it met (flat memory
-    whatever the motion's length): blocks of 1 to 5 and memos of 0 to 3 give the findings of
-    one block for it all, grouped or not."""
+    a block of poses at a time and remembers so many configurations it met, the held targets
+    are worked out a block at a time (flat memory whatever the motion's length): blocks of 1
+    to 5 and memos of 0 to 3 give the findings of one block for it all, grouped or not."""
     from unittest import mock
 
     from motiontool.kinematics import collision
-    from motiontool.kinematics.checks import self_collision, velocity
+    from motiontool.kinematics.checks import _table, self_collision, velocity
 
     def found() -> list[Diagnostic]:
-        checks = robot_checks(_NAO, ["velocity", "collision"])
+        checks = robot_checks(_NAO, ["limits", "velocity", "collision"])
         return list(validate_bytes(data, "t.motion", checks=checks, group=group).diagnostics)
 
     whole = found()
@@ -352,6 +352,7 @@ def test_the_checks_read_in_blocks_find_what_one_block_finds(
         mock.patch.object(velocity, "_SEGMENTS", block),
         mock.patch.object(self_collision, "_POSES", block),
         mock.patch.object(collision, "KNOWN_CONFIGURATIONS", memo),
+        mock.patch.object(_table, "_HOLD_POSES", block),
     ):
         assert found() == whole
 
