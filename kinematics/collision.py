@@ -51,6 +51,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Contact",
+    "Known",
     "forward_kinematics",
     "geometry_centers",
     "geometry_poses",
@@ -237,8 +238,9 @@ KNOWN_CONFIGURATIONS = 1 << 15
 """The most configurations a ``known`` memo of :func:`scan_self_collisions` keeps (about 15 MB
 for the Nao): the first ones met, which a long motion that repeats a cycle meets again."""
 
-_Found = tuple[tuple[str, str, float], ...]
-"""The contacts at one configuration: (body_a, body_b, depth m), sorted by bodies."""
+Known = dict[bytes, tuple[tuple[str, str, float], ...]]
+"""A memo of :func:`scan_self_collisions`: the contacts (body_a, body_b, depth m; sorted by
+bodies) at each configuration scanned, by the configuration's bytes."""
 
 
 def scan_self_collisions(
@@ -247,7 +249,7 @@ def scan_self_collisions(
     *,
     penetration_tolerance_m: float = 0.0,
     fingers_in_hand: bool = False,
-    known: dict[bytes, _Found] | None = None,
+    known: Known | None = None,
 ) -> list[Contact]:
     """Every pair of bodies in collision, at each of N configurations.
 
@@ -271,12 +273,11 @@ def scan_self_collisions(
     Raises:
         MotionToolError: ``q_motors`` has the wrong shape or a value that is not finite.
     """
-
     q = _checked(spec, q_motors)
     if q.shape[0] == 0:
         return []
     unique, inverse, keys = _unique_rows(q)
-    memo: dict[bytes, _Found] = {} if known is None else known
+    memo: Known = {} if known is None else known
     new = [i for i, key in enumerate(keys) if key not in memo]
     found = _scan_unique(spec, unique[new], penetration_tolerance_m, fingers_in_hand)
     at_row = [memo.get(key, ()) for key in keys]
