@@ -244,15 +244,19 @@ class _Extremes:
 
         (a, _, has_a), (b, _, has_b) = held_old, held_new
         n = self.n
-        only_one = has_a != has_b
-        both = has_a & has_b
-        with np.errstate(invalid="ignore"):
-            same = (a == b) | (np.isnan(a) & np.isnan(b))  # equal infinities, two NaN commands
-            delta = np.where(same, 0.0, np.abs(a - b))
-        delta = np.where(both, delta, -1.0)
-        delta = np.where(np.isnan(delta), np.inf, delta)
-        if not delta.shape[1]:
+        if not n:
             return
+        with np.errstate(invalid="ignore"):
+            delta = a - b  # exactly 0 where two finite values are equal
+        np.abs(delta, out=delta)
+        odd = np.isnan(delta)  # a NaN command, or two infinities
+        if odd.any():
+            ao, bo = a[odd], b[odd]
+            same = (ao == bo) | (np.isnan(ao) & np.isnan(bo))  # equal infinities, two NaNs
+            delta[odd] = np.where(same, 0.0, np.inf)
+        both = has_a & has_b
+        if not both.all():
+            np.copyto(delta, -1.0, where=~both)
         k = np.argmax(delta, axis=0)
         top = delta[k, np.arange(n)]
         better = top > self.best
@@ -260,6 +264,9 @@ class _Extremes:
         self.best_step = np.where(better, steps[k], self.best_step)
         self.best_old = np.where(better, a[k, np.arange(n)], self.best_old)
         self.best_new = np.where(better, b[k, np.arange(n)], self.best_new)
+        only_one = has_a != has_b
+        if not only_one.any():
+            return
         counts = only_one.sum(axis=0)
         first = np.where(counts > 0, steps[np.argmax(only_one, axis=0)], -1)
         self.presence_first = np.where(

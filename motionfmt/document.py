@@ -17,9 +17,12 @@ from typing import TYPE_CHECKING, overload
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.cscan import scan_double
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes, token_spans
-from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time, format_value
+from motiontool.motionfmt.writer import TimeStyle, format_time, format_value, pose_lines
 
 if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["MotionDocument", "dumps", "loads"]
@@ -152,16 +155,50 @@ class MotionDocument:
 
     def insert_pose(self, index: int, time_ms: int, name: str, values: Sequence[float]) -> None:
         """Insert a new pose line before pose ``index`` (``n_poses`` appends), canonically spelt."""
+        import numpy as np
+
         if len(values) != len(self.joints):
             raise MotionToolError(f"expected {len(self.joints)} values, got {len(values)}")
-        line = _pose_line(time_ms, name, values, self.time_style).encode("utf-8")
+        self.insert_poses([index], [time_ms], [name], np.array([values], dtype=np.float64))
+
+    def insert_poses(
+        self,
+        at: Sequence[int],
+        times_ms: Sequence[int],
+        names: Sequence[str],
+        values: npt.NDArray[np.float64],
+    ) -> None:
+        """Insert new pose lines, canonically spelt: pose k (``times_ms[k]``, ``names[k]``, the
+        row ``values[k]`` in rad or m, NaN for ``*``) before the pose now at index ``at[k]``
+        (``n_poses`` appends); ``at`` does not decrease, and poses given one index keep their
+        order. One pass over the lines, whatever their number."""
+        if values.ndim != 2 or values.shape[1] != len(self.joints):
+            raise MotionToolError(f"expected {len(self.joints)} values a pose, got {values.shape}")
+        if not at:
+            return
+        ends = [*at[1:], self.n_poses]
+        if any(not 0 <= a <= b <= self.n_poses for a, b in zip(at, ends, strict=True)):
+            raise MotionToolError(
+                f"cannot insert poses at indices that decrease or pass {self.n_poses}"
+            )
         eol = b"\r" if self._crlf else b""
-        if index == self.n_poses and not self._suffix and not self._final_newline:
-            # The new line becomes the unterminated last line; the old last line gets an end.
+        lines = [
+            line.encode("utf-8") + eol
+            for line in pose_lines(times_ms, names, values, self.time_style)
+        ]
+        open_end = eol and not self._suffix and not self._final_newline
+        if open_end:  # the last line has no end; the one that is last after this gets none
             self._poses[-1] += eol
-        else:
-            line += eol
-        self._poses.insert(index, line)
+        out: list[bytes] = []
+        done = 0
+        for index, line in zip(at, lines, strict=True):
+            out.extend(self._poses[done:index])
+            out.append(line)
+            done = index
+        out.extend(self._poses[done:])
+        if open_end:
+            out[-1] = out[-1][: -len(eol)]
+        self._poses = out
         self._result = None
 
 

@@ -239,30 +239,26 @@ def commands_at(
     """
     import numpy as np
 
-    t = motion.times_ms
-    v = motion.values
-    c = motion.commanded
+    t, v, c = motion.times_ms, motion.values, motion.commanded
     e = np.asarray(elapsed_ms, dtype=np.int64)
-    out = np.empty((e.shape[0], v.shape[1]), dtype=np.float64)
-    sent = np.empty(out.shape, dtype=np.bool_)
-    first = e <= t[0]
-    last = ~first & (e >= t[-1])
-    mid = ~(first | last)
-    out[first] = v[0]
-    out[last] = v[-1]
-    sent[first] = c[0]
-    sent[last] = c[-1]
-    if np.any(mid):
-        em = e[mid]
-        a = np.searchsorted(t, em, side="left") - 1
+    if t.shape[0] == 1:
+        out = np.repeat(v, e.shape[0], axis=0)
+        sent = np.repeat(c, e.shape[0], axis=0)
+    else:  # interpolate every step in its segment, then set the steps at either end
+        a = np.clip(np.searchsorted(t, e, side="left") - 1, 0, t.shape[0] - 2)
         va = v[a]
-        vb = v[a + 1]
-        sent[mid] = c[a] & c[a + 1]
-        with np.errstate(invalid="ignore", over="ignore"):  # nan/inf cells give NaN, as in C
-            num = (em - t[a]).astype(np.float64)[:, None] * (vb - va)
-            out[mid] = va + num / (t[a + 1] - t[a]).astype(np.float64)[:, None]
+        sent = c[a] & c[a + 1]
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):  # as in C
+            out = v[a + 1] - va
+            out *= (e - t[a]).astype(np.float64)[:, None]
+            out /= (t[a + 1] - t[a]).astype(np.float64)[:, None]
+            out += va
+        for end, row in ((e >= t[-1], -1), (e <= t[0], 0)):  # the first pose wins a tie
+            if end.any():
+                out[end] = v[row]
+                sent[end] = c[row]
     sent &= out != NO_VALUE_MARKER  # Webots skips a target equal to its 'no value' marker
-    out[~sent] = np.nan
+    np.copyto(out, np.nan, where=~sent)
     return out, sent
 
 
@@ -357,6 +353,34 @@ class Held(NamedTuple):
     holding: npt.NDArray[np.bool_]
 
 
+def _by_motor(
+    targets: npt.NDArray[np.float64],
+    commanded: npt.NDArray[np.bool_],
+    joints: Sequence[str] | None,
+    names: Sequence[str] | None,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """The targets (S, N) and whether each is sent, per motor of ``names``, of the columns
+    ``joints`` (:func:`hold_targets`'s arguments): where two columns send to one motor at a
+    step, the later column's target."""
+    import numpy as np
+
+    if names is None or (joints is not None and list(joints) == list(names)):
+        return targets, commanded  # one column per motor, in order: nothing to merge
+    if joints is None:
+        raise ValueError("names needs joints: the column names to merge by")
+    index = {name: k for k, name in enumerate(names)}
+    out = np.full((targets.shape[0], len(names)), np.nan)
+    sent = np.zeros(out.shape, dtype=np.bool_)
+    for j, name in enumerate(joints):
+        k = index.get(name)
+        if k is None:
+            continue
+        column = commanded[:, j]
+        out[column, k] = targets[column, j]  # a later column overwrites where it sends
+        sent[:, k] |= column
+    return out, sent
+
+
 def hold_targets(
     targets: npt.NDArray[np.float64],
     commanded: npt.NDArray[np.bool_],
@@ -392,26 +416,19 @@ def hold_targets(
     """
     import numpy as np
 
-    if names is None:
-        out, sent = targets, commanded
-    else:
-        if joints is None:
-            raise ValueError("names needs joints: the column names to merge by")
-        index = {name: k for k, name in enumerate(names)}
-        out = np.full((targets.shape[0], len(names)), np.nan)
-        sent = np.zeros(out.shape, dtype=np.bool_)
-        for j, name in enumerate(joints):
-            k = index.get(name)
-            if k is None:
-                continue
-            column = commanded[:, j]
-            out[column, k] = targets[column, j]  # a later column overwrites where it sends
-            sent[:, k] |= column
+    out, sent = _by_motor(targets, commanded, joints, names)
     steps, n = out.shape
     start = np.full(n, np.nan) if initial is None else np.asarray(initial, dtype=np.float64)
     held_before = np.zeros(n, dtype=np.bool_) if holding is None else holding
-    last = np.where(sent, np.arange(steps)[:, None], -1)  # the last step that sent a target
-    np.maximum.accumulate(last, axis=0, out=last)
-    before = last < 0
-    held = np.where(before, start[None, :], out[np.maximum(last, 0), np.arange(n)])
-    return Held(held, sent, np.where(before, held_before[None, :], True))
+    held = np.array(out, dtype=np.float64)  # a motor sent a target at every step holds it
+    holds = np.ones((steps, n), dtype=np.bool_)
+    gaps = np.flatnonzero(~sent.all(axis=0))  # the motors that miss a target at some step
+    if gaps.size:
+        last = np.where(sent[:, gaps], np.arange(steps)[:, None], -1)  # the last step that sent
+        np.maximum.accumulate(last, axis=0, out=last)
+        before = last < 0
+        held[:, gaps] = np.where(
+            before, start[gaps][None, :], np.take_along_axis(out[:, gaps], np.maximum(last, 0), 0)
+        )
+        holds[:, gaps] = np.where(before, held_before[gaps][None, :], True)
+    return Held(held, sent, holds)

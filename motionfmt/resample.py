@@ -11,7 +11,6 @@ and cells it keeps keep their original spelling; new poses are spelt canonically
 
 from __future__ import annotations
 
-import bisect
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -97,11 +96,9 @@ def _apply_grid(doc: MotionDocument, original: Motion, grid: Sequence[int]) -> t
             dropped += 1
     have = set(times)
     new = [t for t in grid if t not in have]
-    values = targets_at(original, np.asarray(new, dtype=np.int64)).tolist()
-    for t, row in zip(new, values, strict=True):
-        index = bisect.bisect_left(times, t)
-        doc.insert_pose(index, t, _pose_name(t), row)
-        times.insert(index, t)
+    at = np.searchsorted(np.asarray(times, dtype=np.int64), new).tolist()
+    values = targets_at(original, np.asarray(new, dtype=np.int64))
+    doc.insert_poses(at, new, [_pose_name(t) for t in new], values)
     return len(new), dropped
 
 

@@ -17,11 +17,15 @@ from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
     PoseLines,
+    cell_columns,
     cell_tokens,
+    join_columns,
     repair,
     replace_cells,
     respell,
 )
+from motiontool.motionfmt.ops._permute import odd_start
+from motiontool.motionfmt.writer import format_values
 
 if TYPE_CHECKING:
     import numpy as np
@@ -208,13 +212,23 @@ def _clip(
 
 
 def _respelt(
-    doc: MotionDocument, new: npt.NDArray[np.float64], changed: npt.NDArray[np.bool_]
+    doc: MotionDocument,
+    new: npt.NDArray[np.float64],
+    changed: npt.NDArray[np.bool_],
+    *,
+    columns: bool = True,
 ) -> bytes:
     """``doc``'s bytes with each cell where ``changed`` ((P, J) bool) spelt as its value in
-    ``new`` ((P, J), rad or m), keeping its leading white space; every other byte as it was."""
+    ``new`` ((P, J), rad or m), keeping its leading white space; every other byte as it was.
+
+    ``columns``: plain pose lines are edited column by column (:func:`_respelt_columns`);
+    False takes the line-by-line path below for every file: the reference the column path is
+    tested against (the bytes are the same)."""
     import numpy as np
 
     lines = PoseLines.of(doc)
+    if columns and _respelt_columns(lines, new, changed):
+        return lines.to_bytes()
     rows = np.flatnonzero(changed.any(axis=1)).tolist()
     for p in rows:
         line = lines.poses[p]
@@ -224,3 +238,33 @@ def _respelt(
             line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
         )
     return lines.to_bytes()
+
+
+def _respelt_columns(
+    lines: PoseLines, new: npt.NDArray[np.float64], changed: npt.NDArray[np.bool_]
+) -> bool:
+    """:func:`_respelt`'s edit of ``lines``' poses made column by column, where every line is
+    plain and no value cell starts with white space (there is none to keep); False, and
+    ``lines`` as it was, where that does not apply."""
+    import numpy as np
+
+    block = b"\n".join(lines.poses)
+    if odd_start(block):
+        return False
+    columns = cell_columns(lines.poses, 2 + new.shape[1], lines.eol, block)
+    if columns is None:
+        return False
+    for j in np.flatnonzero(changed.any(axis=0)).tolist():
+        rows = np.flatnonzero(changed[:, j])
+        texts = format_values(new[rows, j])
+        if rows.shape[0] == len(lines.poses):
+            columns[2 + j] = texts
+            continue
+        column = columns[2 + j]
+        for p, text in zip(rows.tolist(), texts, strict=True):
+            column[p] = text
+    last = lines.poses[-1]
+    lines.poses = join_columns(columns, lines.eol)
+    if lines.eol and not last.endswith(lines.eol):
+        lines.poses[-1] = lines.poses[-1][: -len(lines.eol)]
+    return True

@@ -86,6 +86,44 @@ def test_insert_and_delete_keep_line_ends() -> None:
     assert doc.motion.pose_names == ("P2", "P3")
 
 
+@settings(max_examples=150, deadline=None)
+@given(motion_files(), st.booleans(), st.data())
+def test_inserting_poses_at_once_is_inserting_them_one_by_one(
+    data: bytes, suffix: bool, draw: st.DataObject
+) -> None:
+    if suffix:  # lines after a blank line, which Webots ignores
+        data = data.rstrip(b"\r\n") + b"\n\n9,ignored,1\n"
+    once, each = loads(data), loads(data)
+    n, n_joints = once.n_poses, len(once.joints)
+    at = sorted(draw.draw(st.lists(st.integers(0, n), min_size=1, max_size=6)))
+    values = np.array(
+        draw.draw(
+            st.lists(
+                st.lists(
+                    st.floats(-4, 4) | st.just(math.nan), min_size=n_joints, max_size=n_joints
+                ),
+                min_size=len(at),
+                max_size=len(at),
+            )
+        ),
+        dtype=np.float64,
+    ).reshape(len(at), n_joints)
+    names = [f"N{k}" for k in range(len(at))]
+    once.insert_poses(at, list(range(len(at))), names, values)
+    for k in reversed(range(len(at))):  # the last first: the indices before it stay valid
+        each.insert_pose(at[k], k, names[k], values[k].tolist())
+    assert once.to_bytes() == each.to_bytes()
+
+
+def test_inserting_poses_refuses_indices_out_of_order() -> None:
+    doc = loads(b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n100,P2,1\n")
+    with pytest.raises(MotionToolError, match="indices that decrease or pass 2"):
+        doc.insert_poses([2, 1], [1, 2], ["a", "b"], np.zeros((2, 1)))
+    with pytest.raises(MotionToolError, match="indices that decrease or pass 2"):
+        doc.insert_poses([3], [1], ["a"], np.zeros((1, 1)))
+    assert doc.to_bytes() == b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n100,P2,1\n"
+
+
 def test_suffix_after_blank_line_survives_edits() -> None:
     doc = loads(b"#WEBOTS_MOTION,V1.0,A\n0,P1,0\n\n100,ignored,1\n")
     doc.insert_pose(1, 50, "P2", [0.5])

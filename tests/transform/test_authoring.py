@@ -7,7 +7,7 @@ from collections import Counter
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
@@ -18,12 +18,13 @@ from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
 from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
-from motiontool.motionfmt.ops.scale import scale
+from motiontool.motionfmt.ops.scale import _respelt, scale
 from motiontool.motionfmt.ops.trim import trim
 from motiontool.motionfmt.player import commands_at
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.transform import ROUNDING_RAD
 from motiontool.motionfmt.validate import validate_bytes
+from motiontool.motionfmt.writer import format_value, format_values
 
 SETTINGS = settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 NAO = load_robot("nao")
@@ -304,6 +305,50 @@ def test_scale_formula_and_clipping(data: bytes, k: float, about: str) -> None:
             assert np.all(np.abs(out.values[c, j]) <= 1.0)
             want = np.clip(want, -1.0, 1.0)
         assert np.allclose(out.values[c, j], want, rtol=0, atol=1e-12)
+
+
+@SETTINGS
+@given(
+    motion_files() | nao_files(star=True),
+    st.floats(0.0, 4.0),
+    st.sampled_from(["", " ", "\t", "+"]),
+    st.data(),
+)
+def test_scale_respells_column_by_column_as_line_by_line(
+    data: bytes, k: float, lead: str, draw: st.DataObject
+) -> None:
+    if lead:  # a cell with white space (kept) or '+' in front: the line-by-line path
+        lines = data.split(b"\n")
+        p = draw.draw(st.integers(1, len([x for x in lines if x.strip()]) - 1))
+        cells = lines[p].split(b",")
+        j = draw.draw(st.integers(2, len(cells) - 1))
+        if lead == "+" and not cells[j][:1].isdigit():  # '+' only before a digit: '+1.5'
+            lead = " "
+        if cells[j] != b"*":  # white space before a '*' is a syntax error
+            cells[j] = lead.encode() + cells[j]
+        lines[p] = b",".join(cells)
+        data = b"\n".join(lines)
+    doc = loads(data, "m.motion")
+    m = doc.motion
+    with np.errstate(invalid="ignore"):
+        new = np.where(m.commanded, k * m.values + 0.0, np.nan)
+    changed = m.commanded & (new != m.values)
+    if not np.isfinite(new[changed]).all():
+        return
+    assert _respelt(doc, new, changed) == _respelt(doc, new, changed, columns=False)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(allow_infinity=False) | st.sampled_from([0.0, -0.0, 1e16, 1e-5])))
+@example([math.nan, 2.0, -0.0, 0.5, 1e16, 1e-5, -1e300])
+def test_format_values_spells_each_value_as_format_value(values: list[float]) -> None:
+    got = format_values(np.array(values, dtype=np.float64))
+    assert got == [format_value(v).encode() for v in values]
+
+
+def test_format_values_refuses_an_infinite_value_as_format_value() -> None:
+    with pytest.raises(MotionToolError, match="cannot write an infinite joint value"):
+        format_values(np.array([1.0, -math.inf]))
 
 
 def test_scale_reports_clipping_with_its_unit_and_keeps_unchanged_cells() -> None:
