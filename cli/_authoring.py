@@ -23,7 +23,7 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
-from motiontool.motionfmt.reader import ReadResult, read_bytes
+from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.validate import run_check
 from motiontool.stamps import stamps
 
@@ -97,8 +97,9 @@ def say(text: str, target: Path | None) -> None:
 
 
 def read_result(doc: MotionDocument | ReadResult) -> ReadResult:
-    """``doc`` as Webots reads it (a command's result is read again from its bytes)."""
-    return doc if isinstance(doc, ReadResult) else read_bytes(doc.to_bytes(), doc.path)
+    """``doc`` as Webots reads it (a document's current bytes, read once: see
+    :attr:`MotionDocument.result`)."""
+    return doc if isinstance(doc, ReadResult) else doc.result
 
 
 def check_result(doc: MotionDocument | ReadResult, check: Check) -> list[Diagnostic]:

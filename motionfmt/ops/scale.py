@@ -211,6 +211,11 @@ def _clip(
     return clips, unlimited
 
 
+_LINES = 8192
+"""Pose lines re-spelt at a time: their cells, one bytes object each, are held for a block,
+not for the whole file."""
+
+
 def _respelt(
     doc: MotionDocument,
     new: npt.NDArray[np.float64],
@@ -221,50 +226,54 @@ def _respelt(
     """``doc``'s bytes with each cell where ``changed`` ((P, J) bool) spelt as its value in
     ``new`` ((P, J), rad or m), keeping its leading white space; every other byte as it was.
 
-    ``columns``: plain pose lines are edited column by column (:func:`_respelt_columns`);
-    False takes the line-by-line path below for every file: the reference the column path is
-    tested against (the bytes are the same)."""
+    ``columns``: blocks of plain pose lines are edited column by column
+    (:func:`_respelt_columns`); False takes the line-by-line path below for every line: the
+    reference the column path is tested against (the bytes are the same)."""
     import numpy as np
 
     lines = PoseLines.of(doc)
-    if columns and _respelt_columns(lines, new, changed):
-        return lines.to_bytes()
-    rows = np.flatnonzero(changed.any(axis=1)).tolist()
-    for p in rows:
-        line = lines.poses[p]
-        tokens = cell_tokens(line)
-        cols = np.flatnonzero(changed[p]).tolist()
-        lines.poses[p] = replace_cells(
-            line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
-        )
+    for lo in range(0, len(lines.poses), _LINES):
+        block = slice(lo, lo + _LINES)
+        edited = None
+        if columns:
+            edited = _respelt_columns(lines.poses[block], new[block], changed[block], lines.eol)
+        if edited is not None:
+            lines.poses[block] = edited
+            continue
+        for p in (lo + np.flatnonzero(changed[block].any(axis=1))).tolist():
+            line = lines.poses[p]
+            tokens = cell_tokens(line)
+            cols = np.flatnonzero(changed[p]).tolist()
+            lines.poses[p] = replace_cells(
+                line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
+            )
     return lines.to_bytes()
 
 
 def _respelt_columns(
-    lines: PoseLines, new: npt.NDArray[np.float64], changed: npt.NDArray[np.bool_]
-) -> bool:
-    """:func:`_respelt`'s edit of ``lines``' poses made column by column, where every line is
-    plain and no value cell starts with white space (there is none to keep); False, and
-    ``lines`` as it was, where that does not apply."""
+    poses: list[bytes], new: npt.NDArray[np.float64], changed: npt.NDArray[np.bool_], eol: bytes
+) -> list[bytes] | None:
+    """The pose lines ``poses`` (ending in ``eol``) edited as :func:`_respelt` edits them,
+    column by column, where every line is plain and no value cell starts with white space
+    (there is none to keep); None where that does not apply."""
     import numpy as np
 
-    block = b"\n".join(lines.poses)
+    block = b"\n".join(poses)
     if odd_start(block):
-        return False
-    columns = cell_columns(lines.poses, 2 + new.shape[1], lines.eol, block)
+        return None
+    columns = cell_columns(poses, 2 + new.shape[1], eol, block)
     if columns is None:
-        return False
+        return None
     for j in np.flatnonzero(changed.any(axis=0)).tolist():
         rows = np.flatnonzero(changed[:, j])
         texts = format_values(new[rows, j])
-        if rows.shape[0] == len(lines.poses):
+        if rows.shape[0] == len(poses):
             columns[2 + j] = texts
             continue
         column = columns[2 + j]
         for p, text in zip(rows.tolist(), texts, strict=True):
             column[p] = text
-    last = lines.poses[-1]
-    lines.poses = join_columns(columns, lines.eol)
-    if lines.eol and not last.endswith(lines.eol):
-        lines.poses[-1] = lines.poses[-1][: -len(lines.eol)]
-    return True
+    edited = join_columns(columns, eol)
+    if eol and not poses[-1].endswith(eol):
+        edited[-1] = edited[-1][: -len(eol)]
+    return edited

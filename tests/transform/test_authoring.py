@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from unittest.mock import patch
 
 import numpy as np
 import pytest
@@ -16,6 +17,7 @@ from motiontool.kinematics.checks import Limits, Velocity
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
+from motiontool.motionfmt.ops import scale as scale_module
 from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.ops.scale import _respelt, scale
@@ -335,7 +337,10 @@ def test_scale_respells_column_by_column_as_line_by_line(
     changed = m.commanded & (new != m.values)
     if not np.isfinite(new[changed]).all():
         return
-    assert _respelt(doc, new, changed) == _respelt(doc, new, changed, columns=False)
+    want = _respelt(doc, new, changed, columns=False)
+    assert _respelt(doc, new, changed) == want
+    with patch.object(scale_module, "_LINES", draw.draw(st.integers(1, 3))):  # in blocks
+        assert _respelt(doc, new, changed) == want
 
 
 @settings(max_examples=300, deadline=None)
