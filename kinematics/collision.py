@@ -75,18 +75,48 @@ class Contact(NamedTuple):
     depth_m: float
 
 
-def _rotations(
-    axis: npt.NDArray[np.float64], angle: npt.NDArray[np.float64]
-) -> npt.NDArray[np.float64]:
-    """Rotation matrices (N, 3, 3) about the unit ``axis`` (3,) by ``angle`` (N,) rad."""
+def _skew(axis: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """The matrix K (3, 3) of ``axis x v``: a rotation by θ about the unit ``axis`` is
+    I + sin θ K + (1 - cos θ) K² (Rodrigues)."""
     import numpy as np
 
     x, y, z = axis
-    k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    s = np.sin(angle)[:, None, None]
-    c = (1.0 - np.cos(angle))[:, None, None]
-    out: npt.NDArray[np.float64] = np.eye(3) + s * k + c * (k @ k)
-    return out
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def _joint_frames(
+    tables: KinematicTables, q_motors: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """:func:`forward_kinematics`, joint first: rotations (nj, N, 3, 3) and translations
+    (nj, N, 3). A joint's N frames are one (3N, 3) matrix, so each step is one matrix product
+    with a constant (the joint's placement, K, K²) and a per-configuration scaling."""
+    import numpy as np
+
+    n = q_motors.shape[0]
+    nj = tables.joint_parent.shape[0]
+    moving = np.append((q_motors != 0.0).any(axis=0), False)  # index -1: no motor
+    rot = np.empty((nj, n, 3, 3))
+    pos = np.empty((nj, n, 3))
+    rot[0] = np.eye(3)
+    pos[0] = 0.0
+    for j in range(1, nj):
+        parent = int(tables.joint_parent[j])
+        r_parent = rot[parent].reshape(3 * n, 3)
+        r_j = rot[j].reshape(3 * n, 3)
+        np.matmul(r_parent, tables.joint_rotation[j], out=r_j)
+        np.add(pos[parent], (r_parent @ tables.joint_translation[j]).reshape(n, 3), out=pos[j])
+        kind, motor = tables.joint_kind[j], tables.joint_motor[j]
+        if kind != PRISMATIC and not moving[motor]:
+            continue  # a motor held at 0 for every configuration: identity motion
+        q = q_motors[:, motor]
+        if kind == REVOLUTE:
+            k = _skew(tables.joint_axis[j])
+            r_k, r_kk = (r_j @ k).reshape(n, 3, 3), (r_j @ (k @ k)).reshape(n, 3, 3)
+            rot[j] += np.sin(q)[:, None, None] * r_k
+            rot[j] += (1.0 - np.cos(q))[:, None, None] * r_kk
+        elif kind == PRISMATIC:
+            pos[j] += (r_j @ tables.joint_axis[j]).reshape(n, 3) * q[:, None]
+    return rot, pos
 
 
 def forward_kinematics(
@@ -99,34 +129,11 @@ def forward_kinematics(
         q_motors: (N, M) float64, motor positions in ``spec.joints`` order, rad or m.
 
     Returns:
-        (rotations (N, nj, 3, 3), translations (N, nj, 3) in m), float64; a free-flying root
-        stays at the origin, upright.
+        (rotations (N, nj, 3, 3), translations (N, nj, 3) in m), float64 (views of joint-first
+        arrays); a free-flying root stays at the origin, upright.
     """
-    import numpy as np
-
-    n = q_motors.shape[0]
-    nj = tables.joint_parent.shape[0]
-    moving = np.append((q_motors != 0.0).any(axis=0), False)  # index -1: no motor
-    rot = np.empty((n, nj, 3, 3))
-    pos = np.empty((n, nj, 3))
-    rot[:, 0] = np.eye(3)
-    pos[:, 0] = 0.0
-    for j in range(1, nj):
-        parent = int(tables.joint_parent[j])
-        r_parent = rot[:, parent]
-        r_j = r_parent @ tables.joint_rotation[j]
-        p_j = pos[:, parent] + r_parent @ tables.joint_translation[j]
-        kind = tables.joint_kind[j]
-        if kind != PRISMATIC and not moving[tables.joint_motor[j]]:
-            pass  # a motor held at 0 for every configuration: identity motion
-        elif kind == REVOLUTE:
-            r_j = r_j @ _rotations(tables.joint_axis[j], q_motors[:, tables.joint_motor[j]])
-        elif kind == PRISMATIC:
-            offset = tables.joint_axis[j][None, :] * q_motors[:, tables.joint_motor[j]][:, None]
-            p_j = p_j + np.einsum("nij,nj->ni", r_j, offset)
-        rot[:, j] = r_j
-        pos[:, j] = p_j
-    return rot, pos
+    rot, pos = _joint_frames(tables, q_motors)
+    return rot.transpose(1, 0, 2, 3), pos.transpose(1, 0, 2)
 
 
 def geometry_poses(
@@ -139,14 +146,32 @@ def geometry_poses(
     ``fk``: the result of :func:`forward_kinematics` for ``q_motors``, if already computed."""
     import numpy as np
 
-    rot, pos = fk if fk is not None else forward_kinematics(tables, q_motors)
+    rot, pos = _joint_frames(tables, q_motors) if fk is None else _joint_first(fk)
+    n = rot.shape[1]
     local = tables.geom_translation + np.einsum(
         "gij,gj->gi", tables.geom_rotation, tables.geom_center
     )
-    joints = tables.geom_joint
-    r_joint = rot[:, joints]
-    centers = pos[:, joints] + np.einsum("ngij,gj->ngi", r_joint, local)
-    return r_joint @ tables.geom_rotation, centers
+    count = tables.geom_joint.shape[0]
+    out_rot = np.empty((count, n, 3, 3))
+    out_center = np.empty((count, n, 3))
+    for g, j in enumerate(tables.geom_joint.tolist()):
+        r_joint = rot[j].reshape(3 * n, 3)
+        np.matmul(r_joint, tables.geom_rotation[g], out=out_rot[g].reshape(3 * n, 3))
+        np.add(pos[j], (r_joint @ local[g]).reshape(n, 3), out=out_center[g])
+    return out_rot.transpose(1, 0, 2, 3), out_center.transpose(1, 0, 2)
+
+
+def _joint_first(
+    fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """:func:`forward_kinematics`' result as :func:`_joint_frames` gives it (its own arrays,
+    where it is a view of them)."""
+    import numpy as np
+
+    rot, pos = fk
+    return np.ascontiguousarray(rot.transpose(1, 0, 2, 3)), np.ascontiguousarray(
+        pos.transpose(1, 0, 2)
+    )
 
 
 def geometry_centers(
@@ -163,33 +188,39 @@ def _joint_broad_phase(
     tolerance: float,
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """(configuration rows, pair indices) of the ``active`` pairs whose two joints' enclosing
-    spheres overlap by at least ``tolerance`` (m) at that configuration."""
+    spheres overlap by at least ``tolerance`` (m) at that configuration, by pair group then
+    configuration."""
     import numpy as np
 
-    rot, pos = fk
+    rot, pos = _joint_first(fk)
+    n = rot.shape[1]
     groups = np.unique(tables.pair_group[active])
     ja, jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]
     used = np.unique(np.concatenate([ja, jb]))
     slot = np.zeros(tables.joint_parent.shape[0], dtype=np.int64)
     slot[used] = np.arange(used.shape[0])
-    local = tables.joint_center[used][None, :, :, None]
-    centers = pos[:, used] + (rot[:, used] @ local)[..., 0]  # (U, joints used, 3)
+    xyz = np.empty((3, used.shape[0], n))  # a row per joint used: gathers copy whole rows
+    for k, j in enumerate(used.tolist()):
+        xyz[:, k] = (pos[j] + (rot[j].reshape(3 * n, 3) @ tables.joint_center[j]).reshape(n, 3)).T
     sa, sb = slot[ja], slot[jb]
-    x, y, z = centers[..., 0], centers[..., 1], centers[..., 2]  # 2-D gathers beat 3-D ones
-    dx, dy, dz = x[:, sa] - x[:, sb], y[:, sa] - y[:, sb], z[:, sa] - z[:, sb]
-    gap2 = dx * dx + dy * dy + dz * dz
+    gap2 = np.zeros((groups.shape[0], n))
+    for x in xyz:
+        d = x[sa]
+        d -= x[sb]
+        d *= d
+        gap2 += d
     limit = tables.joint_radius[ja] + tables.joint_radius[jb] - tolerance
-    near = (gap2 <= limit * limit) & (limit >= 0.0)
-    rows_g, cols_g = np.nonzero(near)  # (configuration, group) candidates
+    near = (gap2 <= (limit * limit)[:, None]) & (limit >= 0.0)[:, None]
+    cols_g, rows_g = np.nonzero(near)  # (group, configuration) candidates
     # Expand each candidate group into its active pairs (CSR over the groups).
     order = np.argsort(tables.pair_group[active], kind="stable")
     by_group = active[order]
     starts = np.searchsorted(tables.pair_group[by_group], groups)
     counts = np.searchsorted(tables.pair_group[by_group], groups, side="right") - starts
-    n = counts[cols_g]
-    rows = np.repeat(rows_g, n)
-    offsets = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
-    pairs = by_group[np.repeat(starts[cols_g], n) + offsets]
+    count = counts[cols_g]
+    rows = np.repeat(rows_g, count)
+    offsets = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    pairs = by_group[np.repeat(starts[cols_g], count) + offsets]
     return rows, pairs
 
 

@@ -35,21 +35,18 @@ def _support(
     proj = np.abs(directions @ axes)  # |L . axis_j|, (n, D, 3)
     shape = tables.geom_shape[geoms]
     size = tables.geom_size[geoms]
-    r = size[:, 0][:, None]
-    half = size[:, 1][:, None]
-    out = np.repeat(r, directions.shape[1], axis=1)  # spheres; bounding spheres of meshes
-    box = shape == BOX
-    if box.any():
-        out[box] = (proj[box] @ size[box][:, :, None])[:, :, 0]
-    for code in (CAPSULE, CYLINDER):
-        sel = shape == code
-        if sel.any():
-            along = proj[sel, :, 2]
-            if code == CAPSULE:
-                out[sel] = r[sel] + half[sel] * along
-            else:
-                side = np.sqrt(np.clip(1.0 - along * along, 0.0, None))
-                out[sel] = half[sel] * along + r[sel] * side
+    box, capsule, cylinder = shape == BOX, shape == CAPSULE, shape == CYLINDER
+    r, half = size[:, 0], size[:, 1]
+    # Every term for every shape, zero where it does not apply (no masked copies): a box's
+    # |L . axis| . half sizes; r for a sphere, a capsule and a mesh's bounding sphere; a
+    # capsule's or cylinder's half length along L; a cylinder's radius across L.
+    out = np.where(box | cylinder, 0.0, r)[:, None]
+    out = out + (proj @ np.where(box[:, None], size, 0.0)[:, :, None])[:, :, 0]
+    along = proj[:, :, 2]
+    out += np.where(capsule | cylinder, half, 0.0)[:, None] * along
+    if cylinder.any():
+        side = np.sqrt(np.clip(1.0 - along * along, 0.0, None))
+        out += np.where(cylinder, r, 0.0)[:, None] * side
     return out
 
 
@@ -75,15 +72,12 @@ def overlap_bound(
     d = centers[rows, b] - centers[rows, a]  # (n, 3)
     ua = np.swapaxes(axes_a, 1, 2)  # rows = axes
     ub = np.swapaxes(axes_b, 1, 2)
-    faces = _projected_overlap(tables, a, b, axes_a, axes_b, d, [d[:, None, :], ua, ub])
-    if cutoff is not None:  # the cross products only for what the 7 face axes keep
-        keep = faces >= cutoff
-        if not keep.all():
-            out = faces.copy()
-            if keep.any():
-                sub = overlap_bound(tables, rot, centers, rows[keep], pairs[keep])
-                out[keep] = sub
-            return out
+    bound = _projected_overlap(tables, a, b, axes_a, axes_b, d, [d[:, None, :], ua, ub])
+    # The cross products only for what the 7 face directions keep above the cutoff.
+    keep = np.flatnonzero(bound >= cutoff) if cutoff is not None else np.arange(bound.shape[0])
+    if keep.shape[0] < bound.shape[0]:
+        a, b, axes_a, axes_b, d = a[keep], b[keep], axes_a[keep], axes_b[keep], d[keep]
+        ua, ub = ua[keep], ub[keep]
     x, y = ua[:, :, None, :], ub[:, None, :, :]
     cross = np.stack(
         [
@@ -94,7 +88,7 @@ def overlap_bound(
         axis=-1,
     ).reshape(-1, 9, 3)
     edges = _projected_overlap(tables, a, b, axes_a, axes_b, d, [cross])
-    bound: npt.NDArray[np.float64] = np.minimum(faces, edges)
+    bound[keep] = np.minimum(bound[keep], edges)
     return bound
 
 
