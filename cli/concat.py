@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -38,15 +38,24 @@ from motiontool.motionfmt.ops.concat import Concatenated, Transition, concat
 from motiontool.motionfmt.transform import DEFAULT_MARGIN
 from motiontool.stamps import stamps
 
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
 __all__ = ["concat_command"]
 
 
-def _in_transition(d: Diagnostic, transitions: tuple[Transition, ...], step_ms: int) -> bool:
-    """Whether a velocity finding lies in a transition (its time within one controller step
-    after it)."""
-    if d.time_ms is None:
-        return False
-    return any(t.start_ms < d.time_ms <= t.start_ms + t.duration_ms + step_ms for t in transitions)
+def _in_transitions(
+    times_ms: npt.NDArray[np.int64], transitions: tuple[Transition, ...], step_ms: int
+) -> npt.NDArray[np.bool_]:
+    """Which of the times (ms) of velocity findings lie in a transition (within one
+    controller step after it)."""
+    import numpy as np
+
+    inside = np.zeros(times_ms.shape, dtype=np.bool_)
+    for t in transitions:
+        inside |= (t.start_ms < times_ms) & (times_ms <= t.start_ms + t.duration_ms + step_ms)
+    return inside
 
 
 _Paths = Annotated[list[Path], typer.Argument(help="Two or more motion files, in playing order.")]
@@ -121,8 +130,10 @@ def _transition_findings(
     if spec is None:
         return 0, []
     step = timestep or spec.default_timestep_ms
-    every = Velocity(spec, timestep)(read_result(result.document))  # made one by one as read
-    return step, [d for d in every if _in_transition(d, result.transitions, step)]
+    found = Velocity(spec, timestep).at_times(
+        read_result(result.document), lambda t: _in_transitions(t, result.transitions, step)
+    )
+    return step, list(found)
 
 
 def _text(

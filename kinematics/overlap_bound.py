@@ -40,7 +40,7 @@ def _support(
     # Every term for every shape, zero where it does not apply (no masked copies): a box's
     # |L . axis| . half sizes; r for a sphere, a capsule and a mesh's bounding sphere; a
     # capsule's or cylinder's half length along L; a cylinder's radius across L.
-    out = np.where(box | cylinder, 0.0, r)[:, None]
+    out: npt.NDArray[np.float64] = np.where(box | cylinder, 0.0, r)[:, None]
     out = out + (proj @ np.where(box[:, None], size, 0.0)[:, :, None])[:, :, 0]
     along = proj[:, :, 2]
     out += np.where(capsule | cylinder, half, 0.0)[:, None] * along

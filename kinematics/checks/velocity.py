@@ -4,7 +4,7 @@ the controller time step (target jumps after a ``*`` stretch, one step per segme
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics.checks._table import (
@@ -57,7 +57,23 @@ class Velocity(GroupingCheck):
         super().__init__(spec)
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
 
-    def _check(self, result: ReadResult, *, group: bool) -> Findings:
+    def at_times(
+        self,
+        result: ReadResult,
+        keep: Callable[[npt.NDArray[np.int64]], npt.NDArray[np.bool_]],
+    ) -> Findings:
+        """The findings of ``self(result)`` (one per segment or step) whose time (ms) ``keep``
+        keeps, given the times of many; a segment's finding not kept is never made (a file
+        of random values has millions)."""
+        return self._check(result, group=False, keep=keep)
+
+    def _check(
+        self,
+        result: ReadResult,
+        *,
+        group: bool,
+        keep: Callable[[npt.NDArray[np.int64]], npt.NDArray[np.bool_]] | None = None,
+    ) -> Findings:
         import numpy as np
 
         table = self.table(result)
@@ -71,6 +87,10 @@ class Velocity(GroupingCheck):
             found = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
             return Findings.merge([found, group_findings(steps)])
         segs, ii = np.nonzero(fast)
+        if keep is not None:  # a segment's finding is at its end pose's time (cell)
+            kept = keep(table.times[segs + 1])
+            segs, ii = segs[kept], ii[kept]
+            steps = [d for d, k in zip(steps, keep(_times(steps)), strict=True) if k]
         cols, moves = driver[segs, ii], delta[segs, ii]  # gathered: no (S, I) array is kept
 
         def segment(n: int) -> Diagnostic:
@@ -360,3 +380,10 @@ class Velocity(GroupingCheck):
                 speed - vmax,
             ),
         )
+
+
+def _times(findings: list[Diagnostic]) -> npt.NDArray[np.int64]:
+    """The times (ms) of ``findings``, each of which has one (cell)."""
+    import numpy as np
+
+    return np.array([d.time_ms for d in findings], dtype=np.int64)

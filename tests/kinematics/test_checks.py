@@ -25,6 +25,7 @@ from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     CheckUnavailableError,
     RobotChecks,
+    Velocity,
     Wording,
     parse_checks,
     robot_checks,
@@ -308,6 +309,33 @@ def test_the_command_stream_read_in_chunks_finds_what_the_whole_stream_finds(
         assert found() == whole
     finally:
         velocity._STREAM_CHUNK = saved
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    nao_motions(),
+    st.sampled_from([5, 20]),
+    st.lists(st.tuples(st.integers(-10, 700), st.integers(0, 300)), max_size=3),
+)
+def test_velocity_findings_at_chosen_times_are_those_of_the_whole_check(
+    data: bytes, step: int, windows: list[tuple[int, int]]
+) -> None:
+    """``Velocity.at_times`` (concat's transitions) makes only the findings whose time it
+    keeps: the same as every finding of the check, filtered by time."""
+    import numpy as np
+
+    check = Velocity(_NAO, step)
+    result = read_bytes(data, "t.motion")
+
+    def keep(times: np.ndarray) -> np.ndarray:
+        inside = np.zeros(times.shape, dtype=bool)
+        for lo, width in windows:
+            inside |= (lo < times) & (times <= lo + width)
+        return inside
+
+    every = list(check(result))
+    want = [d for d in every if keep(np.array([d.time_ms]))[0]]
+    assert list(check.at_times(result, keep)) == want
 
 
 @st.composite
