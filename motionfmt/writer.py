@@ -61,30 +61,24 @@ def format_time(ms: int, style: TimeStyle = TimeStyle()) -> str:
 
 def format_value(value: float) -> str:
     """The shortest text that reads back to the same double; ``*`` for NaN (no command)."""
-    if math.isnan(value):
-        return "*"
-    if math.isinf(value):
-        raise MotionToolError(f"cannot write an infinite joint value ({value})")
-    text = repr(float(value))
-    return text[:-2] if text.endswith(".0") else text
+    return _spelt([float(value)])[:-1]
 
 
 def format_values(values: npt.NDArray[np.float64]) -> list[bytes]:
     """:func:`format_value` of each of ``values`` (1-D), as ASCII bytes: the same texts, made
     in one pass (a column of a long file is 100,000 values)."""
-    return _shortest(values).encode("ascii").split(b",")[:-1]
+    return _spelt(values.tolist()).encode("ascii").split(b",")[:-1]
 
 
-def _shortest(values: npt.NDArray[np.float64]) -> str:
-    """:func:`format_value` of each of ``values`` (1-D), each followed by ``,``."""
-    import numpy as np
-
-    infinite = np.isinf(values)
-    if infinite.any():
-        format_value(float(values[infinite][0]))  # raises
-    if not values.shape[0]:
+def _spelt(values: list[float]) -> str:
+    """Each of ``values`` in the canonical spelling, each followed by ``,``: Python's shortest
+    round-trip ``repr`` without a trailing ``.0``, ``*`` for NaN; an infinite value raises."""
+    if not values:
         return ""
-    text = ",".join(map(repr, values.tolist())) + ","  # repr: as format_value, shortest
+    text = ",".join(map(repr, values)) + ","
+    if "inf," in text:
+        bad = next(v for v in values if math.isinf(v))
+        raise MotionToolError(f"cannot write an infinite joint value ({bad})")
     return text.replace(".0,", ",").replace("nan,", "*,")
 
 
@@ -114,7 +108,7 @@ def pose_lines(
     columns = [
         [format_time(int(t), style) for t in times_ms],
         [check_name(name, "pose name") for name in names],
-        *(_shortest(values[:, j]).split(",")[:-1] for j in range(values.shape[1])),
+        *(_spelt(values[:, j].tolist()).split(",")[:-1] for j in range(values.shape[1])),
     ]
     return [",".join(cells) for cells in zip(*columns, strict=True)]
 
