@@ -40,7 +40,16 @@ def token_spans(piece: bytes) -> list[tuple[int, int]]:
     nul = piece.find(b"\0")
     if nul >= 0:
         piece = piece[:nul]
-    return [m.span() for m in _TOKEN.finditer(piece)]
+    if b"\r" in piece or b"\n" in piece:
+        return [m.span() for m in _TOKEN.finditer(piece)]
+    spans = []  # only ',' separates: the tokens are the non-empty pieces between commas
+    start = 0
+    for part in piece.split(b","):
+        end = start + len(part)
+        if end > start:
+            spans.append((start, end))
+        start = end + 1
+    return spans
 
 
 def show(token: bytes, limit: int = 40) -> str:

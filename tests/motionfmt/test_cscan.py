@@ -8,9 +8,10 @@ import struct
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from oracle import c_scan_double, c_scan_time
+from oracle import c_scan_double, c_scan_time, strtok
 
 from motiontool.motionfmt.cscan import scan_double, scan_time
+from motiontool.motionfmt.lines import token_spans
 
 NUMBERISH = st.text(alphabet="0123456789+-.eEpPxXaAfFiInNtTyY *\t_", max_size=12)
 
@@ -64,3 +65,12 @@ def test_scan_time_matches_glibc(token: str) -> None:
 def test_scan_time_overflow_wraps_like_c() -> None:
     assert scan_time(b"4294967297") == (1, 4294967297)
     assert scan_time(b"4294967295") is None  # wraps to -1, Webots' "undefined time"
+
+
+@settings(max_examples=500, deadline=None)
+@given(st.lists(st.sampled_from([b",", b"a", b"1", b".", b" ", b"\r", b"\n", b"\0", b"\xff"])))
+def test_token_spans_are_the_tokens_strtok_finds(parts: list[bytes]) -> None:
+    """The tokeniser (its regex path with CR or LF, its split path without) cuts a piece as
+    the oracle's C-like strtok loop does."""
+    piece = b"".join(parts)
+    assert [piece[a:b] for a, b in token_spans(piece)] == strtok(piece)
