@@ -108,22 +108,42 @@ def _retimed(
     return Retimed(tuple(old), tuple(new), stretches, unconstrained)
 
 
+_SEGMENTS = 1 << 14
+"""Segments whose shortest durations are worked out at a time (as numpy arrays)."""
+
+
 def _fit_velocity(
     old: list[int],
     v: npt.NDArray[np.float64],
     vlim: npt.NDArray[np.float64],
     names: list[str],
     reason: dict[int, tuple[str, str]],
+    *,
+    vectorised: bool = True,
 ) -> list[int]:
     """Segment durations (ms) after stretching each to the shortest whole ms in which every
     constrained column ``v`` (P, C) stays within its velocity ``vlim`` (C,); the joint that
-    needed the most goes into ``reason``."""
+    needed the most (the first of equals) goes into ``reason``.
+
+    ``vectorised``: the durations of :data:`_SEGMENTS` segments at a time in numpy; False (or
+    a limit that is not positive) takes the segment-by-segment loop below: the reference the
+    numpy path is tested against (the same durations)."""
     import numpy as np
 
     with np.errstate(invalid="ignore"):
         delta = np.abs(np.diff(v, axis=0))  # (P-1, C), NaN where a '*' end
     delta = np.where(np.isfinite(delta), delta, 0.0)
     dur: list[int] = np.diff(np.asarray(old, dtype=np.int64)).tolist()
+    if vectorised and bool((vlim > 0).all()):
+        for lo in range(0, len(dur), _SEGMENTS):
+            if not names:
+                break
+            shortest = _shortest_ms_each(delta[lo : lo + _SEGMENTS], vlim)
+            most, by = shortest.max(axis=1), shortest.argmax(axis=1)  # the first of equals
+            for s in np.flatnonzero(most > np.asarray(dur[lo : lo + _SEGMENTS])).tolist():
+                dur[lo + s] = int(most[s])
+                reason[lo + s] = (names[int(by[s])], "velocity")
+        return dur
     for s in range(len(dur)):
         need = dur[s]
         joint = ""
@@ -138,6 +158,26 @@ def _fit_velocity(
             dur[s] = need
             reason[s] = (joint, "velocity")
     return dur
+
+
+def _shortest_ms_each(
+    delta: npt.NDArray[np.float64], vlim: npt.NDArray[np.float64]
+) -> npt.NDArray[np.int64]:
+    """:func:`_shortest_ms` of each move ``delta`` (S, C) with its column's limit ``vlim`` (C,),
+    > 0; 0 where the move is 0 (it needs no time)."""
+    import numpy as np
+
+    k = np.maximum(1, np.ceil(delta * MS_PER_S / vlim)).astype(np.int64)
+
+    def ok(duration: npt.NDArray[np.int64]) -> npt.NDArray[np.bool_]:
+        with np.errstate(divide="ignore", invalid="ignore"):  # 0 ms where k is 1: masked
+            return delta / (duration / MS_PER_S) <= vlim  # as _velocity_ok
+
+    while not (low := ok(k)).all():
+        k += ~low
+    while (shorter := (k > 1) & ok(k - 1)).any():
+        k -= shorter
+    return np.where(delta == 0.0, 0, k)
 
 
 def _shortest_ms(delta: float, vmax: float) -> int:

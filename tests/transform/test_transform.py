@@ -309,3 +309,50 @@ def test_fit_limits_stretches_to_the_shortest_whole_ms() -> None:
 def test_fit_limits_rejects_a_bad_margin() -> None:
     with pytest.raises(MotionToolError, match="margin"):
         fit_limits([0, 10], ["A"], np.zeros((2, 1)), {"A": 1.0}, margin=1.5)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.integers(2, 9),
+    st.integers(1, 4),
+    st.data(),
+)
+def test_fitting_velocities_in_numpy_is_fitting_them_segment_by_segment(
+    n_poses: int, n_cols: int, draw: st.DataObject
+) -> None:
+    """fit_limits' numpy path (blocks of segments) stretches every segment to the duration, and
+    names the joint, that its segment-by-segment loop does."""
+    from unittest.mock import patch
+
+    from motiontool.motionfmt import fit_limits as fl
+
+    gaps = draw.draw(st.lists(st.integers(1, 300), min_size=n_poses - 1, max_size=n_poses - 1))
+    old = [int(t) for t in np.cumsum([0, *gaps])]
+    value = st.floats(-4, 4) | st.sampled_from([0.0, math.nan, math.inf, 1e-9, 2.0])
+    rows = [[draw.draw(value) for _ in range(n_cols)] for _ in range(n_poses)]
+    vlim = np.array([draw.draw(st.floats(0.01, 20) | st.just(math.inf)) for _ in range(n_cols)])
+    names = [f"J{c % 2}" for c in range(n_cols)]  # two columns may share a joint name
+    v = np.array(rows, dtype=np.float64)
+    want_reason: dict[int, tuple[str, str]] = {}
+    want = fl._fit_velocity(old, v, vlim, names, want_reason, vectorised=False)
+    with patch.object(fl, "_SEGMENTS", draw.draw(st.integers(1, 4))):
+        reason: dict[int, tuple[str, str]] = {}
+        assert fl._fit_velocity(old, v, vlim, names, reason) == want
+        assert reason == want_reason
+
+
+def test_fitting_velocities_mends_the_rounding_of_its_first_guess_and_names_the_first_joint() -> (
+    None
+):
+    """ceil(delta / vmax) in ms can be one too many (0.0003 rad at 0.1 rad/s: 4 ms, where
+    3 ms keep within it, as the division decides); of two joints that need as long, the first
+    is named. Both paths agree on it."""
+    from motiontool.motionfmt import fit_limits as fl
+
+    v = np.array([[0.0, 0.0, 0.0], [0.00030000000000000003, 0.00030000000000000003, 0.0]])
+    vlim = np.array([0.1, 0.1, 1.0])
+    for vectorised in (True, False):
+        reason: dict[int, tuple[str, str]] = {}
+        assert fl._fit_velocity([0, 1], v, vlim, ["A", "B", "C"], reason, vectorised=vectorised)
+        assert reason == {0: ("A", "velocity")}
+        assert fl._fit_velocity([0, 1], v, vlim, ["A", "B", "C"], {}, vectorised=vectorised) == [3]
