@@ -20,6 +20,7 @@ import math
 from bisect import bisect_left, bisect_right
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.document import MotionDocument
@@ -30,6 +31,9 @@ from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
 __all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
 
 CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
+_CELLS = 1 << 16
+"""Clamped cells whose numbers become Python objects at a time (a file of random values has
+millions)."""
 STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
 
 
@@ -52,8 +56,7 @@ def clamp_fixes(
         poses = slice(bisect_left(pose_lines, lines[0]), bisect_right(pose_lines, lines[1]))
     rows = result.motion.values[poses]
     first = poses.start or 0
-    fixes: list[Fix] = []
-    said: dict[tuple[str, float], tuple[bytes, str]] = {}  # one text per joint and bound
+    found = []  # (column, poses, bounds) of each joint's cells past a limit
     for j, name in enumerate(result.joints):
         if name not in spec or (joint is not None and name != joint):
             continue
@@ -63,17 +66,31 @@ def clamp_fixes(
             above, below = column > limit.upper, column < limit.lower
         if past is not None:
             above, below = (above, below & False) if past > limit.upper else (above & False, below)
-        for p in np.flatnonzero(np.isfinite(column) & (above | below)).tolist():
-            bound = limit.upper if column[p] > limit.upper else limit.lower
-            line, start, end = result.cell_span(first + p, j)
-            if (name, bound) not in said:
-                said[name, bound] = (
-                    repr(bound).encode(),
-                    f"{CLAMP_TITLE}: {name} = {bound!r} {limit.unit}",
-                )
-            text, title = said[name, bound]
-            fixes.append(Fix("MT302", line, start, end, text, False, title, name))
-    return fixes
+        at = np.flatnonzero(np.isfinite(column) & (above | below))
+        found.append((j, at, np.where(column[at] > limit.upper, limit.upper, limit.lower)))
+    if not found:
+        return []
+    cols = np.concatenate([np.full(at.shape, j, dtype=np.int32) for j, at, _b in found])
+    poses_at = np.concatenate([at for _j, at, _b in found])
+    bounds = np.concatenate([b for _j, _at, b in found])
+    # Made pose by pose (cell_span tokenises a pose's line once and keeps only a few poses),
+    # listed joint by joint.
+    fixes: list[Fix | None] = [None] * cols.shape[0]
+    said: dict[tuple[int, float], tuple[str, bytes, str]] = {}  # one text per joint and bound
+    order = np.argsort(poses_at, kind="stable")
+    for lo in range(0, order.shape[0], _CELLS):  # Python numbers for a block of cells at a time
+        k = order[lo : lo + _CELLS]
+        for i, j, pose, bound in zip(
+            k.tolist(), cols[k].tolist(), poses_at[k].tolist(), bounds[k].tolist(), strict=True
+        ):
+            if (j, bound) not in said:
+                name = result.joints[j]
+                title = f"{CLAMP_TITLE}: {name} = {bound!r} {spec.joint(name).unit}"
+                said[j, bound] = (name, repr(bound).encode(), title)
+            name, text, title = said[j, bound]
+            line, start, end = result.cell_span(first + pose, j)
+            fixes[i] = Fix("MT302", line, start, end, text, False, title, name)
+    return cast("list[Fix]", fixes)  # every entry was set
 
 
 def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -> list[Fix]:

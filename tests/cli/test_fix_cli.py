@@ -251,3 +251,25 @@ def test_a_joint_that_crosses_both_limits_many_times_gets_one_finding_a_side(
     assert "in 12 runs, lines 2\u201346" in limits[0]["message"]
     code, _, _ = invoke("validate", "dither.motion", "--robot", "nao", "--fix", "--unsafe-fixes")
     assert code == 0
+
+
+def test_clamps_are_listed_joint_by_joint_each_in_file_order() -> None:
+    """clamp_fixes reads the cells pose by pose (a line is tokenised once) but lists the
+    clamps joint by joint, each joint's in file order, as the reports show them."""
+    from motiontool.kinematics.robot_fixes import clamp_fixes
+    from motiontool.kinematics.robots import load_robot
+
+    data = (
+        b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n"
+        b"0,A,3,1\n"  # both past their upper limits
+        b"40,B,0,0\n"
+        b"80,C,-3,-1\n"  # both past their lower limits
+    )
+    fixes = clamp_fixes(read_bytes(data, "m.motion"), load_robot("nao"))
+    assert [(f.joint, f.line, f.column) for f in fixes] == [
+        ("HeadYaw", 2, 5),
+        ("HeadYaw", 4, 6),
+        ("HeadPitch", 2, 7),
+        ("HeadPitch", 4, 9),
+    ]
+    assert [f.replacement for f in fixes] == [b"2.08567", b"-2.08567", b"0.514872", b"-0.671952"]
