@@ -27,6 +27,7 @@ from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fit_limits import fit_limits
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
+from motiontool.motionfmt.retime import TimeOverflowError
 
 __all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
 
@@ -95,7 +96,8 @@ def clamp_fixes(
 
 def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -> list[Fix]:
     """MT303: the new time of every pose that moves, written in the file's time style; none
-    for a motion with a nan/inf command (it has no speed to fit: MT113 first)."""
+    for a motion with a nan/inf command (it has no speed to fit: MT113 first), or one whose
+    stretched times would pass the longest a ``.motion`` file holds."""
     import numpy as np
 
     motion = result.motion
@@ -103,7 +105,10 @@ def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -
         return []
     limits = {j.name: j.max_velocity for j in spec.joints if math.isfinite(j.max_velocity)}
     times = [int(t) for t in result.times_ms]
-    fitted = fit_limits(times, result.joints, result.motion.values, limits)
+    try:
+        fitted = fit_limits(times, result.joints, result.motion.values, limits)
+    except TimeOverflowError:  # the stretched motion would not fit in Webots' time: no fix
+        return []
     if list(fitted.times_ms) == times:
         return []
     doc = MotionDocument(data, path)

@@ -108,6 +108,11 @@ def _retimed(
     return Retimed(tuple(old), tuple(new), stretches, unconstrained)
 
 
+_FAR_MS = 1 << 53
+"""A duration past every time a motion can hold (the fit then fails with
+:class:`~motiontool.motionfmt.retime.TimeOverflowError`): what a move too long for any whole
+number of ms needs (1e306 rad)."""
+
 _SEGMENTS = 1 << 14
 """Segments whose shortest durations are worked out at a time (as numpy arrays)."""
 
@@ -167,11 +172,13 @@ def _shortest_ms_each(
     > 0; 0 where the move is 0 (it needs no time)."""
     import numpy as np
 
-    k = np.maximum(1, np.ceil(delta * MS_PER_S / vlim)).astype(np.int64)
+    with np.errstate(over="ignore"):  # a move of 1e306 rad: past every time (_FAR_MS)
+        guess = np.ceil(delta / vlim * MS_PER_S)  # a first guess: ok() decides
+    k = np.clip(guess, 1, _FAR_MS).astype(np.int64)
 
     def ok(duration: npt.NDArray[np.int64]) -> npt.NDArray[np.bool_]:
-        with np.errstate(divide="ignore", invalid="ignore"):  # 0 ms where k is 1: masked
-            return delta / (duration / MS_PER_S) <= vlim  # as _velocity_ok
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # k - 1 = 0: masked
+            return (delta / (duration / MS_PER_S) <= vlim) | (duration >= _FAR_MS)
 
     while not (low := ok(k)).all():
         k += ~low
@@ -183,7 +190,10 @@ def _shortest_ms_each(
 def _shortest_ms(delta: float, vmax: float) -> int:
     """The fewest whole ms (at least 1) in which moving ``delta`` stays within ``vmax`` (units
     per second), exactly as :func:`_velocity_ok` decides it."""
-    k = max(1, math.ceil(delta * MS_PER_S / vmax))
+    guess = delta / vmax * MS_PER_S  # a first guess: _velocity_ok decides
+    if not guess < _FAR_MS:
+        return _FAR_MS
+    k = max(1, math.ceil(guess))
     while not _velocity_ok(delta, k, vmax):
         k += 1
     while k > 1 and _velocity_ok(delta, k - 1, vmax):

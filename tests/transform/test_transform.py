@@ -328,7 +328,7 @@ def test_fitting_velocities_in_numpy_is_fitting_them_segment_by_segment(
 
     gaps = draw.draw(st.lists(st.integers(1, 300), min_size=n_poses - 1, max_size=n_poses - 1))
     old = [int(t) for t in np.cumsum([0, *gaps])]
-    value = st.floats(-4, 4) | st.sampled_from([0.0, math.nan, math.inf, 1e-9, 2.0])
+    value = st.floats(-4, 4) | st.sampled_from([0.0, math.nan, math.inf, 1e-9, 2.0, 1e306])
     rows = [[draw.draw(value) for _ in range(n_cols)] for _ in range(n_poses)]
     vlim = np.array([draw.draw(st.floats(0.01, 20) | st.just(math.inf)) for _ in range(n_cols)])
     names = [f"J{c % 2}" for c in range(n_cols)]  # two columns may share a joint name

@@ -242,6 +242,24 @@ def test_retime_refuses_times_past_int_max(
     assert invoke("validate", "--robot", "none", "x.motion")[0] == 0
 
 
+def test_a_move_too_long_for_any_time_is_one_error_and_validate_still_reports_it(
+    here: Path,
+) -> None:
+    """A move of 1e306 rad needs more ms than a float can count: retime --fit-limits refuses it
+    in one line (it raised OverflowError from math.ceil), and validate reports the file, its
+    MT303 without a stretch fix until the clamp has brought the value within the limit."""
+    (here / "far.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n40,B,1e306\n")
+    code, out, err = invoke("retime", "far.motion", "--fit-limits", "-o", "x.motion")
+    assert (code, out) == (2, "")
+    assert err.startswith("motiontool: error: fitting the velocity limits") and err.count("\n") == 1
+    assert not (here / "x.motion").exists()
+    code, out, _err = invoke("validate", "--robot", "nao", "-f", "json", "far.motion")
+    assert code == 1
+    assert {d["code"] for f in json.loads(out)["files"] for d in f["diagnostics"]} >= {"MT303"}
+    assert invoke("validate", "--robot", "nao", "--fix", "--unsafe-fixes", "far.motion")[0] == 0
+    assert (here / "far.motion").read_bytes().endswith(b",B,2.08567\n")
+
+
 def test_retime_library_raises_time_overflow_for_every_caller() -> None:
     from motiontool.errors import MotionToolError
     from motiontool.motionfmt.transform import (
