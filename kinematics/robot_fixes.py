@@ -32,10 +32,10 @@ from motiontool.motionfmt.retime import TimeOverflowError
 __all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
 
 CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
+STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
 _CELLS = 1 << 16
 """Clamped cells whose numbers become Python objects at a time (a file of random values has
 millions)."""
-STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
 
 
 def clamp_fixes(

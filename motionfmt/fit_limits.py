@@ -139,10 +139,10 @@ def _fit_velocity(
         delta = np.abs(np.diff(v, axis=0))  # (P-1, C), NaN where a '*' end
     delta = np.where(np.isfinite(delta), delta, 0.0)
     dur: list[int] = np.diff(np.asarray(old, dtype=np.int64)).tolist()
+    if not names:
+        return dur  # no column with a limit: nothing to fit
     if vectorised and bool((vlim > 0).all()):
         for lo in range(0, len(dur), _SEGMENTS):
-            if not names:
-                break
             shortest = _shortest_ms_each(delta[lo : lo + _SEGMENTS], vlim)
             most, by = shortest.max(axis=1), shortest.argmax(axis=1)  # the first of equals
             for s in np.flatnonzero(most > np.asarray(dur[lo : lo + _SEGMENTS])).tolist():

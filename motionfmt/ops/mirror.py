@@ -223,10 +223,8 @@ def _mirror_bytes(doc: MotionDocument, plan: _MirrorPlan, *, gather: bool = True
                 column = negate_column(column, plan.flip[:, j].tolist(), plain)
             new_columns[2 + j] = column
         if fast:
-            last = lines.poses[-1]
+            # Every line ends in ``eol``, the last one too: cell_columns checks it.
             lines.poses = join_columns(new_columns, lines.eol)
-            if lines.eol and not last.endswith(lines.eol):
-                lines.poses[-1] = lines.poses[-1][: -len(lines.eol)]
         else:
             lines.poses = [
                 replace_cells(line, {2 + j: new_columns[2 + j][p] for j in moves})

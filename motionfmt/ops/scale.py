@@ -273,7 +273,4 @@ def _respelt_columns(
         column = columns[2 + j]
         for p, text in zip(rows.tolist(), texts, strict=True):
             column[p] = text
-    edited = join_columns(columns, eol)
-    if eol and not poses[-1].endswith(eol):
-        edited[-1] = edited[-1][: -len(eol)]
-    return edited
+    return join_columns(columns, eol)  # every line ends in ``eol`` (cell_columns checks it)
