@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import io
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -60,12 +60,13 @@ class BagTopic:
     Attributes:
         name: the topic (``/joint_states``).
         msgtype: its ROS 2 type (``sensor_msgs/msg/JointState``).
-        messages: (the bag's time, ns; the message as nested dicts), in time order.
+        messages: (the bag's time, ns; the message as nested dicts), in time order; read
+            once, as the bag is written (a generator makes each message when it is written).
     """
 
     name: str
     msgtype: str
-    messages: Sequence[tuple[int, dict[str, Any]]]
+    messages: Iterable[tuple[int, dict[str, Any]]]
 
 
 @dataclass(frozen=True)

@@ -31,6 +31,7 @@ __all__ = [
     "Imported",
     "Recording",
     "RobotStream",
+    "WorstError",
 ]
 
 DEFAULT_LEAD_IN_MS = 1000
@@ -109,6 +110,26 @@ class Deviation:
     joint: str | None
     at_ms: int | None
     compared: str
+
+
+class WorstError:
+    """The largest entry of an (S, N) array of errors (rad; finite) seen a block of rows at a
+    time, and where: the first in row order, as ``argmax`` of the whole array finds it."""
+
+    def __init__(self) -> None:
+        self.rad, self.row, self.column = 0.0, 0, 0
+        self._seen = False
+
+    def update(self, err: npt.NDArray[np.float64], first_row: int) -> None:
+        """Take the errors ``err`` (rows, N) of the rows from ``first_row`` on."""
+        import numpy as np
+
+        if err.size == 0:
+            return
+        k = np.unravel_index(int(np.argmax(err)), err.shape)
+        if err[k] > self.rad or not self._seen:
+            self.rad, self.row, self.column = float(err[k]), first_row + int(k[0]), int(k[1])
+            self._seen = True
 
 
 @dataclass(frozen=True)

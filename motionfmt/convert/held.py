@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.player import hold_targets, sample
+from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps, require_held
 
 if TYPE_CHECKING:
     import numpy as np
@@ -29,6 +29,10 @@ COLLINEAR_RAD = 1e-12
 """How far (rad, m for linear joints) a target may sit off the line between its neighbours
 and still be left out of the keys: floating-point rounding of Webots' interpolation only
 (a few units in the last place of joint angles of a few radians, ~1e-16 rad)."""
+
+
+_CHUNK_STEPS = 1 << 16
+"""Steps of the command stream made at once while :func:`held_stream` holds it."""
 
 
 @dataclass(frozen=True)
@@ -54,11 +58,26 @@ def held_stream(motion: Motion, timestep_ms: int) -> HeldStream:
         NonFiniteCommandError: a ``nan`` or ``inf`` command (a robot cannot be sent it).
         PlaybackNeverEndsError: the motion never ends at this step (Webots' clock wraps).
     """
+    import numpy as np
+
     refuse_non_finite(motion)
-    stream = sample(motion, timestep_ms)
+    steps = played_steps(motion.duration_ms, timestep_ms)
+    require_held(steps, timestep_ms)
     motors = tuple(dict.fromkeys(motion.joints))
-    held = hold_targets(stream.targets, stream.commanded, motion.joints, motors)
-    return HeldStream(motors, stream.elapsed_ms, held.targets)
+    elapsed = np.empty(steps, dtype=np.int64)
+    targets = np.empty((steps, len(motors)))
+    initial = holding = None
+    at = 0
+    # A chunk of the stream at a time: only the held targets are the stream's size.
+    for chunk in iter_commands(motion, timestep_ms, chunk_steps=_CHUNK_STEPS):
+        held = hold_targets(
+            chunk.targets, chunk.commanded, motion.joints, motors, initial=initial, holding=holding
+        )
+        end = at + chunk.elapsed_ms.shape[0]
+        elapsed[at:end] = chunk.elapsed_ms
+        targets[at:end] = held.targets
+        initial, holding, at = held.targets[-1], held.holding[-1], end
+    return HeldStream(motors, elapsed[:at], targets[:at])
 
 
 def corner_keys(values: npt.NDArray[np.float64]) -> npt.NDArray[np.intp]:

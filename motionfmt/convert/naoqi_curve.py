@@ -26,6 +26,10 @@ Key = tuple[float, tuple[int, float, float], tuple[int, float, float]]
 _BISECTIONS = 60
 """Halvings of the curve parameter that find the point at a time: 2**-60 of a segment."""
 
+_TIMES = 1 << 16
+"""Times evaluated at once (the bisection's arrays are of this size, whatever the motion's
+length)."""
+
 
 def curve_at(
     times_s: list[float], keys: list[Key], at_s: npt.NDArray[np.float64]
@@ -36,23 +40,25 @@ def curve_at(
 
     t = np.asarray(times_s, dtype=np.float64)
     q = np.array([k[0] for k in keys], dtype=np.float64)
+    h1 = np.array([k[1][1:] for k in keys], dtype=np.float64).reshape(-1, 2)
+    h2 = np.array([k[2][1:] for k in keys], dtype=np.float64).reshape(-1, 2)
     out = np.full(at_s.shape, np.nan)
     out[at_s >= t[-1]] = q[-1]
-    inside = (at_s >= t[0]) & (at_s < t[-1])
-    x = at_s[inside]
-    a = np.searchsorted(t, x, side="right") - 1  # segment a -> a + 1
-    h2 = np.array([keys[i][2][1:] for i in range(len(keys))], dtype=np.float64).reshape(-1, 2)
-    h1 = np.array([keys[i][1][1:] for i in range(len(keys))], dtype=np.float64).reshape(-1, 2)
-    p0t, p3t = t[a], t[a + 1]
-    p1t, p2t = p0t + h2[a, 0], p3t + h1[a + 1, 0]
-    p0q, p3q = q[a], q[a + 1]
-    p1q, p2q = p0q + h2[a, 1], p3q + h1[a + 1, 1]
-    lo, hi = np.zeros(x.shape), np.ones(x.shape)
-    for _ in range(_BISECTIONS):  # t(u) increases: the handles stay inside their segment
-        u = (lo + hi) / 2.0
-        below = _cubic(p0t, p1t, p2t, p3t, u) < x
-        lo, hi = np.where(below, u, lo), np.where(below, hi, u)
-    out[inside] = _cubic(p0q, p1q, p2q, p3q, (lo + hi) / 2.0)
+    inside = np.nonzero((at_s >= t[0]) & (at_s < t[-1]))[0]
+    for lo in range(0, inside.shape[0], _TIMES):  # each time alone: the same in blocks
+        where = inside[lo : lo + _TIMES]
+        x = at_s[where]
+        a = np.searchsorted(t, x, side="right") - 1  # segment a -> a + 1
+        p0t, p3t = t[a], t[a + 1]
+        p1t, p2t = p0t + h2[a, 0], p3t + h1[a + 1, 0]
+        p0q, p3q = q[a], q[a + 1]
+        p1q, p2q = p0q + h2[a, 1], p3q + h1[a + 1, 1]
+        lo_u, hi_u = np.zeros(x.shape), np.ones(x.shape)
+        for _ in range(_BISECTIONS):  # t(u) increases: the handles stay inside their segment
+            u = (lo_u + hi_u) / 2.0
+            below = _cubic(p0t, p1t, p2t, p3t, u) < x
+            lo_u, hi_u = np.where(below, u, lo_u), np.where(below, hi_u, u)
+        out[where] = _cubic(p0q, p1q, p2q, p3q, (lo_u + hi_u) / 2.0)
     return out
 
 

@@ -29,7 +29,13 @@ from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert._ros import duration
-from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
+from motiontool.motionfmt.convert.base import (
+    Deviation,
+    Exported,
+    ExportOptions,
+    RobotStream,
+    WorstError,
+)
 from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stream
 from motiontool.motionfmt.convert.joint_map import to_ros
 from motiontool.motionfmt.convert.urscript import number
@@ -44,6 +50,9 @@ __all__ = ["Trajectory", "trajectory", "trajectory_message", "write_ros_trajecto
 
 ACTION = "control_msgs/action/FollowJointTrajectory"
 """The action whose goal the YAML is."""
+
+_ROWS = 1 << 16
+"""Steps compared at once: the comparison's arrays are of this size, whatever the length."""
 
 
 @dataclass(frozen=True)
@@ -109,19 +118,22 @@ def deviation(traj: Trajectory) -> Deviation:
     import numpy as np
 
     held = traj.held
-    t = held.elapsed_ms.astype(np.float64)
-    key_t = t[traj.steps]
-    err = np.zeros_like(held.targets)
-    for k in range(len(held.motors)):
-        line = np.interp(t, key_t, held.targets[traj.steps, k])
-        err[:, k] = np.abs(line - held.targets[:, k])
-    at = np.unravel_index(int(np.argmax(err)), err.shape)
+    key_t = held.elapsed_ms[traj.steps].astype(np.float64)
+    key_q = held.targets[traj.steps]
+    worst = WorstError()
+    for lo in range(0, held.elapsed_ms.shape[0], _ROWS):  # each step alone: the same in blocks
+        t = held.elapsed_ms[lo : lo + _ROWS].astype(np.float64)
+        want = held.targets[lo : lo + _ROWS]
+        err = np.empty_like(want)
+        for k in range(len(held.motors)):
+            err[:, k] = np.abs(np.interp(t, key_t, key_q[:, k]) - want[:, k])
+        worst.update(err, lo)
     return Deviation(
-        float(err[at]),
-        held.motors[int(at[1])],
-        int(held.elapsed_ms[int(at[0])]),
+        worst.rad,
+        held.motors[worst.column],
+        int(held.elapsed_ms[worst.row]),
         f"{traj.steps.shape[0]} points interpolated in straight lines, against Webots' stream "
-        f"at every step ({err.size} targets)",
+        f"at every step ({held.targets.size} targets)",
     )
 
 

@@ -64,19 +64,19 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
     """The bag (see the module)."""
     traj = trajectory(motion, options)
     held, names = traj.held, list(traj.ros_names)
-    states = [
+    states = (  # made one at a time as the bag is written: never all held
         (
             int(ms) * NS_PER_MS,
             {
                 "header": {"stamp": stamp(int(ms) * NS_PER_MS), "frame_id": ""},
                 "name": names,
-                "position": [float(v) for v in row],
+                "position": row.tolist(),
                 "velocity": [],
                 "effort": [],
             },
         )
         for ms, row in zip(held.elapsed_ms, held.targets, strict=True)
-    ]
+    )
     data = write_bag(
         [
             BagTopic(options.topic, JOINT_STATE, states),
@@ -85,8 +85,9 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
         "a ROS 2 bag",
     )
     worst = deviation(traj)
+    n_states = held.elapsed_ms.shape[0]
     compared = (
-        f"{len(states)} JointState messages (the stream's own doubles) and the trajectory's "
+        f"{n_states} JointState messages (the stream's own doubles) and the trajectory's "
         f"{worst.compared}"
     )
     detail = (
@@ -97,7 +98,7 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
     stream = RobotStream(held.motors, held.elapsed_ms, held.targets)
     return Exported(
         data,
-        len(states),
+        n_states,
         detail,
         Deviation(worst.max_rad, worst.joint, worst.at_ms, compared),
         stream=stream,

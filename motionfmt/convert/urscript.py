@@ -17,11 +17,20 @@ target from the first step on: ``servoj`` sets all six.
 
 from __future__ import annotations
 
+import io
+import itertools
 import re
+from collections.abc import Iterable, Iterator
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
+from motiontool.motionfmt.convert.base import (
+    Deviation,
+    Exported,
+    ExportOptions,
+    RobotStream,
+    WorstError,
+)
 from motiontool.motionfmt.convert.held import held_stream
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import hold_targets
@@ -95,30 +104,34 @@ def _first_command(
         )
 
 
-def _program(options: ExportOptions, order: tuple[str, ...], first: str, body: list[str]) -> bytes:
+def _program(
+    options: ExportOptions, order: tuple[str, ...], first: str, body: Iterable[str]
+) -> bytes:
+    """The program around ``body`` (its lines, each read once: a generator may make them as
+    they are written)."""
     mode = (
         "one movej per keyframe (t = its segment, r = 0: the arm stops at every keyframe)"
         if options.keyframes
         else f"servoj every {options.timestep_ms} ms: Webots' command stream"
     )
-    lines = [
+    head = [
         f"# motiontool convert: {options.source} for {options.robot or 'a UR arm'}",
         f"# {mode}",
         f"# joint targets in rad, in the order {', '.join(order)}",
         "def motiontool_motion():",
         f"  # to the first pose, slowly ({HOME_SPEED_RAD_S} rad/s, {HOME_ACCEL_RAD_S2} rad/s^2)",
         f"  movej({first}, a={HOME_ACCEL_RAD_S2}, v={HOME_SPEED_RAD_S})",
-        *body,
-        "  stopj(2.0)",
-        "end",
     ]
-    return ("\n".join(lines) + "\n").encode("utf-8", "surrogateescape")
+    out = io.BytesIO()
+    for line in itertools.chain(head, body, ["  stopj(2.0)", "end"]):
+        out.write(line.encode("utf-8", "surrogateescape"))
+        out.write(b"\n")
+    return out.getvalue()
 
 
 def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
     """The URScript program (see the module); raises :class:`MotionToolError` where an arm
     joint has no column or no target from the start."""
-    import numpy as np
 
     order = options.joint_order
     if order is None:
@@ -130,23 +143,36 @@ def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
     _first_command(targets, order, held.elapsed_ms)
     t = number(options.timestep_ms / MS_PER_S)
     tail = f"t={t}, lookahead_time={number(SERVO_LOOKAHEAD_S)}, gain={SERVO_GAIN})"
-    body = [f"  servoj({_vector(row)}, {tail}" for row in targets]
-    data = _program(options, order, _vector(targets[0]), body)
-    written = np.array([[float(x) for x in _SERVOJ.findall(line)[0].split(",")] for line in body])
-    err = np.abs(written - targets)
-    k = np.unravel_index(int(np.argmax(err)), err.shape)
+    worst = WorstError()
+    data = _program(options, order, _vector(targets[0]), _servoj(targets, tail, worst))
     deviation = Deviation(
-        float(err[k]),
-        order[int(k[1])],
-        int(held.elapsed_ms[int(k[0])]),
-        f"{err.size} servoj targets as written, against Webots' stream at every step",
+        worst.rad,
+        order[worst.column],
+        int(held.elapsed_ms[worst.row]),
+        f"{targets.size} servoj targets as written, against Webots' stream at every step",
     )
     stream = RobotStream(order, held.elapsed_ms, targets)
     detail = f"servoj every {options.timestep_ms} ms, after a movej to the first pose"
-    return Exported(data, len(body), detail, deviation, stream=stream)
+    return Exported(data, targets.shape[0], detail, deviation, stream=stream)
 
 
 _SERVOJ = re.compile(r"servoj\(\[([^\]]*)\]")
+
+_ROWS = 8192
+"""servoj lines made (and read back) at a time: a long motion's lines are never all held."""
+
+
+def _servoj(targets: npt.NDArray[np.float64], tail: str, worst: WorstError) -> Iterator[str]:
+    """A servoj line per row of ``targets``, :data:`_ROWS` at a time, each block read back
+    into ``worst``."""
+    import numpy as np
+
+    for lo in range(0, targets.shape[0], _ROWS):
+        block = targets[lo : lo + _ROWS]
+        lines = [f"  servoj({_vector(row)}, {tail}" for row in block]
+        written = np.array([[float(x) for x in _SERVOJ.findall(ln)[0].split(",")] for ln in lines])
+        worst.update(np.abs(written - block), lo)
+        yield from lines
 
 
 def _keyframes(motion: Motion, options: ExportOptions, order: tuple[str, ...]) -> Exported:
