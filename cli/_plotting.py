@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.cli._held_lines import Line
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["JointLimits", "Panel", "limb_groups", "panels_for", "plot_diff", "plot_motion"]
@@ -207,7 +208,7 @@ def plot_motion(
     *,
     groups: Sequence[tuple[str, list[str]]],
     limits: Mapping[str, JointLimits],
-    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
+    held: Sequence[Line] | None,
     title: str,
     caption: str,
     comment: str,
@@ -218,8 +219,9 @@ def plot_motion(
         motion: the motion (keyframes drawn as a polyline, broken where a segment touches ``*``).
         groups: (group title, joint names) per grid row (see :func:`limb_groups`).
         limits: per joint name; limit lines and shaded out-of-range bands where given.
-        held: (elapsed ms (S,), {joint: held target (S,)}) to draw held targets, dotted, where
-            the joint gets no command; None to leave those spans empty.
+        held: per column of ``motion``, the line of its held target, dotted, where it gets
+            no command (:func:`~motiontool.cli._held_lines.held_lines`); None to leave those
+            spans empty.
         title, caption: text above and below the grid; ``comment`` goes into the PNG's text.
     """
     import numpy as np
@@ -247,7 +249,7 @@ def _draw_panel(
     panel: Panel,
     t_s: npt.NDArray[np.float64],
     limits: Mapping[str, JointLimits],
-    held: tuple[npt.NDArray[np.int64], Mapping[str, npt.NDArray[np.float64]]] | None,
+    held: Sequence[Line] | None,
     row_title: str | None,
 ) -> tuple[int, int]:
     """One panel of :func:`plot_motion`: its joints over time (``t_s``, (P,) s), the first
@@ -264,8 +266,8 @@ def _draw_panel(
         color = f"C{k % 10}"
         v = motion.values[:, col]
         ax.plot(t_s, v, color=color, lw=1.2, marker="o", ms=2.2, label=name, zorder=3)
-        if held is not None:
-            _draw_held(ax, motion, col, held[0], held[1][name], color)
+        if held is not None:  # dotted where the joint holds its target (cli/_held_lines.py)
+            ax.plot(*held[col], color=color, lw=1.0, ls=":", zorder=2)
         jl = limits.get(name)
         if jl is None:
             continue
@@ -319,25 +321,6 @@ def _draw_limits(ax: Any, lim: JointLimits, y0: float, y1: float, shown: list[fl
         ax.axhline(value, color="#c0392b", lw=0.8, ls="--", zorder=1)
 
 
-def _draw_held(
-    ax: Any,
-    motion: Motion,
-    column: int,
-    elapsed: npt.NDArray[np.int64],
-    target: npt.NDArray[np.float64],
-    color: str,
-) -> None:
-    """The held ``target`` ((S,) rad or m at ``elapsed`` ms) of ``column``, dotted, where it
-    gets no command, joined to the last commanded step before each such span."""
-    import numpy as np
-
-    commanded = motion_commanded(motion, column, elapsed)
-    held_span = ~commanded
-    held_span[:-1] |= ~commanded[1:]
-    dotted = np.where(held_span, target, np.nan)
-    ax.plot(elapsed / MS_PER_S, dotted, color=color, lw=1.0, ls=":", zorder=2)
-
-
 def _mark_out_of_range(
     ax: Any, t_s: npt.NDArray[np.float64], v: npt.NDArray[np.float64], jl: JointLimits
 ) -> int:
@@ -368,16 +351,6 @@ def _mark_too_fast(
         y[:, 0], y[:, 1] = v[fast], v[fast + 1]
         ax.plot(x.ravel(), y.ravel(), color="#c0392b", lw=3.2, zorder=4)
     return int(fast.shape[0])
-
-
-def motion_commanded(
-    motion: Motion, column: int, elapsed: npt.NDArray[np.int64]
-) -> npt.NDArray[np.bool_]:
-    """(S,) bool: whether ``column`` sends a target at each playback time (a ``nan`` cell does:
-    Webots sends it; ``*`` does not)."""
-    from motiontool.motionfmt.player import commands_at
-
-    return commands_at(motion, elapsed)[1][:, column]
 
 
 @_styled

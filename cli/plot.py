@@ -13,7 +13,6 @@ from motiontool.cli.output import emit_bytes, refuse_overwrite, say_wrote
 from motiontool.cli.text import file_name, plural
 from motiontool.extras import require
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
-from motiontool.motionfmt.compare import held_targets
 from motiontool.motionfmt.fileio import is_stdout, read_file, source_name
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps
@@ -54,6 +53,7 @@ def plot_command(
     red; dotted where a joint gets no command ('*') and holds its previous target.
     Deterministic (same input, same bytes), no display needed.
     """
+    from motiontool.cli._held_lines import held_lines
     from motiontool.cli._plotting import limb_groups, plot_motion
 
     refuse_overwrite(output, [path], "-o", "write the PNG to another file")
@@ -62,7 +62,6 @@ def plot_command(
     spec = pick_robot(robot, motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else _DEFAULT_TIMESTEP_MS)
     names = tuple(dict.fromkeys(motion.joints))
-    elapsed, held = held_targets(motion, step, names=names)
     groups = limb_groups(
         motion.joints, spec.name if spec else None, spec.joint_names if spec else ()
     )
@@ -72,7 +71,7 @@ def plot_command(
         motion,
         groups=groups,
         limits=_limits(motion, spec),
-        held=(elapsed, {n: held[:, k] for k, n in enumerate(names)}),
+        held=held_lines(motion, step),
         title=f"{name}: {len(names)} joints, {motion.n_poses} poses, {motion.duration_ms} ms",
         caption=f"{who} | motiontool {stamps()['motiontool']}\n"
         "dashed: joint range, shaded beyond · x: outside the range · thick red: above "

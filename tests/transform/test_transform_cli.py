@@ -431,12 +431,12 @@ def test_limb_groups_for_the_nao() -> None:
 
 
 def test_plot_draws_a_held_span_over_star_but_not_over_a_nan_command() -> None:
-    from motiontool.cli._plotting import motion_commanded
+    from motiontool.cli._held_lines import held_lines
 
     motion = read_bytes(b"#WEBOTS_MOTION,V1.0,A,B\n0,P1,0,0\n100,P2,nan,*\n").motion
-    elapsed = np.array([0, 50, 100], dtype=np.int64)
-    assert motion_commanded(motion, 0, elapsed).tolist() == [True, True, True]  # sends NaN
-    assert motion_commanded(motion, 1, elapsed).tolist() == [True, False, False]  # holds 0
+    (_, ya), (xb, yb) = held_lines(motion, 50)
+    assert np.isnan(ya).all()  # A sends its NaN: nothing held to draw
+    assert xb.tolist() == [0.0, 0.1] and yb.tolist() == [0.0, 0.0]  # B holds 0 from 0 s on
 
 
 def test_help_and_non_plot_commands_do_not_import_matplotlib(here: Path) -> None:
