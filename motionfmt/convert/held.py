@@ -31,7 +31,7 @@ and still be left out of the keys: floating-point rounding of Webots' interpolat
 (a few units in the last place of joint angles of a few radians, ~1e-16 rad)."""
 
 
-_CHUNK_STEPS = 1 << 16
+_CHUNK_STEPS = 1 << 13
 """Steps of the command stream made at once while :func:`held_stream` holds it."""
 
 

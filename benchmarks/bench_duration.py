@@ -1,0 +1,123 @@
+"""Benchmark: what a motion's duration costs in memory where the output does not grow with it
+(``plot``: one picture) and where it does (``convert`` to a robot format: a target, a message
+or a servoj line per control step).
+
+Run: ``python benchmarks/bench_duration.py``. 3-pose motions of the Nao's 40 joints (and the
+UR5e's 6 for URScript) playing 6 minutes and 10 times as long; for each command the peak
+memory (RSS) of the whole process at both durations and their ratio, measured in the same
+run. Target: ``plot`` flat (ratio <= 1.3x for 10x the duration; 60 and 600 minutes as well).
+``convert`` has no ratio target: it holds the stream it sends (steps x joints x 8 bytes,
+printed) and the file it writes, and nothing else per step (a bag's messages and URScript's
+lines are made as they are written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+from typing import NamedTuple
+
+from _timing import Child, run_child  # benchmarks/_timing.py (run as a script)
+
+from motiontool.kinematics.robots import load_robot
+
+MINUTE_MS = 60_000
+FLAT = 1.3
+STAR = ("Head", "Elbow", "Wrist")
+"""Joints that get no command ('*') halfway: dotted held lines in the plot."""
+
+
+def motiontool() -> str:
+    found = shutil.which("motiontool", path=str(Path(sys.executable).parent))
+    if found is None:
+        sys.exit("motiontool is not installed next to this Python (pip install -e .)")
+    return found
+
+
+def make_file(path: Path, robot: str, duration_ms: int) -> None:
+    """Three poses within the robot's limits, 40 % and 60 % of each joint's range; halfway
+    the head, elbows and wrists get no command ('*')."""
+    joints = load_robot(robot).joints
+
+    def pose(share: float, star: bool = False) -> str:
+        return ",".join(
+            "*"
+            if star and any(w in j.name for w in STAR)
+            else repr(j.lower + share * (j.upper - j.lower))
+            for j in joints
+        )
+
+    names = ",".join(j.name for j in joints)
+    path.write_text(
+        f"#WEBOTS_MOTION,V1.0,{names}\n0,P,{pose(0.4)}\n"
+        f"{duration_ms // 2},Q,{pose(0.6, star=True)}\n{duration_ms},R,{pose(0.4)}\n"
+    )
+
+
+class Case(NamedTuple):
+    """One command: its words, the motion it reads, its output's suffix, extra arguments, the
+    control step (ms) and how many joints the stream it sends has (0: none, a picture)."""
+
+    label: str
+    robot: str
+    suffix: str
+    extra: tuple[str, ...] = ()
+    step_ms: int = 20
+    joints: int = 0
+
+
+CASES = (
+    Case("plot", "nao", "png"),
+    Case("convert --to rosbag", "nao", "mcap", ("--robot", "nao"), joints=40),
+    Case("convert --to naoqi", "nao", "json", ("--robot", "nao-v5"), joints=40),
+    Case("convert --to ros-trajectory", "nao", "yaml", ("--robot", "nao"), joints=40),
+    Case("convert --to urscript", "ur5e", "script", step_ms=8, joints=6),
+)
+
+
+def measure(tool: str, tmp: Path, case: Case, minutes: int) -> Child:
+    """``case`` on the motion of ``minutes``, in a child process."""
+    words = case.label.split()
+    src, out = tmp / f"{case.robot}{minutes}.motion", tmp / f"out.{case.suffix}"
+    if words[0] == "plot":
+        cmd = ["plot", str(src), "-o", str(out)]
+    else:
+        cmd = [*words[:1], str(src), str(out), *words[1:], *case.extra]
+    child = run_child([tool, *cmd])
+    if child.returncode != 0:
+        sys.exit(f"{case.label}, {minutes} min: exit status {child.returncode}")
+    return child
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--minutes", type=int, default=6, help="the shortest duration")
+    short = parser.parse_args().minutes
+    tool = motiontool()
+    durations = (short, 10 * short, 100 * short)
+    print(f"3-pose motions of {', '.join(map(str, durations))} min; peak RSS (whole process)")
+    with tempfile.TemporaryDirectory(prefix="bench-duration-") as folder:
+        tmp = Path(folder)
+        for robot in ("nao", "ur5e"):
+            for minutes in durations:
+                make_file(tmp / f"{robot}{minutes}.motion", robot, minutes * MINUTE_MS)
+        for case in CASES:
+            runs = durations if case.joints == 0 else durations[:2]
+            peaks = [measure(tool, tmp, case, minutes) for minutes in runs]
+            shown = " -> ".join(f"{c.peak_mib:.0f}" for c in peaks)
+            ratio = max(c.peak_bytes for c in peaks) / peaks[0].peak_bytes
+            line = f"{case.label:<28} {shown} MiB, ratio {ratio:.2f}x"
+            if case.joints:
+                steps = runs[-1] * MINUTE_MS // case.step_ms + 1
+                line += f" (the stream it sends at {runs[-1]} min: "
+                line += f"{steps * case.joints * 8 / 2**20:.0f} MiB)"
+            else:
+                line += f" (target <= {FLAT}x, flat: {'met' if ratio <= FLAT else 'not met'})"
+            print(line, flush=True)
+
+
+if __name__ == "__main__":
+    main()
