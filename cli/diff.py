@@ -19,7 +19,7 @@ from motiontool.motionfmt.compare import (
     JointDiff,
     MotionDiff,
     compare_motions,
-    held_targets,
+    held_pair,
 )
 from motiontool.motionfmt.fileio import atomic_write, read_file, source_name
 from motiontool.motionfmt.motion import Motion
@@ -126,9 +126,8 @@ def _plot(diff: MotionDiff, a: Motion, b: Motion, old: Path, new: Path, out: Pat
 
     changed = [j.joint for j in _ordered(diff)]
     joints = changed or [j.joint for j in diff.joints]
-    end = max(a.duration_ms, b.duration_ms)
-    elapsed, held_a = held_targets(a, diff.timestep_ms, until_ms=end, names=joints)
-    _, held_b = held_targets(b, diff.timestep_ms, until_ms=end, names=joints)
+    # The steps that shape the lines, not every step: any duration, the same lines.
+    elapsed, held_a, held_b = held_pair(a, b, diff.timestep_ms, joints)
     verdict = "same" if diff.same else "different"
     if changed:
         verdict += f": {len(changed)} joint{' differs' if len(changed) == 1 else 's differ'}"

@@ -43,6 +43,7 @@ __all__ = [
     "JointDiff",
     "MotionDiff",
     "compare_motions",
+    "held_pair",
     "held_targets",
     "joint_names",
 ]
@@ -110,6 +111,36 @@ def held_targets(
     require_held(-(-end // timestep_ms) + 1, timestep_ms)
     elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
     return elapsed, _held(motion, names, elapsed, None).targets
+
+
+def held_pair(
+    old: Motion, new: Motion, timestep_ms: int, names: Sequence[str]
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """What both motions hold for the motors ``names`` at the steps that shape it (those next to
+    each pose time of either, both ends, and every step of a segment that reaches Webots'
+    no-value marker: see :func:`_compared_steps`): a line through them is the line through
+    every step of the grid up to the longer motion's end, whatever its duration.
+
+    Returns:
+        ``elapsed_ms`` int64 (K,), and the held targets (K, N) of ``old`` and of ``new``, as
+        :func:`held_targets` gives them at those steps.
+    """
+    import numpy as np
+
+    n_steps = -(-max(old.duration_ms, new.duration_ms) // timestep_ms) + 1
+    parts: list[tuple[npt.NDArray[np.int64], Held, Held]] = []
+    held_old: Held | None = None
+    held_new: Held | None = None
+    for steps, _weights in _compared_steps((old, new), timestep_ms, n_steps):
+        elapsed = steps * timestep_ms
+        held_old = _held(old, names, elapsed, held_old)
+        held_new = _held(new, names, elapsed, held_new)
+        parts.append((elapsed, held_old, held_new))
+    return (
+        np.concatenate([e for e, _a, _b in parts]),
+        np.concatenate([a.targets for _e, a, _b in parts]),
+        np.concatenate([b.targets for _e, _a, b in parts]),
+    )
 
 
 @dataclass(frozen=True)

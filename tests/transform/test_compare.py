@@ -11,8 +11,15 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
-from motiontool.motionfmt import format_motion, loads, read_bytes, read_file
-from motiontool.motionfmt.compare import JointDiff, MotionDiff, compare_motions, held_targets
+from motiontool.motionfmt import compare, format_motion, loads, read_bytes, read_file
+from motiontool.motionfmt.compare import (
+    JointDiff,
+    MotionDiff,
+    compare_motions,
+    held_pair,
+    held_targets,
+    joint_names,
+)
 from motiontool.motionfmt.motion import Motion
 
 SETTINGS = settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -203,3 +210,31 @@ def test_corpus_file_against_its_canonical_spelling(path: object) -> None:
         d = compare_motions(m, shifted.motion)
         assert not d.same and d.new_duration_ms - d.old_duration_ms == 40
     assert np.isfinite([j.max_delta for j in d.joints]).all()
+
+
+@settings(max_examples=150, deadline=None)
+@given(motion_files(), motion_files(), st.sampled_from([1, 7, 20]), st.integers(1, 5))
+def test_held_pair_shapes_the_lines_through_every_step(
+    old: bytes, new: bytes, step: int, chunk: int
+) -> None:
+    """``diff --plot`` draws the held targets at the steps ``held_pair`` picks (in chunks of a
+    few steps here): they are those of every step there, and every step between two of them
+    lies on the line between them."""
+    a, b = read_bytes(old, "a.motion").motion, read_bytes(new, "b.motion").motion
+    names = [n for n in joint_names(a) if n in set(joint_names(b))]
+    with mock.patch.object(compare, "_CHUNK_STEPS", chunk):
+        elapsed, held_a, held_b = held_pair(a, b, step, names)
+    end = max(a.duration_ms, b.duration_ms)
+    assert elapsed[0] == 0 and elapsed[-1] == -(-end // step) * step
+    at = elapsed // step
+    for motion, picked in ((a, held_a), (b, held_b)):
+        _, full = held_targets(motion, step, until_ms=end, names=names)
+        assert np.array_equal(picked, full[at], equal_nan=True)
+        for i, j in zip(at[:-1].tolist(), at[1:].tolist(), strict=True):
+            if j - i < 2:
+                continue
+            share = (np.arange(i + 1, j) - i)[:, None] / (j - i)
+            line = full[i] + share * (full[j] - full[i])
+            between = full[i + 1 : j]
+            assert np.array_equal(np.isnan(between), np.isnan(line))  # breaks stay breaks
+            assert np.allclose(between, line, rtol=1e-9, atol=1e-9, equal_nan=True)

@@ -132,6 +132,16 @@ def test_diff_plot(here: Path) -> None:
     assert (here / "head.motion").read_bytes() == HEAD
 
 
+def test_diff_plot_of_motions_playing_for_hours(here: Path) -> None:
+    """10 hours at 1 ms are 36 million steps: the plot draws the steps that shape the lines
+    (held_pair), not all of them, so it is drawn rather than refused."""
+    (here / "a.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P1,0\n600:00:000,P2,0.5\n")
+    (here / "b.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P1,0\n600:00:000,P2,0.4\n")
+    code, _, err = invoke("diff", "a.motion", "b.motion", "--plot", "long.png")
+    assert code == 1, err
+    assert (here / "long.png").read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+
+
 # --------------------------------------------------------------------------- resample
 
 
