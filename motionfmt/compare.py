@@ -54,7 +54,7 @@ DEFAULT_TOLERANCE_RAD = 1e-4
 1e-4 rad is 0.006°, below the resolution of the Nao's joint encoders (12 bit over 2π, 1.5e-3 rad)
 and well above the rounding of a value written with 6 decimals (5e-7)."""
 
-_CHUNK_STEPS = 1 << 16  # steps compared at once: bounds memory to a few MB per joint block
+_CHUNK_STEPS = 1 << 14  # steps compared at once: bounds memory to a few MB per joint block
 
 EVERY_STEP_LIMIT = 4_000_000
 """A grid of up to this many steps (66 min at 1 ms) is compared at every step, bit for bit, in

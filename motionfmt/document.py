@@ -60,6 +60,7 @@ class MotionDocument:
         first_time = self._cell(0, 0).decode("ascii")
         self.time_style = TimeStyle.of(first_time.strip())
         self._result: ReadResult | None = result
+        self._read = data  # the bytes of _result (every edit sets it to None)
 
     # -- reading ----------------------------------------------------------------------------------
 
@@ -71,7 +72,8 @@ class MotionDocument:
     def result(self) -> ReadResult:
         """The current content read as Webots reads it (re-read after edits)."""
         if self._result is None:
-            self._result = read_bytes(self.to_bytes(), self.path)
+            data = self.to_bytes()
+            self._result, self._read = read_bytes(data, self.path), data
         return self._result
 
     @property
@@ -81,6 +83,8 @@ class MotionDocument:
 
     def to_bytes(self) -> bytes:
         """The document's bytes; equal to the input until an edit."""
+        if self._result is not None:  # no edit since they were read: the same bytes
+            return self._read
         body = b"\n".join([self._header, *self._poses, *self._suffix])
         return body + b"\n" if self._final_newline else body
 
@@ -182,24 +186,28 @@ class MotionDocument:
                 f"cannot insert poses at indices that decrease or pass {self.n_poses}"
             )
         eol = b"\r" if self._crlf else b""
-        lines = [
-            line.encode("utf-8") + eol
-            for line in pose_lines(times_ms, names, values, self.time_style)
-        ]
         open_end = eol and not self._suffix and not self._final_newline
         if open_end:  # the last line has no end; the one that is last after this gets none
             self._poses[-1] += eol
         out: list[bytes] = []
         done = 0
-        for index, line in zip(at, lines, strict=True):
-            out.extend(self._poses[done:index])
-            out.append(line)
-            done = index
+        for lo in range(0, len(at), _NEW_LINES):  # a block's cells are strings while spelt
+            hi = lo + _NEW_LINES
+            lines = pose_lines(times_ms[lo:hi], names[lo:hi], values[lo:hi], self.time_style)
+            for index, line in zip(at[lo:hi], lines, strict=True):
+                out.extend(self._poses[done:index])
+                out.append(line.encode("utf-8") + eol)
+                done = index
         out.extend(self._poses[done:])
         if open_end:
             out[-1] = out[-1][: -len(eol)]
         self._poses = out
         self._result = None
+
+
+_NEW_LINES = 8192
+"""New pose lines :meth:`MotionDocument.insert_poses` spells at a time: each cell is a Python
+string until its line is joined, so a block's cells, not all of them, are held."""
 
 
 def _check_increasing(times_ms: Sequence[int]) -> None:

@@ -16,6 +16,7 @@ from motiontool.motionfmt import (
     Motion,
     MotionSyntaxError,
     MotionToolError,
+    document,
     dumps,
     format_motion,
     loads,
@@ -87,10 +88,11 @@ def test_insert_and_delete_keep_line_ends() -> None:
 
 
 @settings(max_examples=150, deadline=None)
-@given(motion_files(), st.booleans(), st.data())
+@given(motion_files(), st.booleans(), st.integers(1, 3), st.data())
 def test_inserting_poses_at_once_is_inserting_them_one_by_one(
-    data: bytes, suffix: bool, draw: st.DataObject
+    data: bytes, suffix: bool, block: int, draw: st.DataObject
 ) -> None:
+    """Also with the new lines spelt a block of 1 to 3 at a time."""
     if suffix:  # lines after a blank line, which Webots ignores
         data = data.rstrip(b"\r\n") + b"\n\n9,ignored,1\n"
     once, each = loads(data), loads(data)
@@ -109,7 +111,9 @@ def test_inserting_poses_at_once_is_inserting_them_one_by_one(
         dtype=np.float64,
     ).reshape(len(at), n_joints)
     names = [f"N{k}" for k in range(len(at))]
-    once.insert_poses(at, list(range(len(at))), names, values)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(document, "_NEW_LINES", block)
+        once.insert_poses(at, list(range(len(at))), names, values)
     for k in reversed(range(len(at))):  # the last first: the indices before it stay valid
         each.insert_pose(at[k], k, names[k], values[k].tolist())
     assert once.to_bytes() == each.to_bytes()
@@ -233,3 +237,28 @@ def test_mutated_corpus_files(path: Path) -> None:
             else:
                 b.insert(i, int(rng.choice(list(b",\n\r *:.-0e"))))
         _never_crashes(bytes(b))
+
+
+@settings(max_examples=100, deadline=None)
+@given(motion_files(), st.lists(st.integers(0, 3), min_size=1, max_size=6), st.data())
+def test_bytes_follow_every_edit_after_a_read(
+    data: bytes, edits: list[int], draw: st.DataObject
+) -> None:
+    """A document returns the bytes it last read until an edit: each edit made after reading
+    ``result`` shows in ``to_bytes`` as in a document never read."""
+    read, fresh = loads(data), loads(data)
+    assert read.to_bytes() == data
+    for edit in edits:
+        read.result  # noqa: B018 - the read that to_bytes reuses until the next edit
+        pose = draw.draw(st.integers(0, read.n_poses - 1))
+        value = draw.draw(st.floats(-4, 4))
+        for doc in (read, fresh):
+            if edit == 0:
+                doc.set_value(pose, 0, value)
+            elif edit == 1 and doc.n_poses > 1:
+                doc.delete_pose(pose)
+            elif edit == 2:  # a pose after the last
+                last = int(doc.motion.times_ms[-1])
+                doc.insert_pose(doc.n_poses, last + 40, "New", [0.5] * len(doc.joints))
+        assert read.to_bytes() == fresh.to_bytes()
+        assert read.result.motion.n_poses == read.n_poses
