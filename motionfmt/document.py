@@ -60,7 +60,7 @@ class MotionDocument:
         first_time = self._cell(0, 0).decode("ascii")
         self.time_style = TimeStyle.of(first_time.strip())
         self._result: ReadResult | None = result
-        self._read = data  # the bytes of _result (every edit sets it to None)
+        self._read = data  # the bytes of _result, while it is current (see _edited)
 
     # -- reading ----------------------------------------------------------------------------------
 
@@ -80,6 +80,10 @@ class MotionDocument:
     def motion(self) -> Motion:
         """The current content as a :class:`Motion`."""
         return self.result.motion
+
+    def _edited(self) -> None:
+        """Forget the last read (and its bytes): the lines changed."""
+        self._result, self._read = None, b""
 
     def to_bytes(self) -> bytes:
         """The document's bytes; equal to the input until an edit."""
@@ -116,7 +120,7 @@ class MotionDocument:
         token = line[a:b]
         lead = len(token) - len(token.lstrip(b" \t"))
         self._poses[pose] = line[: a + lead] + text.encode("utf-8") + line[b:]
-        self._result = None
+        self._edited()
 
     def set_value(self, pose: int, joint: int | str, value: float) -> None:
         """Set one cell; NaN writes ``*`` (no command). Cells equal to ``value`` keep their
@@ -155,7 +159,7 @@ class MotionDocument:
         if self.n_poses == 1:
             raise MotionToolError("cannot delete the only pose: a motion needs at least one")
         del self._poses[pose]
-        self._result = None
+        self._edited()
 
     def insert_pose(self, index: int, time_ms: int, name: str, values: Sequence[float]) -> None:
         """Insert a new pose line before pose ``index`` (``n_poses`` appends), canonically spelt."""
@@ -186,23 +190,24 @@ class MotionDocument:
                 f"cannot insert poses at indices that decrease or pass {self.n_poses}"
             )
         eol = b"\r" if self._crlf else b""
+        poses = self._poses  # left as it is until every new line is made (one may raise)
         open_end = eol and not self._suffix and not self._final_newline
         if open_end:  # the last line has no end; the one that is last after this gets none
-            self._poses[-1] += eol
+            poses = [*poses[:-1], poses[-1] + eol]
         out: list[bytes] = []
         done = 0
         for lo in range(0, len(at), _NEW_LINES):  # a block's cells are strings while spelt
             hi = lo + _NEW_LINES
             lines = pose_lines(times_ms[lo:hi], names[lo:hi], values[lo:hi], self.time_style)
             for index, line in zip(at[lo:hi], lines, strict=True):
-                out.extend(self._poses[done:index])
+                out.extend(poses[done:index])
                 out.append(line.encode("utf-8") + eol)
                 done = index
-        out.extend(self._poses[done:])
+        out.extend(poses[done:])
         if open_end:
             out[-1] = out[-1][: -len(eol)]
         self._poses = out
-        self._result = None
+        self._edited()
 
 
 _NEW_LINES = 8192

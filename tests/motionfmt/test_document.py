@@ -262,3 +262,17 @@ def test_bytes_follow_every_edit_after_a_read(
                 doc.insert_pose(doc.n_poses, last + 40, "New", [0.5] * len(doc.joints))
         assert read.to_bytes() == fresh.to_bytes()
         assert read.result.motion.n_poses == read.n_poses
+
+
+@pytest.mark.parametrize("block", [1, 8192])
+def test_an_insert_that_fails_leaves_the_document_as_it_was(block: int) -> None:
+    data = b"#WEBOTS_MOTION,V1.0,A\r\n0,P1,0\r\n100,P2,1"  # CRLF, no end on the last line
+    doc = loads(data)
+    doc.result  # noqa: B018 - read: to_bytes gives the bytes read until an edit
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(document, "_NEW_LINES", block)
+        with pytest.raises(MotionToolError, match="pose name"):
+            doc.insert_poses([2, 2], [200, 300], ["P3", "bad,name"], np.zeros((2, 1)))
+    assert doc.to_bytes() == data
+    doc.insert_poses([2], [200], ["P3"], np.zeros((1, 1)))
+    assert doc.to_bytes() == data + b"\r\n200,P3,0"
