@@ -226,6 +226,7 @@ def test_held_pair_shapes_the_lines_through_every_step(
         elapsed, held_a, held_b = held_pair(a, b, step, names)
     end = max(a.duration_ms, b.duration_ms)
     assert elapsed[0] == 0 and elapsed[-1] == -(-end // step) * step
+    assert (np.diff(elapsed) > 0).all()  # each step once, in order
     at = elapsed // step
     for motion, picked in ((a, held_a), (b, held_b)):
         _, full = held_targets(motion, step, until_ms=end, names=names)
