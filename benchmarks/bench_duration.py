@@ -8,7 +8,8 @@ memory (RSS) of the whole process at both durations and their ratio, measured in
 run. Target: ``plot`` flat (ratio <= 1.3x for 10x the duration; 60 and 600 minutes as well).
 ``convert`` has no ratio target: it holds the stream it sends (steps x joints x 8 bytes,
 printed) and the file it writes, and nothing else per step (a bag's messages and URScript's
-lines are made as they are written).
+lines are made as they are written). ``resample --step`` neither: it holds the motion it
+writes as a lossless document and reads it back (printed for the record: not flat).
 """
 
 from __future__ import annotations
@@ -59,7 +60,8 @@ def make_file(path: Path, robot: str, duration_ms: int) -> None:
 
 class Case(NamedTuple):
     """One command: its words, the motion it reads, its output's suffix, extra arguments, the
-    control step (ms) and how many joints the stream it sends has (0: none, a picture)."""
+    control step (ms) and how many joints the stream it sends has (0: none, a picture or a
+    motion file, by ``suffix``)."""
 
     label: str
     robot: str
@@ -75,6 +77,7 @@ CASES = (
     Case("convert --to naoqi", "nao", "json", ("--robot", "nao-v5"), joints=40),
     Case("convert --to ros-trajectory", "nao", "yaml", ("--robot", "nao"), joints=40),
     Case("convert --to urscript", "ur5e", "script", step_ms=8, joints=6),
+    Case("resample --step 20", "nao", "motion"),
 )
 
 
@@ -82,8 +85,8 @@ def measure(tool: str, tmp: Path, case: Case, minutes: int) -> Child:
     """``case`` on the motion of ``minutes``, in a child process."""
     words = case.label.split()
     src, out = tmp / f"{case.robot}{minutes}.motion", tmp / f"out.{case.suffix}"
-    if words[0] == "plot":
-        cmd = ["plot", str(src), "-o", str(out)]
+    if words[0] in ("plot", "resample"):
+        cmd = [words[0], str(src), "-o", str(out), *words[1:]]
     else:
         cmd = [*words[:1], str(src), str(out), *words[1:], *case.extra]
     child = run_child([tool, *cmd])
@@ -105,18 +108,26 @@ def main() -> None:
             for minutes in durations:
                 make_file(tmp / f"{robot}{minutes}.motion", robot, minutes * MINUTE_MS)
         for case in CASES:
-            runs = durations if case.joints == 0 else durations[:2]
-            peaks = [measure(tool, tmp, case, minutes) for minutes in runs]
-            shown = " -> ".join(f"{c.peak_mib:.0f}" for c in peaks)
-            ratio = max(c.peak_bytes for c in peaks) / peaks[0].peak_bytes
-            line = f"{case.label:<28} {shown} MiB, ratio {ratio:.2f}x"
-            if case.joints:
-                steps = runs[-1] * MINUTE_MS // case.step_ms + 1
-                line += f" (the stream it sends at {runs[-1]} min: "
-                line += f"{steps * case.joints * 8 / 2**20:.0f} MiB)"
-            else:
-                line += f" (target <= {FLAT}x, flat: {'met' if ratio <= FLAT else 'not met'})"
-            print(line, flush=True)
+            print(_line(case, tool, tmp, durations), flush=True)
+
+
+def _line(case: Case, tool: str, tmp: Path, durations: tuple[int, ...]) -> str:
+    """``case`` at each duration (a picture at all three), its peaks and their ratio."""
+    picture = case.suffix == "png"
+    runs = durations if picture else durations[:2]
+    peaks = [measure(tool, tmp, case, minutes) for minutes in runs]
+    shown = " -> ".join(f"{c.peak_mib:.0f}" for c in peaks)
+    ratio = max(c.peak_bytes for c in peaks) / peaks[0].peak_bytes
+    line = f"{case.label:<28} {shown} MiB, ratio {ratio:.2f}x"
+    if picture:
+        return line + f" (target <= {FLAT}x, flat: {'met' if ratio <= FLAT else 'not met'})"
+    if case.joints:
+        steps = runs[-1] * MINUTE_MS // case.step_ms + 1
+        return line + (
+            f" (the stream it sends at {runs[-1]} min: {steps * case.joints * 8 / 2**20:.0f} MiB)"
+        )
+    written = (tmp / f"out.{case.suffix}").stat().st_size / 2**20
+    return line + f" (no target: it holds the file it writes, {written:.0f} MiB at {runs[-1]} min)"
 
 
 if __name__ == "__main__":
