@@ -141,25 +141,131 @@ def _window_ok(
     return bool(np.all(err <= bound + ROUNDING_RAD))  # NaN (inf cells) compares False
 
 
-def _simplify(current: Motion, original: Motion, bound: float) -> tuple[list[int], int]:
+class _Cone:
+    """What one segment from pose ``a`` of (t, v) to each later pose may do, kept up to date as
+    the segment grows, so that most of :func:`_window_ok`'s answers take O(J), not a pass over
+    every original pose inside (a long motion's greedy was quadratic in its length).
+
+    Per joint, the slopes (rad/ms) a line from ``(t[a], v[a])`` may take and stay within
+    ``bound`` minus a margin of every original pose inside so far (an interval: the
+    intersection of one per pose), and whether the original segments spanned so far touch a
+    ``*``. :meth:`surely_ok` is True only where :func:`_window_ok` is: the margin (64 units
+    in the last place of the largest value) is far above the rounding of either computation.
+    """
+
+    def __init__(
+        self,
+        t: npt.NDArray[np.int64],
+        v: npt.NDArray[np.float64],
+        a: int,
+        t0: npt.NDArray[np.int64],
+        v0: npt.NDArray[np.float64],
+        slack: float,
+    ) -> None:
+        import numpy as np
+
+        self.t, self.v, self.a, self.t0, self.v0 = t, v, a, t0, v0
+        self.slack = slack  # bound + rounding - margin, rad
+        self.lo = max(int(np.searchsorted(t0, t[a], side="right")) - 1, 0)
+        self.inner = self.lo + 1  # the next original pose to take in
+        self.seg = self.lo  # the next original segment to take in
+        joints = v.shape[1]
+        self.low, self.high = np.full(joints, -np.inf), np.full(joints, np.inf)
+        self.nan_any, self.nan_all = np.zeros(joints, bool), np.ones(joints, bool)
+
+    def surely_ok(self, b: int, hi: int) -> bool:
+        """Whether the segment from pose ``a`` to pose ``b`` (> a) is surely within the bound
+        (False: not surely; :func:`_window_ok` decides); ``hi``: the first original pose at or
+        after ``t[b]`` (the last if none). Calls go with increasing ``b``, under
+        ``np.errstate(invalid="ignore")``."""
+        import numpy as np
+
+        v0, ta, va = self.v0, self.t[self.a], self.v[self.a]
+        for k in range(self.seg, hi):  # original segments lo .. hi - 1
+            nan = np.isnan(v0[k]) | np.isnan(v0[k + 1])
+            self.nan_any |= nan
+            self.nan_all &= nan
+        self.seg = max(self.seg, hi)
+        for k in range(self.inner, hi):  # original poses lo + 1 .. hi - 1
+            dt = float(self.t0[k] - ta)
+            np.fmax(self.low, (v0[k] - va - self.slack) / dt, out=self.low)
+            np.fmin(self.high, (v0[k] - va + self.slack) / dt, out=self.high)
+        self.inner = max(self.inner, hi)
+        new_nan = np.isnan(va) | np.isnan(self.v[b])
+        if (new_nan & ~self.nan_all).any() or (~new_nan & self.nan_any).any():
+            return False
+        slope = (self.v[b] - va) / float(self.t[b] - ta)
+        return bool(((slope >= self.low) & (slope <= self.high) | new_nan).all())
+
+
+def _slack(current: Motion, original: Motion, bound: float) -> float:
+    """``bound`` plus the rounding slack, less a margin far above floating-point rounding in
+    :func:`_window_ok` and :class:`_Cone` (64 units in the last place of the values' size)."""
+    import numpy as np
+
+    values = np.concatenate([current.values.ravel(), original.values.ravel()])
+    size = float(np.nanmax(np.abs(values), initial=0.0))
+    margin = 64 * np.finfo(np.float64).eps * (3 * size + bound + ROUNDING_RAD)
+    return bound + ROUNDING_RAD - margin
+
+
+def _simplify(
+    current: Motion, original: Motion, bound: float, *, cone: bool = True
+) -> tuple[list[int], int]:
     """Greedy: from each kept pose, reach as far as one segment stays within ``bound``.
+
+    ``cone=False``: every step asks :func:`_window_ok` (the reference the tests compare with;
+    quadratic in a long segment's length).
 
     Returns the indices of the poses to remove, and how many of them lie exactly (to within
     :data:`ROUNDING_RAD`) on the line between their two neighbours.
     """
+    import numpy as np
+
     t, v = current.times_ms, current.values
     t0, v0 = original.times_ms, original.values
+    slack = _slack(current, original, bound)
+    first_after = np.minimum(np.searchsorted(t0, t, side="left"), t0.shape[0] - 1).tolist()
     n = t.shape[0]
     removed: list[int] = []
     a = 0
-    while a < n - 1:
-        b = a + 1
-        while b + 1 < n and _window_ok(t, v, a, b + 1, t0, v0, bound):
-            b += 1
-        removed.extend(range(a + 1, b))
-        a = b
-    collinear = sum(_window_ok(t, v, i - 1, i + 1, t, v, 0.0) for i in removed)
-    return removed, collinear
+    with np.errstate(invalid="ignore"):
+        while a < n - 1:
+            b = a + 1
+            reach = _Cone(t, v, a, t0, v0, slack) if cone and slack > 0 else None
+            while b + 1 < n and (
+                (reach is not None and reach.surely_ok(b + 1, first_after[b + 1]))
+                or _window_ok(t, v, a, b + 1, t0, v0, bound)
+            ):
+                b += 1
+            removed.extend(range(a + 1, b))
+            a = b
+    return removed, _collinear(t, v, np.asarray(removed, dtype=np.intp))
+
+
+def _collinear(
+    t: npt.NDArray[np.int64], v: npt.NDArray[np.float64], poses: npt.NDArray[np.intp]
+) -> int:
+    """How many of ``poses`` (each with a neighbour on both sides) lie on the line between
+    their neighbours: :func:`_window_ok` of ``(i - 1, i + 1)`` against (t, v) itself with no
+    bound, for all of them at once (the same expressions, element by element)."""
+    import numpy as np
+
+    if poses.shape[0] == 0:
+        return 0
+    before, here, after = v[poses - 1], v[poses], v[poses + 1]
+    seg_nan = (np.isnan(before) | np.isnan(here), np.isnan(here) | np.isnan(after))
+    new_nan = np.isnan(before) | np.isnan(after)
+    spans_all, spans_any = seg_nan[0] & seg_nan[1], seg_nan[0] | seg_nan[1]
+    refused = (new_nan & ~spans_all).any(axis=1) | (~new_nan & spans_any).any(axis=1)
+    e = (t[poses] - t[poses - 1]).astype(np.float64)[:, None]
+    span = (t[poses + 1] - t[poses - 1]).astype(np.float64)[:, None]
+    with np.errstate(invalid="ignore", over="ignore"):
+        line = before + e * (after - before) / span
+        err = np.abs(line - here)
+    err = np.where(new_nan, 0.0, err)
+    on_line = np.all(err <= 0.0 + ROUNDING_RAD, axis=1)
+    return int((on_line & ~refused).sum())
 
 
 def resample(
