@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, overload
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.retime import Retimed, Stretch, require_in_range
@@ -25,8 +25,17 @@ DEFAULT_MARGIN = 0.9
 _ACCEL_ROUNDS = 400  # rounds of _fit_acceleration; the second half slows down uniformly
 
 
-def _velocity_ok(delta: float, duration_ms: int, vmax: float) -> bool:
-    """|delta| moved in ``duration_ms`` stays within ``vmax`` (units per second)."""
+@overload
+def _velocity_ok(delta: float, duration_ms: int, vmax: float) -> bool: ...
+@overload
+def _velocity_ok(
+    delta: npt.NDArray[np.float64],
+    duration_ms: npt.NDArray[np.int64],
+    vmax: npt.NDArray[np.float64],
+) -> npt.NDArray[np.bool_]: ...
+def _velocity_ok(delta: Any, duration_ms: Any, vmax: Any) -> Any:
+    """|delta| moved in ``duration_ms`` stays within ``vmax`` (units per second); element by
+    element for arrays (the one home of the rule the fit decides by)."""
     return delta / (duration_ms / MS_PER_S) <= vmax
 
 
@@ -178,7 +187,7 @@ def _shortest_ms_each(
 
     def ok(duration: npt.NDArray[np.int64]) -> npt.NDArray[np.bool_]:
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # k - 1 = 0: masked
-            return (delta / (duration / MS_PER_S) <= vlim) | (duration >= _FAR_MS)
+            return _velocity_ok(delta, duration, vlim) | (duration >= _FAR_MS)
 
     while not (low := ok(k)).all():
         k += ~low

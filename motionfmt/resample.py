@@ -20,6 +20,7 @@ from motiontool.motionfmt.compare import MotionDiff, compare_motions
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import require_held, targets_at
+from motiontool.motionfmt.writer import pose_name
 
 if TYPE_CHECKING:
     import numpy as np
@@ -78,10 +79,6 @@ def grid_times(first_ms: int, last_ms: int, step_ms: int) -> list[int]:
     return sorted({first_ms, last_ms, *range(start, last_ms + 1, step_ms)})
 
 
-def _pose_name(time_ms: int) -> str:
-    return f"Pose{time_ms}ms"
-
-
 def _apply_grid(doc: MotionDocument, original: Motion, grid: Sequence[int]) -> tuple[int, int]:
     """Delete poses off ``grid``, insert the grid times the document lacks; (inserted, dropped)."""
     import numpy as np
@@ -98,7 +95,7 @@ def _apply_grid(doc: MotionDocument, original: Motion, grid: Sequence[int]) -> t
     new = [t for t in grid if t not in have]
     at = np.searchsorted(np.asarray(times, dtype=np.int64), new).tolist()
     values = targets_at(original, np.asarray(new, dtype=np.int64))
-    doc.insert_poses(at, new, [_pose_name(t) for t in new], values)
+    doc.insert_poses(at, new, [pose_name(t) for t in new], values)
     return len(new), dropped
 
 
@@ -166,9 +163,9 @@ class _Cone:
 
         self.t, self.v, self.a, self.t0, self.v0 = t, v, a, t0, v0
         self.slack = slack  # bound + rounding - margin, rad
-        self.lo = max(int(np.searchsorted(t0, t[a], side="right")) - 1, 0)
-        self.inner = self.lo + 1  # the next original pose to take in
-        self.seg = self.lo  # the next original segment to take in
+        lo = max(int(np.searchsorted(t0, t[a], side="right")) - 1, 0)  # as in _window_ok
+        self.inner = lo + 1  # the next original pose to take in
+        self.seg = lo  # the next original segment to take in
         joints = v.shape[1]
         self.low, self.high = np.full(joints, -np.inf), np.full(joints, np.inf)
         self.nan_any, self.nan_all = np.zeros(joints, bool), np.ones(joints, bool)
@@ -203,8 +200,7 @@ def _slack(current: Motion, original: Motion, bound: float) -> float:
     :func:`_window_ok` and :class:`_Cone` (64 units in the last place of the values' size)."""
     import numpy as np
 
-    values = np.concatenate([current.values.ravel(), original.values.ravel()])
-    size = float(np.nanmax(np.abs(values), initial=0.0))
+    size = max(float(np.nanmax(np.abs(m.values), initial=0.0)) for m in (current, original))
     margin = 64 * np.finfo(np.float64).eps * (3 * size + bound + ROUNDING_RAD)
     return bound + ROUNDING_RAD - margin
 

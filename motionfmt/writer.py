@@ -25,6 +25,7 @@ __all__ = [
     "format_value",
     "format_values",
     "pose_lines",
+    "pose_name",
 ]
 
 _TIME_SHAPE = re.compile(r"\d+(?::\d+){0,2}")
@@ -91,10 +92,9 @@ def check_name(name: str, what: str) -> str:
     return name
 
 
-def _pose_line(time_ms: int, name: str, values: Iterable[float], style: TimeStyle) -> str:
-    import numpy as np
-
-    return pose_lines([time_ms], [name], np.array([list(values)], dtype=np.float64), style)[0]
+def pose_name(time_ms: int) -> str:
+    """The name of a pose a command makes at ``time_ms`` (ms): ``Pose1500ms``."""
+    return f"Pose{time_ms}ms"
 
 
 def pose_lines(

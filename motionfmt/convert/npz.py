@@ -17,7 +17,7 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.writer import check_name
+from motiontool.motionfmt.writer import check_name, pose_name
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
@@ -120,7 +120,7 @@ def read_npz(data: bytes, path: str, options: ImportOptions | None = None) -> Im
         if len(poses) != times.shape[0]:
             raise MotionToolError(f"'{path}': {len(poses)} pose_names for {times.shape[0]} poses")
     else:
-        poses = tuple(f"Pose{int(t)}ms" for t in times)
+        poses = tuple(pose_name(int(t)) for t in times)
     try:
         joints = tuple(check_name(str(n), "joint") for n in arrays["names"])
         for pose in poses:

@@ -46,7 +46,7 @@ from motiontool.motionfmt.convert.ros_trajectory import (
     trajectory_message,
 )
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.writer import check_name
+from motiontool.motionfmt.writer import check_name, pose_name
 
 if TYPE_CHECKING:
     import numpy as np
@@ -198,7 +198,7 @@ def _reduced(
     values = q[keep]
     full = Motion(
         joints,
-        tuple(f"Pose{int(t)}ms" for t in times),
+        tuple(pose_name(int(t)) for t in times),
         times,
         values,
         np.ones(values.shape, dtype=bool),

@@ -21,6 +21,7 @@ from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported,
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
+from motiontool.motionfmt.writer import pose_name
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
@@ -198,7 +199,7 @@ def read_csv(data: bytes, path: str, options: ImportOptions | None = None) -> Im
         raise MotionSyntaxError("no rows: a motion needs at least one pose", path, 2, 1)
     motion = Motion(
         tuple(name for name, _ in joints),
-        tuple(f"Pose{t}ms" for t in times),
+        tuple(pose_name(t) for t in times),
         np.array(times, dtype=np.int64),
         np.array(rows, dtype=np.float64),
     )

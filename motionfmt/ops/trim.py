@@ -14,7 +14,7 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import PoseLines, set_time, with_eol
-from motiontool.motionfmt.writer import TimeStyle, _pose_line, format_time
+from motiontool.motionfmt.writer import TimeStyle, format_time, pose_lines, pose_name
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
@@ -49,8 +49,8 @@ def _boundary_line(motion: Motion, at_ms: int, time_ms: int, style: TimeStyle, e
     from motiontool.motionfmt.player import commands_at
 
     targets, sent = commands_at(motion, np.asarray([at_ms], dtype=np.int64))
-    row = np.where(sent[0], targets[0], np.nan).tolist()
-    return _pose_line(time_ms, f"Pose{time_ms}ms", row, style).encode("utf-8") + eol
+    row = np.where(sent[0], targets[0], np.nan)[None, :]
+    return pose_lines([time_ms], [pose_name(time_ms)], row, style)[0].encode("utf-8") + eol
 
 
 def _window(from_ms: int | None, to_ms: int | None, last: int) -> tuple[int, int]:
