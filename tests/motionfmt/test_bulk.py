@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from conftest import corpus_params, golden
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
@@ -62,15 +62,21 @@ def test_bulk_path_is_taken_on_a_clean_file() -> None:
     assert_same(data)
 
 
-@pytest.mark.parametrize("block", [4096, 1 << 20])
+@pytest.mark.parametrize(
+    ("block", "part_min"), [(4096, 1 << 62), (1 << 20, 1 << 62), (4096, 40_000)]
+)
 def test_a_file_read_a_block_at_a_time_reads_as_the_exact_path(
-    block: int, monkeypatch: pytest.MonkeyPatch
+    block: int, part_min: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Parsed in record batches (a block of the file each) into arrays of their final size:
-    batch boundaries change nothing, bit for bit."""
+    """Parsed in record batches (a block of the file each) into arrays of their final size,
+    in parts read by threads of their own where the file is large enough: batch and part
+    boundaries change nothing, bit for bit."""
     from motiontool.motionfmt import _bulk
 
     monkeypatch.setattr(_bulk, "_BLOCK", block)
+    monkeypatch.setattr(_bulk, "_PART_MIN", part_min)
+    monkeypatch.setattr(_bulk.os, "cpu_count", lambda: 4)
+    monkeypatch.setattr(_bulk, "_PARTS", 4)
     rng = np.random.default_rng(3)
     rows = "\n".join(
         f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d},Pose{t},"
@@ -85,3 +91,105 @@ def test_a_file_read_a_block_at_a_time_reads_as_the_exact_path(
     late = data.replace(b"01:59:960", b"01:59:900")  # the last time no longer increases
     assert _bulk.read_clean_body(late, 5, reader.NO_VALUE_MARKER, 4094, start=30) is None
     assert_same(late)
+
+
+@pytest.mark.parametrize(
+    ("piece", "bulk_reads_it"),
+    [
+        (b"80,,1,2\n", False),  # an empty name: Webots reads 1 as the name
+        (b"\n", False),  # a blank line ends the motion
+        (b"80,P,1,2,\n", False),  # a trailing comma
+        (b",80,P,1,2\n", False),  # a leading comma
+        (b"80,P,1,,2\n", False),  # an empty cell between values
+        (b"80,P\x00Q,1,2\n", False),  # a NUL ends the line for Webots
+        (b"80,P,1,2\r120,Q,1,2\n", False),  # a lone CR: one line for Webots, two for pyarrow
+        (b"80,P,1,2\r\r\n", False),
+        (b"80,P,*,2\n", False),
+        (b"80,P*,1,2\n", False),  # harmless, but '*' anywhere takes the exact path
+        (b"80,P,1,2\r\n", True),  # CRLF
+        (b"80,P Q,1 ,\t2\n", True),  # spaces and tabs stay inside tokens
+    ],
+)
+def test_what_only_the_exact_path_reads_right_steps_aside(
+    piece: bytes, bulk_reads_it: bool
+) -> None:
+    from motiontool.motionfmt import _bulk
+
+    head = b"#WEBOTS_MOTION,V1.0,A,B\n0,P0,0,0\n40,P1,0.5,-0.5\n"
+    data = head + piece + b"160,P3,1,1\n"
+    got = _bulk.read_clean_body(data, 2, reader.NO_VALUE_MARKER, 4094, start=data.index(b"\n") + 1)
+    assert (got is not None) == bulk_reads_it
+    assert_same(data)
+
+
+def _times_reference(tokens: list[bytes], fields: int | None) -> tuple[list[int], int] | None:
+    """What ``_bulk._times`` must answer, token by token: every token 1 to 5 digits, up to
+    twice ':' and 1 to 5 digits, all with the same number of ':'."""
+    import re
+
+    if not tokens:
+        return [], fields or 0
+    if not all(re.fullmatch(rb"[0-9]{1,5}(:[0-9]{1,5}){0,2}", t) for t in tokens):
+        return None
+    k = tokens[0].count(b":") if fields is None else fields
+    if any(t.count(b":") != k for t in tokens):
+        return None
+    scale = [60000, 1000, 1][-(k + 1) :]
+    return [sum(int(f) * s for f, s in zip(t.split(b":"), scale, strict=True)) for t in tokens], k
+
+
+_TIME_TOKENS = st.one_of(
+    st.sampled_from([b"00:00:040", b"1:500", b"1500", b"99999", b"0:0:0", b"00:00:1500"]),
+    st.text("0123456789:", min_size=1, max_size=8).map(str.encode),
+    st.text("0123456789", min_size=4, max_size=7).map(str.encode),
+    st.binary(max_size=6),
+)
+
+
+@settings(max_examples=400, deadline=None)
+@given(
+    tokens=st.lists(_TIME_TOKENS, max_size=4),
+    fields=st.sampled_from([None, 0, 1, 2]),
+    offset=st.integers(0, 2),
+)
+@example(tokens=[b"123456"], fields=None, offset=0)
+@example(tokens=[b"0:0:0", b"0", b"0:0"], fields=None, offset=0)
+@example(tokens=[b"1:2:3:4"], fields=None, offset=0)
+@example(tokens=[b"1:2:3:4", b"5"], fields=None, offset=0)
+@example(tokens=[b"0::5", b"1:2:3"], fields=None, offset=1)
+def test_time_tokens_read_as_the_pattern_says(
+    tokens: list[bytes], fields: int | None, offset: int
+) -> None:
+    """The times of a column of tokens (a slice of one, as a batch may be) are those of the
+    pattern Webots' ``str_to_time`` accepts, or None."""
+    import pyarrow as pa
+
+    from motiontool.motionfmt import _bulk
+
+    column = pa.array([b"junk"] * offset + tokens, type=pa.binary())[offset:]
+    got = _bulk._times(column, fields)
+    want = _times_reference(tokens, fields)
+    assert (None if got is None else (got[0].tolist(), got[1])) == want
+
+
+def test_parts_whose_times_are_written_differently_take_the_exact_path(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """Webots reads ``m:s:ms`` and ``ms`` times alike; the bulk path reads one way per file."""
+    from motiontool.motionfmt import _bulk
+
+    monkeypatch.setattr(_bulk, "_PART_MIN", 4096)
+    monkeypatch.setattr(_bulk, "_BLOCK", 4096)
+    monkeypatch.setattr(_bulk.os, "cpu_count", lambda: 2)
+    # 1,001 lines m:s:ms then 1,000 lines ms, all 15 bytes: the two parts are cut between them.
+    early = "\n".join(f"00:{t // 1000:02d}:{t % 1000:03d},P,0.5" for t in range(0, 40040, 40))
+    late = "\n".join(f"{t},PP,0.5000" for t in range(40040, 80040, 40))
+    data = f"#WEBOTS_MOTION,V1.0,A\n{early}\n{late}\n".encode()
+    parts = _bulk._parts(data, 22)
+    assert [rows for _, rows in parts] == [1001, 1000]
+    assert _bulk.read_clean_body(data, 1, reader.NO_VALUE_MARKER, 4094, start=22) is None
+    same = data.replace(b"00:", b"").replace(b":", b"")  # every time in ms
+    got = _bulk.read_clean_body(same, 1, reader.NO_VALUE_MARKER, 4094, start=22)
+    assert got is not None and got[0][-1] == 80000 and len(got[0]) == 2001
+    assert_same(data)
+    assert_same(same)
