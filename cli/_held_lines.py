@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.player import commands_at, hold_targets
+from motiontool.motionfmt.player import Holder, commands_at
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
@@ -39,17 +39,14 @@ def held_lines(motion: Motion, timestep_ms: int) -> list[Line]:
     motor = [names.index(j) for j in motion.joints]
     steps = -(-motion.duration_ms // timestep_ms) + 1
     pieces: list[list[Line]] = [[] for _ in motion.joints]
-    initial = holding = None
+    holder = Holder(names)
     for lo in range(0, steps, _CHUNK_STEPS):
         hi = min(lo + _CHUNK_STEPS, steps)
         ahead = min(hi + 1, steps)  # one step more: whether the next one sends a command
         elapsed = np.arange(lo, ahead, dtype=np.int64) * timestep_ms
         targets, sent = commands_at(motion, elapsed)
         n = hi - lo
-        held = hold_targets(
-            targets[:n], sent[:n], motion.joints, names, initial=initial, holding=holding
-        )
-        initial, holding = held.targets[-1], held.holding[-1]
+        held = holder.hold(targets[:n], sent[:n], motion.joints)
         x = elapsed[:n] / MS_PER_S
         for col, k in enumerate(motor):
             after = sent[1 : n + 1, col] if ahead > hi else np.append(sent[1:n, col], True)

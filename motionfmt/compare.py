@@ -28,7 +28,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.player import Held, commands_at, hold_targets, require_held
+from motiontool.motionfmt.player import Held, Holder, commands_at, require_held
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
 if TYPE_CHECKING:
@@ -68,16 +68,11 @@ def joint_names(motion: Motion) -> tuple[str, ...]:
     return tuple(dict.fromkeys(motion.joints))
 
 
-def _held(
-    motion: Motion, names: Sequence[str], elapsed_ms: npt.NDArray[np.int64], after: Held | None
-) -> Held:
-    """What the motors ``names`` hold at the playback times ``elapsed_ms`` (S,): from nothing,
-    or going on from the last row of ``after`` (the previous chunk of steps)."""
+def _held(motion: Motion, elapsed_ms: npt.NDArray[np.int64], holder: Holder) -> Held:
+    """What the motors of ``holder`` hold at the playback times ``elapsed_ms`` (S,), going on
+    from what it held at the previous chunk of steps."""
     targets, sent = commands_at(motion, elapsed_ms)
-    if after is None:
-        return hold_targets(targets, sent, motion.joints, names)
-    initial, holding = after.targets[-1], after.holding[-1]
-    return hold_targets(targets, sent, motion.joints, names, initial=initial, holding=holding)
+    return holder.hold(targets, sent, motion.joints)
 
 
 def held_targets(
@@ -110,7 +105,7 @@ def held_targets(
     end = motion.duration_ms if until_ms is None else until_ms
     require_held(-(-end // timestep_ms) + 1, timestep_ms)
     elapsed = np.arange(-(-end // timestep_ms) + 1, dtype=np.int64) * timestep_ms
-    return elapsed, _held(motion, names, elapsed, None).targets
+    return elapsed, _held(motion, elapsed, Holder(names)).targets
 
 
 def held_pair(
@@ -129,12 +124,11 @@ def held_pair(
 
     n_steps = -(-max(old.duration_ms, new.duration_ms) // timestep_ms) + 1
     parts: list[tuple[npt.NDArray[np.int64], Held, Held]] = []
-    held_old: Held | None = None
-    held_new: Held | None = None
+    hold_old, hold_new = Holder(names), Holder(names)
     for steps, _weights in _compared_steps((old, new), timestep_ms, n_steps):
         elapsed = steps * timestep_ms
-        held_old = _held(old, names, elapsed, held_old)
-        held_new = _held(new, names, elapsed, held_new)
+        held_old = _held(old, elapsed, hold_old)
+        held_new = _held(new, elapsed, hold_new)
         parts.append((elapsed, held_old, held_new))
     return (
         np.concatenate([e for e, _a, _b in parts]),
@@ -444,8 +438,7 @@ def compare_motions(
     end = max(old.duration_ms, new.duration_ms)
     n_steps = -(-end // timestep_ms) + 1
     extremes = _Extremes(len(common))
-    held_old: Held | None = None
-    held_new: Held | None = None
+    hold_old, hold_new = Holder(common), Holder(common)
     if n_steps <= EVERY_STEP_LIMIT:
         chunks = _weighted(_merged(np.empty(0, dtype=np.int64), [(0, n_steps)], n_steps), n_steps)
     else:
@@ -454,9 +447,9 @@ def compare_motions(
     for steps, weights in chunks:
         compared += steps.shape[0]
         elapsed = steps * timestep_ms
-        held_old = _held(old, common, elapsed, held_old)
-        held_new = _held(new, common, elapsed, held_new)
-        extremes.update(steps, held_old, held_new, weights)
+        extremes.update(
+            steps, _held(old, elapsed, hold_old), _held(new, elapsed, hold_new), weights
+        )
     joints = extremes.joint_diffs(common, timestep_ms)
     return MotionDiff(
         timestep_ms=timestep_ms,

@@ -40,6 +40,7 @@ __all__ = [
     "MAX_HELD_STEPS",
     "CommandStream",
     "Held",
+    "Holder",
     "StreamTooLongError",
     "commands_at",
     "elapsed_steps",
@@ -432,3 +433,41 @@ def hold_targets(
         )
         holds[:, gaps] = np.where(before, held_before[gaps][None, :], True)
     return Held(held, sent, holds)
+
+
+class Holder:
+    """:func:`hold_targets` of a stream given a chunk of steps (or poses) at a time, each chunk
+    going on from what the one before left held: the one home of that carry.
+
+    Args:
+        names: the N motors to report, in order (``names`` of :func:`hold_targets`); None: the
+            columns of each chunk as they are.
+        initial, holding: what the motors hold before the first chunk (as in
+            :func:`hold_targets`); after each chunk, the last row of its result.
+    """
+
+    def __init__(
+        self,
+        names: Sequence[str] | None = None,
+        *,
+        initial: npt.NDArray[np.float64] | None = None,
+        holding: npt.NDArray[np.bool_] | None = None,
+    ) -> None:
+        self.names = names
+        self.initial = initial
+        self.holding = holding
+
+    def hold(
+        self,
+        targets: npt.NDArray[np.float64],
+        commanded: npt.NDArray[np.bool_],
+        joints: Sequence[str] | None = None,
+    ) -> Held:
+        """What the motors hold at the chunk's steps: its targets (S, C) and whether each is
+        sent (S, C), of the columns ``joints`` (merged by name as :func:`hold_targets` does)."""
+        held = hold_targets(
+            targets, commanded, joints, self.names, initial=self.initial, holding=self.holding
+        )
+        if held.targets.shape[0]:
+            self.initial, self.holding = held.targets[-1], held.holding[-1]
+        return held

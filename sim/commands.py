@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt import Motion
-from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps, steps_span
+from motiontool.motionfmt.player import Holder, iter_commands, played_steps, steps_span
 
 if TYPE_CHECKING:
     import numpy as np
@@ -116,15 +116,14 @@ def _held(
     initial: npt.NDArray[np.float64],
 ) -> Iterator[Chunk]:
     """What the motors hold at each step of ``streams``, each chunk going on from what the one
-    before left held (:func:`motiontool.motionfmt.player.hold_targets`)."""
+    before left held (:class:`motiontool.motionfmt.player.Holder`)."""
     import numpy as np
 
-    start = initial
+    holder = Holder(joints, initial=initial)
     for targets, sent, names in streams:
-        held = hold_targets(targets, sent, names, joints, initial=start)
+        held = holder.hold(targets, sent, names)
         if not bool(np.isfinite(held.targets[held.sent]).all()):  # play() checks the files first
             raise MotionToolError("a motion commands a non-finite target (nan or inf): not played")
-        start = held.targets[-1]
         yield held.targets, held.sent
 
 

@@ -157,3 +157,18 @@ def test_errors_and_extras_live_at_the_top_level() -> None:
         and node.module in ("motiontool.motionfmt.errors", "motiontool.motionfmt.extras")
     ]
     assert not stray, "import from motiontool.errors / motiontool.extras:\n" + "\n".join(stray)
+
+
+def test_the_held_target_carry_has_one_home() -> None:
+    """What a chunk of a stream leaves held is carried into the next by ``player.Holder``
+    alone: no other call of ``hold_targets`` passes ``initial`` or ``holding`` on."""
+    stray = [
+        f"{rel}:{node.lineno}"
+        for rel, tree in sources()
+        if rel != "motionfmt/player.py"
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Call)
+        and getattr(node.func, "id", getattr(node.func, "attr", None)) == "hold_targets"
+        and {k.arg for k in node.keywords} & {"initial", "holding"}
+    ]
+    assert not stray, "use motiontool.motionfmt.player.Holder:\n" + "\n".join(stray)

@@ -19,7 +19,7 @@ from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.grouping import MAX_RUNS
-from motiontool.motionfmt.player import hold_targets
+from motiontool.motionfmt.player import Holder
 from motiontool.motionfmt.reader import ReadResult
 
 if TYPE_CHECKING:
@@ -232,19 +232,11 @@ class Table:
 
         names = [self.result.joints[group[-1]] for group in self.groups]
         held = np.empty((self.raw.shape[0], len(names)))
-        initial = holding = None
+        holder = Holder(names)
         for lo in range(0, held.shape[0], _HOLD_POSES):  # each block goes on from the last
             hi = lo + _HOLD_POSES
-            part = hold_targets(
-                self.raw[lo:hi],
-                self.raw_sent[lo:hi],
-                self.result.joints,
-                names,
-                initial=initial,
-                holding=holding,
-            )
+            part = holder.hold(self.raw[lo:hi], self.raw_sent[lo:hi], self.result.joints)
             held[lo:hi] = part.targets
-            initial, holding = part.targets[-1], part.holding[-1]
         return held
 
     def segments(

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.player import hold_targets, iter_commands, played_steps, require_held
+from motiontool.motionfmt.player import Holder, iter_commands, played_steps, require_held
 
 if TYPE_CHECKING:
     import numpy as np
@@ -66,17 +66,14 @@ def held_stream(motion: Motion, timestep_ms: int) -> HeldStream:
     motors = tuple(dict.fromkeys(motion.joints))
     elapsed = np.empty(steps, dtype=np.int64)
     targets = np.empty((steps, len(motors)))
-    initial = holding = None
+    holder = Holder(motors)
     at = 0
     # A chunk of the stream at a time: only the held targets are the stream's size.
     for chunk in iter_commands(motion, timestep_ms, chunk_steps=_CHUNK_STEPS):
-        held = hold_targets(
-            chunk.targets, chunk.commanded, motion.joints, motors, initial=initial, holding=holding
-        )
         end = at + chunk.elapsed_ms.shape[0]
         elapsed[at:end] = chunk.elapsed_ms
-        targets[at:end] = held.targets
-        initial, holding, at = held.targets[-1], held.holding[-1], end
+        targets[at:end] = holder.hold(chunk.targets, chunk.commanded, motion.joints).targets
+        at = end
     return HeldStream(motors, elapsed[:at], targets[:at])
 
 

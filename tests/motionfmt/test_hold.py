@@ -4,6 +4,7 @@ column order; a motor keeps its last target."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -106,16 +107,23 @@ def test_columns_kept_as_they_are_without_names() -> None:
         hold_targets(t, c, None, ["A"])
 
 
-def test_a_stream_cut_in_chunks_holds_what_it_holds_whole() -> None:
+@settings(max_examples=60, deadline=None)
+@given(cuts=st.lists(st.integers(0, 40), max_size=5), start=st.booleans())
+def test_a_stream_cut_in_chunks_holds_what_it_holds_whole(cuts: list[int], start: bool) -> None:
+    """``Holder`` carries what each chunk leaves held into the next (an empty chunk
+    included): the chunks join into the stream held whole."""
+    from motiontool.motionfmt.player import Holder
+
     rng = np.random.default_rng(3)
     t = rng.uniform(-1, 1, size=(40, 4))
     c = rng.random((40, 4)) < 0.2
     joints, names = ["A", "B", "A", "C"], ["C", "A", "B", "D"]
-    whole = hold_targets(t, c, joints, names)
-    first = hold_targets(t[:17], c[:17], joints, names)
-    rest = hold_targets(
-        t[17:], c[17:], joints, names, initial=first.targets[-1], holding=first.holding[-1]
-    )
+    initial = np.array([0.5, np.nan, -0.5, 0.25]) if start else None
+    holding = np.array([True, False, True, False]) if start else None
+    whole = hold_targets(t, c, joints, names, initial=initial, holding=holding)
+    holder = Holder(names, initial=initial, holding=holding)
+    bounds = [0, *sorted(cuts), 40]
+    parts = [holder.hold(t[a:b], c[a:b], joints) for a, b in itertools.pairwise(bounds)]
     for field in Held._fields:
-        joined = np.concatenate([getattr(first, field), getattr(rest, field)])
+        joined = np.concatenate([getattr(part, field) for part in parts])
         assert np.array_equal(joined, getattr(whole, field), equal_nan=True), field
