@@ -46,27 +46,40 @@ class MotionDocument:
         self.path = path
         self._as_text = as_text
         self._final_newline = data.endswith(b"\n")
-        lines = data.split(b"\n")
-        if self._final_newline:
-            lines.pop()
-        n = len(result.times_ms)
-        # The header is line 1 and the poses are lines 2..n+1: in a file Webots accepts, every
-        # line before the terminating blank line is a pose.
-        self._header = lines[0]
-        self._poses = lines[1 : n + 1]
-        self._suffix = lines[n + 1 :]
-        self._crlf = self._header.endswith(b"\r")
+        header, first_pose = data.split(b"\n", 2)[:2]
+        self._crlf = header.endswith(b"\r")
         self.joints: tuple[str, ...] = tuple(result.joints)
-        first_time = self._cell(0, 0).decode("ascii")
-        self.time_style = TimeStyle.of(first_time.strip())
+        a, b = token_spans(first_pose)[0]
+        self.time_style = TimeStyle.of(first_pose[a:b].decode("ascii").strip())
         self._result: ReadResult | None = result
         self._read = data  # the bytes of _result, while it is current (see _edited)
+        # The lines, split from the bytes when first needed (an edit, a cell): a document only
+        # read and written back never holds its bytes twice.
+        self._lines: tuple[bytes, list[bytes], list[bytes]] | None = None
+        self._n_read = len(result.times_ms)
+
+    @property
+    def _parts(self) -> tuple[bytes, list[bytes], list[bytes]]:
+        """(header line, pose lines, lines after the terminating blank line), split from the
+        bytes read on first use. The header is line 1 and the poses are lines 2..n+1: in a
+        file Webots accepts, every line before the terminating blank line is a pose."""
+        if self._lines is None:
+            lines = self._read.split(b"\n")
+            if self._final_newline:
+                lines.pop()
+            n = self._n_read
+            self._lines = (lines[0], lines[1 : n + 1], lines[n + 1 :])
+        return self._lines
+
+    @property
+    def _poses(self) -> list[bytes]:
+        return self._parts[1]
 
     # -- reading ----------------------------------------------------------------------------------
 
     @property
     def n_poses(self) -> int:
-        return len(self._poses)
+        return self._n_read if self._lines is None else len(self._lines[1])
 
     @property
     def result(self) -> ReadResult:
@@ -89,7 +102,8 @@ class MotionDocument:
         """The document's bytes; equal to the input until an edit."""
         if self._result is not None:  # no edit since they were read: the same bytes
             return self._read
-        body = b"\n".join([self._header, *self._poses, *self._suffix])
+        header, poses, suffix = self._parts
+        body = b"\n".join([header, *poses, *suffix])
         return body + b"\n" if self._final_newline else body
 
     def dumps(self) -> bytes | str:
@@ -190,8 +204,8 @@ class MotionDocument:
                 f"cannot insert poses at indices that decrease or pass {self.n_poses}"
             )
         eol = b"\r" if self._crlf else b""
-        poses = self._poses  # left as it is until every new line is made (one may raise)
-        open_end = eol and not self._suffix and not self._final_newline
+        header, poses, suffix = self._parts  # left as they are until every new line is made
+        open_end = eol and not suffix and not self._final_newline
         if open_end:  # the last line has no end; the one that is last after this gets none
             poses = [*poses[:-1], poses[-1] + eol]
         out: list[bytes] = []
@@ -206,7 +220,7 @@ class MotionDocument:
         out.extend(poses[done:])
         if open_end:
             out[-1] = out[-1][: -len(eol)]
-        self._poses = out
+        self._lines = (header, out, suffix)
         self._edited()
 
 

@@ -32,6 +32,7 @@ __all__ = [
     "cell_tokens",
     "join_columns",
     "lf_block",
+    "pose_block",
     "refuse_duplicates",
     "repair",
     "replace_cells",
@@ -72,6 +73,23 @@ class PoseLines:
     def to_bytes(self) -> bytes:
         body = b"\n".join([self.header, *self.poses, *self.suffix])
         return body + b"\n" if self.final_newline else body
+
+
+def pose_block(data: bytes, n_poses: int) -> tuple[int, int]:
+    """(start, stop): where the ``n_poses`` pose lines of a document's bytes ``data`` are, from
+    the first byte of line 2 to the end of the last pose line (newline excluded); found
+    without splitting the lines (one ``count``, or a ``find`` per line where lines follow the
+    poses)."""
+    start = data.index(b"\n") + 1
+    newlines = data.count(b"\n", start)
+    if newlines == n_poses and data.endswith(b"\n"):
+        return start, len(data) - 1
+    if newlines == n_poses - 1 and not data.endswith(b"\n"):
+        return start, len(data)
+    stop = start
+    for _ in range(n_poses):  # lines after a blank line follow the poses
+        stop = data.index(b"\n", stop) + 1
+    return start, stop - 1
 
 
 def split_cells(line: bytes) -> list[bytes] | None:

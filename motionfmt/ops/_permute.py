@@ -55,8 +55,11 @@ def permute_cells(
     eol: bytes,
     cells: Sequence[int],
     negate: npt.NDArray[np.bool_],
+    head: bytes = b"",
+    tail: bytes = b"",
 ) -> bytes | None:
-    """The pose block with every line's cells rearranged, by a numpy gather of its bytes.
+    """The pose block with every line's cells rearranged, by a numpy gather of its bytes,
+    between ``head`` and ``tail`` (joined once: the file's bytes are made once).
 
     Output cell ``k`` of line ``p`` is input cell ``cells[k]`` of that line, negated where
     ``negate[p, k]`` (shape (n_lines, len(cells)), bool; column 0, the time, never) as
@@ -73,28 +76,29 @@ def permute_cells(
     if plain is None or bool(negate[:, 0].any()):
         return None
     n_cells = len(cells)
-    gather = _Gather.of(plain, n_lines, n_cells, eol)
-    spans = _cell_spans(gather.text, n_lines, n_cells, gather.idx)
-    if spans is None:
-        return None
-    starts, stops = spans
     order = np.asarray(cells, dtype=np.intp)
-    # Lines are done about a megabyte of input at a time: the index arrays stay small (one
-    # index for the whole file is 4 bytes per byte, and fresh memory is slow to touch).
-    rows = max(1, _GATHER_BYTES * n_lines // max(gather.size, 1))
+    # Lines are done about a megabyte of input at a time, each such block on its own: the
+    # offsets, masks and index arrays stay that small (for the whole file they are several
+    # times its size, and fresh memory is slow to touch).
+    line_end = np.flatnonzero(np.frombuffer(plain, dtype=np.uint8) == 10)  # 10: '\n'
+    if line_end.shape[0] != n_lines - 1:
+        return None
+    line_start = np.concatenate(([0], line_end + 1, [len(plain) + 1]))
+    rows = max(1, _GATHER_BYTES * n_lines // max(len(plain), 1))
     parts = []
     for a in range(0, n_lines, rows):
         b = min(a + rows, n_lines)
+        gather = _Gather.of(plain[line_start[a] : line_start[b] - 1], b - a, n_cells, eol)
+        spans = _cell_spans(gather.text, b - a, n_cells, gather.idx)
+        if spans is None:
+            return None
+        starts, stops = spans
         parts.append(
             gather.lines(
-                starts[a:b, order],
-                stops[a:b, order],
-                negate[a:b],
-                opens=a == 0,
-                closes=b == n_lines,
+                starts[:, order], stops[:, order], negate[a:b], opens=a == 0, closes=b == n_lines
             )
         )
-    return b"".join(parts)
+    return b"".join([head, *parts, tail])
 
 
 def _cell_spans(

@@ -23,6 +23,7 @@ from motiontool.motionfmt.ops._cells import (
     cell_columns,
     cell_tokens,
     join_columns,
+    pose_block,
     refuse_duplicates,
     repair,
     replace_cells,
@@ -164,12 +165,6 @@ def _mirror_header(header: bytes, plan: _MirrorPlan) -> bytes:
     return header
 
 
-def _pose_span(lines: PoseLines) -> tuple[int, int]:
-    """(start, stop): where the pose lines are in the bytes ``lines`` was split from."""
-    start = len(lines.header) + 1
-    return start, start + sum(map(len, lines.poses)) + len(lines.poses) - 1
-
-
 def _mirror_gather(doc: MotionDocument, plan: _MirrorPlan) -> bytes | None:
     """The bytes of ``doc``'s mirror image, the pose lines rearranged by :func:`permute_cells`;
     None where that does not apply (then the per-cell path of :func:`_mirror_bytes`)."""
@@ -178,15 +173,14 @@ def _mirror_gather(doc: MotionDocument, plan: _MirrorPlan) -> bytes | None:
     if not plan.moves:
         return None
     data = doc.to_bytes()
-    lines = PoseLines.of_bytes(data, doc.n_poses)
-    start, stop = _pose_span(lines)
-    negate = np.zeros((len(lines.poses), 2 + len(plan.source)), dtype=bool)
+    start, stop = pose_block(data, doc.n_poses)
+    header = data[: start - 1]
+    negate = np.zeros((doc.n_poses, 2 + len(plan.source)), dtype=bool)
     negate[:, 2:] = plan.flip
     cells = [0, 1, *(2 + k for k in plan.source)]
-    out = permute_cells(data[start:stop], len(lines.poses), lines.eol, cells, negate)
-    if out is None:
-        return None
-    return b"".join([_mirror_header(lines.header, plan), b"\n", out, data[stop:]])
+    eol = b"\r" if header.endswith(b"\r") else b""
+    head = _mirror_header(header, plan) + b"\n"
+    return permute_cells(data[start:stop], doc.n_poses, eol, cells, negate, head, data[stop:])
 
 
 def _mirror_bytes(doc: MotionDocument, plan: _MirrorPlan, *, gather: bool = True) -> bytes:
@@ -203,7 +197,7 @@ def _mirror_bytes(doc: MotionDocument, plan: _MirrorPlan, *, gather: bool = True
     source, signs, moves = plan.source, plan.signs, plan.moves
     data = doc.to_bytes()
     lines = PoseLines.of_bytes(data, doc.n_poses)
-    start, stop = _pose_span(lines)  # before the header is renamed: a slice of ``data``
+    start, stop = pose_block(data, doc.n_poses)
     lines.header = _mirror_header(lines.header, plan)
     fast = plain = False
     if moves:

@@ -276,3 +276,17 @@ def test_an_insert_that_fails_leaves_the_document_as_it_was(block: int) -> None:
     assert doc.to_bytes() == data
     doc.insert_poses([2], [200], ["P3"], np.zeros((1, 1)))
     assert doc.to_bytes() == data + b"\r\n200,P3,0"
+
+
+@settings(max_examples=60, deadline=None)
+@given(motion_files())
+def test_a_document_splits_its_lines_only_to_edit_them(data: bytes) -> None:
+    """Read and written back, a document holds its bytes once (its lines are not split);
+    its first edit splits them, with the same pose count and bytes as before."""
+    doc = loads(data)
+    assert doc.to_bytes() == data and doc.n_poses == len(doc.motion.times_ms)
+    assert doc._lines is None
+    n = doc.n_poses
+    doc.set_value(0, 0, float(doc.motion.values[0, 0]) + 0.5)
+    assert doc._lines is not None and doc.n_poses == n
+    assert doc.result.motion.n_poses == n

@@ -270,3 +270,19 @@ def test_the_gather_leaves_lines_that_are_not_plain_to_the_per_cell_path(
     negate[1, 2] = True
     plain = b"0,P,1,2\n40,Q,2,3"
     assert permute_cells(plain, 2, b"", [0, 1, 3, 2], negate) == b"0,P,2,1\n40,Q,-3,2"
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(case=mirror_cases())
+def test_the_pose_block_is_where_the_split_lines_say(case: tuple[bytes, Mapping]) -> None:
+    """``pose_block`` finds the pose lines without splitting the file: the span the split
+    lines give (LF or CRLF, with or without a final newline, lines after a blank line)."""
+    from motiontool.motionfmt.ops._cells import PoseLines, pose_block
+
+    data, _mapping = case
+    n = loads(data).n_poses
+    lines = PoseLines.of_bytes(data, n)
+    start = len(lines.header) + 1
+    stop = start + sum(map(len, lines.poses)) + len(lines.poses) - 1
+    assert pose_block(data, n) == (start, stop)
+    assert data[start:stop].split(b"\n") == lines.poses
