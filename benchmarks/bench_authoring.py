@@ -8,15 +8,24 @@ file). Target (issue 12): < 2 s each. concat joins the file and a 2-pose motion 
 the file joined with itself (52 MB out, two reads of twice the data) is printed too. scale
 (x0.5: every cell re-spelt), resample (a 30 ms grid, its deviation compared at every ms) and diff
 (the file against its scaled copy at every ms: 4 million steps) are printed for information.
+
+Then the peak memory of each command as a whole process (``motiontool mirror big.motion -o
+out.motion``, ...; GNU time), against ``motiontool info big.motion`` (which reads the file) in
+the same run, and per MB of file. No target: a command that edits a document holds it, and what
+it writes (for the record; ``validate``, ``sample``, ``diff`` and ``plot`` are measured flat by
+``bench_findings.py`` and ``bench_duration.py``).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
+import sys
 import tempfile
 from pathlib import Path
 
-from _timing import best_of  # benchmarks/_timing.py (run as a script)
+from _timing import best_child, best_of  # benchmarks/_timing.py (run as a script)
 from bench_validate import JOINTS, make_file
 
 
@@ -104,6 +113,33 @@ def main() -> None:
         ):
             t = best_of(args.repeat, fn)
             print(f"{label:<41} {t:.3f} s  ratio {t / t_base:.2f}x baseline  (for information)")
+        peaks(big, Path(tmp))
+
+
+def peaks(big: Path, tmp: Path) -> None:
+    """Peak resident memory of each command on ``big``, whole process, against ``info``."""
+    script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
+    out = str(tmp / "out.motion")
+    size_mb = big.stat().st_size / 2**20
+    base = best_child(1, [script, "info", str(big)])
+    print(f"peak memory, whole process ({size_mb:.0f} MiB file):")
+    print(
+        f"  {'info (reads the file)':<36} {base.peak_mib:6.0f} MiB  {base.peak_mib / size_mb:4.1f}x the file"
+    )
+    for label, args in (
+        ("mirror", ["mirror", str(big), "-o", out]),
+        ("trim (80 %)", ["trim", str(big), "-o", out, "--from", "1000", "--to", "3200000"]),
+        ("retime --speed 0.5", ["retime", str(big), "-o", out, "--speed", "0.5"]),
+        ("scale --amplitude 0.5", ["scale", str(big), "-o", out, "--amplitude", "0.5"]),
+        ("resample --step 20", ["resample", str(big), "-o", out, "--step", "20"]),
+    ):
+        child = best_child(1, [script, *args])
+        if child.returncode not in (0, 1):
+            raise SystemExit(f"{label}: exit status {child.returncode}")
+        print(
+            f"  {label:<36} {child.peak_mib:6.0f} MiB  {child.peak_mib / size_mb:4.1f}x the file,"
+            f" {child.peak_mib / base.peak_mib:.2f}x info's"
+        )
 
 
 if __name__ == "__main__":
