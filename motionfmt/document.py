@@ -46,8 +46,10 @@ class MotionDocument:
         self.path = path
         self._as_text = as_text
         self._final_newline = data.endswith(b"\n")
-        header, first_pose = data.split(b"\n", 2)[:2]
-        self._crlf = header.endswith(b"\r")
+        first = data.index(b"\n") + 1  # a file Webots accepts has a pose line after its header
+        self._crlf = data[:first].endswith(b"\r\n")
+        end = data.find(b"\n", first)
+        first_pose = data[first : end if end >= 0 else len(data)]
         self.joints: tuple[str, ...] = tuple(result.joints)
         a, b = token_spans(first_pose)[0]
         self.time_style = TimeStyle.of(first_pose[a:b].decode("ascii").strip())
