@@ -26,7 +26,7 @@ from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fit_limits import fit_limits
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
-from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
+from motiontool.motionfmt.reader import ReadResult, read_bytes
 from motiontool.motionfmt.retime import TimeOverflowError
 
 __all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
@@ -81,15 +81,16 @@ def clamp_fixes(
     order = np.argsort(poses_at, kind="stable")
     for lo in range(0, order.shape[0], _CELLS):  # Python numbers for a block of cells at a time
         k = order[lo : lo + _CELLS]
-        for i, j, pose, bound in zip(
-            k.tolist(), cols[k].tolist(), poses_at[k].tolist(), bounds[k].tolist(), strict=True
+        js = cols[k].tolist()
+        spans = result.cell_spans((first + poses_at[k]).tolist(), js)
+        for i, j, bound, (line, start, end) in zip(
+            k.tolist(), js, bounds[k].tolist(), spans, strict=True
         ):
             if (j, bound) not in said:
                 name = result.joints[j]
                 title = f"{CLAMP_TITLE}: {name} = {bound!r} {spec.joint(name).unit}"
                 said[j, bound] = (name, repr(bound).encode(), title)
             name, text, title = said[j, bound]
-            line, start, end = result.cell_span(first + pose, j)
             fixes[i] = Fix("MT302", line, start, end, text, False, title, name)
     return cast("list[Fix]", fixes)  # every entry was set
 
@@ -114,13 +115,15 @@ def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -
     doc = MotionDocument(data, path)
     doc.set_times(list(fitted.times_ms))
     new_lines = doc.to_bytes().split(b"\n")
+    moved = [
+        p for p, (old, new) in enumerate(zip(times, fitted.times_ms, strict=True)) if old != new
+    ]
+    cells: list[int | None] = [None] * len(moved)  # the time cells, in the file and edited
     fixes = []
-    for p, (old, new) in enumerate(zip(times, fitted.times_ms, strict=True)):
-        if old == new:
-            continue
-        line, start, end = result.cell_span(p, None)
-        a, b = token_spans(new_lines[line - 1].rstrip(b"\r"))[0]
-        text = new_lines[line - 1][a:b]
+    for (line, start, end), (_line, a, b) in zip(
+        result.cell_spans(moved, cells), doc.result.cell_spans(moved, cells), strict=True
+    ):
+        text = new_lines[line - 1][a - 1 : b - 1]
         fixes.append(Fix("MT303", line, start, end, text, False, STRETCH_TITLE))
     return fixes
 

@@ -131,12 +131,17 @@ class MotionDocument:
         return line[a:b]
 
     def _set_cell(self, pose: int, cell: int, text: str) -> None:
+        a, b = token_spans(self._poses[pose])[cell]
+        self._put(pose, a, b, text)
+        self._edited()
+
+    def _put(self, pose: int, a: int, b: int, text: str) -> None:
+        """Token ``[a, b)`` (byte offsets) of pose line ``pose`` spelt ``text``, keeping the
+        token's leading white space (the caller says the document was edited)."""
         line = self._poses[pose]
-        a, b = token_spans(line)[cell]
         token = line[a:b]
         lead = len(token) - len(token.lstrip(b" \t"))
         self._poses[pose] = line[: a + lead] + text.encode("utf-8") + line[b:]
-        self._edited()
 
     def set_value(self, pose: int, joint: int | str, value: float) -> None:
         """Set one cell; NaN writes ``*`` (no command). Cells equal to ``value`` keep their
@@ -165,10 +170,15 @@ class MotionDocument:
         if len(times_ms) != self.n_poses:
             raise MotionToolError(f"expected {self.n_poses} times, got {len(times_ms)}")
         _check_increasing(times_ms)
-        old = self.result.times_ms
-        for p, t in enumerate(times_ms):
-            if old[p] != t:
-                self._set_cell(p, 0, format_time(int(t), self.time_style))
+        read = self.result
+        pairs = zip(read.times_ms, times_ms, strict=True)
+        changed = [p for p, (was, now) in enumerate(pairs) if was != now]
+        # The time cells as read, found a block of lines at a time: each line is edited once.
+        spans = read.cell_spans(changed, [None] * len(changed))
+        for p, (_line, start, end) in zip(changed, spans, strict=True):
+            self._put(p, start - 1, end - 1, format_time(int(times_ms[p]), self.time_style))
+        if changed:
+            self._edited()
 
     def delete_pose(self, pose: int) -> None:
         """Remove one pose line."""

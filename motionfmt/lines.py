@@ -15,6 +15,11 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from typing import Any
+
+    import numpy as np
+    import numpy.typing as npt
+
     from motiontool.motionfmt._read_state import ReadState
 
 __all__ = [
@@ -24,6 +29,7 @@ __all__ = [
     "check_utf8",
     "decode_name",
     "fgets_pieces",
+    "plain_cell_spans",
     "show",
     "token_spans",
 ]
@@ -50,6 +56,35 @@ def token_spans(piece: bytes) -> list[tuple[int, int]]:
             spans.append((start, end))
         start = end + 1
     return spans
+
+
+def plain_cell_spans(
+    text: npt.NDArray[np.uint8], n_lines: int, n_cells: int, idx: type[np.signedinteger[Any]]
+) -> tuple[npt.NDArray[np.signedinteger[Any]], npt.NDArray[np.signedinteger[Any]]] | None:
+    """:func:`token_spans` of many lines at once, where they are plain: where each cell of
+    ``text`` (``n_lines`` lines joined by ``\\n``, without CR or NUL) starts and stops, two
+    (n_lines, n_cells) arrays of byte offsets in ``text`` (``stop`` past the cell's last byte,
+    dtype ``idx``); None unless every line has ``n_cells`` cells and none is empty (then
+    ``strtok`` finds exactly those)."""
+    import numpy as np
+
+    seps = np.flatnonzero((text == 44) | (text == 10))  # 44: ',', 10: '\n'
+    if seps.shape[0] != n_lines * n_cells - 1:
+        return None
+    newline = text[seps] == 10
+    if int(np.count_nonzero(newline)) != n_lines - 1:
+        return None
+    if not bool(newline[n_cells - 1 :: n_cells].all()):
+        return None  # a line with more or fewer cells than the others
+    bounds = np.empty(n_lines * n_cells + 1, dtype=idx)
+    bounds[0] = -1
+    bounds[1:-1] = seps
+    bounds[-1] = text.shape[0]
+    starts = (bounds[:-1] + 1).reshape(n_lines, n_cells)
+    stops = bounds[1:].reshape(n_lines, n_cells)
+    if int((stops - starts).min()) < 1:
+        return None  # an empty cell
+    return starts, stops
 
 
 def show(token: bytes, limit: int = 40) -> str:

@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
+from motiontool.motionfmt.lines import plain_cell_spans
 from motiontool.motionfmt.ops._cells import lf_block
 
 if TYPE_CHECKING:
@@ -109,27 +110,14 @@ def _cell_spans(
     every line has ``n_cells`` cells, none empty nor starting with white space or ``+``."""
     import numpy as np
 
-    seps = np.flatnonzero((text == 44) | (text == 10))  # 44: ',', 10: '\n'
-    if seps.shape[0] != n_lines * n_cells - 1:
+    spans = plain_cell_spans(text, n_lines, n_cells, idx)
+    if spans is None:
         return None
-    newline = text[seps] == 10
-    if int(np.count_nonzero(newline)) != n_lines - 1:
-        return None
-    if not bool(newline[n_cells - 1 :: n_cells].all()):
-        return None  # a line with more or fewer cells than the others
-    bounds = np.empty(n_lines * n_cells + 1, dtype=idx)
-    bounds[0] = -1
-    bounds[1:-1] = seps
-    bounds[-1] = text.shape[0]
-    starts = (bounds[:-1] + 1).reshape(n_lines, n_cells)
-    stops = bounds[1:].reshape(n_lines, n_cells)
-    if int((stops - starts).min()) < 1:
-        return None  # an empty cell
     odd = np.zeros(256, dtype=bool)
     odd[[start[1] for start in ODD_STARTS]] = True
-    if bool(odd[text[starts]].any()):
+    if bool(odd[text[spans[0]]].any()):
         return None  # a cell that starts with white space or '+'
-    return starts, stops
+    return spans
 
 
 @dataclass(frozen=True)
