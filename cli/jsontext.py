@@ -53,19 +53,31 @@ def escape_undecodable(value: Any) -> tuple[Any, int]:
     and how many were."""
     if isinstance(value, str):
         return _escape(value)
+    if isinstance(value, dict | list | tuple) and not _LONE.search(
+        json.dumps(value, ensure_ascii=False, check_circular=False)
+    ):
+        return value, 0  # no string to escape: one pass of the C encoder tells (a fix of a
+        # million cells is walked in seconds)
+    return _escape_walk(value)
+
+
+def _escape_walk(value: Any) -> tuple[Any, int]:
+    """:func:`escape_undecodable`, item by item."""
+    if isinstance(value, str):
+        return _escape(value)
     if isinstance(value, dict):
         out: dict[str, Any] = {}
         total = 0
         for k, v in value.items():
             key, n = _escape(k) if isinstance(k, str) else (k, 0)
-            out[key], m = escape_undecodable(v)
+            out[key], m = _escape_walk(v)
             total += n + m
         return out, total
     if isinstance(value, list | tuple):
         items = []
         total = 0
         for v in value:
-            item, n = escape_undecodable(v)
+            item, n = _escape_walk(v)
             items.append(item)
             total += n
         return items, total
