@@ -31,7 +31,6 @@ import dataclasses
 import difflib
 import fnmatch
 import re
-import tomllib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
@@ -223,6 +222,8 @@ def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
         raise ConfigError(f"cannot read '{path}': {reason}") from exc
+    import tomllib  # only where a configuration file is found
+
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 from collections.abc import Callable, Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import AnyStr
@@ -201,6 +200,8 @@ def require_folder(path: Path | None, option: str) -> None:
             f"{option} '{path}' is not a folder; name a folder (it is created if missing)"
         )
     if os.path.isdir(path):  # a folder where nothing can be written: say so once, up front
+        import tempfile
+
         try:
             tempfile.TemporaryFile(dir=path).close()
         except OSError as exc:

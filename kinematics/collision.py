@@ -30,7 +30,6 @@ when step 5 has candidates: the tables of steps 1-4 come from the disk cache
 from __future__ import annotations
 
 import os
-from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
@@ -361,8 +360,13 @@ def _in_blocks(block: Callable[[int], _Candidates], n: int) -> _Candidates:
     import numpy as np
 
     starts = range(0, n, _BLOCK)
-    with ThreadPoolExecutor(max_workers=min(_THREADS, os.cpu_count() or 1)) as pool:
-        blocks = list(pool.map(block, starts))
+    if len(starts) == 1:  # one block: no thread to start
+        blocks = [block(0)]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=min(_THREADS, os.cpu_count() or 1)) as pool:
+            blocks = list(pool.map(block, starts))
     rows = np.concatenate([r + k for k, (r, _p, _b) in zip(starts, blocks, strict=True)])
     pairs = np.concatenate([p for _r, p, _b in blocks])
     bound = np.concatenate([b for _r, _p, b in blocks])
