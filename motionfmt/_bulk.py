@@ -148,7 +148,6 @@ def _parts(data: bytes, start: int) -> list[tuple[memoryview, int]]:
     """``data[start:]`` cut after a newline into as many parts as there are cores (at most
     :data:`_PARTS`; one for a file under :data:`_PART_MIN` bytes), each with its number of
     lines."""
-
     count = min(_PARTS, os.cpu_count() or 1, max(1, (len(data) - start) // _PART_MIN))
     cuts = [start]
     for i in range(1, count):

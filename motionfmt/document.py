@@ -175,10 +175,12 @@ class MotionDocument:
         changed = [p for p, (was, now) in enumerate(pairs) if was != now]
         # The time cells as read, found a block of lines at a time: each line is edited once.
         spans = read.cell_spans(changed, [None] * len(changed))
-        for p, (_line, start, end) in zip(changed, spans, strict=True):
-            self._put(p, start - 1, end - 1, format_time(int(times_ms[p]), self.time_style))
-        if changed:
-            self._edited()
+        try:
+            for p, (_line, start, end) in zip(changed, spans, strict=True):
+                self._put(p, start - 1, end - 1, format_time(int(times_ms[p]), self.time_style))
+        finally:
+            if changed:
+                self._edited()
 
     def delete_pose(self, pose: int) -> None:
         """Remove one pose line."""
