@@ -180,6 +180,17 @@ def geometry_centers(
     return geometry_poses(tables, q_motors)[1]
 
 
+def _distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
+    """The sorted distinct values of a 1-D integer array, as ``np.unique`` gives them (which,
+    in numpy 2.4, imports ``numpy.ma`` on first use: 30 ms of a pre-commit run)."""
+    import numpy as np
+
+    ordered = np.sort(values)
+    if ordered.shape[0] == 0:
+        return ordered
+    return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
+
+
 def _joint_broad_phase(
     tables: KinematicTables,
     fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
@@ -193,9 +204,9 @@ def _joint_broad_phase(
 
     rot, pos = _joint_first(fk)
     n = rot.shape[1]
-    groups = np.unique(tables.pair_group[active])
+    groups = _distinct(tables.pair_group[active])
     ja, jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]
-    used = np.unique(np.concatenate([ja, jb]))
+    used = _distinct(np.concatenate([ja, jb]))
     slot = np.zeros(tables.joint_parent.shape[0], dtype=np.int64)
     slot[used] = np.arange(used.shape[0])
     xyz = np.empty((3, used.shape[0], n))  # a row per joint used: gathers copy whole rows

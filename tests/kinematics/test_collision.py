@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import RobotSpec, _pinocchio, load_robot, self_collision_depths
@@ -176,3 +178,13 @@ def test_configurations_are_scanned_in_blocks(monkeypatch: pytest.MonkeyPatch) -
     blocks = scan_self_collisions(spec, q, penetration_tolerance_m=0.005)
     assert [c[:3] for c in blocks] == [c[:3] for c in whole] and whole
     np.testing.assert_allclose([c.depth_m for c in blocks], [c.depth_m for c in whole], atol=1e-6)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.lists(st.integers(-5, 50), max_size=40))
+def test_distinct_values_are_np_uniques(values: list[int]) -> None:
+    from motiontool.kinematics.collision import _distinct
+
+    a = np.array(values, dtype=np.int64)
+    got = _distinct(a)
+    assert got.dtype == a.dtype and got.tolist() == np.unique(a).tolist()
