@@ -19,7 +19,6 @@ import functools
 import hashlib
 import importlib.util
 import os
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -118,6 +117,8 @@ def _load(path: Path) -> KinematicTables | None:
 def _save(path: Path, tables: KinematicTables) -> None:
     """Store ``tables`` at ``path`` (a temporary file, then a rename); a failure is ignored:
     the next run builds them again."""
+    import tempfile
+
     import numpy as np
 
     arrays = {name: np.array(value) for name, value in tables._asdict().items()}

@@ -9,10 +9,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.cscan import INT_MAX
+
+if TYPE_CHECKING:
+    from fractions import Fraction
 
 __all__ = [
     "MAX_TIME_MS",
@@ -110,7 +113,7 @@ def require_in_range(new: Sequence[int], how: str) -> None:
 
 
 def _round_half_up(x: Fraction) -> int:
-    return math.floor(x + Fraction(1, 2))
+    return (math.floor(2 * x) + 1) // 2  # floor(x + 1/2), in integers
 
 
 def _strictly_increasing(times: list[int], last_ms: int | None = None) -> list[int]:
@@ -138,6 +141,8 @@ def scale_times(times_ms: Sequence[int], speed: float) -> Retimed:
     """
     if not (math.isfinite(speed) and speed > 0):
         raise MotionToolError(f"the speed factor must be a positive number, got {speed}")
+    from fractions import Fraction  # exact arithmetic, only where times change
+
     exact = [Fraction(int(t)) / Fraction(speed) for t in times_ms]
     new = _strictly_increasing([_round_half_up(x) for x in exact])
     require_in_range(new, f"retiming at speed x{speed:g}")
@@ -164,6 +169,8 @@ def fit_duration(times_ms: Sequence[int], duration_ms: int) -> Retimed:
         )
     if last == 0:
         raise MotionToolError("the motion's only pose time is 0 ms: there is no duration to scale")
+    from fractions import Fraction
+
     exact = [Fraction(t * duration_ms, last) for t in old]
     new = _strictly_increasing([_round_half_up(x) for x in exact], last_ms=duration_ms)
     return Retimed(tuple(old), tuple(new), rounding_ms=_off(new, exact))

@@ -8,7 +8,6 @@ import functools
 import hashlib
 import itertools
 import os
-import tempfile
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -317,6 +316,8 @@ class Fingerprints:
 
 
 def _no_disk(exc: Exception) -> MotionToolError:
+    import tempfile
+
     return MotionToolError(
         f"cannot count a file's findings in a temporary file under {tempfile.gettempdir()}: "
         f"{exc}; is that disk full?"
