@@ -88,7 +88,10 @@ class MotionDocument:
         """The current content read as Webots reads it (re-read after edits)."""
         if self._result is None:
             data = self.to_bytes()
-            self._result, self._read = read_bytes(data, self.path), data
+            if self._lines is not None:  # the bytes hold them now: split again if edited again
+                self._n_read, self._lines = len(self._lines[1]), None
+            self._read = data
+            self._result = read_bytes(data, self.path)
         return self._result
 
     @property
