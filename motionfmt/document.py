@@ -111,6 +111,17 @@ class MotionDocument:
         body = b"\n".join([header, *poses, *suffix])
         return body + b"\n" if self._final_newline else body
 
+    def copy(self) -> MotionDocument:
+        """A document to edit on its own: the same content as this one, which its edits leave
+        as it is (nothing is read again: the two share the bytes and the read until either
+        is edited)."""
+        twin = object.__new__(MotionDocument)
+        twin.__dict__.update(self.__dict__)
+        if self._lines is not None:
+            header, poses, suffix = self._lines
+            twin._lines = (header, list(poses), list(suffix))
+        return twin
+
     def dumps(self) -> bytes | str:
         """The document as it was given to :func:`loads`: ``str`` in, ``str`` out."""
         data = self.to_bytes()

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
-from motiontool.motionfmt.document import MotionDocument, loads
+from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import require_held, targets_at
 from motiontool.motionfmt.writer import pose_name
@@ -288,7 +288,7 @@ def resample(
         raise MotionToolError(f"the maximum error must be >= 0 rad, got {max_error}")
     original = doc.motion
     refuse_non_finite(original, doc.result, "resampling")
-    out = loads(doc.to_bytes(), doc.path)
+    out = doc.copy()
     inserted = dropped = 0
     grid_has_keyframes = True
     if step_ms is not None:

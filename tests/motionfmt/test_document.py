@@ -290,3 +290,26 @@ def test_a_document_splits_its_lines_only_to_edit_them(data: bytes) -> None:
     doc.set_value(0, 0, float(doc.motion.values[0, 0]) + 0.5)
     assert doc._lines is not None and doc.n_poses == n
     assert doc.result.motion.n_poses == n
+
+
+@settings(max_examples=80, deadline=None)
+@given(motion_files(), st.sampled_from(["none", "read", "edited"]), st.data())
+def test_a_copy_is_edited_on_its_own(data: bytes, state: str, draw: st.DataObject) -> None:
+    """A copy and its original share nothing an edit of either changes: each edit shows in
+    the one edited only, whatever the original had done before (read, edited, neither)."""
+    doc = loads(data)
+    if state == "read":
+        doc.result  # noqa: B018
+    elif state == "edited":
+        doc.set_value(0, 0, 0.25)
+    before = doc.to_bytes()
+    twin = doc.copy()
+    assert twin.to_bytes() == before and twin.n_poses == doc.n_poses
+    twin.set_value(0, 0, draw.draw(st.floats(-3, 3)))  # in place, first
+    last = int(twin.motion.times_ms[-1])
+    twin.insert_pose(twin.n_poses, last + 40, "New", [0.5] * len(twin.joints))
+    assert doc.to_bytes() == before and doc.n_poses == twin.n_poses - 1
+    assert doc.result.motion.n_poses == doc.n_poses
+    doc.delete_pose(0) if doc.n_poses > 1 else doc.set_value(0, 0, 1.5)
+    assert twin.result.motion.n_poses == twin.n_poses
+    assert twin.to_bytes() == loads(twin.to_bytes()).to_bytes()
