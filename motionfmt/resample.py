@@ -109,13 +109,7 @@ def _window_ok(
     bound: float,
 ) -> bool:
     """Whether one segment from pose ``a`` to pose ``b`` of (t, v) commands what the original
-    (t0, v0) commands over ``(t[a], t[b]]``, within ``bound`` rad.
-
-    Per joint: if an end of the new segment is ``*``, the new segment commands nothing, so every
-    original segment it spans must touch a ``*``; otherwise none may, and the line must stay
-    within ``bound`` of the original at the original pose times inside (both are piecewise linear
-    with corners only there, so that is where they differ most).
-    """
+    (t0, v0) commands over ``(t[a], t[b]]``, within ``bound`` rad (:func:`_reproduce`)."""
     import numpy as np
 
     ta, tb = t[a], t[b]
@@ -124,18 +118,48 @@ def _window_ok(
     lo, hi = max(lo, 0), min(hi, t0.shape[0] - 1)
     seg = v0[lo : hi + 1]
     seg_nan = np.isnan(seg[:-1]) | np.isnan(seg[1:])  # original segments lo..hi-1
-    new_nan = np.isnan(v[a]) | np.isnan(v[b])
-    if np.any(new_nan & ~seg_nan.all(axis=0)) or np.any(~new_nan & seg_nan.any(axis=0)):
-        return False
-    inner = slice(lo + 1, hi)
-    if hi <= lo + 1:
-        return True
-    e = (t0[inner] - ta).astype(np.float64)[:, None]
+    inner = slice(lo + 1, max(hi, lo + 1))
+    ok = _reproduce(
+        t[[a]], t[[b]], v[[a]], v[[b]],
+        np.asarray(seg_nan.all(axis=0))[None], np.asarray(seg_nan.any(axis=0))[None],
+        t0[None, inner], v0[None, inner], bound,
+    )  # fmt: skip
+    return bool(ok[0])
+
+
+def _reproduce(
+    ta: npt.NDArray[np.int64],
+    tb: npt.NDArray[np.int64],
+    va: npt.NDArray[np.float64],
+    vb: npt.NDArray[np.float64],
+    spans_all_nan: npt.NDArray[np.bool_],
+    spans_any_nan: npt.NDArray[np.bool_],
+    t_in: npt.NDArray[np.int64],
+    v_in: npt.NDArray[np.float64],
+    bound: float,
+) -> npt.NDArray[np.bool_]:
+    """The rule of a new segment, for W of them at once: whether the segment from (ta, va) to
+    (tb, vb) (shapes (W,) and (W, J)) commands what the original commands over ``(ta, tb]``,
+    within ``bound`` rad.
+
+    Per joint: if an end of the new segment is ``*`` (NaN), it commands nothing, so every
+    original segment it spans must touch a ``*`` (``spans_all_nan``, (W, J)); otherwise none
+    may (``spans_any_nan``), and the line must stay within ``bound`` of the original at the
+    original poses inside, ``t_in`` (W, K) and ``v_in`` (W, K, J): both are piecewise linear
+    with corners only there, so that is where they differ most."""
+    import numpy as np
+
+    new_nan = np.isnan(va) | np.isnan(vb)
+    refused = (new_nan & ~spans_all_nan).any(axis=1) | (~new_nan & spans_any_nan).any(axis=1)
+    e = (t_in - ta[:, None]).astype(np.float64)[:, :, None]
+    span = (tb - ta).astype(np.float64)[:, None, None]
     with np.errstate(invalid="ignore", over="ignore"):
-        line = v[a] + e * (v[b] - v[a]) / float(tb - ta)
-        err = np.abs(line - v0[inner])
-    err = np.where(new_nan[None, :], 0.0, err)
-    return bool(np.all(err <= bound + ROUNDING_RAD))  # NaN (inf cells) compares False
+        line = va[:, None, :] + e * (vb - va)[:, None, :] / span
+        err = np.abs(line - v_in)
+    err = np.where(new_nan[:, None, :], 0.0, err)
+    within = np.all(err <= bound + ROUNDING_RAD, axis=(1, 2))  # NaN (inf cells) is False
+    ok: npt.NDArray[np.bool_] = within & ~refused
+    return ok
 
 
 class _Cone:
@@ -244,24 +268,19 @@ def _collinear(
 ) -> int:
     """How many of ``poses`` (each with a neighbour on both sides) lie on the line between
     their neighbours: :func:`_window_ok` of ``(i - 1, i + 1)`` against (t, v) itself with no
-    bound, for all of them at once (the same expressions, element by element)."""
+    bound, for all of them at once."""
     import numpy as np
 
     if poses.shape[0] == 0:
         return 0
     before, here, after = v[poses - 1], v[poses], v[poses + 1]
     seg_nan = (np.isnan(before) | np.isnan(here), np.isnan(here) | np.isnan(after))
-    new_nan = np.isnan(before) | np.isnan(after)
-    spans_all, spans_any = seg_nan[0] & seg_nan[1], seg_nan[0] | seg_nan[1]
-    refused = (new_nan & ~spans_all).any(axis=1) | (~new_nan & spans_any).any(axis=1)
-    e = (t[poses] - t[poses - 1]).astype(np.float64)[:, None]
-    span = (t[poses + 1] - t[poses - 1]).astype(np.float64)[:, None]
-    with np.errstate(invalid="ignore", over="ignore"):
-        line = before + e * (after - before) / span
-        err = np.abs(line - here)
-    err = np.where(new_nan, 0.0, err)
-    on_line = np.all(err <= 0.0 + ROUNDING_RAD, axis=1)
-    return int((on_line & ~refused).sum())
+    ok = _reproduce(
+        t[poses - 1], t[poses + 1], before, after,
+        seg_nan[0] & seg_nan[1], seg_nan[0] | seg_nan[1],
+        t[poses][:, None], here[:, None, :], 0.0,
+    )  # fmt: skip
+    return int(ok.sum())
 
 
 def resample(

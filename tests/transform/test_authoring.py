@@ -326,7 +326,7 @@ def test_scale_respells_column_by_column_as_line_by_line(
         j = draw.draw(st.integers(2, len(cells) - 1))
         if lead == "+" and not cells[j][:1].isdigit():  # '+' only before a digit: '+1.5'
             lead = " "
-        if cells[j] != b"*":  # white space before a '*' is a syntax error
+        if cells[j].rstrip(b"\r") != b"*":  # white space before a '*' is a syntax error
             cells[j] = lead.encode() + cells[j]
         lines[p] = b",".join(cells)
         data = b"\n".join(lines)
