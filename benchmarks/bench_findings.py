@@ -12,7 +12,7 @@ Each command's report goes to a file (the bytes are written, then thrown away), 
   (target: at most 3x);
 - ``validate --robot nao --no-group``: its peak (target: under 1 GB, the findings streamed to
   the output, never all held) and its ratio to the baseline;
-- ``--format json`` (grouped): its peak and time;
+- ``--format json`` and ``--format sarif`` (grouped, each finding with its fix): peak and time;
 - how many findings and bytes each report has;
 - memory across files: runs over 10 and 40 files of 10 000 random poses (2.6 MB each), the
   larger run's peak against the smaller's (flat: a run holds the reports of its first 32 MiB
@@ -85,6 +85,7 @@ def big_file(script: str, tmp: Path, poses: int, repeat: int) -> None:
     grouped = measure("validate --robot nao", "--robot", "nao")
     flat = measure("validate --robot nao --no-group", "--robot", "nao", "--no-group")
     as_json = measure("validate --robot nao --format json", "--robot", "nao", "-f", "json")
+    as_sarif = measure("validate --robot nao --format sarif", "--robot", "nao", "-f", "sarif")
     ratio = grouped.wall_s / base.wall_s
     print(
         f"grouped: {ratio:.1f}x the syntax level's wall time (target <= 3x: "
@@ -96,6 +97,7 @@ def big_file(script: str, tmp: Path, poses: int, repeat: int) -> None:
         f"{flat.wall_s / base.wall_s:.1f}x the syntax level's wall time"
     )
     print(f"json: peak {as_json.peak_bytes / GIB:.2f} GiB, {as_json.wall_s:.1f} s")
+    print(f"sarif: peak {as_sarif.peak_bytes / GIB:.2f} GiB, {as_sarif.wall_s:.1f} s")
 
 
 def many_files(script: str, tmp: Path, repeat: int, counts: tuple[int, int] = (10, 40)) -> None:
