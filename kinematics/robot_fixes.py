@@ -20,7 +20,7 @@ import math
 from bisect import bisect_left, bisect_right
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import cast
+from typing import TYPE_CHECKING, NamedTuple, cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.document import MotionDocument
@@ -29,13 +29,77 @@ from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 from motiontool.motionfmt.retime import TimeOverflowError
 
-__all__ = ["Planner", "clamp_fixes", "planner", "stretch_fixes"]
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["Planner", "clamp_count", "clamp_fixes", "planner", "stretch_fixes"]
 
 CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
 STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
 _CELLS = 1 << 16
 """Clamped cells whose numbers become Python objects at a time (a file of random values has
 millions)."""
+
+
+class _Cells(NamedTuple):
+    """The cells an MT302 fix clamps: file column, pose (from ``first``) and the limit each
+    becomes, listed joint by joint."""
+
+    first: int
+    cols: npt.NDArray[np.int32]
+    poses: npt.NDArray[np.intp]
+    bounds: npt.NDArray[np.float64]
+
+
+def _clamped_cells(
+    result: ReadResult,
+    spec: RobotSpec,
+    joint: str | None,
+    lines: tuple[int, int] | None,
+    past: float | None,
+) -> _Cells | None:
+    """The cells :func:`clamp_fixes` clamps (its arguments), or None: no joint checked."""
+    import numpy as np
+
+    poses = slice(None)
+    if lines is not None:
+        pose_lines = result.pose_lines
+        poses = slice(bisect_left(pose_lines, lines[0]), bisect_right(pose_lines, lines[1]))
+    rows = result.motion.values[poses]
+    found = []  # (column, poses, bounds) of each joint's cells past a limit
+    for j, name in enumerate(result.joints):
+        if name not in spec or (joint is not None and name != joint):
+            continue
+        limit = spec.joint(name)
+        column = rows[:, j]
+        with np.errstate(invalid="ignore"):
+            above, below = column > limit.upper, column < limit.lower
+        if past is not None:
+            above, below = (above, below & False) if past > limit.upper else (above & False, below)
+        at = np.flatnonzero(np.isfinite(column) & (above | below))
+        found.append((j, at, np.where(column[at] > limit.upper, limit.upper, limit.lower)))
+    if not found:
+        return None
+    return _Cells(
+        poses.start or 0,
+        np.concatenate([np.full(at.shape, j, dtype=np.int32) for j, at, _b in found]),
+        np.concatenate([at for _j, at, _b in found]),
+        np.concatenate([b for _j, _at, b in found]),
+    )
+
+
+def clamp_count(
+    result: ReadResult,
+    spec: RobotSpec,
+    *,
+    joint: str | None = None,
+    lines: tuple[int, int] | None = None,
+    past: float | None = None,
+) -> int:
+    """How many edits :func:`clamp_fixes` makes (its arguments), without making them."""
+    cells = _clamped_cells(result, spec, joint, lines, past)
+    return 0 if cells is None else int(cells.cols.shape[0])
 
 
 def clamp_fixes(
@@ -51,29 +115,10 @@ def clamp_fixes(
     those past the same limit as the value ``past``, where given."""
     import numpy as np
 
-    poses = slice(None)
-    if lines is not None:
-        pose_lines = result.pose_lines
-        poses = slice(bisect_left(pose_lines, lines[0]), bisect_right(pose_lines, lines[1]))
-    rows = result.motion.values[poses]
-    first = poses.start or 0
-    found = []  # (column, poses, bounds) of each joint's cells past a limit
-    for j, name in enumerate(result.joints):
-        if name not in spec or (joint is not None and name != joint):
-            continue
-        limit = spec.joint(name)
-        column = rows[:, j]
-        with np.errstate(invalid="ignore"):
-            above, below = column > limit.upper, column < limit.lower
-        if past is not None:
-            above, below = (above, below & False) if past > limit.upper else (above & False, below)
-        at = np.flatnonzero(np.isfinite(column) & (above | below))
-        found.append((j, at, np.where(column[at] > limit.upper, limit.upper, limit.lower)))
-    if not found:
+    cells = _clamped_cells(result, spec, joint, lines, past)
+    if cells is None:
         return []
-    cols = np.concatenate([np.full(at.shape, j, dtype=np.int32) for j, at, _b in found])
-    poses_at = np.concatenate([at for _j, at, _b in found])
-    bounds = np.concatenate([b for _j, _at, b in found])
+    first, cols, poses_at, bounds = cells
     # Made pose by pose (cell_span tokenises a pose's line once and keeps only a few poses),
     # listed joint by joint.
     fixes: list[Fix | None] = [None] * cols.shape[0]
@@ -152,6 +197,13 @@ class Planner:
         if "MT302" not in self.codes:
             return []
         return clamp_fixes(result, self.spec, joint=joint, lines=lines, past=past)
+
+    def clamp_count(
+        self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
+    ) -> int:
+        if "MT302" not in self.codes:
+            return 0
+        return clamp_count(result, self.spec, joint=joint, lines=lines, past=past)
 
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
         if "MT303" not in self.codes:

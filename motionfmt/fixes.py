@@ -78,6 +78,13 @@ class RobotPlanner(Protocol):
         none if MT302 is not planned."""
         ...
 
+    def clamp_count(
+        self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
+    ) -> int:
+        """How many edits :meth:`clamps` makes, without making them (a report that only counts
+        a fix of thousands of cells)."""
+        ...
+
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
         """The MT303 retiming of the file (``data``, read as ``result``); none if MT303 is not
         planned."""

@@ -121,10 +121,23 @@ class FileReport:
             return self._stretch if self._is_first_stretch(d) else ()
         if d.joint is None:
             return ()
-        if d.run is None:  # one pose: its cell
-            return tuple(planner.clamps(self.read, d.joint, (d.line, d.line), None))
-        lines = (d.line, d.run.end_line)  # runs on one side of the limits: that side's cells
-        return tuple(planner.clamps(self.read, d.joint, lines, d.run.worst.value))
+        return tuple(planner.clamps(self.read, d.joint, *self._clamped(d)))
+
+    @staticmethod
+    def _clamped(d: Diagnostic) -> tuple[tuple[int, int], float | None]:
+        """(first line, last line) and the side of the limits (a value past it, None: either)
+        of the cells an MT302 finding's fix clamps: its cell, or its run of lines on one side
+        of the limits."""
+        if d.run is None:
+            return (d.line, d.line), None
+        return (d.line, d.run.end_line), d.run.worst.value
+
+    def fix_count(self, d: Diagnostic) -> int:
+        """How many edits :meth:`fix_of` gives for finding ``d``; a grouped clamp (thousands
+        of cells) is counted without making them."""
+        if d.code == "MT302" and self.robot_fixes is not None and d.joint is not None:
+            return self.robot_fixes.clamp_count(self.read, d.joint, *self._clamped(d))
+        return len(self.fix_of(d))
 
     def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are

@@ -163,11 +163,12 @@ editor applies such a fix from a dashboard."""
 def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> tuple[dict[str, Any], int]:
     """``fixes`` of a result with a fix: its description (unsafe ones say so) and edits; and
     how many edits a fix of more than :data:`MAX_FIX_EDITS` has, left out (else 0)."""
+    count = f.fix_count(d)
+    if count > MAX_FIX_EDITS:
+        return {}, count
     fixes = f.fix_of(d)
     if not fixes:
         return {}, 0
-    if len(fixes) > MAX_FIX_EDITS:
-        return {}, len(fixes)
     safe = all(x.safe for x in fixes)
     text = fixes[0].title + ("" if safe else " (unsafe: it changes what the robot does)")
     change = {"artifactLocation": location, "replacements": [_replacement(f, x) for x in fixes]}

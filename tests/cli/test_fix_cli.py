@@ -273,3 +273,33 @@ def test_clamps_are_listed_joint_by_joint_each_in_file_order() -> None:
         ("HeadPitch", 4, 9),
     ]
     assert [f.replacement for f in fixes] == [b"2.08567", b"-2.08567", b"0.514872", b"-0.671952"]
+
+
+def test_sarif_counts_a_large_fix_as_json_lists_its_edits(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A fix of more than MAX_FIX_EDITS cells is counted, not made, for SARIF's ``fixEdits``:
+    the same number as the edits JSON lists, for a grouped run on either side of the limits
+    and for one pose."""
+    from motiontool.cli.reports.sarif import MAX_FIX_EDITS
+
+    monkeypatch.chdir(tmp_path)
+    n = MAX_FIX_EDITS + 100
+    values = [3.0] * n + [0.0] * 5 + [-3.0] * (n + 7) + [0.0] * 5 + [2.5] + [0.0] * 5
+    rows = "".join(f"{200 * p},P{p},{v},0\n" for p, v in enumerate(values))
+    (tmp_path / "big.motion").write_text("#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n" + rows)
+    _, out, _ = invoke("validate", "big.motion", "--robot", "nao", "-f", "json")
+    edits = [
+        len(d["fix"]["edits"])
+        for f in json.loads(out)["files"]
+        for d in f["diagnostics"]
+        if d["code"] == "MT302"
+    ]
+    _, out, _ = invoke("validate", "big.motion", "--robot", "nao", "-f", "sarif")
+    counted = [
+        r.get("properties", {}).get("fixEdits")
+        or len(r["fixes"][0]["artifactChanges"][0]["replacements"])
+        for r in json.loads(out)["runs"][0]["results"]
+        if r["ruleId"] == "MT302"
+    ]
+    assert edits == counted == [n, n + 7, 1]
