@@ -38,6 +38,7 @@ from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTable
 from motiontool.kinematics.overlap_bound import overlap_bound
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.tables_cache import stored_tables
+from motiontool.motionfmt.arrays import sorted_distinct
 
 if TYPE_CHECKING:
     from collections.abc import Callable
@@ -180,17 +181,6 @@ def geometry_centers(
     return geometry_poses(tables, q_motors)[1]
 
 
-def _distinct(values: npt.NDArray[np.int64]) -> npt.NDArray[np.int64]:
-    """The sorted distinct values of a 1-D integer array, as ``np.unique`` gives them (which,
-    in numpy 2.4, imports ``numpy.ma`` on first use: 30 ms of a pre-commit run)."""
-    import numpy as np
-
-    ordered = np.sort(values)
-    if ordered.shape[0] == 0:
-        return ordered
-    return ordered[np.concatenate(([True], ordered[1:] != ordered[:-1]))]
-
-
 def _joint_broad_phase(
     tables: KinematicTables,
     fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
@@ -204,9 +194,9 @@ def _joint_broad_phase(
 
     rot, pos = _joint_first(fk)
     n = rot.shape[1]
-    groups = _distinct(tables.pair_group[active])
+    groups = sorted_distinct(tables.pair_group[active])
     ja, jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]
-    used = _distinct(np.concatenate([ja, jb]))
+    used = sorted_distinct(np.concatenate([ja, jb]))
     slot = np.zeros(tables.joint_parent.shape[0], dtype=np.int64)
     slot[used] = np.arange(used.shape[0])
     xyz = np.empty((3, used.shape[0], n))  # a row per joint used: gathers copy whole rows

@@ -28,6 +28,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
+from motiontool.motionfmt.arrays import sorted_distinct
 from motiontool.motionfmt.player import Held, Holder, commands_at, require_held
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
@@ -346,9 +347,7 @@ def _compared_steps(
             dense.append((int(below[a]), int(above[a + 1]) + 1))
     steps = np.concatenate(points)
     steps = steps[(steps >= 0) & (steps < n_steps)]
-    steps.sort()  # each once: sorted, then the repeats left out (np.unique's hash holds 3x more)
-    sparse = steps[np.concatenate(([True], steps[1:] != steps[:-1]))]
-    return _weighted(_merged(sparse, dense, n_steps), n_steps)
+    return _weighted(_merged(sorted_distinct(steps), dense, n_steps), n_steps)
 
 
 def _marker_segments(motion: Motion) -> list[int]:

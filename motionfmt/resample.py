@@ -112,10 +112,9 @@ def _window_ok(
     (t0, v0) commands over ``(t[a], t[b]]``, within ``bound`` rad (:func:`_reproduce`)."""
     import numpy as np
 
-    ta, tb = t[a], t[b]
-    lo = int(np.searchsorted(t0, ta, side="right")) - 1  # last original pose at or before ta
-    hi = int(np.searchsorted(t0, tb, side="left"))  # first original pose at or after tb
-    lo, hi = max(lo, 0), min(hi, t0.shape[0] - 1)
+    lo = _last_at_or_before(t0, int(t[a]))
+    hi = int(np.searchsorted(t0, t[b], side="left"))  # first original pose at or after t[b]
+    hi = min(hi, t0.shape[0] - 1)
     seg = v0[lo : hi + 1]
     seg_nan = np.isnan(seg[:-1]) | np.isnan(seg[1:])  # original segments lo..hi-1
     inner = slice(lo + 1, max(hi, lo + 1))
@@ -150,7 +149,7 @@ def _reproduce(
     import numpy as np
 
     new_nan = np.isnan(va) | np.isnan(vb)
-    refused = (new_nan & ~spans_all_nan).any(axis=1) | (~new_nan & spans_any_nan).any(axis=1)
+    refused = _stars_differ(new_nan, spans_all_nan, spans_any_nan)
     e = (t_in - ta[:, None]).astype(np.float64)[:, :, None]
     span = (tb - ta).astype(np.float64)[:, None, None]
     with np.errstate(invalid="ignore", over="ignore"):
@@ -160,6 +159,28 @@ def _reproduce(
     within = np.all(err <= bound + ROUNDING_RAD, axis=(1, 2))  # NaN (inf cells) is False
     ok: npt.NDArray[np.bool_] = within & ~refused
     return ok
+
+
+def _stars_differ(
+    new_nan: npt.NDArray[np.bool_],
+    spans_all_nan: npt.NDArray[np.bool_],
+    spans_any_nan: npt.NDArray[np.bool_],
+) -> npt.NDArray[np.bool_]:
+    """Per segment (the last axis: joints), whether a new segment commands where the original
+    does not, or the other way round: a joint with a ``*`` end (``new_nan``) where not every
+    original segment it spans touches a ``*``, or one without where any does."""
+    import numpy as np
+
+    differ = (new_nan & ~spans_all_nan) | (~new_nan & spans_any_nan)
+    return np.asarray(differ.any(axis=-1))
+
+
+def _last_at_or_before(t0: npt.NDArray[np.int64], time_ms: int) -> int:
+    """The last original pose at or before ``time_ms`` (the first if none): where a new
+    segment starting then begins to span the original."""
+    import numpy as np
+
+    return max(int(np.searchsorted(t0, time_ms, side="right")) - 1, 0)
 
 
 class _Cone:
@@ -187,7 +208,7 @@ class _Cone:
 
         self.t, self.v, self.a, self.t0, self.v0 = t, v, a, t0, v0
         self.slack = slack  # bound + rounding - margin, rad
-        lo = max(int(np.searchsorted(t0, t[a], side="right")) - 1, 0)  # as in _window_ok
+        lo = _last_at_or_before(t0, int(t[a]))
         self.inner = lo + 1  # the next original pose to take in
         self.seg = lo  # the next original segment to take in
         joints = v.shape[1]
@@ -213,7 +234,7 @@ class _Cone:
             np.fmin(self.high, (v0[k] - va + self.slack) / dt, out=self.high)
         self.inner = max(self.inner, hi)
         new_nan = np.isnan(va) | np.isnan(self.v[b])
-        if (new_nan & ~self.nan_all).any() or (~new_nan & self.nan_any).any():
+        if _stars_differ(new_nan, self.nan_all, self.nan_any):
             return False
         slope = (self.v[b] - va) / float(self.t[b] - ta)
         return bool(((slope >= self.low) & (slope <= self.high) | new_nan).all())

@@ -183,8 +183,8 @@ def test_configurations_are_scanned_in_blocks(monkeypatch: pytest.MonkeyPatch) -
 @settings(max_examples=100, deadline=None)
 @given(st.lists(st.integers(-5, 50), max_size=40))
 def test_distinct_values_are_np_uniques(values: list[int]) -> None:
-    from motiontool.kinematics.collision import _distinct
+    from motiontool.motionfmt.arrays import sorted_distinct
 
     a = np.array(values, dtype=np.int64)
-    got = _distinct(a)
+    got = sorted_distinct(a)
     assert got.dtype == a.dtype and got.tolist() == np.unique(a).tolist()
