@@ -244,7 +244,7 @@ _COMMANDS: dict[str, tuple[str, str, str]] = {
     "cache": (
         "cache",
         "cache_command",
-        "batch's result cache: 'info' prints its folder, results and size; 'clean' removes",
+        "The result caches: 'info' prints each one's folder, results and size; 'clean' removes",
     ),
     "expect": (
         "expect",

@@ -322,8 +322,8 @@ def _run(
     (a terminal only), cached (``cache``: the folder, default the user's; no cache; its size
     limit in MB), each run's report stored in ``spool_dir`` as it ends."""
     cache_dir, no_cache, cache_max_mb = cache
+    from motiontool.motionfmt.disk_cache import BYTES_PER_MB
     from motiontool.sim.batch import default_cache_dir, run_batch
-    from motiontool.sim.cache import BYTES_PER_MB
     from motiontool.sim.runs import run_outputs, run_spec
 
     failures = 0

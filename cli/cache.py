@@ -1,4 +1,5 @@
-"""``motiontool cache``: what batch's result cache holds, and emptying it."""
+"""``motiontool cache``: what the result caches hold (batch's results, validate's findings),
+and emptying them."""
 
 from __future__ import annotations
 
@@ -19,18 +20,22 @@ class Action(enum.StrEnum):
 
 
 def _mb(size_bytes: int) -> str:
-    from motiontool.sim.cache import BYTES_PER_MB
+    from motiontool.motionfmt.disk_cache import BYTES_PER_MB
 
     return f"{size_bytes / BYTES_PER_MB:.1f} MB"
 
 
 def cache_command(
     action: Annotated[
-        Action, typer.Argument(help="info: what the cache holds; clean: remove results.")
+        Action, typer.Argument(help="info: what the caches hold; clean: remove results.")
     ],
     cache_dir: Annotated[
         Path | None,
-        typer.Option("--cache-dir", help="The cache (default ~/.cache/motiontool/batch)."),
+        typer.Option(
+            "--cache-dir",
+            help="One cache folder (batch's --cache-dir); default: batch's results "
+            "(~/.cache/motiontool/batch) and validate's findings (~/.cache/motiontool/lint).",
+        ),
     ] = None,
     max_mb: Annotated[
         float,
@@ -38,26 +43,39 @@ def cache_command(
             "--max-mb",
             min=0,
             callback=finite,
-            help="clean: keep the most recently used results up to this many MB (default 0: "
-            "remove every result).",
+            help="clean: keep the most recently used results up to this many MB in each "
+            "cache (default 0: remove every result).",
         ),
     ] = 0.0,
 ) -> None:
-    """batch's result cache: 'info' prints its folder, results and size; 'clean' removes
-    results (all of them, or the least recently used down to --max-mb) and says what it did."""
-    from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir
+    """The result caches: 'info' prints each one's folder, results and size; 'clean' removes
+    results (all of them, or the least recently used down to --max-mb) and says what it did,
+    a line per cache."""
+    from motiontool.kinematics.checks.findings_cache import MAX_MB, lint_cache_dir
+    from motiontool.motionfmt.disk_cache import BYTES_PER_MB, ResultCache
+    from motiontool.sim.cache import DEFAULT_MAX_MB, default_cache_dir
 
-    cache = ResultCache(cache_dir or default_cache_dir())
-    if action is Action.info:
-        usage = cache.usage()
-        typer.echo(
-            f"{cache.directory}: {usage.results} results, {_mb(usage.size_bytes)} "
-            f"(batch prunes it to {DEFAULT_MAX_MB} MB unless --cache-max-mb says otherwise)"
-        )
-        return
-    removed = cache.prune(round(max_mb * BYTES_PER_MB))
-    left = cache.usage()
-    typer.echo(
-        f"removed {removed.results} results ({_mb(removed.size_bytes)}) from {cache.directory}; "
-        f"{left.results} left ({_mb(left.size_bytes)})"
+    folders = (
+        [(cache_dir, "")]
+        if cache_dir is not None
+        else [
+            (
+                default_cache_dir(),
+                f"batch prunes it to {DEFAULT_MAX_MB} MB unless --cache-max-mb says otherwise",
+            ),
+            (lint_cache_dir(), f"validate's robot findings, pruned to {MAX_MB} MB"),
+        ]
     )
+    for folder, about in folders:
+        cache = ResultCache(folder)
+        if action is Action.info:
+            usage = cache.usage()
+            note = f" ({about})" if about else ""
+            typer.echo(f"{cache.directory}: {usage.results} results, {_mb(usage.size_bytes)}{note}")
+            continue
+        removed = cache.prune(round(max_mb * BYTES_PER_MB))
+        left = cache.usage()
+        typer.echo(
+            f"removed {removed.results} results ({_mb(removed.size_bytes)}) from "
+            f"{cache.directory}; {left.results} left ({_mb(left.size_bytes)})"
+        )

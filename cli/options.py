@@ -29,6 +29,7 @@ __all__ = [
     "FormatOption",
     "InPlace",
     "MotionFile",
+    "NoCacheOption",
     "Output",
     "ReportOutput",
     "ResultTimestep",
@@ -72,6 +73,19 @@ CLI_WORDING = Wording(
 )
 """The CLI's words for the remedies the robot checks' hints name (the library's hints say
 "name the robot explicitly" without them)."""
+
+
+NoCacheOption = Annotated[
+    bool,
+    typer.Option(
+        "--no-cache",
+        envvar="MOTIONTOOL_NO_CACHE",
+        help="Check every file again: neither read nor store the robot findings of small files "
+        "(kept in ~/.cache/motiontool/lint by the file's bytes, robot, checks and code).",
+    ),
+]
+"""``validate`` and ``server``: without the findings cache
+(:mod:`motiontool.kinematics.checks.findings_cache`)."""
 
 
 class Format(enum.StrEnum):

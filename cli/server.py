@@ -7,6 +7,7 @@ from pathlib import Path
 
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import Overrides, lint_document
+from motiontool.cli.options import NoCacheOption
 from motiontool.cli.validate import robot_checks
 from motiontool.extras import require
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
@@ -16,7 +17,9 @@ from motiontool.motionfmt.validate import FileReport
 __all__ = ["server_command"]
 
 
-def server_command(config: ConfigOption = None, isolated: IsolatedOption = False) -> None:
+def server_command(
+    config: ConfigOption = None, isolated: IsolatedOption = False, no_cache: NoCacheOption = False
+) -> None:
     """Run the Language Server on stdin/stdout, for editors: the findings of ``validate`` as you
     type (with the project's configuration, the closest to each file), hover on a cell (joint,
     time, value, limits) and the fixes of ``validate --fix`` as code actions.
@@ -27,7 +30,7 @@ def server_command(config: ConfigOption = None, isolated: IsolatedOption = False
     require("pygls", "lsp", "motiontool server")
     from motiontool.cli import lsp
 
-    checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM)
+    checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=not no_cache)
     Resolver(config=config, isolated=isolated)  # a bad --config fails now, not in the editor
 
     def lint(path: Path, data: bytes) -> tuple[FileReport, RobotSpec | None]:

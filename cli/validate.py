@@ -23,6 +23,7 @@ from motiontool.cli.lint_run import (
 )
 from motiontool.cli.options import (
     CLI_WORDING,
+    NoCacheOption,
     ReportOutput,
     finite,
     robot_option,
@@ -49,6 +50,7 @@ from motiontool.kinematics.checks import (
     RobotChecks,
     parse_checks,
 )
+from motiontool.kinematics.checks.findings_cache import FindingsCache
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.fileio import STDOUT, open_output
 from motiontool.motionfmt.validate import ValidationReport
@@ -299,6 +301,7 @@ def validate_command(
     fix: _Fix = False,
     unsafe_fixes: _UnsafeFixes = False,
     diff: _Diff = False,
+    no_cache: NoCacheOption = False,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col. Settings come from the closest pyproject.toml [tool.motiontool] or
@@ -318,7 +321,7 @@ def validate_command(
     refuse_overwrite(output, files, "-o")
     if diff or fix:
         _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
-    checker = partial(robot_checks, tolerance=collision_tolerance)
+    checker = partial(robot_checks, tolerance=collision_tolerance, cache=not no_cache)
     with progress("validate") as step:  # the files are validated as the report is written
         run = lint(files, resolver, overrides, checker, on_step=step)
         _print_report(
@@ -433,11 +436,16 @@ def _settings_text(paths: list[Path], resolver: Resolver) -> str:
 
 
 def robot_checks(
-    robot: str, checks: tuple[str, ...] | None, timestep: int | None, *, tolerance: float
+    robot: str,
+    checks: tuple[str, ...] | None,
+    timestep: int | None,
+    *,
+    tolerance: float,
+    cache: bool = True,
 ) -> RobotChecks:
     """The robot checks of ``validate``, their hints in the CLI's words; checks named (with
     --checks or in the configuration) must run (a missing library is an error), the default
-    ones may be skipped."""
+    ones may be skipped; ``cache``: with the findings cache (``--no-cache``: without)."""
     try:
         return RobotChecks(
             robot,
@@ -446,6 +454,7 @@ def robot_checks(
             timestep_ms=timestep,
             penetration_tolerance_mm=tolerance,
             wording=CLI_WORDING,
+            cache=FindingsCache() if cache else None,
         )
     except CheckUnavailableError as exc:
         raise MotionToolError(f"{exc}; leave '{exc.check}' out of {_CHECKS_OPTION}") from exc

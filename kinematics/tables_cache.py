@@ -17,13 +17,13 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import importlib.util
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics._pinocchio import KinematicTables, kinematic_tables
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.disk_cache import libraries_stamp
 from motiontool.motionfmt.fileio import cache_root
 
 if TYPE_CHECKING:
@@ -50,11 +50,7 @@ def _code_stamp() -> str:
     here = Path(__file__).parent
     for name in _SOURCES:
         h.update((here / name).read_bytes())
-    spec = importlib.util.find_spec("pinocchio")
-    origin = spec.origin if spec is not None else None
-    if origin:
-        st = os.stat(origin)
-        h.update(f"{origin}:{st.st_size}:{st.st_mtime_ns}".encode())
+    h.update(libraries_stamp("pinocchio").encode("utf-8", "surrogateescape"))
     return h.hexdigest()
 
 

@@ -63,6 +63,11 @@ class ReadResult:
     _line_starts: list[int] = field(default_factory=list, repr=False)
     _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
 
+    @property
+    def data(self) -> bytes:
+        """The bytes that were read."""
+        return self._data
+
     def header_spans(self) -> list[tuple[int, int]]:
         """1-based (column, end column) of each joint name in the header (line 1)."""
         end = self._data.find(b"\n")

@@ -27,6 +27,7 @@ from typing import Any
 from motiontool import __version__
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
+from motiontool.motionfmt.disk_cache import ResultCache
 from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.sim.batch_results import (
@@ -35,7 +36,7 @@ from motiontool.sim.batch_results import (
     RunResult,
     RunStatus,
 )
-from motiontool.sim.cache import BYTES_PER_MB, DEFAULT_MAX_MB, ResultCache, default_cache_dir
+from motiontool.sim.cache import DEFAULT_MAX_BYTES, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 from motiontool.sim.expect import parse_expectations
 from motiontool.sim.sidecar import Sidecar
@@ -335,7 +336,7 @@ def run_batch(
     jobs: int = 2,
     timeout_s: float | None = None,
     cache_dir: Path | None = None,
-    cache_max_bytes: int | None = DEFAULT_MAX_MB * BYTES_PER_MB,
+    cache_max_bytes: int | None = DEFAULT_MAX_BYTES,
     ray_address: str | None = None,
     outputs: Callable[[RunSpec], Sequence[Path]] | None = None,
     progress: Callable[[RunResult, int, int], None] | None = None,
@@ -353,8 +354,8 @@ def run_batch(
         timeout_s: wall-clock limit of one run in seconds.
         cache_dir: where results are cached; None disables the cache.
         cache_max_bytes: the cache is pruned to this size (bytes) after the batch, least
-            recently used results first (:class:`motiontool.sim.cache.ResultCache`); None: no
-            limit.
+            recently used results first
+            (:class:`motiontool.motionfmt.disk_cache.ResultCache`); None: no limit.
         ray_address: Ray cluster address (``auto``, ``ray://...``); None starts a local one.
         outputs: the files a run writes besides its report (its recording,
             :func:`motiontool.sim.runs.run_outputs`): a cached run one of whose files is

@@ -29,6 +29,10 @@ SHARED = ROOT.parent / "shared"
 IN_CI = os.environ.get("CI", "").strip().lower() == "true"
 
 sys.path.insert(0, str(TESTS))  # the plain-loop oracle
+# Every test checks its files afresh: the findings a run stores in ~/.cache/motiontool/lint must
+# not stand in for the checks another test exercises (tests/cli/test_findings_cache.py turns the
+# cache on in a folder of its own).
+os.environ["MOTIONTOOL_NO_CACHE"] = "1"
 
 
 def missing_data(reason: str) -> NoReturn:

@@ -4,12 +4,19 @@
 from __future__ import annotations
 
 import difflib
+import itertools
 from collections.abc import Callable, Iterable, Sequence
 
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import install_hint
 from motiontool.kinematics.checks._table import Groupable, header_diagnostic, settle_tables
 from motiontool.kinematics.checks.balance import Balance
+from motiontool.kinematics.checks.findings_cache import (
+    MAX_BYTES,
+    MAX_FINDINGS,
+    FindingsCache,
+    findings_key,
+)
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import Limits
 from motiontool.kinematics.checks.self_collision import (
@@ -161,10 +168,14 @@ class RobotChecks(Groupable):
     ``skip_missing=False`` (the checks were asked for by name) it raises
     :class:`~motiontool.errors.MissingExtraError` instead.
 
+    With a ``cache`` (:class:`~motiontool.kinematics.checks.findings_cache.FindingsCache`), a
+    small file checked before with the same robot, checks and code gets its findings from it.
+
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).
         skipped: the checks skipped for a missing library, by name, with the error that says
             which extra to install.
+        cache: the findings cache, or None (every file is checked).
     """
 
     def __init__(
@@ -176,8 +187,10 @@ class RobotChecks(Groupable):
         penetration_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM,
         wording: Wording = PLAIN_WORDING,
         skip_missing: bool = True,
+        cache: FindingsCache | None = None,
     ) -> None:
         self.robot = robot
+        self.cache = cache
         self.skip_missing = skip_missing
         self.wording = wording
         self.on_check: Callable[[str], None] | None = None
@@ -228,12 +241,46 @@ class RobotChecks(Groupable):
         spec = self.note(result)
         if spec is None:
             return Findings.of([_skipped(result, self.wording)])
-        parts = [self._run(check, result, group=group) for check in self._checks_for(spec)]
+        checks = self._checks_for(spec)
+        parts = [self._run(c, result, group=group) for c in checks if isinstance(c, _LIVE)]
+        own = [c for c in checks if not isinstance(c, _LIVE)]
+        parts.append(self._of_the_file(spec, own, result, group=group))
         settle_tables()
         if "balance" in self.checks and not spec.feet:
             message = f"balance check skipped: robot {spec.name} has no feet"
             parts.append([Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message)])
         return Findings.merge(parts)
+
+    def _of_the_file(
+        self, spec: RobotSpec, checks: list[_Check], result: ReadResult, *, group: bool
+    ) -> Sequence[Diagnostic]:
+        """The findings of ``checks`` (which read no other file) on ``result``: from
+        :attr:`cache` where it holds them, else found (and stored where the file is small)."""
+        data = result.data
+        cache = self.cache if len(data) <= MAX_BYTES else None
+        if cache is None:
+            return Findings.merge([self._run(c, result, group=group) for c in checks])
+        options = (
+            self.robot,
+            repr(spec),
+            repr(self.checks),
+            repr(self.timestep_ms),
+            repr(self.penetration_tolerance_mm),
+            repr(group),
+            repr(self.wording),
+        )
+        key = findings_key(options, result.path, data)
+        stored = cache.load(key)
+        if stored is not None:
+            return stored
+        skipped = len(self.skipped)
+        found = Findings.merge([self._run(c, result, group=group) for c in checks])
+        held = list(itertools.islice(found, MAX_FINDINGS + 1))
+        if len(held) > MAX_FINDINGS:  # too many to hold: made again as the report reads them
+            return found
+        if len(self.skipped) == skipped:  # a check skipped for a missing library: not stored
+            cache.store(key, held)
+        return held
 
     def _run(self, check: _Check, result: ReadResult, *, group: bool) -> Sequence[Diagnostic]:
         """``check`` on ``result`` (with ``group``, grouped: by its ``grouped`` method where it
@@ -258,6 +305,10 @@ class RobotChecks(Groupable):
         (``path`` empty, ``line`` and ``column`` 0)."""
         return [_skipped_for_extra(name, exc) for name, exc in self.skipped.items()]
 
+
+_LIVE = (UnmirroredCopy,)
+"""The checks whose findings depend on files other than the one checked (MT309 reads its
+siblings): run every time, never taken from :attr:`RobotChecks.cache`."""
 
 _CHECK_NAMES: dict[type, str] = {Collision: "collision", Balance: "balance"}
 """The checks that need an extra (Pinocchio), by class: skipped with MT902 when it is missing."""

@@ -10,8 +10,8 @@ from typing import Any
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
+from motiontool.motionfmt.disk_cache import ResultCache
 from motiontool.sim.batch import RunSpec, plan, run_batch
-from motiontool.sim.cache import ResultCache
 
 cli = CliRunner()
 

@@ -1,0 +1,168 @@
+"""Results kept on disk: one JSON file per key, bounded in size, least recently used out (batch's
+simulation results, ``validate``'s robot findings); and the stamps their keys are made of.
+
+A result is ``<directory>/<key[:2]>/<key>.json``. Reading a result marks it used (its mtime), so
+:meth:`ResultCache.prune` removes the results no run has read or written for the longest time
+until the folder holds at most ``max_bytes``. ``motiontool cache clean`` empties it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import stat
+from collections.abc import Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = ["BYTES_PER_MB", "CacheUsage", "ResultCache", "files_stamp", "libraries_stamp"]
+
+BYTES_PER_MB = 1_000_000
+"""A megabyte, as ``--cache-max-mb`` counts it."""
+
+
+@dataclass(frozen=True)
+class CacheUsage:
+    """What a cache folder holds: ``results`` files of ``size_bytes`` in all."""
+
+    results: int
+    size_bytes: int
+
+
+@dataclass(frozen=True)
+class ResultCache:
+    """Results on disk under ``directory``, pruned to ``max_bytes`` (None: unbounded)."""
+
+    directory: Path
+    max_bytes: int | None = None
+
+    def _path(self, key: str) -> Path:
+        return self.directory / key[:2] / f"{key}.json"
+
+    def load(self, key: str) -> dict[str, Any] | None:
+        """The result stored under ``key`` (marked used), or None if there is none, it is
+        unreadable or it is not a regular file."""
+        path = self._path(key)
+        try:
+            if not stat.S_ISREG(os.lstat(path).st_mode):
+                return None  # not what store writes: a FIFO would block, a link is not ours
+            doc = json.loads(path.read_bytes())
+        except (OSError, ValueError):
+            return None
+        with contextlib.suppress(OSError):
+            os.utime(path)
+        return doc if isinstance(doc, dict) else None
+
+    def store(self, key: str, doc: dict[str, Any]) -> bool:
+        """Write ``doc`` under ``key``: a temporary file beside it, then a rename, so that a
+        reader sees the whole result or none, and whatever was at the path (a FIFO, a link) is
+        replaced, never written through. False where it cannot be written (a read-only or
+        full disk, a file where a folder should be): a cache that cannot be written is no
+        error, the result is computed again next time."""
+        import tempfile
+
+        path = self._path(key)
+        data = json.dumps(doc, sort_keys=True).encode()
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".", suffix=".tmp")
+        except OSError:
+            return False
+        try:
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+            os.replace(tmp, path)
+        except OSError:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            return False
+        return True
+
+    def _entries(self) -> list[tuple[float, int, Path]]:
+        """(mtime, size in bytes, path) of every result, least recently used first."""
+        out = []
+        for path in self.directory.glob("??/*.json"):
+            with contextlib.suppress(OSError):
+                st = path.stat()
+                out.append((st.st_mtime, st.st_size, path))
+        return sorted(out)
+
+    def usage(self) -> CacheUsage:
+        entries = self._entries()
+        return CacheUsage(len(entries), sum(size for _, size, _ in entries))
+
+    def prune(self, max_bytes: int | None = None) -> CacheUsage:
+        """Remove the least recently used results until at most ``max_bytes`` (default: the
+        cache's own limit; 0 empties it) remain; what was removed."""
+        limit = self.max_bytes if max_bytes is None else max_bytes
+        if limit is None:
+            return CacheUsage(0, 0)
+        entries = self._entries()
+        total = sum(size for _, size, _ in entries)
+        removed = freed = 0
+        for _, size, path in entries:
+            if total - freed <= limit:
+                break
+            with contextlib.suppress(OSError):  # gone already, or not ours to remove
+                path.unlink()
+                removed, freed = removed + 1, freed + size
+            with contextlib.suppress(OSError):
+                path.parent.rmdir()  # only when it is empty
+        return CacheUsage(removed, freed)
+
+
+def files_stamp(paths: Iterable[Path], suffix: str = ".py") -> str:
+    """Hash (hex) of the path, size and modification time of each file of ``paths`` and of
+    every ``suffix`` file below its folders: what changes when the code in them changes (an
+    edit, an upgrade)."""
+    h = hashlib.sha256()
+    for top in paths:
+        for path, st in _files(top, suffix):
+            h.update(f"{path}\0{st.st_size}\0{st.st_mtime_ns}\n".encode("utf-8", "surrogateescape"))
+    return h.hexdigest()
+
+
+def _files(folder: Path, suffix: str) -> Iterator[tuple[str, os.stat_result]]:
+    """(path, stat) of the ``suffix`` files below ``folder``, in name order (``__pycache__``
+    and links left out), or of ``folder`` itself where it is a file."""
+    try:
+        with os.scandir(folder) as it:
+            entries = sorted(it, key=lambda e: e.name)
+    except NotADirectoryError:
+        with contextlib.suppress(OSError):
+            yield str(folder), os.stat(folder)
+        return
+    except OSError:
+        return
+    for e in entries:
+        if e.is_dir(follow_symlinks=False):
+            if e.name != "__pycache__":
+                yield from _files(Path(e.path), suffix)
+        elif e.name.endswith(suffix) and e.is_file(follow_symlinks=False):
+            with contextlib.suppress(OSError):
+                yield e.path, e.stat(follow_symlinks=False)
+
+
+def libraries_stamp(*names: str) -> str:
+    """Where each installed library ``names`` is found, with the size and modification time of
+    its module file (``-`` where it is not installed), without importing it: what changes when
+    one is installed, upgraded or removed."""
+    import importlib.util
+
+    parts = []
+    for name in names:
+        try:
+            spec = importlib.util.find_spec(name)
+        except (ImportError, ValueError):
+            spec = None
+        origin = spec.origin if spec is not None else None
+        try:
+            st = os.stat(origin) if origin else None
+        except OSError:
+            st = None
+        found = "-" if st is None else f"{origin}:{st.st_size}:{st.st_mtime_ns}"
+        parts.append(f"{name}:{found}")
+    return "\n".join(parts)
