@@ -29,16 +29,25 @@ from __future__ import annotations
 
 import functools
 import hashlib
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple
 from pathlib import Path
-from typing import TypeVar
+from typing import NamedTuple, TypeVar
 
+from motiontool.errors import MissingExtraError
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Run, Severity, Worst
 from motiontool.motionfmt.disk_cache import BYTES_PER_MB, ResultCache, files_stamp, libraries_stamp
 from motiontool.motionfmt.fileio import cache_root
 
-__all__ = ["MAX_BYTES", "MAX_FINDINGS", "MAX_MB", "FindingsCache", "findings_key", "lint_cache_dir"]
+__all__ = [
+    "MAX_BYTES",
+    "MAX_FINDINGS",
+    "MAX_MB",
+    "FindingsCache",
+    "Stored",
+    "findings_key",
+    "lint_cache_dir",
+]
 
 MAX_BYTES = 1 << 20
 """The largest file whose findings are stored, bytes (about 4,000 poses of 25 joints)."""
@@ -48,7 +57,7 @@ MAX_MB = 100
 """The size the store is pruned to, MB (a clean file's entry is about 100 bytes)."""
 _T = TypeVar("_T")
 
-_LAYOUT = "motiontool-findings-1"
+_LAYOUT = "motiontool-findings-2"
 """The layout of a stored entry: a change to :func:`_encode` is a new layout."""
 _PRUNE_PREFIX = "00"
 """Storing a key that starts with this prunes the store: one store in 256, whatever the
@@ -93,24 +102,46 @@ class FindingsCache:
             lint_cache_dir() if directory is None else directory, round(max_mb * BYTES_PER_MB)
         )
 
-    def load(self, key: str) -> list[Diagnostic] | None:
-        """The findings stored under ``key``, or None (none stored, or unreadable)."""
+    def load(self, key: str) -> Stored | None:
+        """What is stored under ``key``, or None (nothing stored, or unreadable)."""
         doc = self.results.load(key)
         if doc is None or doc.get("layout") != _LAYOUT:
             return None
         try:
-            return [_decode(item) for item in doc["findings"]]
-        except (KeyError, TypeError, ValueError):
+            findings = [_decode(item) for item in doc["findings"]]
+            skipped = {
+                _of(name, str): MissingExtraError(*(_of(f, str) for f in _list(fields, 4)))
+                for name, fields in doc["skipped"].items()
+            }
+        except (KeyError, TypeError, ValueError, AttributeError):
             return None
+        return Stored(findings, skipped)
 
-    def store(self, key: str, findings: Sequence[Diagnostic]) -> None:
-        """Store ``findings`` under ``key`` (the caller keeps to :data:`MAX_FINDINGS`); a
-        store that cannot be written is left as it is."""
-        items = [_encode(d) for d in findings]
-        if self.results.store(key, {"layout": _LAYOUT, "findings": items}) and key.startswith(
-            _PRUNE_PREFIX
-        ):
+    def store(
+        self,
+        key: str,
+        findings: Sequence[Diagnostic],
+        skipped: Mapping[str, MissingExtraError],
+    ) -> None:
+        """Store ``findings`` under ``key`` (the caller keeps to :data:`MAX_FINDINGS`), with
+        the checks ``skipped`` for a missing library; a store that cannot be written is left as
+        it is."""
+        doc = {
+            "layout": _LAYOUT,
+            "findings": [_encode(d) for d in findings],
+            "skipped": {n: [e.module, e.extra, e.what, e.library] for n, e in skipped.items()},
+        }
+        if self.results.store(key, doc) and key.startswith(_PRUNE_PREFIX):
             self.results.prune()
+
+
+class Stored(NamedTuple):
+    """A file's findings as stored, and the checks that were skipped for a missing library
+    (by name, :attr:`RobotChecks.skipped <motiontool.kinematics.checks.RobotChecks.skipped>`):
+    their MT902 note belongs to every report the findings go into."""
+
+    findings: list[Diagnostic]
+    skipped: dict[str, MissingExtraError]
 
 
 def _encode(d: Diagnostic) -> list[object]:

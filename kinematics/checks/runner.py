@@ -272,14 +272,15 @@ class RobotChecks(Groupable):
         key = findings_key(options, result.path, data)
         stored = cache.load(key)
         if stored is not None:
-            return stored
-        skipped = len(self.skipped)
+            for name, exc in stored.skipped.items():  # the run's MT902 note, as if it ran
+                self.skipped.setdefault(name, exc)
+            return stored.findings
         found = Findings.merge([self._run(c, result, group=group) for c in checks])
         held = list(itertools.islice(found, MAX_FINDINGS + 1))
         if len(held) > MAX_FINDINGS:  # too many to hold: made again as the report reads them
             return found
-        if len(self.skipped) == skipped:  # a check skipped for a missing library: not stored
-            cache.store(key, held)
+        names = {_CHECK_NAMES.get(type(c)) for c in checks}
+        cache.store(key, held, {n: e for n, e in self.skipped.items() if n in names})
         return held
 
     def _run(self, check: _Check, result: ReadResult, *, group: bool) -> Sequence[Diagnostic]:

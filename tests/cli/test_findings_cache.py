@@ -16,6 +16,7 @@ from conftest import CORPUS, DATA
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
+from motiontool.errors import MissingExtraError
 from motiontool.kinematics.builtin_robots import parse_mjcf_table
 from motiontool.kinematics.checks import findings_cache, runner
 from motiontool.kinematics.checks.findings_cache import FindingsCache, _decode, _encode
@@ -69,6 +70,24 @@ def test_a_report_from_the_cache_is_the_report_checked_afresh(
     if fmt == "text":
         codes = {"MT302", "MT303", "MT307"}
         assert fresh[0] == 1 and all(f" {c}: " in fresh[1] for c in codes), fresh[1]
+
+
+def test_a_check_skipped_for_a_missing_library_is_noted_from_the_cache_too(
+    store: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    def missing(*_args: object, **_kwargs: object) -> None:
+        raise MissingExtraError("pinocchio", "kinematics", "the collision check", "Pinocchio")
+
+    files = [str(f) for f in FILES]
+    with monkeypatch.context() as m:
+        m.setattr(Collision, "_check", missing)
+        fresh = validate("--no-cache", *files)
+        assert validate(*files) == fresh
+    assert "info MT902: collision check skipped: Pinocchio is not installed" in fresh[1]
+    assert " MT307: " not in fresh[1]
+    with monkeypatch.context() as m:
+        no_check_may_run(m)
+        assert validate(*files) == fresh
 
 
 def test_what_the_findings_depend_on_is_in_the_key(store: Path, tmp_path: Path) -> None:
@@ -192,11 +211,11 @@ def test_large_files_and_long_reports_are_not_stored(
 def test_storing_one_key_in_256_prunes_the_store(tmp_path: Path) -> None:
     cache = FindingsCache(tmp_path, max_mb=0.0002)  # 200 bytes: three small entries
     for i in range(1, 9):
-        cache.store(f"{i:02x}" + "a" * 62, [])
+        cache.store(f"{i:02x}" + "a" * 62, [], {})
     assert len(list(tmp_path.glob("??/*.json"))) == 8
-    cache.store("00" + "a" * 62, [])
+    cache.store("00" + "a" * 62, [], {})
     assert cache.results.usage().size_bytes <= 200
-    assert cache.load("00" + "a" * 62) == []  # the last stored is the last to go
+    assert cache.load("00" + "a" * 62) == ([], {})  # the last stored is the last to go
 
 
 def test_an_entry_holds_every_field_of_a_finding_exactly(store: Path) -> None:
