@@ -11,6 +11,7 @@ from motiontool.cli.options import NoCacheOption
 from motiontool.cli.validate import robot_checks
 from motiontool.extras import require
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
+from motiontool.kinematics.checks.findings_cache import MAX_BYTES, FindingsCache
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.validate import FileReport
 
@@ -30,12 +31,25 @@ def server_command(
     require("pygls", "lsp", "motiontool server")
     from motiontool.cli import lsp
 
-    checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=not no_cache)
     Resolver(config=config, isolated=isolated)  # a bad --config fails now, not in the editor
 
     def lint(path: Path, data: bytes) -> tuple[FileReport, RobotSpec | None]:
         # Read afresh each time: an edited pyproject.toml applies to the next keystroke.
         resolver = Resolver(config=config, isolated=isolated)
+        cache = None if no_cache else FindingsCache(read_only=not _saved(path, data))
+        checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=cache)
         return lint_document(path, data, resolver, Overrides(), checks)
 
     lsp.build_server(lint).start_io()
+
+
+def _saved(path: Path, data: bytes) -> bool:
+    """Whether ``data`` is what the file at ``path`` holds: text as saved is stored in the
+    findings cache (the hook that checks the file next finds it there), text being typed is
+    only looked up (a version a keystroke would fill it). Small files only: the cache keeps no
+    other."""
+    try:
+        small = len(data) <= MAX_BYTES and path.stat().st_size == len(data)
+        return small and path.read_bytes() == data
+    except OSError:
+        return False

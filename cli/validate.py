@@ -321,7 +321,8 @@ def validate_command(
     refuse_overwrite(output, files, "-o")
     if diff or fix:
         _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
-    checker = partial(robot_checks, tolerance=collision_tolerance, cache=not no_cache)
+    cache = None if no_cache else FindingsCache()
+    checker = partial(robot_checks, tolerance=collision_tolerance, cache=cache)
     with progress("validate") as step:  # the files are validated as the report is written
         run = lint(files, resolver, overrides, checker, on_step=step)
         _print_report(
@@ -441,11 +442,11 @@ def robot_checks(
     timestep: int | None,
     *,
     tolerance: float,
-    cache: bool = True,
+    cache: FindingsCache | None,
 ) -> RobotChecks:
     """The robot checks of ``validate``, their hints in the CLI's words; checks named (with
     --checks or in the configuration) must run (a missing library is an error), the default
-    ones may be skipped; ``cache``: with the findings cache (``--no-cache``: without)."""
+    ones may be skipped; ``cache``: the findings cache (None: ``--no-cache``)."""
     try:
         return RobotChecks(
             robot,
@@ -454,7 +455,7 @@ def robot_checks(
             timestep_ms=timestep,
             penetration_tolerance_mm=tolerance,
             wording=CLI_WORDING,
-            cache=FindingsCache() if cache else None,
+            cache=cache,
         )
     except CheckUnavailableError as exc:
         raise MotionToolError(f"{exc}; leave '{exc.check}' out of {_CHECKS_OPTION}") from exc

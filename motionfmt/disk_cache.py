@@ -34,10 +34,12 @@ class CacheUsage:
 
 @dataclass(frozen=True)
 class ResultCache:
-    """Results on disk under ``directory``, pruned to ``max_bytes`` (None: unbounded)."""
+    """Results on disk under ``directory``, pruned to ``max_bytes`` and ``max_results``
+    (None: unbounded)."""
 
     directory: Path
     max_bytes: int | None = None
+    max_results: int | None = None
 
     def _path(self, key: str) -> Path:
         return self.directory / key[:2] / f"{key}.json"
@@ -96,15 +98,17 @@ class ResultCache:
 
     def prune(self, max_bytes: int | None = None) -> CacheUsage:
         """Remove the least recently used results until at most ``max_bytes`` (default: the
-        cache's own limit; 0 empties it) remain; what was removed."""
+        cache's own limit; 0 empties it) and at most :attr:`max_results` remain; what was
+        removed."""
         limit = self.max_bytes if max_bytes is None else max_bytes
-        if limit is None:
+        if limit is None and self.max_results is None:
             return CacheUsage(0, 0)
         entries = self._entries()
         total = sum(size for _, size, _ in entries)
+        count = len(entries) if self.max_results is None else self.max_results
         removed = freed = 0
-        for _, size, path in entries:
-            if total - freed <= limit:
+        for i, (_, size, path) in enumerate(entries):
+            if (limit is None or total - freed <= limit) and len(entries) - i <= count:
                 break
             with contextlib.suppress(OSError):  # gone already, or not ours to remove
                 path.unlink()

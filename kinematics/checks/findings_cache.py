@@ -5,7 +5,8 @@ In a pre-commit hook or an editor, most of a small file's 0.2 s is spent importi
 the limits, velocity and collision checks, which then take a few milliseconds. Their findings
 depend only on:
 
-- the file's bytes and its path (findings name it);
+- the file's bytes and its absolute path (the findings are stored without it, and take the
+  name the file is given when they are read: the hook and the editor name it differently);
 - the robot: every fact of its :class:`~motiontool.kinematics.robots.RobotSpec`, its model's
   sha256 included;
 - the checks and their options: the robot asked for, the checks, the time step, the collision
@@ -21,14 +22,15 @@ findings stream to the report, never all held). Checks whose findings depend on 
 (MT309 compares a file with its siblings) are never stored: they run every time.
 
 The store is ``$XDG_CACHE_HOME/motiontool/lint`` (``~/.cache/motiontool/lint``), pruned to
-:data:`MAX_MB` MB, least recently used first. A store that cannot be read or written is not an
-error: the checks run.
+:data:`MAX_MB` MB and :data:`MAX_RESULTS` entries, least recently used first. A store that
+cannot be read or written is not an error: the checks run.
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import json
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple
 from pathlib import Path
@@ -43,6 +45,7 @@ __all__ = [
     "MAX_BYTES",
     "MAX_FINDINGS",
     "MAX_MB",
+    "MAX_RESULTS",
     "FindingsCache",
     "Stored",
     "findings_key",
@@ -55,9 +58,12 @@ MAX_FINDINGS = 5000
 """The most findings a stored file may have (grouped, as reported)."""
 MAX_MB = 100
 """The size the store is pruned to, MB (a clean file's entry is about 100 bytes)."""
+MAX_RESULTS = 20_000
+"""The most entries the store is pruned to (each takes a block of the disk, however small):
+a few versions of each file of a large motion library."""
 _T = TypeVar("_T")
 
-_LAYOUT = "motiontool-findings-2"
+_LAYOUT = "motiontool-findings-3"
 """The layout of a stored entry: a change to :func:`_encode` is a new layout."""
 _PRUNE_PREFIX = "00"
 """Storing a key that starts with this prunes the store: one store in 256, whatever the
@@ -97,18 +103,30 @@ def findings_key(options: Iterable[str], path: str, data: bytes) -> str:
 class FindingsCache:
     """The store of :mod:`findings_cache <motiontool.kinematics.checks.findings_cache>`."""
 
-    def __init__(self, directory: Path | None = None, max_mb: float = MAX_MB) -> None:
+    def __init__(
+        self,
+        directory: Path | None = None,
+        max_mb: float = MAX_MB,
+        *,
+        max_results: int = MAX_RESULTS,
+        read_only: bool = False,
+    ) -> None:
         self.results = ResultCache(
-            lint_cache_dir() if directory is None else directory, round(max_mb * BYTES_PER_MB)
+            lint_cache_dir() if directory is None else directory,
+            round(max_mb * BYTES_PER_MB),
+            max_results,
         )
+        self.read_only = read_only
+        """Read, never store: the editor's unsaved text, one version a keystroke."""
 
-    def load(self, key: str) -> Stored | None:
-        """What is stored under ``key``, or None (nothing stored, or unreadable)."""
+    def load(self, key: str, path: str) -> Stored | None:
+        """What is stored under ``key``, its findings on the file named ``path`` (as the user
+        names it this time), or None (nothing stored, or unreadable)."""
         doc = self.results.load(key)
         if doc is None or doc.get("layout") != _LAYOUT:
             return None
         try:
-            findings = [_decode(item) for item in doc["findings"]]
+            findings = [_decode(item, path) for item in doc["findings"]]
             skipped = {
                 _of(name, str): MissingExtraError(*(_of(f, str) for f in _list(fields, 4)))
                 for name, fields in doc["skipped"].items()
@@ -122,13 +140,20 @@ class FindingsCache:
         key: str,
         findings: Sequence[Diagnostic],
         skipped: Mapping[str, MissingExtraError],
+        path: str,
     ) -> None:
-        """Store ``findings`` under ``key`` (the caller keeps to :data:`MAX_FINDINGS`), with
-        the checks ``skipped`` for a missing library; a store that cannot be written is left as
-        it is."""
+        """Store ``findings`` on the file named ``path`` under ``key`` (the caller keeps to
+        :data:`MAX_FINDINGS`), with the checks ``skipped`` for a missing library. They are
+        stored without the file's name, which :meth:`load` puts back as it is named then (the
+        hook names it from the repository's root, the editor by its absolute path); findings
+        whose words name the file are not stored. Nothing is stored where :attr:`read_only`;
+        a store that cannot be written is left as it is."""
+        items = [_encode(d) for d in findings]
+        if self.read_only or json.dumps(path)[1:-1] in json.dumps(items):
+            return
         doc = {
             "layout": _LAYOUT,
-            "findings": [_encode(d) for d in findings],
+            "findings": items,
             "skipped": {n: [e.module, e.extra, e.what, e.library] for n, e in skipped.items()},
         }
         if self.results.store(key, doc) and key.startswith(_PRUNE_PREFIX):
@@ -145,11 +170,11 @@ class Stored(NamedTuple):
 
 
 def _encode(d: Diagnostic) -> list[object]:
-    """``d`` as JSON values, its fields in order (floats as JSON writes them: exactly)."""
+    """``d`` as JSON values, its fields in order but its path (floats as JSON writes them:
+    exactly)."""
     return [
         d.code,
         int(d.severity),
-        d.path,
         d.line,
         d.column,
         d.message,
@@ -162,16 +187,14 @@ def _encode(d: Diagnostic) -> list[object]:
     ]
 
 
-def _decode(item: object) -> Diagnostic:
-    """The :class:`Diagnostic` that :func:`_encode` wrote; ValueError for anything else (a
-    damaged or foreign entry)."""
-    code, severity, path, line, column, message, hint, joint, time_ms, end, pose, run = _list(
-        item, 12
-    )
+def _decode(item: object, path: str) -> Diagnostic:
+    """The :class:`Diagnostic` on file ``path`` that :func:`_encode` wrote; ValueError for
+    anything else (a damaged or foreign entry)."""
+    code, severity, line, column, message, hint, joint, time_ms, end, pose, run = _list(item, 11)
     return Diagnostic(
         _of(code, str),
         Severity(_of(severity, int)),
-        _of(path, str),
+        path,
         _of(line, int),
         _of(column, int),
         _of(message, str),

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import difflib
 import itertools
+import os
 from collections.abc import Callable, Iterable, Sequence
 
 from motiontool.errors import MissingExtraError, MotionToolError
@@ -269,8 +270,8 @@ class RobotChecks(Groupable):
             repr(group),
             repr(self.wording),
         )
-        key = findings_key(options, result.path, data)
-        stored = cache.load(key)
+        key = findings_key(options, os.path.abspath(result.path), data)
+        stored = cache.load(key, result.path)
         if stored is not None:
             for name, exc in stored.skipped.items():  # the run's MT902 note, as if it ran
                 self.skipped.setdefault(name, exc)
@@ -280,7 +281,7 @@ class RobotChecks(Groupable):
         if len(held) > MAX_FINDINGS:  # too many to hold: made again as the report reads them
             return found
         names = {_CHECK_NAMES.get(type(c)) for c in checks}
-        cache.store(key, held, {n: e for n, e in self.skipped.items() if n in names})
+        cache.store(key, held, {n: e for n, e in self.skipped.items() if n in names}, result.path)
         return held
 
     def _run(self, check: _Check, result: ReadResult, *, group: bool) -> Sequence[Diagnostic]:

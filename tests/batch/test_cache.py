@@ -97,3 +97,11 @@ def test_cache_options_are_checked(tmp_path: Path) -> None:
         result = cli.invoke(app, [*args, "--cache-dir", str(tmp_path)])
         assert result.exit_code == 2, (args, result.output)
         assert result.stderr.startswith("motiontool: error: "), result.stderr
+
+
+def test_prune_keeps_at_most_max_results_the_most_recently_used(tmp_path: Path) -> None:
+    _filled(tmp_path, n=5, size=100)
+    cache = ResultCache(tmp_path, max_bytes=None, max_results=2)
+    assert cache.prune().results == 3
+    assert _kept(tmp_path) == [3, 4]
+    assert ResultCache(tmp_path, max_bytes=10**6, max_results=2).prune().results == 0

@@ -132,6 +132,25 @@ def test_an_edited_robot_model_is_a_new_key(store: Path, tmp_path: Path) -> None
     assert validate(*args) == fresh and " MT302: " in fresh[1]
 
 
+def test_a_file_named_otherwise_takes_its_findings_with_its_new_name(
+    store: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    shutil.copyfile(FILES[0], tmp_path / "salute.motion")
+    monkeypatch.chdir(tmp_path)
+    named = validate(tmp_path / "salute.motion")  # as the editor names it: stored
+    fresh = validate("--no-cache", "salute.motion")  # as the hook names it
+    with monkeypatch.context() as m:
+        no_check_may_run(m)
+        assert validate("salute.motion") == fresh != named
+    assert "\nsalute.motion:2:1: warning MT307: " in fresh[1]
+    # A file whose name is in its findings' words (a joint's name): not stored.
+    shutil.copyfile(FILES[0], tmp_path / "RElbowRoll")
+    fresh = validate("--no-cache", "RElbowRoll", "--robot", "nao-v5")
+    assert validate("RElbowRoll", "--robot", "nao-v5") == fresh
+    assert "RElbowRoll:3:23: error MT302: RElbowRoll = 0 rad" in fresh[1]
+    assert len(list(store.glob("??/*.json"))) == 1
+
+
 def test_a_note_that_reads_the_sibling_file_is_found_again(store: Path, tmp_path: Path) -> None:
     left, right = tmp_path / "HandHighLeft.motion", tmp_path / "HandHighRight.motion"
     shutil.copyfile(DANCE / "HandHighLeft.motion", left)
@@ -211,34 +230,34 @@ def test_large_files_and_long_reports_are_not_stored(
 def test_storing_one_key_in_256_prunes_the_store(tmp_path: Path) -> None:
     cache = FindingsCache(tmp_path, max_mb=0.0002)  # 200 bytes: three small entries
     for i in range(1, 9):
-        cache.store(f"{i:02x}" + "a" * 62, [], {})
+        cache.store(f"{i:02x}" + "a" * 62, [], {}, "m.motion")
     assert len(list(tmp_path.glob("??/*.json"))) == 8
-    cache.store("00" + "a" * 62, [], {})
+    cache.store("00" + "a" * 62, [], {}, "m.motion")
     assert cache.results.usage().size_bytes <= 200
-    assert cache.load("00" + "a" * 62) == ([], {})  # the last stored is the last to go
+    assert cache.load("00" + "a" * 62, "m.motion") == ([], {})  # the last stored is the last to go
 
 
 def test_an_entry_holds_every_field_of_a_finding_exactly(store: Path) -> None:
     validate("--no-cache", *FILES)  # nothing stored
     validate(*FILES)
     found = [
-        _decode(item)
+        _decode(item, "x.motion")
         for entry in sorted(store.glob("??/*.json"))
         for item in json.loads(entry.read_bytes())["findings"]
     ]
     for field in ("run", "pose", "hint", "joint", "time_ms", "end_column"):
         assert any(getattr(d, field) is not None for d in found), field
     for d in found:
-        again = _decode(json.loads(json.dumps(_encode(d))))
+        again = _decode(json.loads(json.dumps(_encode(d))), d.path)
         assert again == d and (again.pose, again.run, again.end_column) == (
             d.pose,
             d.run,
             d.end_column,
         )
     with pytest.raises(ValueError, match="expected"):
-        _decode([*_encode(found[0])[:-1]])
+        _decode([*_encode(found[0])[:-1]], "x.motion")
     with pytest.raises(ValueError, match="expected str"):
-        _decode([1, *_encode(found[0])[1:]])
+        _decode([1, *_encode(found[0])[1:]], "x.motion")
     assert isinstance(found[0], Diagnostic)
 
 

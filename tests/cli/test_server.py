@@ -266,3 +266,41 @@ def test_validate_the_pre_commit_hook_and_the_editor_agree(project: Path) -> Non
 
     run_session(project, body)
     assert editor == from_cli
+
+
+def test_the_editor_stores_saved_text_in_the_findings_cache_not_typed_text(
+    project: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("MOTIONTOOL_NO_CACHE", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(project / "xdg"))
+    store = project / "xdg" / "motiontool" / "lint"
+    counts: list[int] = []
+
+    async def body(session: Session) -> None:
+        path = project / "nao" / "look.motion"
+        uri = open_doc(session, path, MOTION)  # the text as saved
+        await session.diagnostics(uri)
+        counts.append(len(list(store.glob("??/*.json"))))
+        for version in (2, 3):  # typed, not saved
+            session.client.text_document_did_change(
+                lsp.DidChangeTextDocumentParams(
+                    text_document=lsp.VersionedTextDocumentIdentifier(uri=uri, version=version),
+                    content_changes=[
+                        lsp.TextDocumentContentChangeWholeDocument(
+                            text=MOTION.replace("3.0", f"3.{version}")
+                        )
+                    ],
+                )
+            )
+            await session.diagnostics(uri)
+        counts.append(len(list(store.glob("??/*.json"))))
+
+    run_session(project, body)
+    assert counts == [1, 1]
+    # The hook (validate) checks the saved file next: its findings come from the editor's entry.
+    fresh = CliRunner().invoke(app, ["validate", "--no-cache", str(project / "nao/look.motion")])
+    monkeypatch.chdir(project)
+    fresh = CliRunner().invoke(app, ["validate", "--no-cache", "nao/look.motion"])
+    again = CliRunner().invoke(app, ["validate", "nao/look.motion"])
+    assert (again.exit_code, again.stdout) == (fresh.exit_code, fresh.stdout)
+    assert len(list(store.glob("??/*.json"))) == 1 and " MT302: " in again.stdout
