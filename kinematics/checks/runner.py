@@ -269,6 +269,7 @@ class RobotChecks(Groupable):
             repr(self.penetration_tolerance_mm),
             repr(group),
             repr(self.wording),
+            repr(self.skip_missing),  # a check asked for by name raises where one skips
         )
         key = findings_key(options, os.path.abspath(result.path), data)
         stored = cache.load(key, result.path)

@@ -83,6 +83,9 @@ def test_a_check_skipped_for_a_missing_library_is_noted_from_the_cache_too(
         m.setattr(Collision, "_check", missing)
         fresh = validate("--no-cache", *files)
         assert validate(*files) == fresh
+        # The same checks asked for by name must run: the missing library is an error.
+        named = cli.invoke(app, ["validate", "--checks", "limits,velocity,collision", *files])
+        assert named.exit_code == 2 and "needs Pinocchio" in named.stderr, named.output
     assert "info MT902: collision check skipped: Pinocchio is not installed" in fresh[1]
     assert " MT307: " not in fresh[1]
     with monkeypatch.context() as m:
