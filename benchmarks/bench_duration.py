@@ -8,8 +8,8 @@ memory (RSS) of the whole process at both durations and their ratio, measured in
 run. Target: ``plot`` flat (ratio <= 1.3x for 10x the duration; 60 and 600 minutes as well).
 ``convert`` has no ratio target: it holds the stream it sends (steps x joints x 8 bytes,
 printed) and the file it writes, and nothing else per step (a bag's messages and URScript's
-lines are made as they are written). ``resample --step`` neither: it holds the motion it
-writes as a lossless document and reads it back (printed for the record: not flat).
+lines are made as they are written). ``resample --step`` writes and compares its
+result a block at a time since 2026-11-26 (motionfmt/resample_grid.py): printed for the record.
 """
 
 from __future__ import annotations

@@ -6,14 +6,13 @@ checks they run on their result, and how they report it. Their options are in
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import typer
 
 from motiontool.cli.output import (
-    emit_bytes,
     refuse_overwrite,
     same_file,
     say_wrote,
@@ -22,7 +21,7 @@ from motiontool.cli.output import (
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
-from motiontool.motionfmt.fileio import is_stdin, read_file, source_name
+from motiontool.motionfmt.fileio import STDOUT, is_stdin, open_output, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.validate import run_check
 from motiontool.stamps import stamps
@@ -87,8 +86,18 @@ def load_input(path: Path) -> MotionDocument:
 def write_result(doc: MotionDocument, target: Path | None) -> None:
     """Write ``doc`` atomically to ``target``, or to stdout when None; a file written is said
     on stderr (:func:`~motiontool.cli.output.say_wrote`)."""
-    emit_bytes(doc.to_bytes(), target)
-    say_wrote(target, written_motion(doc.n_poses, doc.motion.duration_ms))
+    write_blocks((doc.to_bytes(),), target, doc.n_poses, doc.motion.duration_ms)
+
+
+def write_blocks(
+    blocks: Iterable[bytes], target: Path | None, n_poses: int, duration_ms: int
+) -> None:
+    """Write a motion of ``n_poses`` poses lasting ``duration_ms`` (ms), given a block of
+    bytes at a time, as :func:`write_result` writes one: never all held."""
+    with open_output(STDOUT if target is None else target) as sink:
+        for block in blocks:
+            sink.write(block)
+    say_wrote(target, written_motion(n_poses, duration_ms))
 
 
 def say(text: str, target: Path | None) -> None:

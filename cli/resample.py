@@ -14,7 +14,7 @@ from motiontool.cli._authoring import (
     output_target,
     report_header,
     say,
-    write_result,
+    write_blocks,
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output, finite
 from motiontool.cli.text import num, plural
@@ -139,6 +139,6 @@ def resample_command(
     target = output_target(path, output, in_place)
     doc = load_input(path)
     result = resample(doc, step_ms=step, max_error=max_error)
-    write_result(result.document, target)
+    write_blocks(result.blocks(), target, result.n_poses, result.duration_ms)
     report = _json if format is Format.json else _text
     say(report(result, path, target, max_error), target)

@@ -24,25 +24,25 @@ columns is the *same* motion; added or removed joints and a changed duration are
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.arrays import sorted_distinct
+from motiontool.motionfmt.compare_steps import Played, compared_steps, every_step, played_steps
+from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.player import Held, Holder, commands_at, require_held
-from motiontool.motionfmt.reader import NO_VALUE_MARKER
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-    from motiontool.motionfmt.motion import Motion
 
 __all__ = [
     "DEFAULT_TOLERANCE_RAD",
     "EVERY_STEP_LIMIT",
     "JointDiff",
     "MotionDiff",
+    "Played",
     "compare_motions",
     "held_pair",
     "held_targets",
@@ -55,8 +55,6 @@ DEFAULT_TOLERANCE_RAD = 1e-4
 1e-4 rad is 0.006°, below the resolution of the Nao's joint encoders (12 bit over 2π, 1.5e-3 rad)
 and well above the rounding of a value written with 6 decimals (5e-7)."""
 
-_CHUNK_STEPS = 1 << 14  # steps compared at once: bounds memory to a few MB per joint block
-
 EVERY_STEP_LIMIT = 4_000_000
 """A grid of up to this many steps (66 min at 1 ms) is compared at every step, bit for bit, in
 seconds at most. A longer one (a motion lasting days would take hours) is compared at the steps
@@ -64,7 +62,7 @@ next to each pose time, where |Δq| is largest (exactly so but for rounding: see
 :func:`_compared_steps`); :attr:`MotionDiff.compared_steps` says how many."""
 
 
-def joint_names(motion: Motion) -> tuple[str, ...]:
+def joint_names(motion: Motion | Played) -> tuple[str, ...]:
     """The distinct joint names of ``motion``, in order of first appearance."""
     return tuple(dict.fromkeys(motion.joints))
 
@@ -126,7 +124,7 @@ def held_pair(
     n_steps = -(-max(old.duration_ms, new.duration_ms) // timestep_ms) + 1
     parts: list[tuple[npt.NDArray[np.int64], Held, Held]] = []
     hold_old, hold_new = Holder(names), Holder(names)
-    for steps, _weights in _compared_steps((old, new), timestep_ms, n_steps):
+    for steps, _weights in compared_steps((old, new), timestep_ms, n_steps):
         elapsed = steps * timestep_ms
         held_old = _held(old, elapsed, hold_old)
         held_new = _held(new, elapsed, hold_new)
@@ -322,95 +320,9 @@ class _Extremes:
         return joints
 
 
-def _compared_steps(
-    motions: Sequence[Motion], timestep_ms: int, n_steps: int
-) -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]]:
-    """The steps of the grid ``0 .. n_steps - 1`` that decide the comparison, in chunks of at
-    most :data:`_CHUNK_STEPS`, each with how many grid steps it stands for (itself and the
-    steps up to the next one).
-
-    Between two pose times of either motion, each command is a linear interpolation of the
-    step (or a constant: before the first pose, after the last, or held where nothing is
-    sent), so |Δq| is largest at a first or last step of such a run of steps, and which side
-    holds a target is the same all along it. So the steps next to each pose time (two either
-    side) are enough, whatever the motion's duration; but every step of a segment whose values
-    reach Webots' no-value marker, where one step may skip its target."""
-    import numpy as np
-
-    points = [np.array([0, n_steps - 1], dtype=np.int64)]
-    dense: list[tuple[int, int]] = []
-    for m in motions:
-        t = m.times_ms
-        below, above = t // timestep_ms, -(-t // timestep_ms)
-        points += [below - 1, below, above, above + 1]
-        for a in _marker_segments(m):
-            dense.append((int(below[a]), int(above[a + 1]) + 1))
-    steps = np.concatenate(points)
-    steps = steps[(steps >= 0) & (steps < n_steps)]
-    return _weighted(_merged(sorted_distinct(steps), dense, n_steps), n_steps)
-
-
-def _marker_segments(motion: Motion) -> list[int]:
-    """The segments (index of their first pose) where a column's interpolated value can equal
-    :data:`~motiontool.motionfmt.reader.NO_VALUE_MARKER` (Webots then sends nothing), within a
-    margin far above rounding."""
-    import numpy as np
-
-    v = motion.values
-    if v.shape[0] < 2:
-        return []
-    lo, hi = np.fmin(v[:-1], v[1:]), np.fmax(v[:-1], v[1:])
-    margin = 1e-6 * abs(NO_VALUE_MARKER)
-    with np.errstate(invalid="ignore"):
-        near = (lo <= NO_VALUE_MARKER + margin) & (hi >= NO_VALUE_MARKER - margin)
-    return np.flatnonzero(near.any(axis=1)).tolist()
-
-
-def _merged(
-    sparse: npt.NDArray[np.int64], dense: list[tuple[int, int]], n_steps: int
-) -> Iterator[npt.NDArray[np.int64]]:
-    """``sparse`` steps and every step of the ``dense`` ranges ``[start, end)``, sorted, each
-    once, in arrays of at most :data:`_CHUNK_STEPS`."""
-    import numpy as np
-
-    done = 0  # every step below it is given
-    for start, end in sorted(dense):
-        start, end = max(start, done), min(end, n_steps)
-        if start >= end:
-            continue
-        yield from _chunks(sparse[(sparse >= done) & (sparse < start)])
-        for first in range(start, end, _CHUNK_STEPS):
-            yield np.arange(first, min(first + _CHUNK_STEPS, end), dtype=np.int64)
-        done = end
-    yield from _chunks(sparse[sparse >= done])
-
-
-def _chunks(steps: npt.NDArray[np.int64]) -> Iterator[npt.NDArray[np.int64]]:
-    for first in range(0, steps.shape[0], _CHUNK_STEPS):
-        yield steps[first : first + _CHUNK_STEPS]
-
-
-def _weighted(
-    chunks: Iterator[npt.NDArray[np.int64]], n_steps: int
-) -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]]:
-    """Each chunk of sorted steps with how many grid steps each stands for: up to the next
-    step of the next chunks, the last one up to ``n_steps``."""
-    import numpy as np
-
-    pending = None
-    for steps in chunks:
-        if not steps.shape[0]:
-            continue
-        if pending is not None:
-            yield pending, np.diff(np.append(pending, steps[0]))
-        pending = steps
-    if pending is not None:
-        yield pending, np.diff(np.append(pending, n_steps))
-
-
 def compare_motions(
     old: Motion,
-    new: Motion,
+    new: Motion | Played,
     *,
     timestep_ms: int = 1,
     tolerance: float = DEFAULT_TOLERANCE_RAD,
@@ -418,7 +330,8 @@ def compare_motions(
     """Compare what a robot is commanded by ``old`` and by ``new``.
 
     Args:
-        old, new: the two motions.
+        old, new: the two motions; ``new`` may be one known a window at a time
+            (:class:`Played`), whatever its length.
         timestep_ms: controller time step of the comparison grid, ms. The default, 1 ms, compares
             at every playback time any controller can sample (pose times are whole ms).
         tolerance: largest |Δq| (rad, m for linear joints) that still counts as the same.
@@ -426,7 +339,6 @@ def compare_motions(
     Returns:
         a :class:`MotionDiff`; ``diff.same`` answers the question.
     """
-    import numpy as np
 
     if timestep_ms <= 0:
         raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
@@ -439,16 +351,20 @@ def compare_motions(
     extremes = _Extremes(len(common))
     hold_old, hold_new = Holder(common), Holder(common)
     if n_steps <= EVERY_STEP_LIMIT:
-        chunks = _weighted(_merged(np.empty(0, dtype=np.int64), [(0, n_steps)], n_steps), n_steps)
+        chunks = every_step(n_steps)
+    elif isinstance(new, Motion):
+        chunks = compared_steps((old, new), timestep_ms, n_steps)
     else:
-        chunks = _compared_steps((old, new), timestep_ms, n_steps)
+        chunks = played_steps(old, new, timestep_ms, n_steps)
     compared = 0
     for steps, weights in chunks:
         compared += steps.shape[0]
         elapsed = steps * timestep_ms
-        extremes.update(
-            steps, _held(old, elapsed, hold_old), _held(new, elapsed, hold_new), weights
-        )
+        if isinstance(new, Motion):
+            held_new = _held(new, elapsed, hold_new)
+        else:
+            held_new = hold_new.hold(*new.commands_at(elapsed), new.joints)
+        extremes.update(steps, _held(old, elapsed, hold_old), held_new, weights)
     joints = extremes.joint_diffs(common, timestep_ms)
     return MotionDiff(
         timestep_ms=timestep_ms,

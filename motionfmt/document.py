@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, overload
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
@@ -251,6 +251,42 @@ class MotionDocument:
         self._lines = (header, out, suffix)
         self._edited()
 
+    def stream_edited(
+        self, keep: Sequence[bool], after: Callable[[int], Iterable[list[str]]]
+    ) -> Iterator[bytes]:
+        """The bytes of this document with pose ``p`` left out where ``keep[p]`` is False and,
+        after pose ``p``, the new pose lines that ``after(p)`` gives (blocks of canonical line
+        texts, without their ends): what :meth:`delete_pose` and :meth:`insert_poses` would
+        make, a block of about :data:`_STREAM_BYTES` at a time, never all held. The last pose
+        stays, last (the ends of the lines are then those of :meth:`insert_poses`)."""
+        header, poses, suffix = self._parts
+        if len(keep) != len(poses) or not keep[-1]:
+            raise MotionToolError("the last pose of a streamed edit must stay")
+        eol = b"\r" if self._crlf else b""
+        lines: list[bytes] = [header]
+        size = 0
+        for p, line in enumerate(poses):
+            if keep[p]:
+                lines.append(line)
+                size += len(line)
+            for block in after(p):
+                if p == len(poses) - 1:
+                    raise MotionToolError("no pose line may follow the last pose")
+                new = [text.encode("utf-8") + eol for text in block]
+                lines += new
+                size += sum(map(len, new))
+                if size >= _STREAM_BYTES:
+                    yield b"\n".join(lines[:-1]) + b"\n"  # a line follows each but the last
+                    lines, size = lines[-1:], 0
+            if size >= _STREAM_BYTES:
+                yield b"\n".join(lines[:-1]) + b"\n"
+                lines, size = lines[-1:], 0
+        lines += suffix
+        yield b"\n".join(lines) + (b"\n" if self._final_newline else b"")
+
+
+_STREAM_BYTES = 1 << 20
+"""The size of the blocks :meth:`MotionDocument.stream_edited` gives, bytes (about)."""
 
 _NEW_LINES = 8192
 """New pose lines :meth:`MotionDocument.insert_poses` spells at a time: each cell is a Python

@@ -11,16 +11,17 @@ and cells it keeps keep their original spelling; new poses are spelt canonically
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import functools
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff, compare_motions
-from motiontool.motionfmt.document import MotionDocument
+from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.player import require_held, targets_at
-from motiontool.motionfmt.writer import pose_name
+from motiontool.motionfmt.player import require_held
+from motiontool.motionfmt.resample_grid import Grid, GridResample
 
 if TYPE_CHECKING:
     import numpy as np
@@ -45,7 +46,9 @@ class Resampled:
     """What :func:`resample` did.
 
     Attributes:
-        document: the edited document (kept lines keep their spelling).
+        blocks: the result's bytes, a block at a time (anew at each call): a grid's result is
+            never held whole (kept lines keep their spelling).
+        n_poses, duration_ms: the result's pose count and last pose time (ms).
         step_ms: the grid step, ms, or None when only keyframes were removed.
         grid_has_keyframes: every original pose time lies on the grid (or no grid was asked).
         inserted: poses added on grid times.
@@ -55,9 +58,12 @@ class Resampled:
         deviation: the result against the original, compared at every millisecond
             (:func:`~motiontool.motionfmt.compare.compare_motions`, tolerance ``max_error``
             or :data:`ROUNDING_RAD`).
+        path: the original's name (the :attr:`document`'s).
     """
 
-    document: MotionDocument
+    blocks: Callable[[], Iterator[bytes]]
+    n_poses: int
+    duration_ms: int
     step_ms: int | None
     grid_has_keyframes: bool
     inserted: int
@@ -65,38 +71,25 @@ class Resampled:
     removed: int
     collinear: int
     deviation: MotionDiff
+    path: str
+
+    @functools.cached_property
+    def document(self) -> MotionDocument:
+        """The result as a document, held whole (a library caller's; the CLI streams
+        :attr:`blocks`)."""
+        return loads(b"".join(self.blocks()), self.path)
 
 
 def grid_times(first_ms: int, last_ms: int, step_ms: int) -> list[int]:
-    """Multiples of ``step_ms`` between ``first_ms`` and ``last_ms`` (ms), plus both ends.
+    """Multiples of ``step_ms`` between ``first_ms`` and ``last_ms`` (ms), plus both ends
+    (:class:`~motiontool.motionfmt.resample_grid.Grid`, as a list).
 
     The ends are always kept, on the grid or not, so that the motion starts and ends when it did.
     """
-    if step_ms <= 0:
-        raise MotionToolError(f"the grid step must be a positive number of ms, got {step_ms}")
-    start = -(-first_ms // step_ms) * step_ms
-    require_held(max(0, (last_ms - start) // step_ms + 1), step_ms, "the resampling grid")
-    return sorted({first_ms, last_ms, *range(start, last_ms + 1, step_ms)})
-
-
-def _apply_grid(doc: MotionDocument, original: Motion, grid: Sequence[int]) -> tuple[int, int]:
-    """Delete poses off ``grid``, insert the grid times the document lacks; (inserted, dropped)."""
-    import numpy as np
-
-    on_grid = set(grid)
-    times = [int(t) for t in original.times_ms]
-    dropped = 0
-    for p in range(len(times) - 1, -1, -1):
-        if times[p] not in on_grid:
-            doc.delete_pose(p)
-            del times[p]
-            dropped += 1
-    have = set(times)
-    new = [t for t in grid if t not in have]
-    at = np.searchsorted(np.asarray(times, dtype=np.int64), new).tolist()
-    values = targets_at(original, np.asarray(new, dtype=np.int64))
-    doc.insert_poses(at, new, [pose_name(t) for t in new], values)
-    return len(new), dropped
+    grid = Grid(first_ms, last_ms, step_ms)
+    require_held(grid.count(), step_ms, "the resampling grid")
+    times: list[int] = grid.between(first_ms, last_ms).tolist()
+    return times
 
 
 def _window_ok(
@@ -330,11 +323,17 @@ def resample(
     refuse_non_finite(original, doc.result, "resampling")
     out = doc.copy()
     inserted = dropped = 0
-    grid_has_keyframes = True
     if step_ms is not None:
-        grid = grid_times(int(original.times_ms[0]), original.duration_ms, step_ms)
-        grid_has_keyframes = {int(x) for x in original.times_ms} <= set(grid)
-        inserted, dropped = _apply_grid(out, original, grid)
+        gridded = GridResample(doc, original, step_ms)
+        inserted, dropped = gridded.inserted, gridded.dropped
+        if max_error is None and gridded.marker_free():  # compared a window at a time
+            deviation = compare_motions(original, gridded, timestep_ms=1, tolerance=ROUNDING_RAD)
+            return Resampled(
+                gridded.blocks, gridded.n_poses, gridded.duration_ms, step_ms, dropped == 0,
+                inserted, dropped, 0, 0, deviation, doc.path,
+            )  # fmt: skip
+        require_held(gridded.n_poses, step_ms, "the resampling grid")  # held whole from here
+        out = loads(b"".join(gridded.blocks()), doc.path)
     removed: list[int] = []
     collinear = 0
     if max_error is not None:
@@ -342,14 +341,9 @@ def resample(
         for p in sorted(removed, reverse=True):
             out.delete_pose(p)
     tolerance = ROUNDING_RAD if max_error is None else max_error + ROUNDING_RAD
-    deviation = compare_motions(original, out.motion, timestep_ms=1, tolerance=tolerance)
+    result = out.motion
+    deviation = compare_motions(original, result, timestep_ms=1, tolerance=tolerance)
     return Resampled(
-        document=out,
-        step_ms=step_ms,
-        grid_has_keyframes=grid_has_keyframes,
-        inserted=inserted,
-        dropped_off_grid=dropped,
-        removed=len(removed),
-        collinear=collinear,
-        deviation=deviation,
-    )
+        lambda: iter((out.to_bytes(),)), result.n_poses, result.duration_ms, step_ms,
+        dropped == 0, inserted, dropped, len(removed), collinear, deviation, doc.path,
+    )  # fmt: skip

@@ -18,6 +18,7 @@ from motiontool.motionfmt.player import (
     sample,
 )
 from motiontool.motionfmt.resample import resample
+from motiontool.motionfmt.resample_grid import GridResample
 
 DAYS = b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P1,0\n40,P2,1.5\n2000000000,P3,0\n"
 
@@ -28,10 +29,14 @@ def test_a_whole_stream_of_a_motion_that_plays_for_days_is_refused_before_it_is_
         sample(motion, 20)
     with pytest.raises(StreamTooLongError):
         held_targets(motion, 20)
-    with pytest.raises(StreamTooLongError, match="the resampling grid"):
-        resample(loads(DAYS, "days.motion"), step_ms=20)
+    with pytest.raises(StreamTooLongError, match="the resampling grid"):  # then simplified
+        resample(loads(DAYS, "days.motion"), step_ms=20, max_error=0.01)
     chunks = iter_commands(motion, 20, chunk_steps=1000)  # streamed: any duration
     assert sum(c.elapsed_ms.shape[0] for c in itertools.islice(chunks, 3)) == 3000
+    gridded = GridResample(loads(DAYS, "days.motion"), motion, 20)  # written a block at a time
+    assert gridded.n_poses == 100_000_001
+    head = next(gridded.blocks())
+    assert head.startswith(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P1,0\n20,Pose20ms,0.75\n40,P2,1.5\n")
 
 
 def test_the_limit_is_inclusive() -> None:

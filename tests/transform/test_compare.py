@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from strategies import motion_files
 
-from motiontool.motionfmt import compare, format_motion, loads, read_bytes, read_file
+from motiontool.motionfmt import compare_steps, format_motion, loads, read_bytes, read_file
 from motiontool.motionfmt.compare import (
     JointDiff,
     MotionDiff,
@@ -222,7 +222,7 @@ def test_held_pair_shapes_the_lines_through_every_step(
     lies on the line between them."""
     a, b = read_bytes(old, "a.motion").motion, read_bytes(new, "b.motion").motion
     names = [n for n in joint_names(a) if n in set(joint_names(b))]
-    with mock.patch.object(compare, "_CHUNK_STEPS", chunk):
+    with mock.patch.object(compare_steps, "_CHUNK_STEPS", chunk):
         elapsed, held_a, held_b = held_pair(a, b, step, names)
     end = max(a.duration_ms, b.duration_ms)
     assert elapsed[0] == 0 and elapsed[-1] == -(-end // step) * step
