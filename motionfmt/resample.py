@@ -325,6 +325,8 @@ def resample(
     inserted = dropped = 0
     if step_ms is not None:
         gridded = GridResample(doc, original, step_ms)
+        # Streamed, its memory does not grow with it; past the cap it would take hours.
+        require_held(gridded.n_poses, step_ms, "the resampling grid")
         inserted, dropped = gridded.inserted, gridded.dropped
         if max_error is None and gridded.marker_free():  # compared a window at a time
             deviation = compare_motions(original, gridded, timestep_ms=1, tolerance=ROUNDING_RAD)
@@ -332,7 +334,6 @@ def resample(
                 gridded.blocks, gridded.n_poses, gridded.duration_ms, step_ms, dropped == 0,
                 inserted, dropped, 0, 0, deviation, doc.path,
             )  # fmt: skip
-        require_held(gridded.n_poses, step_ms, "the resampling grid")  # held whole from here
         out = loads(b"".join(gridded.blocks()), doc.path)
     removed: list[int] = []
     collinear = 0
