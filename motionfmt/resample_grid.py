@@ -131,14 +131,19 @@ class GridResample:
         times = self.original.times_ms
         if pose + 1 >= times.shape[0]:
             return
-        lo, hi = int(times[pose]) + 1, int(times[pose + 1]) - 1
-        while lo <= hi:
-            block = self.grid.between(lo, min(hi, lo + _BLOCK * self.grid.step_ms - 1))
-            if block.shape[0] == 0:
-                return
+        for block in self._blocks(int(times[pose]) + 1, int(times[pose + 1]) - 1):
             values = targets_at(self.original, block)
             names = [pose_name(t) for t in block.tolist()]
             yield pose_lines(block, names, values, self.doc.time_style)
+
+    def _blocks(self, lo: int, hi: int) -> Iterator[npt.NDArray[np.int64]]:
+        """The grid times in ``[lo, hi]``, at most :data:`_BLOCK` at a time."""
+        step = self.grid.step_ms
+        while lo <= hi:
+            block = self.grid.between(lo, min(hi, lo + _BLOCK * step - 1))  # _BLOCK multiples
+            if block.shape[0] == 0:
+                return
+            yield block
             lo = int(block[-1]) + 1
 
     def marker_free(self) -> bool:
@@ -154,11 +159,7 @@ class GridResample:
 
     def time_blocks(self) -> Iterator[npt.NDArray[np.int64]]:
         """The result's pose times, ascending, a block at a time."""
-        lo, step = self.grid.first_ms, self.grid.step_ms
-        while lo <= self.grid.last_ms:
-            block = self.grid.between(lo, lo + _BLOCK * step - 1)  # _BLOCK multiples at most
-            yield block
-            lo = int(block[-1]) + 1
+        return self._blocks(self.grid.first_ms, self.grid.last_ms)
 
     def commands_at(
         self, elapsed_ms: npt.NDArray[np.int64]
