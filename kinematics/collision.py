@@ -4,14 +4,17 @@ Checking every keyframe and segment midpoint of a motion one configuration at a 
 Pinocchio costs about 0.2 ms per configuration (1479 geometry pairs on the Nao), most of it on
 pairs that are far apart. Here the configurations of a whole motion are handled together:
 
-1. identical configurations are checked once;
+1. identical configurations are checked once (:mod:`motiontool.kinematics.distinct_rows`),
+   and a configuration met in an earlier block of the motion is not checked again;
 2. a pair whose two geometries are not moved relative to each other by any motor the motion
    moves keeps its zero-pose placement, where no checked pair touches (see
-   :func:`motiontool.kinematics.build_model`), so it is skipped;
-3. forward kinematics of all configurations runs in numpy (one vectorised step per joint, a
-   block of configurations at a time, the blocks side by side on the machine's cores),
-   and a sphere around each joint's geometries drops the far (configuration, joint pair)s,
-   then a sphere around each geometry the far (configuration, geometry pair)s;
+   :func:`motiontool.kinematics.build_model`), and a pair of joints that no configuration of
+   a block of consecutive ones can bring near (a bound on how far the motors move them,
+   :mod:`motiontool.kinematics.sweep_bound`) is skipped for that block;
+3. forward kinematics of the configurations left runs in numpy (one vectorised step per
+   joint, a block of configurations at a time, the blocks side by side on the machine's
+   cores), and a sphere around each joint's geometries drops the far (configuration, joint
+   pair)s, then a sphere around each geometry the far (configuration, geometry pair)s;
 4. two bounds on the penetration depth, both vectorised, drop every (configuration, pair)
    that cannot penetrate as deep as the tolerance. Translating two convex shapes apart by
    their overlap along any direction separates them, so the depth is at most the smallest
@@ -20,7 +23,10 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
    centres, the 3 + 3 axes of the two shapes and their 9 cross products (for two boxes this
    is the separating-axis theorem, and the bound is the exact depth;
    :mod:`motiontool.kinematics.overlap_bound`);
-5. only the remaining candidates go to coal (GJK/EPA signed distance, through Pinocchio).
+5. only the remaining candidates go to coal (GJK/EPA signed distance, through Pinocchio), the
+   deepest bound of each pair of bodies first: a geometry pair whose bound is no deeper than
+   the depth already found for its bodies is not measured
+   (:mod:`motiontool.kinematics.contact_depth`).
 
 Pinocchio is imported (lazily) by :mod:`motiontool.kinematics._pinocchio` only, and only
 when step 5 has candidates: the tables of steps 1-4 come from the disk cache
@@ -35,8 +41,11 @@ from typing import TYPE_CHECKING, NamedTuple
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import _pinocchio
 from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTables
+from motiontool.kinematics.contact_depth import body_ids, deepest_by_row, deepest_first
+from motiontool.kinematics.distinct_rows import distinct_rows
 from motiontool.kinematics.overlap_bound import overlap_bound
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.kinematics.sweep_bound import SWEEP_BLOCK, cleared_groups
 from motiontool.kinematics.tables_cache import stored_tables
 from motiontool.motionfmt.arrays import sorted_distinct
 
@@ -186,10 +195,12 @@ def _joint_broad_phase(
     fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
     active: npt.NDArray[np.int64],
     tolerance: float,
+    open_rows: npt.NDArray[np.bool_] | None = None,
 ) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """(configuration rows, pair indices) of the ``active`` pairs whose two joints' enclosing
     spheres overlap by at least ``tolerance`` (m) at that configuration, by pair group then
-    configuration."""
+    configuration; only groups that ``open_rows`` ((N, groups) bool, if given) leaves open at
+    the configuration."""
     import numpy as np
 
     rot, pos = _joint_first(fk)
@@ -211,6 +222,8 @@ def _joint_broad_phase(
         gap2 += d
     limit = tables.joint_radius[ja] + tables.joint_radius[jb] - tolerance
     near = (gap2 <= (limit * limit)[:, None]) & (limit >= 0.0)[:, None]
+    if open_rows is not None:
+        near &= open_rows[:, groups].T
     cols_g, rows_g = np.nonzero(near)  # (group, configuration) candidates
     # Expand each candidate group into its active pairs (CSR over the groups).
     order = np.argsort(tables.pair_group[active], kind="stable")
@@ -237,9 +250,37 @@ def _candidates(
     unique: npt.NDArray[np.float64],
     active: npt.NDArray[np.int64],
     tolerance: float,
+    open_groups: npt.NDArray[np.bool_] | None = None,
 ) -> _Candidates:
     """(rows of ``unique``, pair indices, depth upper bounds in m) of the (configuration,
-    pair)s that may penetrate at least ``tolerance`` m deep (see the module doc)."""
+    pair)s that may penetrate at least ``tolerance`` m deep (see the module doc).
+    ``open_groups``: the pair groups that each row's block of consecutive rows may bring
+    near ((rows, groups) bool, :func:`~motiontool.kinematics.sweep_bound.cleared_groups`):
+    the others are not looked at, and rows with none open not evaluated."""
+    import numpy as np
+
+    if open_groups is None:
+        return _near_pairs(spec, tables, unique, active, tolerance)
+    open_anywhere = np.asarray(open_groups.any(axis=0))
+    active = active[open_anywhere[tables.pair_group[active]]]
+    at = np.flatnonzero(open_groups.any(axis=1))
+    if active.size == 0 or at.size == 0:
+        empty = np.zeros(0, dtype=np.int64)
+        return empty, empty, np.zeros(0)
+    rows, pairs, bound = _near_pairs(spec, tables, unique[at], active, tolerance, open_groups[at])
+    return at[rows], pairs, bound
+
+
+def _near_pairs(
+    spec: RobotSpec,
+    tables: KinematicTables,
+    unique: npt.NDArray[np.float64],
+    active: npt.NDArray[np.int64],
+    tolerance: float,
+    open_rows: npt.NDArray[np.bool_] | None = None,
+) -> _Candidates:
+    """:func:`_candidates` of every row of ``unique``, each looking at the groups its row of
+    ``open_rows`` leaves open (all, if None)."""
     import numpy as np
 
     reach = tables.geom_radius[tables.pair_first] + tables.geom_radius[tables.pair_second]
@@ -247,7 +288,7 @@ def _candidates(
     if tables.exact:
         fk = forward_kinematics(tables, unique)
         rot, centers = geometry_poses(tables, unique, fk)
-        rows, pairs = _joint_broad_phase(tables, fk, active, tolerance)
+        rows, pairs = _joint_broad_phase(tables, fk, active, tolerance, open_rows)
     else:
         centers = _pinocchio.geometry_centers(spec, unique)
         rows = np.repeat(np.arange(unique.shape[0]), active.shape[0])
@@ -269,9 +310,11 @@ KNOWN_CONFIGURATIONS = 1 << 15
 """The most configurations a ``known`` memo of :func:`scan_self_collisions` keeps (about 15 MB
 for the Nao): the first ones met, which a long motion that repeats a cycle meets again."""
 
-Known = dict[bytes, tuple[tuple[str, str, float], ...]]
+Known = dict[int, tuple[bytes, tuple[tuple[str, str, float], ...]]]
 """A memo of :func:`scan_self_collisions`: the contacts (body_a, body_b, depth m; sorted by
-bodies) at each configuration scanned, by the configuration's bytes."""
+bodies) at each configuration scanned, with the configuration's bytes, by their hash
+(:func:`~motiontool.kinematics.distinct_rows.distinct_rows`; two configurations may share
+one: the bytes tell them apart)."""
 
 
 def scan_self_collisions(
@@ -294,7 +337,8 @@ def scan_self_collisions(
             hand is then not reported.
         known: a memo shared by calls with the same robot and options (a motion scanned a
             block of configurations at a time): the contacts of configurations already
-            scanned, by their bytes; the first :data:`KNOWN_CONFIGURATIONS` are added to it.
+            scanned, by their hash and bytes; the first :data:`KNOWN_CONFIGURATIONS` are
+            added to it.
 
     Returns:
         One :class:`Contact` per configuration and pair of bodies, sorted by configuration
@@ -304,22 +348,48 @@ def scan_self_collisions(
     Raises:
         MotionToolError: ``q_motors`` has the wrong shape or a value that is not finite.
     """
+    import numpy as np
+
     q = _checked(spec, q_motors)
     if q.shape[0] == 0:
         return []
-    unique, inverse, keys = _unique_rows(q)
+    unique, inverse, hashed = distinct_rows(q)
     memo: Known = {} if known is None else known
-    new = [i for i, key in enumerate(keys) if key not in memo]
-    found = _scan_unique(spec, unique[new], penetration_tolerance_m, fingers_in_hand)
-    at_row = [memo.get(key, ()) for key in keys]
-    for n, i in enumerate(new):
-        at_row[i] = tuple(found.get(n, ()))
-        if len(memo) < KNOWN_CONFIGURATIONS:
-            memo[keys[i]] = at_row[i]
+    rows, at_row = _met_before(memo, unique, hashed)
+    found = _scan_unique(spec, unique[rows], penetration_tolerance_m, fingers_in_hand)
+    for n, row_contacts in found.items():
+        at_row[int(rows[n])] = tuple(row_contacts)
+    for i in rows[: max(KNOWN_CONFIGURATIONS - len(memo), 0)].tolist():  # the first met
+        memo.setdefault(int(hashed[i]), (unique[i].tobytes(), at_row.get(i, ())))
+    touching = np.zeros(unique.shape[0], dtype=bool)
+    touching[list(at_row)] = True
+    touching = touching[inverse]
     contacts: list[Contact] = []
-    for config, row in enumerate(inverse.tolist()):
+    for config, row in zip(
+        np.flatnonzero(touching).tolist(), inverse[touching].tolist(), strict=True
+    ):
         contacts.extend(Contact(config, a, b, d) for a, b, d in at_row[row])
     return contacts
+
+
+def _met_before(
+    memo: Known, unique: npt.NDArray[np.float64], hashed: npt.NDArray[np.uint64]
+) -> tuple[npt.NDArray[np.int64], dict[int, tuple[tuple[str, str, float], ...]]]:
+    """The rows of ``unique`` (hashes ``hashed``) that ``memo`` does not know, and the
+    contacts it knows of the others (the rows with one)."""
+    import numpy as np
+
+    at_row: dict[int, tuple[tuple[str, str, float], ...]] = {}
+    new = np.ones(unique.shape[0], dtype=bool)
+    if memo:  # the rows met before: their hash first, then their bytes
+        met = np.isin(hashed, np.fromiter(memo, dtype=np.uint64, count=len(memo)))
+        for i in np.flatnonzero(met).tolist():
+            seen = memo[int(hashed[i])]
+            if seen[0] == unique[i].tobytes():
+                new[i] = False
+                if seen[1]:
+                    at_row[i] = seen[1]
+    return np.flatnonzero(new), at_row
 
 
 def _scan_unique(
@@ -335,22 +405,45 @@ def _scan_unique(
     moving = (unique != 0.0).any(axis=0)
     tolerance = max(tolerance_m, 0.0)
     reach = tables.geom_radius[tables.pair_first] + tables.geom_radius[tables.pair_second]
-    active = np.flatnonzero(tables.pair_motors[:, moving].any(axis=1) & (reach >= tolerance))
+    bodies = tables.geom_limb if fingers_in_hand else tables.geom_body
+    body_id = body_ids(bodies)
+    apart = body_id[tables.pair_first] != body_id[tables.pair_second]  # one body: no contact
+    active = np.flatnonzero(
+        tables.pair_motors[:, moving].any(axis=1) & (reach >= tolerance) & apart
+    )
     if active.size == 0:
         return {}
 
+    groups = sorted_distinct(tables.pair_group[active])
+    cleared = cleared_groups(tables, unique, groups, tolerance)
+    open_blocks = None
+    if cleared is not None:
+        open_blocks = np.zeros((cleared.shape[0], tables.group_joints.shape[0]), dtype=bool)
+        open_blocks[:, groups] = ~cleared
     rows, pairs, bound = _in_blocks(
-        lambda k: _candidates(spec, tables, unique[k : k + _BLOCK], active, tolerance),
+        lambda k: _candidates(
+            spec,
+            tables,
+            unique[k : k + _BLOCK],
+            active,
+            tolerance,
+            None if open_blocks is None else open_blocks[_sweep_blocks(k, unique.shape[0])],
+        ),
         unique.shape[0],
     )
     if rows.size == 0:
         return {}
-    # coal's EPA can overshoot on flat-capped cylinders (a 12.4 mm sphere-in-cylinder
-    # penetration read as 29 mm); the projected-overlap bound is a true upper bound.
-    depth = np.minimum(-_pinocchio.pair_signed_distances(spec, unique, rows, pairs), bound)
+    rows, pairs, depth = deepest_first(spec, tables, body_id, unique, rows, pairs, bound)
     hit = (depth > 0.0) & (depth >= tolerance_m)
-    bodies = tables.geom_limb if fingers_in_hand else tables.geom_body
-    return _deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
+    return deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
+
+
+def _sweep_blocks(start: int, n: int) -> npt.NDArray[np.int64]:
+    """The block of :data:`SWEEP_BLOCK` rows of each of the :data:`_BLOCK` rows from
+    ``start`` (fewer at the end of ``n`` rows)."""
+    import numpy as np
+
+    return np.arange(start, min(start + _BLOCK, n)) // SWEEP_BLOCK
 
 
 def _in_blocks(block: Callable[[int], _Candidates], n: int) -> _Candidates:
@@ -387,51 +480,3 @@ def _checked(spec: RobotSpec, q_motors: npt.ArrayLike) -> npt.NDArray[np.float64
     if not np.isfinite(q).all():
         raise MotionToolError(f"robot {spec.name}: a configuration holds a non-finite value")
     return q
-
-
-def _unique_rows(
-    q: npt.NDArray[np.float64],
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], list[bytes]]:
-    """The distinct rows of ``q`` in first-seen order, each row's index among them (identical
-    configurations are checked once), and the distinct rows' bytes."""
-    import numpy as np
-
-    index_of: dict[bytes, int] = {}
-    firsts: list[int] = []
-    inverse = np.empty(q.shape[0], dtype=np.int64)
-    for i, row in enumerate(q):
-        k = index_of.setdefault(row.tobytes(), len(firsts))
-        if k == len(firsts):
-            firsts.append(i)
-        inverse[i] = k
-    return q[firsts], inverse, list(index_of)
-
-
-def _deepest_by_row(
-    tables: KinematicTables,
-    bodies: tuple[str, ...],
-    rows: npt.NDArray[np.int64],
-    pairs: npt.NDArray[np.int64],
-    depth: npt.NDArray[np.float64],
-) -> dict[int, list[tuple[str, str, float]]]:
-    """Per configuration, the deepest depth (m) of each pair of bodies, sorted by bodies; a
-    pair whose two geometries count as one body is not a contact."""
-    import numpy as np
-
-    names = sorted(set(bodies))  # body ids in name order: min and max of ids are of names
-    body_id = np.array([names.index(b) for b in bodies], dtype=np.int64)
-    a, b = body_id[tables.pair_first[pairs]], body_id[tables.pair_second[pairs]]
-    keep = a != b
-    n = len(names)
-    key = (rows[keep] * n + np.minimum(a, b)[keep]) * n + np.maximum(a, b)[keep]
-    order = np.argsort(key, kind="stable")
-    key, d = key[order], depth[keep][order]
-    if key.shape[0] == 0:
-        return {}
-    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
-    deepest = np.maximum.reduceat(d, starts)
-    by_row: dict[int, list[tuple[str, str, float]]] = {}
-    for k, dk in zip(key[starts].tolist(), deepest.tolist(), strict=True):
-        row, pair = divmod(k, n * n)
-        by_row.setdefault(row, []).append((names[pair // n], names[pair % n], dk))
-    return by_row
