@@ -29,14 +29,17 @@ class ReadState:
             header is read).
         header_end: 1-based (line, column) just after the header's last token.
         star_seen: a ``*`` (or the no-value marker) was read: the MT207 check has work to do.
-        pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut).
+        pose_lines: the poses' lines as they are read line by line (``result.pose_lines``).
+        pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut;
+            empty: 0 for every pose).
     """
 
     def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
         self.data = data
         self.path = path
         self.timestep_ms = timestep_ms
-        self.result = ReadResult(path=path, _data=data)
+        self.pose_lines: list[int] = []
+        self.result = ReadResult(path=path, pose_lines=self.pose_lines, _data=data)
         self.has_final_newline = data.endswith(b"\n")
         self.joint_tokens: list[bytes] = []
         self.n_joints = 0

@@ -35,7 +35,7 @@ def check_motion(state: ReadState) -> None:
 def _cell_column(state: ReadState, pose: int, cell: int) -> tuple[int, int]:
     """1-based (column, end column) of token ``cell`` (0 = time) of pose ``pose``."""
     line = state.result.pose_lines[pose]
-    col0 = state.pose_cols0[pose]
+    col0 = state.pose_cols0[pose] if state.pose_cols0 else 0
     content = state.lines[line - 1][col0 : col0 + FGETS_PIECE]
     a, b = token_spans(content)[cell]
     return col0 + a + 1, col0 + b + 1

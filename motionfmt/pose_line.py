@@ -41,7 +41,7 @@ def read_pose_exact(
         res.times_ms.append(time_ms)
         res.pose_names.append(decode_name(pose.tokens[1]))
         res.rows.append(values)
-        res.pose_lines.append(pose.line)
+        state.pose_lines.append(pose.line)
         state.pose_cols0.append(piece.col0)
     return time_ms
 

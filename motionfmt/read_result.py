@@ -43,7 +43,8 @@ class ReadResult:
             command: see ``nan_commands``).
         nan_commands: (pose, column) of every cell that holds a literal ``nan``: NaN in
             ``rows``, but a value Webots sends to the motor, unlike ``*``.
-        pose_lines: 1-based physical line of each pose.
+        pose_lines: 1-based physical line of each pose (a ``range`` where they follow the
+            header one a line, as the bulk read finds them).
         end_line: the blank line that ends the motion early, or ``None``.
     """
 
@@ -54,7 +55,7 @@ class ReadResult:
     pose_names: list[str] = field(default_factory=list)
     times_ms: list[int] = field(default_factory=list)
     rows: list[list[float]] = field(default_factory=list)
-    pose_lines: list[int] = field(default_factory=list)
+    pose_lines: Sequence[int] = field(default_factory=list)
     nan_commands: list[tuple[int, int]] = field(default_factory=list)
     end_line: int | None = None
     _motion: Motion | None = field(default=None, repr=False)

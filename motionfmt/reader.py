@@ -158,8 +158,7 @@ class _Reader(ReadState):
         res.times_ms = times
         res.pose_names = names
         res.rows = values  # type: ignore[assignment]  # (P, J) float64 array
-        res.pose_lines = list(range(2, len(times) + 2))
-        self.pose_cols0.extend([0] * len(times))
+        res.pose_lines = range(2, len(times) + 2)  # a pose a line: no list of them
         check_motion(self)
         return True
 

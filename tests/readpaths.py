@@ -39,7 +39,7 @@ def differences(results: dict[str, ReadResult]) -> list[str]:
         for what in ("rejected_at", "joints", "times_ms", "pose_names"):
             if getattr(got, what) != getattr(exact, what):
                 out.append(f"{name}: {what} {getattr(got, what)!r} != {getattr(exact, what)!r}")
-        if got.pose_lines != exact.pose_lines:
+        if list(got.pose_lines) != list(exact.pose_lines):
             out.append(f"{name}: pose_lines differ")
         rows = np.asarray(got.rows, dtype=np.float64).reshape(len(got.times_ms), len(got.joints))
         if rows.shape != want_rows.shape:

@@ -23,7 +23,7 @@ def assert_same(data: bytes) -> None:
     assert bulk.accepted == exact.accepted
     assert bulk.times_ms == exact.times_ms
     assert bulk.pose_names == exact.pose_names
-    assert bulk.pose_lines == exact.pose_lines
+    assert list(bulk.pose_lines) == list(exact.pose_lines)
     a = np.asarray(bulk.rows, dtype=np.float64)
     b = np.asarray(exact.rows, dtype=np.float64)
     assert a.shape == b.shape and a.tobytes() == b.tobytes()  # bit for bit
