@@ -42,7 +42,7 @@ from motiontool.errors import MotionToolError
 from motiontool.kinematics import _pinocchio
 from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTables
 from motiontool.kinematics.contact_depth import body_ids, deepest_by_row, deepest_first
-from motiontool.kinematics.distinct_rows import distinct_rows
+from motiontool.kinematics.distinct_rows import Known, distinct_rows
 from motiontool.kinematics.overlap_bound import overlap_bound
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.sweep_bound import SWEEP_BLOCK, cleared_groups
@@ -310,12 +310,6 @@ KNOWN_CONFIGURATIONS = 1 << 15
 """The most configurations a ``known`` memo of :func:`scan_self_collisions` keeps (about 15 MB
 for the Nao): the first ones met, which a long motion that repeats a cycle meets again."""
 
-Known = dict[int, tuple[bytes, tuple[tuple[str, str, float], ...]]]
-"""A memo of :func:`scan_self_collisions`: the contacts (body_a, body_b, depth m; sorted by
-bodies) at each configuration scanned, with the configuration's bytes, by their hash
-(:func:`~motiontool.kinematics.distinct_rows.distinct_rows`; two configurations may share
-one: the bytes tell them apart)."""
-
 
 def scan_self_collisions(
     spec: RobotSpec,
@@ -354,13 +348,13 @@ def scan_self_collisions(
     if q.shape[0] == 0:
         return []
     unique, inverse, hashed = distinct_rows(q)
-    memo: Known = {} if known is None else known
-    rows, at_row = _met_before(memo, unique, hashed)
+    memo = Known() if known is None else known
+    rows, at_row = memo.split(unique, hashed)
     found = _scan_unique(spec, unique[rows], penetration_tolerance_m, fingers_in_hand)
     for n, row_contacts in found.items():
         at_row[int(rows[n])] = tuple(row_contacts)
     for i in rows[: max(KNOWN_CONFIGURATIONS - len(memo), 0)].tolist():  # the first met
-        memo.setdefault(int(hashed[i]), (unique[i].tobytes(), at_row.get(i, ())))
+        memo.remember(int(hashed[i]), unique[i].tobytes(), at_row.get(i, ()))
     touching = np.zeros(unique.shape[0], dtype=bool)
     touching[list(at_row)] = True
     touching = touching[inverse]
@@ -370,26 +364,6 @@ def scan_self_collisions(
     ):
         contacts.extend(Contact(config, a, b, d) for a, b, d in at_row[row])
     return contacts
-
-
-def _met_before(
-    memo: Known, unique: npt.NDArray[np.float64], hashed: npt.NDArray[np.uint64]
-) -> tuple[npt.NDArray[np.int64], dict[int, tuple[tuple[str, str, float], ...]]]:
-    """The rows of ``unique`` (hashes ``hashed``) that ``memo`` does not know, and the
-    contacts it knows of the others (the rows with one)."""
-    import numpy as np
-
-    at_row: dict[int, tuple[tuple[str, str, float], ...]] = {}
-    new = np.ones(unique.shape[0], dtype=bool)
-    if memo:  # the rows met before: their hash first, then their bytes
-        met = np.isin(hashed, np.fromiter(memo, dtype=np.uint64, count=len(memo)))
-        for i in np.flatnonzero(met).tolist():
-            seen = memo[int(hashed[i])]
-            if seen[0] == unique[i].tobytes():
-                new[i] = False
-                if seen[1]:
-                    at_row[i] = seen[1]
-    return np.flatnonzero(new), at_row
 
 
 def _scan_unique(

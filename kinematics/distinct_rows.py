@@ -1,6 +1,12 @@
-"""The distinct configurations of a block of a motion, found by their bytes: identical
-configurations (a motion holding still, a cycle met again) are checked once
-(:mod:`motiontool.kinematics.collision`, step 1)."""
+"""The distinct configurations of a block of a motion, found by their bytes, and the memo of
+the configurations met in earlier blocks: identical configurations (a motion holding still, a
+cycle met again) are checked once (:mod:`motiontool.kinematics.collision`, step 1).
+
+A row's hash is a sum over its columns (mod 2**64) of each value's mixed bits times a weight of
+its column, so the columns that hold one value in the whole block add one constant: only the
+columns that change are hashed and compared row by row (a motion of the head costs two columns
+of work, not the robot's 26).
+"""
 
 from __future__ import annotations
 
@@ -11,7 +17,10 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-__all__ = ["distinct_rows"]
+__all__ = ["Contacts", "Known", "distinct_rows"]
+
+Contacts = tuple[tuple[str, str, float], ...]
+"""The contacts at one configuration: (body_a, body_b, depth m), sorted by bodies."""
 
 
 @functools.cache
@@ -23,20 +32,33 @@ def _hash_weights(n_motors: int) -> npt.NDArray[np.uint64]:
     return weights * np.uint64(2) + np.uint64(1)
 
 
+def _hash(bits: npt.NDArray[np.uint64], weights: npt.NDArray[np.uint64]) -> npt.NDArray[np.uint64]:
+    """(n,) the hash of each row of ``bits`` (n, k) over its k columns of ``weights``."""
+    import numpy as np
+
+    mixed = bits ^ (bits >> np.uint64(29))
+    hashed: npt.NDArray[np.uint64] = (mixed * weights).sum(axis=1, dtype=np.uint64)  # mod 2**64
+    return hashed
+
+
 def distinct_rows(
     q: npt.NDArray[np.float64],
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.uint64]]:
-    """The distinct rows of ``q`` (equal bytes) in first-seen order, each row's index among
-    them (identical configurations are checked once), and a hash of each distinct row."""
+    """The distinct rows of ``q`` (N, M) (equal bytes) in first-seen order, each row's index
+    among them (identical configurations are checked once), and each distinct row's hash
+    (the same for the same bytes in every call)."""
     import numpy as np
 
     bits = np.ascontiguousarray(q).view(np.uint64)
-    mixed = bits ^ (bits >> np.uint64(29))
-    hashed = (mixed * _hash_weights(q.shape[1])).sum(axis=1, dtype=np.uint64)  # mod 2**64
+    weights = _hash_weights(q.shape[1])
+    changing = (bits != bits[:1]).any(axis=0)
+    held = _hash(bits[:1, ~changing], weights[~changing])[0]  # the same in every row
+    moving = bits[:, changing]
+    hashed = _hash(moving, weights[changing]) + held
     _values, first, inverse = np.unique(hashed, return_index=True, return_inverse=True)
     inverse = inverse.reshape(-1)
-    if not (bits == bits[first[inverse]]).all():  # two rows share a hash: compare the bytes
-        return _distinct_rows_exact(q)
+    if not (moving == moving[first[inverse]]).all():  # rows that share a hash: by the bytes
+        return _distinct_rows_exact(q, bits, weights)
     order = np.argsort(first)  # the distinct rows in the order met
     rank = np.empty_like(order)
     rank[order] = np.arange(order.shape[0])
@@ -45,9 +67,9 @@ def distinct_rows(
 
 
 def _distinct_rows_exact(
-    q: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64], bits: npt.NDArray[np.uint64], weights: npt.NDArray[np.uint64]
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], npt.NDArray[np.uint64]]:
-    """:func:`distinct_rows` by the rows' bytes, one at a time (Python's hash of them)."""
+    """:func:`distinct_rows` by the rows' bytes, one row at a time (``bits``: ``q``'s)."""
     import numpy as np
 
     index_of: dict[bytes, int] = {}
@@ -58,5 +80,46 @@ def _distinct_rows_exact(
         if k == len(firsts):
             firsts.append(i)
         inverse[i] = k
-    hashed = np.array([hash(key) % 2**64 for key in index_of], dtype=np.uint64)
-    return q[firsts], inverse, hashed
+    return q[firsts], inverse, _hash(bits[firsts], weights)
+
+
+class Known:
+    """A memo of :func:`~motiontool.kinematics.collision.scan_self_collisions`, shared by the
+    calls that scan one motion a block at a time: the contacts at each configuration met, with
+    the configuration's bytes, by its hash (two configurations may share one: the bytes tell
+    them apart)."""
+
+    def __init__(self) -> None:
+        self._by_hash: dict[int, tuple[bytes, Contacts]] = {}
+        self._sorted: npt.NDArray[np.uint64] | None = None  # the hashes, while up to date
+
+    def __len__(self) -> int:
+        return len(self._by_hash)
+
+    def remember(self, hashed: int, row: bytes, contacts: Contacts) -> None:
+        """Keep the contacts at the configuration of bytes ``row`` (the first of a hash)."""
+        if hashed not in self._by_hash:
+            self._by_hash[hashed] = (row, contacts)
+            self._sorted = None
+
+    def split(
+        self, unique: npt.NDArray[np.float64], hashed: npt.NDArray[np.uint64]
+    ) -> tuple[npt.NDArray[np.int64], dict[int, Contacts]]:
+        """The rows of ``unique`` (of hashes ``hashed``) not met before, and the contacts of
+        those met before (the rows that have any)."""
+        import numpy as np
+
+        known: dict[int, Contacts] = {}
+        new = np.ones(unique.shape[0], dtype=bool)
+        if not self._by_hash:
+            return np.flatnonzero(new), known
+        if self._sorted is None:
+            self._sorted = np.sort(np.fromiter(self._by_hash, np.uint64, len(self._by_hash)))
+        at = np.searchsorted(self._sorted, hashed).clip(max=self._sorted.shape[0] - 1)
+        for i in np.flatnonzero(self._sorted[at] == hashed).tolist():  # then by the bytes
+            row, contacts = self._by_hash[int(hashed[i])]
+            if row == unique[i].tobytes():
+                new[i] = False
+                if contacts:
+                    known[i] = contacts
+        return np.flatnonzero(new), known

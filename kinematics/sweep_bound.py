@@ -61,6 +61,62 @@ def _lever_arms(
     return arms, above
 
 
+def _ranges(
+    lo: npt.NDArray[np.float64], hi: npt.NDArray[np.float64], size: int
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The least and greatest value of each motor over each ``size`` consecutive rows of
+    ``lo`` and ``hi`` (N, M) (the last block repeats its last row): (ceil(N / size), M)."""
+    import numpy as np
+
+    pad = -lo.shape[0] % size
+
+    def blocks(a: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        return np.concatenate([a, np.repeat(a[-1:], pad, axis=0)]).reshape(-1, size, a.shape[1])
+
+    return blocks(lo).min(axis=1), blocks(hi).max(axis=1)
+
+
+class _Pairs:
+    """The joint pairs ``groups`` of ``tables``, as :func:`cleared_groups` bounds them."""
+
+    def __init__(
+        self,
+        tables: KinematicTables,
+        groups: npt.NDArray[np.int64],
+        n_motors: int,
+        tolerance: float,
+    ) -> None:
+        import numpy as np
+
+        self.tables = tables
+        self.ja, self.jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]
+        arms, above = _lever_arms(tables, n_motors)
+        # A motor above both joints moves them together: only the others count.
+        only_a = above[self.ja] & ~above[self.jb]
+        only_b = above[self.jb] & ~above[self.ja]
+        self.lever = np.where(only_a, arms[self.ja], 0.0) + np.where(only_b, arms[self.jb], 0.0)
+        self.reach = tables.joint_radius[self.ja] + tables.joint_radius[self.jb] - tolerance
+
+    def cleared(
+        self, lo: npt.NDArray[np.float64], hi: npt.NDArray[np.float64]
+    ) -> npt.NDArray[np.bool_]:
+        """(B, G) bool: the pairs no configuration within [lo, hi] (B, M) rad brings near."""
+        import numpy as np
+
+        from motiontool.kinematics.collision import forward_kinematics
+
+        tables = self.tables
+        rot, pos = forward_kinematics(tables, (lo + hi) / 2.0)  # (B, nj, 3, 3), (B, nj, 3)
+        centers = (pos + np.einsum("bjik,jk->bji", rot, tables.joint_center)).transpose(2, 1, 0)
+        gap2 = np.zeros((self.ja.shape[0], lo.shape[0]))
+        for x in centers:  # x, y, z (nj, B): whole rows gathered
+            d = x[self.ja] - x[self.jb]
+            gap2 += d * d
+        moved = self.lever @ ((hi - lo) / 2.0).T + _ROUNDING_M  # (G, B) m
+        cleared: npt.NDArray[np.bool_] = (np.sqrt(gap2) - moved > self.reach[:, None]).T
+        return cleared
+
+
 def cleared_groups(
     tables: KinematicTables,
     q_motors: npt.NDArray[np.float64],
@@ -72,32 +128,19 @@ def cleared_groups(
     ((N, M) rad) brings within the joint broad phase's reach (their spheres overlapping by at
     least ``tolerance`` m): (ceil(N / SWEEP_BLOCK), len(groups)) bool, True where the pair
     can be skipped for the whole block. None where the model cannot be bounded this way
-    (a prismatic joint)."""
-    import numpy as np
+    (a prismatic joint).
 
-    from motiontool.kinematics.collision import forward_kinematics
+    Blocks of :data:`SWEEP_BLOCK` ² rows are bounded first: a pair one of them clears is
+    cleared for each of its blocks, which are bounded only where a pair is left."""
+    import numpy as np
 
     if (tables.joint_kind == PRISMATIC).any() or not tables.exact:
         return None
-    n, n_motors = q_motors.shape
-    pad = -n % SWEEP_BLOCK  # the last block repeats its last row
-    blocks = np.concatenate([q_motors, np.repeat(q_motors[-1:], pad, axis=0)]).reshape(
-        -1, SWEEP_BLOCK, n_motors
-    )
-    lo, hi = blocks.min(axis=1), blocks.max(axis=1)
-    rot, pos = forward_kinematics(tables, (lo + hi) / 2.0)  # (B, nj, 3, 3), (B, nj, 3)
-    ja, jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]
-    centers = (pos + np.einsum("bjik,jk->bji", rot, tables.joint_center)).transpose(2, 1, 0)
-    gap2 = np.zeros((ja.shape[0], lo.shape[0]))
-    for x in centers:  # x, y, z (nj, B): whole rows gathered
-        d = x[ja] - x[jb]
-        gap2 += d * d
-    gap = np.sqrt(gap2.T)  # (B, G) m
-    arms, above = _lever_arms(tables, n_motors)
-    # A motor above both joints moves them together: only the others count.
-    only_a, only_b = above[ja] & ~above[jb], above[jb] & ~above[ja]
-    lever = np.where(only_a, arms[ja], 0.0) + np.where(only_b, arms[jb], 0.0)  # (G, M) m
-    moved = (hi - lo) / 2.0 @ lever.T + _ROUNDING_M  # (B, G) m
-    reach = tables.joint_radius[ja] + tables.joint_radius[jb] - tolerance
-    cleared: npt.NDArray[np.bool_] = gap - moved > reach
+    pairs = _Pairs(tables, groups, q_motors.shape[1], tolerance)
+    lo, hi = _ranges(q_motors, q_motors, SWEEP_BLOCK)
+    coarse = pairs.cleared(*_ranges(lo, hi, SWEEP_BLOCK))
+    cleared = np.repeat(coarse, SWEEP_BLOCK, axis=0)[: lo.shape[0]]
+    left = np.flatnonzero(~cleared.all(axis=1))
+    if left.size:
+        cleared[left] |= pairs.cleared(lo[left], hi[left])
     return cleared

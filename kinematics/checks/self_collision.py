@@ -77,7 +77,7 @@ class Collision(GroupingCheck):
         n_poses = table.times.shape[0]
         times = np.empty(2 * n_poses - 1)
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
-        known: Known = {}  # a cycle met again is not scanned again
+        known = Known()  # a cycle met again is not scanned again
         for lo in range(0, n_poses, _POSES):  # configuration 2 * lo is the block's first
             q, times[2 * lo : 2 * lo + 2 * _POSES] = configurations(
                 table, self.spec, lo, lo + _POSES

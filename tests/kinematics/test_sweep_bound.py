@@ -162,9 +162,18 @@ def test_a_configuration_met_before_is_known_by_its_bytes_not_its_hash(
         return unique, inverse, np.zeros_like(hashed)
 
     monkeypatch.setattr(collision_module, "distinct_rows", one_hash)
-    known: collision_module.Known = {}
+    known = collision_module.Known()
     assert scan_self_collisions(spec, into_hip, known=known, fingers_in_hand=True)
     assert len(known) == 1
     assert scan_self_collisions(spec, 0 * into_hip, known=known, fingers_in_hand=True) == []
     again = scan_self_collisions(spec, into_hip, known=known, fingers_in_hand=True)
     assert again == scan_self_collisions(spec, into_hip, fingers_in_hand=True)
+
+
+def test_a_configuration_has_one_hash_whatever_block_it_is_in() -> None:
+    # The memo finds a configuration of an earlier block by its hash: the same whichever of
+    # its columns change in the block around it.
+    x, y = np.array([0.5, -1.0, 0.0, 2.0]), np.array([0.5, 1.0, 0.0, -2.0])
+    alone = distinct_module.distinct_rows(x[None])[2]
+    among = distinct_module.distinct_rows(np.stack([y, x, y]))[2]
+    assert alone.tolist() == [among[1]] and among[0] != among[1]
