@@ -1,4 +1,4 @@
-"""Step 3a of :mod:`motiontool.kinematics.collision`: clear a pair of joints for a whole block
+"""Step 2 of :mod:`motiontool.kinematics.collision`: clear a pair of joints for a whole block
 of consecutive configurations at once, from one forward-kinematics evaluation.
 
 A motion's configurations follow each other closely: over a few keyframes its motors move by
@@ -13,6 +13,8 @@ q0, the distance of two joints' sphere centres is at least their distance at q0 
 than what the joint broad phase lets through, no configuration of the block can pass it, and the
 block skips the pair. The configurations that remain take the usual path: the answer is the same,
 only found with less work (a head nodding for hours is checked in a fraction of the time).
+Blocks of 256 configurations are bounded first, then the blocks of 16 inside those that leave
+a pair.
 
 Revolute motors only: a model with a prismatic joint (its chains change length) is not cleared
 here.
