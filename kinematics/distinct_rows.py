@@ -25,11 +25,17 @@ Contacts = tuple[tuple[str, str, float], ...]
 
 @functools.cache
 def _hash_weights(n_motors: int) -> npt.NDArray[np.uint64]:
-    """Odd 64-bit multipliers, one per motor (a fixed seed: the same hashes in every run)."""
+    """Odd 64-bit multipliers, one per motor: SplitMix64 from a fixed seed (the same hashes in
+    every run; ``numpy.random`` would cost a pre-commit run its import)."""
     import numpy as np
 
-    weights = np.random.default_rng(0x6D6F74).integers(0, 2**63, n_motors, dtype=np.uint64)
-    return weights * np.uint64(2) + np.uint64(1)
+    mask, state, weights = 2**64 - 1, 0x6D6F74, []
+    for _ in range(n_motors):
+        state = (state + 0x9E3779B97F4A7C15) & mask
+        z = ((state ^ (state >> 30)) * 0xBF58476D1CE4E5B9) & mask
+        z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & mask
+        weights.append((z ^ (z >> 31)) | 1)
+    return np.array(weights, dtype=np.uint64)
 
 
 def _hash(bits: npt.NDArray[np.uint64], weights: npt.NDArray[np.uint64]) -> npt.NDArray[np.uint64]:
