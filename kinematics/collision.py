@@ -350,7 +350,8 @@ def scan_self_collisions(
     unique, inverse, hashed = distinct_rows(q)
     memo = Known() if known is None else known
     rows, at_row = memo.split(unique, hashed)
-    found = _scan_unique(spec, unique[rows], penetration_tolerance_m, fingers_in_hand)
+    fresh = unique if rows.shape[0] == unique.shape[0] else unique[rows]  # none met before
+    found = _scan_unique(spec, fresh, penetration_tolerance_m, fingers_in_hand)
     for n, row_contacts in found.items():
         at_row[int(rows[n])] = tuple(row_contacts)
     for i in rows[: max(KNOWN_CONFIGURATIONS - len(memo), 0)].tolist():  # the first met

@@ -61,6 +61,9 @@ def distinct_rows(
     held = _hash(bits[:1, ~changing], weights[~changing])[0]  # the same in every row
     moving = bits[:, changing]
     hashed = _hash(moving, weights[changing]) + held
+    ordered = np.sort(hashed)
+    if not (ordered[1:] == ordered[:-1]).any():  # every row its own (a motion that never
+        return q, np.arange(q.shape[0]), hashed  # stops or comes back): nothing to gather
     _values, first, inverse = np.unique(hashed, return_index=True, return_inverse=True)
     inverse = inverse.reshape(-1)
     if not (moving == moving[first[inverse]]).all():  # rows that share a hash: by the bytes

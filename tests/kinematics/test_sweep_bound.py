@@ -141,6 +141,8 @@ def test_distinct_configurations_by_their_bytes_whatever_their_hash(
     assert unique.tolist() == [[0.5, 1.0], [0.0, 2.0], [-0.0, 2.0], [3.0, 3.0]]
     assert np.signbit(unique[2, 0]) and inverse.tolist() == [0, 1, 0, 2, 1, 3]
     assert len(set(hashed.tolist())) == 4
+    every, order, _ = distinct_module.distinct_rows(unique)  # all distinct: as they are
+    assert every.tolist() == unique.tolist() and order.tolist() == [0, 1, 2, 3]
     monkeypatch.setattr(distinct_module, "_hash_weights", lambda n: np.zeros(n, np.uint64))
     same, again, _ = distinct_module.distinct_rows(q)  # every row hashed alike: bytes decide
     assert same.tolist() == unique.tolist() and again.tolist() == inverse.tolist()
