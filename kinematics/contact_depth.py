@@ -31,6 +31,29 @@ def body_ids(bodies: tuple[str, ...]) -> npt.NDArray[np.int64]:
     return np.array([names.index(b) for b in bodies], dtype=np.int64)
 
 
+def _bodies_key(
+    tables: KinematicTables,
+    body_id: npt.NDArray[np.int64],
+    rows: npt.NDArray[np.int64],
+    pairs: npt.NDArray[np.int64],
+) -> npt.NDArray[np.int64]:
+    """(row, first body, second body) of each candidate as one integer, the bodies' ids in
+    order: equal for the geometry pairs of one pair of bodies at one configuration."""
+    import numpy as np
+
+    n = int(body_id.max()) + 1
+    a, b = body_id[tables.pair_first[pairs]], body_id[tables.pair_second[pairs]]
+    key: npt.NDArray[np.int64] = (rows * n + np.minimum(a, b)) * n + np.maximum(a, b)
+    return key
+
+
+def _starts(key: npt.NDArray[np.int64]) -> npt.NDArray[np.intp]:
+    """Where each run of equal values of the sorted ``key`` starts."""
+    import numpy as np
+
+    return np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
+
+
 def deepest_first(
     spec: RobotSpec,
     tables: KinematicTables,
@@ -50,12 +73,10 @@ def deepest_first(
     penetration read as 29 mm); the projected-overlap bound is a true upper bound."""
     import numpy as np
 
-    n = int(body_id.max()) + 1
-    a, b = body_id[tables.pair_first[pairs]], body_id[tables.pair_second[pairs]]
-    key = (rows * n + np.minimum(a, b)) * n + np.maximum(a, b)
+    key = _bodies_key(tables, body_id, rows, pairs)
     order = np.lexsort((-bound, key))  # by pair of bodies, then deepest bound first
     rows, pairs, bound, key = rows[order], pairs[order], bound[order], key[order]
-    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
+    starts = _starts(key)
     ends = np.append(starts[1:], key.shape[0])
     depth = np.full(key.shape[0], -np.inf)
     best = np.full(starts.shape[0], -np.inf)
@@ -84,15 +105,14 @@ def deepest_by_row(
 
     names = sorted(set(bodies))
     body_id = body_ids(bodies)
-    a, b = body_id[tables.pair_first[pairs]], body_id[tables.pair_second[pairs]]
-    keep = a != b
+    keep = body_id[tables.pair_first[pairs]] != body_id[tables.pair_second[pairs]]
     n = len(names)
-    key = (rows[keep] * n + np.minimum(a, b)[keep]) * n + np.maximum(a, b)[keep]
+    key = _bodies_key(tables, body_id, rows[keep], pairs[keep])
     order = np.argsort(key, kind="stable")
     key, d = key[order], depth[keep][order]
     if key.shape[0] == 0:
         return {}
-    starts = np.flatnonzero(np.concatenate(([True], key[1:] != key[:-1])))
+    starts = _starts(key)
     deepest = np.maximum.reduceat(d, starts)
     by_row: dict[int, list[tuple[str, str, float]]] = {}
     for k, dk in zip(key[starts].tolist(), deepest.tolist(), strict=True):
