@@ -410,7 +410,7 @@ def _scan_unique(
         return {}
     rows, pairs, depth = deepest_first(spec, tables, body_id, unique, rows, pairs, bound)
     hit = (depth > 0.0) & (depth >= tolerance_m)
-    return deepest_by_row(tables, bodies, rows[hit], pairs[hit], depth[hit])
+    return deepest_by_row(tables, bodies, body_id, rows[hit], pairs[hit], depth[hit])
 
 
 def _sweep_blocks(start: int, n: int) -> npt.NDArray[np.int64]:

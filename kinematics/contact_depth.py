@@ -95,6 +95,7 @@ def deepest_first(
 def deepest_by_row(
     tables: KinematicTables,
     bodies: tuple[str, ...],
+    body_id: npt.NDArray[np.int64],
     rows: npt.NDArray[np.int64],
     pairs: npt.NDArray[np.int64],
     depth: npt.NDArray[np.float64],
@@ -103,8 +104,7 @@ def deepest_by_row(
     pair whose two geometries count as one body is not a contact."""
     import numpy as np
 
-    names = sorted(set(bodies))
-    body_id = body_ids(bodies)
+    names = sorted(set(bodies))  # body_id (body_ids of bodies) indexes them
     keep = body_id[tables.pair_first[pairs]] != body_id[tables.pair_second[pairs]]
     n = len(names)
     key = _bodies_key(tables, body_id, rows[keep], pairs[keep])

@@ -19,7 +19,11 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["Played", "compared_steps", "every_step", "played_steps"]
+__all__ = ["MARKER_MARGIN", "Played", "compared_steps", "every_step", "played_steps"]
+
+MARKER_MARGIN = 1e-6 * abs(NO_VALUE_MARKER)
+"""How near Webots' no-value marker a value counts as reaching it (a command it may skip), far
+above floating-point rounding: where one does, a comparison needs every step near it."""
 
 _CHUNK_STEPS = 1 << 14  # steps compared at once: bounds memory to a few MB per joint block
 
@@ -69,9 +73,8 @@ def _marker_segments(motion: Motion) -> list[int]:
     if v.shape[0] < 2:
         return []
     lo, hi = np.fmin(v[:-1], v[1:]), np.fmax(v[:-1], v[1:])
-    margin = 1e-6 * abs(NO_VALUE_MARKER)
     with np.errstate(invalid="ignore"):
-        near = (lo <= NO_VALUE_MARKER + margin) & (hi >= NO_VALUE_MARKER - margin)
+        near = (lo <= NO_VALUE_MARKER + MARKER_MARGIN) & (hi >= NO_VALUE_MARKER - MARKER_MARGIN)
     return np.flatnonzero(near.any(axis=1)).tolist()
 
 

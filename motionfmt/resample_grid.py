@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
+from motiontool.motionfmt.compare_steps import MARKER_MARGIN
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.player import commands_at, targets_at
@@ -152,10 +153,9 @@ class GridResample:
         step of the segments near it (and the result whole)."""
         import numpy as np
 
-        margin = 1e-6 * abs(NO_VALUE_MARKER)
         values = self.original.values
         with np.errstate(invalid="ignore"):
-            return not bool((values <= NO_VALUE_MARKER + margin).any())
+            return not bool((values <= NO_VALUE_MARKER + MARKER_MARGIN).any())
 
     def time_blocks(self) -> Iterator[npt.NDArray[np.int64]]:
         """The result's pose times, ascending, a block at a time."""
