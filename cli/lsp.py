@@ -232,7 +232,7 @@ def _cell_hover(doc: _Document, pose: int, joint: int | None) -> lsp.Hover:
     if joint is None:
         return lsp.Hover(contents=lsp.MarkupContent(lsp.MarkupKind.Markdown, head))
     name = result.joints[joint]
-    value = float(result.rows[pose][joint])
+    value = result.row(pose)[joint]
     shown = "`*` (no command: the joint holds its target)" if value != value else f"{value!r}"
     text = f"**{name}** = {shown}, {head}\n\n{_limits(doc, name)}"
     return lsp.Hover(contents=lsp.MarkupContent(lsp.MarkupKind.Markdown, text))

@@ -19,6 +19,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import INT_MAX
+from motiontool.motionfmt.pose_names import PoseNames
 
 if TYPE_CHECKING:
     import numpy as np
@@ -94,7 +95,7 @@ def _longest_line(data: bytes, start: int) -> int:
 
 def read_clean_body(
     data: bytes, n_joints: int, marker: float, max_line: int, start: int = 0
-) -> tuple[list[int], list[str], npt.NDArray[np.float64]] | None:
+) -> tuple[npt.NDArray[np.int64], PoseNames, npt.NDArray[np.float64]] | None:
     """Times (ms), pose names and values (P, J) of the pose lines in ``data[start:]`` (the file
     after its header line), or ``None``.
 
@@ -141,7 +142,10 @@ def read_clean_body(
         return None  # Webots' int arithmetic wraps: the exact path wraps it too
     if bool((np.diff(times) <= 0).any()):
         return None
-    return times.tolist(), [name for names, _ in read for name in names], values
+    names = read[0][0]
+    for more, _ in read[1:]:
+        names.extend(more)
+    return times, names, values
 
 
 def _parts(data: bytes, start: int) -> list[tuple[memoryview, int]]:
@@ -165,11 +169,11 @@ def _parts(data: bytes, start: int) -> list[tuple[memoryview, int]]:
 
 def _fill(
     body: memoryview, values: npt.NDArray[np.float64], times: npt.NDArray[np.int64]
-) -> tuple[list[str], int | None] | None:
+) -> tuple[PoseNames, int | None] | None:
     """Parse the lines of ``body`` into ``values`` and ``times`` (exactly as many rows as it
     has lines); its pose names, and how many ``:`` its times have. None: refused."""
     n_rows, n_joints = values.shape
-    names: list[str] = []
+    names = PoseNames()
     row, fields = 0, None
     for batch in _batches(body, n_joints):
         k = batch.num_rows
@@ -188,7 +192,7 @@ def _fill(
         batch_names = _names(batch.column(1))
         if batch_names is None:
             return None
-        names += batch_names
+        names.extend(batch_names)
         row += k
     return (names, fields) if row == n_rows else None
 

@@ -9,6 +9,7 @@ takes this state: the header (:mod:`.header`), a pose line (:mod:`.pose_fast`,
 from __future__ import annotations
 
 import functools
+from array import array
 
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.read_result import ReadResult
@@ -32,20 +33,28 @@ class ReadState:
         pose_lines: the poses' lines as they are read line by line (``result.pose_lines``).
         pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut;
             empty: 0 for every pose).
+        cells: the poses' values as they are read line by line (``result.cells``).
     """
 
     def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
         self.data = data
         self.path = path
         self.timestep_ms = timestep_ms
-        self.pose_lines: list[int] = []
-        self.result = ReadResult(path=path, pose_lines=self.pose_lines, _data=data)
+        self.pose_lines = array("q")
+        self.pose_cols0 = array("q")
+        self.cells = array("d")
+        self.result = ReadResult(
+            path=path,
+            cells=self.cells,
+            pose_lines=self.pose_lines,
+            _data=data,
+            _cols0=self.pose_cols0,
+        )
         self.has_final_newline = data.endswith(b"\n")
         self.joint_tokens: list[bytes] = []
         self.n_joints = 0
         self.star_seen = False
         self.header_end = (1, 1)
-        self.pose_cols0: list[int] = self.result._cols0
 
     @functools.cached_property
     def lines(self) -> list[bytes]:

@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
+
+from motiontool.motionfmt.pose_names import PoseNames
 
 if TYPE_CHECKING:
     import numpy as np
@@ -19,7 +22,8 @@ class Motion:
     Attributes:
         joints: J joint (motor) names, in column order; a name may appear twice (the later
             column wins on the robot).
-        pose_names: P pose names.
+        pose_names: P pose names: a tuple, or the :class:`PoseNames` of a read (kept as they
+            are: a few bytes a name).
         times_ms: int64 array, shape (P,), strictly increasing pose times in milliseconds.
         values: float64 array, shape (P, J): joint targets in radians (metres for linear
             joints); NaN where the cell is ``*`` (no command) or Webots' -9999999.9 marker, and
@@ -36,7 +40,7 @@ class Motion:
     """
 
     joints: tuple[str, ...]
-    pose_names: tuple[str, ...]
+    pose_names: Sequence[str]
     times_ms: npt.NDArray[np.int64]
     values: npt.NDArray[np.float64]
     commanded: npt.NDArray[np.bool_] = None  # type: ignore[assignment]  # derived when None
@@ -71,7 +75,8 @@ class Motion:
         object.__setattr__(self, "values", values)
         object.__setattr__(self, "commanded", commanded)
         object.__setattr__(self, "joints", tuple(self.joints))
-        object.__setattr__(self, "pose_names", tuple(self.pose_names))
+        if not isinstance(self.pose_names, PoseNames):
+            object.__setattr__(self, "pose_names", tuple(self.pose_names))
         if len(self.pose_names) != len(times):
             raise ValueError(f"{len(self.pose_names)} pose names for {len(times)} poses")
         if len(times) == 0 or len(self.joints) == 0:

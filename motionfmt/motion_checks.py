@@ -103,8 +103,9 @@ def _uncommanded(state: ReadState) -> None:
     res = state.result
     header_spans = token_spans(state.lines[0])[2:]
     nan_cells = set(res.nan_commands)  # a literal 'nan' is a command, not a '*'
+    width = len(res.joints)
     for j, joint in enumerate(res.joints):
-        column = [row[j] for row in res.rows]
+        column = res.cells[j::width]
         undefined = [v != v and (p, j) not in nan_cells for p, v in enumerate(column)]
         if all(undefined):
             a, b = header_spans[j]

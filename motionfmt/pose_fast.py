@@ -56,7 +56,7 @@ def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None
     res = state.result
     res.times_ms.append(t)
     res.pose_names.append(decode_name(toks[1]))
-    res.rows.append(values)
+    state.cells.extend(values)
     state.pose_lines.append(piece.line)
     state.pose_cols0.append(piece.col0)
     return t

@@ -40,7 +40,7 @@ def read_pose_exact(
         res.nan_commands.extend((len(res.times_ms), j) for j in nan_columns)
         res.times_ms.append(time_ms)
         res.pose_names.append(decode_name(pose.tokens[1]))
-        res.rows.append(values)
+        state.cells.extend(values)
         state.pose_lines.append(pose.line)
         state.pose_cols0.append(piece.col0)
     return time_ms

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+from array import array
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -10,6 +11,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionSyntaxError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.lines import FGETS_PIECE, plain_cell_spans, token_spans
+from motiontool.motionfmt.pose_names import PoseNames
 
 if TYPE_CHECKING:
     import numpy as np
@@ -38,11 +40,15 @@ class ReadResult:
         rejected_at: the error at which Webots' loader stops, or ``None`` when Webots loads the
             file (it may still mis-read it: see the warnings).
         joints: header joint names (undecodable bytes kept as surrogates).
-        pose_names, times_ms, rows: the poses Webots reads, in file order; ``rows[p][j]`` is NaN
-            for ``*`` and the -9999999.9 marker (no command), and for a literal ``nan`` (a
-            command: see ``nan_commands``).
+        pose_names, times_ms: the poses Webots reads, in file order (times in ms, as a C int
+            array: 8 bytes a pose).
+        cells: the poses' values, pose after pose, J a pose (rad, m for linear joints): value
+            ``j`` of pose ``p`` is ``cells[p * J + j]`` (:meth:`row`, :attr:`values`); NaN for
+            ``*`` and the -9999999.9 marker (no command), and for a literal ``nan`` (a command:
+            see ``nan_commands``). A float64 array (``array('d')`` read line by line, a numpy
+            array read in bulk): 8 bytes a cell.
         nan_commands: (pose, column) of every cell that holds a literal ``nan``: NaN in
-            ``rows``, but a value Webots sends to the motor, unlike ``*``.
+            ``cells``, but a value Webots sends to the motor, unlike ``*``.
         pose_lines: 1-based physical line of each pose (a ``range`` where they follow the
             header one a line, as the bulk read finds them).
         end_line: the blank line that ends the motion early, or ``None``.
@@ -52,15 +58,15 @@ class ReadResult:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     rejected_at: Diagnostic | None = None
     joints: list[str] = field(default_factory=list)
-    pose_names: list[str] = field(default_factory=list)
-    times_ms: list[int] = field(default_factory=list)
-    rows: list[list[float]] = field(default_factory=list)
+    pose_names: PoseNames = field(default_factory=PoseNames)
+    times_ms: array[int] = field(default_factory=lambda: array("q"))
+    cells: array[float] | npt.NDArray[np.float64] = field(default_factory=lambda: array("d"))
     pose_lines: Sequence[int] = field(default_factory=list)
     nan_commands: list[tuple[int, int]] = field(default_factory=list)
     end_line: int | None = None
     _motion: Motion | None = field(default=None, repr=False)
     _data: bytes = field(default=b"", repr=False)
-    _cols0: list[int] = field(default_factory=list, repr=False)
+    _cols0: Sequence[int] = field(default_factory=list, repr=False)
     _line_starts: list[int] = field(default_factory=list, repr=False)
     _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
 
@@ -158,14 +164,29 @@ class ReadResult:
         at = starts[:, :1] - 1  # each line's first byte is column 1
         return first, starts - at, stops - at
 
+    def row(self, pose: int) -> list[float]:
+        """The J values of pose ``pose`` (rad, m for linear joints; NaN: see ``cells``)."""
+        j = len(self.joints)
+        return [float(v) for v in self.cells[pose * j : (pose + 1) * j]]
+
+    @property
+    def values(self) -> npt.NDArray[np.float64]:
+        """(P, J) float64, read-only: ``cells`` as a table (a view: no copy)."""
+        import numpy as np
+
+        table = np.asarray(self.cells, dtype=np.float64).reshape(
+            len(self.times_ms), len(self.joints)
+        )
+        table.flags.writeable = False
+        return table
+
     @property
     def commanded(self) -> npt.NDArray[np.bool_]:
         """(P, J) bool: True where the cell is a command (a number, ``nan`` and ``inf``
         included), False for ``*`` and the -9999999.9 marker."""
         import numpy as np
 
-        rows = np.asarray(self.rows, dtype=np.float64).reshape(len(self.times_ms), len(self.joints))
-        mask = ~np.isnan(rows)
+        mask = ~np.isnan(self.values)
         for p, j in self.nan_commands:
             mask[p, j] = True
         return mask
@@ -186,19 +207,14 @@ class ReadResult:
             d = self.rejected_at
             raise MotionSyntaxError(f"{d.message} [{d.code}]", d.path, d.line, d.column)
         if self._motion is None:
-            import numpy as np
-
             from motiontool.motionfmt.motion import Motion
 
-            # The motion shares the rows (no copy; read-only): the bulk read's array, or an
-            # array made of the line-by-line read's lists here.
-            rows = np.asarray(self.rows, dtype=np.float64)
-            rows.flags.writeable = False
+            # The motion shares the values and the names (no copy; read-only).
             self._motion = Motion(
                 joints=tuple(self.joints),
-                pose_names=tuple(self.pose_names),
+                pose_names=self.pose_names,
                 times_ms=self.times_ms,  # type: ignore[arg-type]
-                values=rows,
+                values=self.values,
                 commanded=self.commanded,
             )
         return self._motion

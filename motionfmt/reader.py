@@ -25,6 +25,7 @@ Columns are 1-based byte offsets in the physical line (lines split on ``\\n``).
 
 from __future__ import annotations
 
+from array import array
 from collections.abc import Iterator
 
 from motiontool.motionfmt._read_state import ReadState
@@ -155,9 +156,10 @@ class _Reader(ReadState):
             return False
         times, names, values = got
         res = self.result
-        res.times_ms = times
+        res.times_ms = array("q")
+        res.times_ms.frombytes(times.tobytes())
         res.pose_names = names
-        res.rows = values  # type: ignore[assignment]  # (P, J) float64 array
+        res.cells = values.reshape(-1)
         res.pose_lines = range(2, len(times) + 2)  # a pose a line: no list of them
         check_motion(self)
         return True

@@ -28,9 +28,7 @@ def differences(results: dict[str, ReadResult]) -> list[str]:
     verdict, the diagnostics, the poses, the values bit for bit (NaN positions included) and the
     commanded mask."""
     exact = results["exact"]
-    want_rows = np.asarray(exact.rows, dtype=np.float64).reshape(
-        len(exact.times_ms), len(exact.joints)
-    )
+    want_rows = exact.values
     out = []
     for name in PATHS[1:]:
         got = results[name]
@@ -41,7 +39,7 @@ def differences(results: dict[str, ReadResult]) -> list[str]:
                 out.append(f"{name}: {what} {getattr(got, what)!r} != {getattr(exact, what)!r}")
         if list(got.pose_lines) != list(exact.pose_lines):
             out.append(f"{name}: pose_lines differ")
-        rows = np.asarray(got.rows, dtype=np.float64).reshape(len(got.times_ms), len(got.joints))
+        rows = got.values
         if rows.shape != want_rows.shape:
             out.append(f"{name}: rows shape {rows.shape} != {want_rows.shape}")
             continue

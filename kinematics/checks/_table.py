@@ -303,7 +303,6 @@ def read_table(result: ReadResult, motor_index: dict[str, int]) -> Table:
     """``result``'s poses against the robot whose motor indices ``motor_index`` gives."""
     import numpy as np
 
-    n_poses, n_cols = len(result.times_ms), len(result.joints)
     by_name: dict[str, list[int]] = {}
     for j, name in enumerate(result.joints):
         if name in motor_index:
@@ -314,7 +313,7 @@ def read_table(result: ReadResult, motor_index: dict[str, int]) -> Table:
     return Table(
         result=result,
         times=np.asarray(result.times_ms, dtype=np.int64),
-        raw=np.asarray(result.rows, dtype=np.float64).reshape(n_poses, n_cols),
+        raw=result.values,
         raw_defined=defined,
         raw_sent=sent,
         motors=[motor_index[result.joints[group[-1]]] for group in groups],

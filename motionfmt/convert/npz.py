@@ -41,7 +41,7 @@ def write_npz(motion: Motion, options: ExportOptions) -> Exported:
         names=np.array(motion.joints, dtype=np.str_),
         positions=motion.values,
         commanded=motion.commanded,
-        pose_names=np.array(motion.pose_names, dtype=np.str_),
+        pose_names=np.array(list(motion.pose_names), dtype=np.str_),
     )
     detail = f"{motion.n_joints} joints, arrays {', '.join(ARRAYS)}, pose_names"
     return Exported(out.getvalue(), motion.n_poses, detail)

@@ -32,9 +32,12 @@ def expected_parse(path: Path) -> dict[str, object]:
     result = read_bytes(path.read_bytes(), path.name)
     return {
         "joints": result.joints,
-        "pose_names": result.pose_names,
-        "times_ms": result.times_ms,
-        "values": [[None if math.isnan(v) else repr(v) for v in row] for row in result.rows],
+        "pose_names": list(result.pose_names),
+        "times_ms": list(result.times_ms),
+        "values": [
+            [None if math.isnan(v) else repr(v) for v in result.row(p)]
+            for p in range(len(result.times_ms))
+        ],
     }
 
 

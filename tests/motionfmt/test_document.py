@@ -178,7 +178,7 @@ def test_a_motion_shares_a_read_only_array_and_copies_any_other() -> None:
     times = ((t // 60000, t // 1000 % 60, t % 1000) for t in range(0, 4 * 10**6, 40))
     big = b"#WEBOTS_MOTION,V1.0,A,B\n" + b"".join(b"%02d:%02d:%03d,P,1,2\n" % t for t in times)
     result = read_bytes(big)
-    assert np.shares_memory(result.motion.values, result.rows)  # the bulk path's array
+    assert np.shares_memory(result.motion.values, result.cells)  # the bulk path's array
     small = read_bytes(b"#WEBOTS_MOTION,V1.0,A\n0,P,1\n").motion
     assert not small.values.flags.writeable
     mine = np.array([[1.0, 5.0], [2.0, 3.0]])
