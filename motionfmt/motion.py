@@ -35,8 +35,9 @@ class Motion:
             ``*``), as before this mask existed. ``values`` is NaN wherever ``commanded`` is
             False.
 
-    The arrays are read-only. A read-only float64 ``values`` array is kept as it is (no one
-    can write it: a read's own rows, shared, not copied); any other is copied.
+    The arrays are read-only. A read-only int64 ``times_ms`` or float64 ``values`` array is
+    kept as it is (no one can write it: a read's own arrays, shared, not copied); any other is
+    copied.
     """
 
     joints: tuple[str, ...]
@@ -48,13 +49,11 @@ class Motion:
     def __post_init__(self) -> None:
         import numpy as np
 
-        times = np.array(self.times_ms, dtype=np.int64)
-        given = self.values
-        shared = (
-            isinstance(given, np.ndarray)
-            and given.dtype == np.float64
-            and not given.flags.writeable
+        times = np.array(
+            self.times_ms, dtype=np.int64, copy=not _read_only(self.times_ms, np.int64)
         )
+        given = self.values
+        shared = _read_only(given, np.float64)
         values = np.array(given, dtype=np.float64, copy=not shared)
         values = values.reshape(len(times), len(self.joints))
         if self.commanded is None:
@@ -120,3 +119,10 @@ class Motion:
         )
 
     __hash__ = None  # type: ignore[assignment]
+
+
+def _read_only(given: object, dtype: type[np.generic]) -> bool:
+    """Whether ``given`` is a numpy array of ``dtype`` that no one can write."""
+    import numpy as np
+
+    return isinstance(given, np.ndarray) and given.dtype == dtype and not given.flags.writeable

@@ -207,13 +207,17 @@ class ReadResult:
             d = self.rejected_at
             raise MotionSyntaxError(f"{d.message} [{d.code}]", d.path, d.line, d.column)
         if self._motion is None:
+            import numpy as np
+
             from motiontool.motionfmt.motion import Motion
 
-            # The motion shares the values and the names (no copy; read-only).
+            # The motion shares the times, values and names (no copy; read-only).
+            times = np.asarray(self.times_ms, dtype=np.int64)
+            times.flags.writeable = False
             self._motion = Motion(
                 joints=tuple(self.joints),
                 pose_names=self.pose_names,
-                times_ms=self.times_ms,  # type: ignore[arg-type]
+                times_ms=times,
                 values=self.values,
                 commanded=self.commanded,
             )

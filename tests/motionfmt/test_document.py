@@ -191,6 +191,10 @@ def test_a_motion_shares_a_read_only_array_and_copies_any_other() -> None:
     assert np.isnan(m.values[0, 1]) and frozen[0, 1] == 5.0  # '*' made NaN in a copy
     m = Motion(("A", "B"), ("P", "Q"), [0, 10], frozen)
     assert np.shares_memory(m.values, frozen)
+    times = np.array([0, 10])
+    assert not np.shares_memory(Motion(("A", "B"), ("P", "Q"), times, frozen).times_ms, times)
+    times.flags.writeable = False
+    assert np.shares_memory(Motion(("A", "B"), ("P", "Q"), times, frozen).times_ms, times)
 
 
 # -- robustness: only diagnostics or MotionToolError, never another exception -----------------

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -95,6 +96,8 @@ def test_a_read_keeps_compact_arrays_its_motion_shares(size: int, star: bool) ->
     assert len(read.cells) == 2 * size and read.row(size - 1) == [(size - 1) / 8, -(size - 1) / 4]
     motion = read.motion
     assert motion.pose_names is read.pose_names
-    assert motion.values.base is not None and not motion.values.flags.writeable
+    assert np.shares_memory(motion.values, np.asarray(read.cells))
+    assert np.shares_memory(motion.times_ms, np.asarray(read.times_ms))
+    assert not motion.values.flags.writeable and not motion.times_ms.flags.writeable
     assert motion.values.shape == (size, 2)
     assert motion.values[size - 1].tolist() == read.row(size - 1)
