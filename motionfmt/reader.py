@@ -157,7 +157,7 @@ class _Reader(ReadState):
         times, names, values = got
         res = self.result
         res.times_ms = array("q")
-        res.times_ms.frombytes(memoryview(times).cast("B"))
+        res.times_ms.frombytes(times.data.cast("B"))
         res.pose_names = names
         res.cells = values.reshape(-1)
         res.pose_lines = range(2, len(times) + 2)  # a pose a line: no list of them
