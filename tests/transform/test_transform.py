@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 import numpy as np
 import pytest
@@ -16,7 +17,9 @@ from motiontool.motionfmt import loads, read_file, sample
 from motiontool.motionfmt.compare import compare_motions
 from motiontool.motionfmt.motion import Motion
 from motiontool.motionfmt.transform import (
+    MAX_TIME_MS,
     ROUNDING_RAD,
+    TimeOverflowError,
     fit_duration,
     fit_limits,
     grid_times,
@@ -199,6 +202,42 @@ def test_fit_duration_lands_exactly(times: list[int], d: int) -> None:
     assert r.duration_ms == d
     assert all(b > a for a, b in zip(r.times_ms, r.times_ms[1:], strict=False))
     assert r.times_ms[0] >= 0
+
+
+def _exact_retime(times: list[int], factor: Fraction, last: int | None) -> tuple[list[int], float]:
+    """The definition: each t x factor as a Fraction, rounded half up, pushed to increase
+    (pulled back below ``last`` where it is fixed); the largest rounding, ms."""
+    exact = [t * factor for t in times]
+    new = [math.floor(x + Fraction(1, 2)) for x in exact]
+    for i in range(1, len(new)):
+        new[i] = max(new[i], new[i - 1] + 1)
+    if last is not None:
+        new[-1] = last
+        for i in range(len(new) - 2, -1, -1):
+            new[i] = min(new[i], new[i + 1] - 1)
+    return new, float(max(abs(n - x) for n, x in zip(new, exact, strict=True)))
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    times=increasing_times,
+    speed=st.floats(1e-3, 1e3) | st.sampled_from([0.1, 0.3, 1 / 3, 2.0, 7.0]),
+    d=st.integers(1, MAX_TIME_MS),
+)
+def test_retiming_is_the_exact_rational_rounded_half_up(
+    times: list[int], speed: float, d: int
+) -> None:
+    # Integer arithmetic gives what Fractions give, times and rounding alike.
+    try:
+        r = scale_times(times, speed)
+    except TimeOverflowError:
+        assert _exact_retime(times, 1 / Fraction(speed), None)[0][-1] > MAX_TIME_MS
+    else:
+        assert (list(r.times_ms), r.rounding_ms) == _exact_retime(times, 1 / Fraction(speed), None)
+    if times[-1] > 0 and d >= len(times) - 1:
+        r = fit_duration(times, d)
+        want = _exact_retime(times, Fraction(d, times[-1]), d)
+        assert (list(r.times_ms), r.rounding_ms) == want
 
 
 def test_speed_rounds_half_up_and_keeps_times_increasing() -> None:
