@@ -99,6 +99,16 @@ class PoseNames(Sequence[str]):
             raise IndexError(f"pose {index} of {n}")
         return self._chunk(i // CHUNK)[i % CHUNK]
 
+    def index(self, value: object, start: int = 0, stop: int | None = None) -> int:
+        """The first pose from ``start`` (up to ``stop``) named ``value``; ValueError if none."""
+        lo, hi, _ = slice(start, stop).indices(len(self))
+        for k in range(lo // CHUNK, -(-hi // CHUNK)):
+            base = k * CHUNK
+            names = self._chunk(k)
+            if value in names[max(lo - base, 0) : hi - base]:
+                return base + names.index(value, max(lo - base, 0), hi - base)
+        raise ValueError(f"{value!r} is not a pose name")
+
     def __iter__(self) -> Iterator[str]:
         for chunk in self._chunks:
             yield from chunk.split("\n")

@@ -54,6 +54,19 @@ def test_read_far_apart_and_back() -> None:
     for i in [3 * CHUNK + 4, 0, CHUNK, 2 * CHUNK - 1, 5, 3 * CHUNK, CHUNK + 7]:
         assert names[i] == want[i]
     assert names.index("P4100") == 4100 and "P12000" in names and "Q" not in names
+    twice = PoseNames([*want, *want])
+    n = len(want)
+    for name, start, stop in [
+        ("P0", 0, None),
+        ("P0", 1, None),
+        ("P3", -(n - 2), None),
+        ("P7", 2, 9),
+    ]:
+        assert twice.index(name, start, stop) == [*want, *want].index(name, start, stop or 2 * n)
+    assert twice.index("P4100", 4101, n + 4101) == n + 4100
+    for name, start, stop in [("P4100", 4101, n + 4100), ("P1", 2, 3 * CHUNK), ("Q", 0, None)]:
+        with pytest.raises(ValueError, match="not a pose name"):
+            twice.index(name, start, stop)
 
 
 def test_unequal_and_unhashable() -> None:
