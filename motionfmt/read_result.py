@@ -166,6 +166,8 @@ class ReadResult:
 
     def row(self, pose: int) -> list[float]:
         """The J values of pose ``pose`` (rad, m for linear joints; NaN: see ``cells``)."""
+        if not 0 <= pose < len(self.times_ms):
+            raise IndexError(f"pose {pose} of {len(self.times_ms)}")
         j = len(self.joints)
         return [float(v) for v in self.cells[pose * j : (pose + 1) * j]]
 

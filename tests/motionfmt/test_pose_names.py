@@ -107,6 +107,8 @@ def test_a_read_keeps_compact_arrays_its_motion_shares(size: int, star: bool) ->
     assert isinstance(read.pose_names, PoseNames)
     assert read.pose_names == [f"Pose{p}" for p in range(size)]
     assert len(read.cells) == 2 * size and read.row(size - 1) == [(size - 1) / 8, -(size - 1) / 4]
+    with pytest.raises(IndexError):
+        read.row(size)
     motion = read.motion
     assert motion.pose_names is read.pose_names
     assert np.shares_memory(motion.values, np.asarray(read.cells))
