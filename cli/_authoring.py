@@ -85,8 +85,10 @@ def load_input(path: Path) -> MotionDocument:
 
 def write_result(doc: MotionDocument, target: Path | None) -> None:
     """Write ``doc`` atomically to ``target``, or to stdout when None; a file written is said
-    on stderr (:func:`~motiontool.cli.output.say_wrote`)."""
-    write_blocks((doc.to_bytes(),), target, doc.n_poses, doc.motion.duration_ms)
+    on stderr (:func:`~motiontool.cli.output.say_wrote`). The document is read first (an
+    edited one: its bytes joined once, and kept as what it writes)."""
+    duration_ms = doc.motion.duration_ms
+    write_blocks((doc.to_bytes(),), target, doc.n_poses, duration_ms)
 
 
 def write_blocks(
