@@ -22,7 +22,8 @@ class PoseNames(Sequence[str]):
     """P pose names, in order: a sequence of ``str`` equal to any sequence of the same names.
 
     Read in order (a report, a write), each chunk is split once; a name far from the last one
-    read costs the split of its chunk (a few tens of microseconds).
+    read costs the split of its chunk (a few tens of microseconds). Threads may read one at
+    once (the chunk split last is swapped whole); adding is for one thread.
 
     Raises:
         ValueError: (:meth:`append`, :meth:`extend`) a name holds a newline.
@@ -76,9 +77,10 @@ class PoseNames(Sequence[str]):
     def _chunk(self, k: int) -> list[str]:
         if k == len(self._chunks):
             return self._pending
-        if self._last[0] != k:
-            self._last = (k, self._chunks[k].split("\n"))
-        return self._last[1]
+        last = self._last  # one read: another thread may split another chunk meanwhile
+        if last[0] != k:
+            last = self._last = (k, self._chunks[k].split("\n"))
+        return last[1]
 
     def __len__(self) -> int:
         return len(self._chunks) * CHUNK + len(self._pending)
