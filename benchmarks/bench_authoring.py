@@ -1,4 +1,4 @@
-"""Benchmark: ``mirror``, ``concat``, ``trim``, ``scale``, ``resample`` and ``diff`` on the
+"""Benchmark: ``mirror``, ``concat``, ``trim``, ``scale``, ``retime``, ``resample`` and ``diff`` on the
 100 000-pose, 26-joint file of ``bench_validate.py`` (about 26 MB).
 
 Run: ``python benchmarks/bench_authoring.py``. Each time covers reading the file into a lossless
@@ -6,7 +6,8 @@ document, the operation, and the result read back as a document (as Webots reads
 printed with its ratio to a baseline measured in the same run: the plain read (``loads`` of the
 file). Target (issue 12): < 2 s each. concat joins the file and a 2-pose motion (26 MB out);
 the file joined with itself (52 MB out, two reads of twice the data) is printed too. scale
-(x0.5: every cell re-spelt), resample (a 30 ms grid, its deviation compared at every ms) and diff
+(x0.5: every cell re-spelt), retime (--speed 0.7: every time re-spelt, the new times in
+integers), resample (a 30 ms grid, its deviation compared at every ms) and diff
 (the file against its scaled copy at every ms: 4 million steps) are printed for information.
 
 Then the peak memory of each command as a whole process (``motiontool mirror big.motion -o
@@ -44,6 +45,7 @@ def main() -> None:
     from motiontool.motionfmt.ops.scale import scale
     from motiontool.motionfmt.ops.trim import trim
     from motiontool.motionfmt.resample import resample
+    from motiontool.motionfmt.retime import scale_times
 
     nao = load_robot("nao")
     mapping = mirror_map(nao).as_dict()
@@ -85,6 +87,11 @@ def main() -> None:
             doc = loads(read_file(big), "big.motion")
             assert scale(doc, 0.5).changed > 0
 
+        def do_retime() -> None:
+            doc = loads(read_file(big), "big.motion")
+            doc.set_times(list(scale_times(doc.result.times_ms, 0.7).times_ms))
+            assert doc.motion.duration_ms == round(end / 0.7)
+
         def do_resample() -> None:
             doc = loads(read_file(big), "big.motion")
             assert resample(doc, step_ms=30).document.n_poses > args.poses
@@ -108,6 +115,7 @@ def main() -> None:
         for label, fn in (
             ("concat (read, file + itself: 52 MB out)", do_concat_twice),
             ("scale (read, x0.5: every cell re-spelt)", do_scale),
+            ("retime (read, x0.7: every time re-spelt)", do_retime),
             ("resample (read, 30 ms grid, every ms)", do_resample),
             ("diff (read, against scaled, every ms)", do_diff),
         ):
