@@ -28,6 +28,9 @@ from motiontool.motionfmt.validate import run_check
 from motiontool.motionfmt.writer import format_motion
 
 if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["motion_findings", "refuse_unknown_joints", "stream_findings"]
@@ -97,37 +100,86 @@ def motion_findings(
 def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str]:
     """What the export sends, against ``spec``: every target within the joint's limits and
     reached from the previous one no faster than maxVelocity. One line per joint at fault,
-    naming its worst target and time (ms of Webots' playback time)."""
-    import numpy as np
+    naming its first target out of its limits and its fastest move (the first of them), with
+    their times (ms of Webots' playback time). The stream is read a chunk at a time."""
+    joints = [_JointStream(name, spec) for name in stream.joints]
+    for times_ms, targets in stream.chunks():
+        for k, joint in enumerate(joints):
+            joint.update(times_ms, targets[:, k])
+    return [line for joint in joints for line in joint.lines(what, spec)]
 
-    out: list[str] = []
-    t = stream.times_ms.astype(np.float64) / MS_PER_S
-    for k, name in enumerate(stream.joints):
-        if name not in spec:
-            out.append(f"{what}: {name} is not a motor of robot {spec.name}")
-            continue
-        joint = spec.joint(name)
-        q = stream.targets[:, k]
+
+class _JointStream:
+    """One joint's column of a stream, seen a chunk of rows at a time: its first target out
+    of its limits and its fastest move between two consecutive rows that both send one."""
+
+    def __init__(self, name: str, spec: RobotSpec) -> None:
+        self.name = name
+        self.joint = spec.joint(name) if name in spec else None
+        self.beyond: tuple[float, int] | None = None  # (target, time ms)
+        self.fastest: tuple[float, int, int] | None = None  # (rad/s, from ms, to ms)
+        self.last: tuple[float, int] | None = None  # the previous chunk's last row (NaN: none)
+
+    def update(self, times_ms: npt.NDArray[np.int64], q: npt.NDArray[np.float64]) -> None:
+        """Take the rows ``times_ms`` (S,), targets ``q`` (S,) (rad, m; NaN: none sent)."""
+        import numpy as np
+
+        joint = self.joint
+        if joint is None or q.shape[0] == 0:
+            return
         sent = ~np.isnan(q)
-        with np.errstate(invalid="ignore"):
-            beyond = sent & ((q < joint.lower) | (q > joint.upper))
-        if beyond.any():
-            i = int(np.argmax(beyond))
-            out.append(
-                f"{what}: {name} = {float(q[i])!r} {joint.unit} at {stream.times_ms[i]} ms is "
-                f"outside [{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
-            )
-        if not math.isfinite(joint.max_velocity) or q.shape[0] < 2:
-            continue
+        if self.beyond is None:
+            with np.errstate(invalid="ignore"):
+                beyond = sent & ((q < joint.lower) | (q > joint.upper))
+            if beyond.any():
+                i = int(np.argmax(beyond))
+                self.beyond = (float(q[i]), int(times_ms[i]))
+        if math.isfinite(joint.max_velocity):
+            if self.last is not None:  # the move from the previous chunk's last row
+                q = np.concatenate(([self.last[0]], q))
+                times_ms = np.concatenate(([self.last[1]], times_ms))
+                sent = ~np.isnan(q)
+            self._moves(times_ms, q, sent, joint.max_velocity)
+        self.last = (float(q[-1]), int(times_ms[-1]))
+
+    def _moves(
+        self,
+        times_ms: npt.NDArray[np.int64],
+        q: npt.NDArray[np.float64],
+        sent: npt.NDArray[np.bool_],
+        max_velocity: float,
+    ) -> None:
+        import numpy as np
+
+        if q.shape[0] < 2:
+            return
+        t = times_ms.astype(np.float64) / MS_PER_S
         both = sent[1:] & sent[:-1]
         with np.errstate(invalid="ignore", divide="ignore"):
             speed = np.where(both, np.abs(np.diff(q)) / np.diff(t), 0.0)
-        fast = speed > joint.max_velocity * (1 + _VELOCITY_SLACK)
+        fast = speed > max_velocity * (1 + _VELOCITY_SLACK)
         if fast.any():
             i = int(np.argmax(np.where(fast, speed, -1.0)))
+            if self.fastest is None or speed[i] > self.fastest[0]:  # the first of the fastest
+                self.fastest = (float(speed[i]), int(times_ms[i]), int(times_ms[i + 1]))
+
+    def lines(self, what: str, spec: RobotSpec) -> list[str]:
+        """The report's lines for this joint (none when it is at no fault)."""
+        joint = self.joint
+        if joint is None:
+            return [f"{what}: {self.name} is not a motor of robot {spec.name}"]
+        out = []
+        if self.beyond is not None:
+            value, at = self.beyond
             out.append(
-                f"{what}: {name} moves at {speed[i]:.6g} {joint.unit}/s from "
-                f"{stream.times_ms[i]} ms to {stream.times_ms[i + 1]} ms, faster than its "
+                f"{what}: {self.name} = {value!r} {joint.unit} at {at} ms is "
+                f"outside [{joint.lower:.6g}, {joint.upper:.6g}] {joint.unit}"
+            )
+        if self.fastest is not None:
+            speed, a, b = self.fastest
+            out.append(
+                f"{what}: {self.name} moves at {speed:.6g} {joint.unit}/s from "
+                f"{a} ms to {b} ms, faster than its "
                 f"maxVelocity {joint.max_velocity:.6g} {joint.unit}/s"
             )
-    return out
+        return out

@@ -8,7 +8,7 @@ data in :class:`ExportOptions`; the robot checks of an export are the caller's.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -132,19 +132,35 @@ class WorstError:
             self._seen = True
 
 
+_StreamChunk = tuple["npt.NDArray[np.int64]", "npt.NDArray[np.float64]"]
+"""(times_ms (S,), targets (S, N)) of a part of a :class:`RobotStream`, in its order."""
+
+
 @dataclass(frozen=True)
 class RobotStream:
-    """The targets an export sends to the robot, for the robot checks before it is written.
+    """The targets an export sends to the robot, for the robot checks before it is written:
+    held whole, or made a chunk of rows at a time as they are checked.
 
     Attributes:
         joints: the N motors.
-        times_ms: int64 (S,): when each row is sent, ms of Webots' playback time.
+        times_ms: int64 (S,): when each row is sent, ms of Webots' playback time (empty where
+            ``made`` gives the rows).
         targets: float64 (S, N), rad (m for linear joints); NaN where nothing is sent.
+        made: None, or what makes the rows a chunk at a time, in time order, each time it is
+            called (a long stream is never held whole).
     """
 
     joints: tuple[str, ...]
     times_ms: npt.NDArray[np.int64]
     targets: npt.NDArray[np.float64]
+    made: Callable[[], Iterator[_StreamChunk]] | None = None
+
+    def chunks(self) -> Iterator[_StreamChunk]:
+        """The rows as (times_ms (S,), targets (S, N)) chunks, in time order."""
+        if self.made is None:
+            yield self.times_ms, self.targets
+        else:
+            yield from self.made()
 
 
 @dataclass(frozen=True)
