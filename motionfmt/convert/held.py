@@ -11,6 +11,7 @@ every step, piecewise linear in time (corners at the poses, a jump where a ``*``
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -23,7 +24,10 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["COLLINEAR_RAD", "HeldStream", "corner_keys", "held_stream"]
+__all__ = ["COLLINEAR_RAD", "Corners", "HeldStream", "corner_keys", "held_chunks", "held_stream"]
+
+HeldChunk = tuple["npt.NDArray[np.int64]", "npt.NDArray[np.float64]"]
+"""(elapsed_ms (S,), targets (S, N)) of a chunk of steps of :func:`held_chunks`."""
 
 COLLINEAR_RAD = 1e-12
 """How far (rad, m for linear joints) a target may sit off the line between its neighbours
@@ -51,30 +55,95 @@ class HeldStream:
     targets: npt.NDArray[np.float64]
 
 
-def held_stream(motion: Motion, timestep_ms: int) -> HeldStream:
-    """The targets the motors hold while Webots plays ``motion`` at ``timestep_ms`` (ms).
+def held_chunks(
+    motion: Motion, timestep_ms: int
+) -> tuple[tuple[str, ...], Callable[[], Iterator[HeldChunk]]]:
+    """The motors (a name two columns share once, as the robot has it) and what makes the
+    targets they hold while Webots plays ``motion`` at ``timestep_ms`` (ms), a chunk of steps
+    at a time, each time it is called: (elapsed_ms int64 (S,), targets float64 (S, N), rad or
+    m, NaN before a motor's first command). Nothing the stream's size is held.
 
     Raises:
         NonFiniteCommandError: a ``nan`` or ``inf`` command (a robot cannot be sent it).
         PlaybackNeverEndsError: the motion never ends at this step (Webots' clock wraps).
     """
+    refuse_non_finite(motion)
+    played_steps(motion.duration_ms, timestep_ms)
+    motors = tuple(dict.fromkeys(motion.joints))
+
+    def chunks() -> Iterator[HeldChunk]:
+        holder = Holder(motors)
+        for chunk in iter_commands(motion, timestep_ms, chunk_steps=_CHUNK_STEPS):
+            held = holder.hold(chunk.targets, chunk.commanded, motion.joints).targets
+            yield chunk.elapsed_ms, held
+
+    return motors, chunks
+
+
+def held_stream(motion: Motion, timestep_ms: int) -> HeldStream:
+    """The targets the motors hold while Webots plays ``motion`` at ``timestep_ms`` (ms),
+    held whole (:func:`held_chunks`, past :data:`~.player.MAX_HELD_STEPS` refused).
+
+    Raises:
+        NonFiniteCommandError: a ``nan`` or ``inf`` command (a robot cannot be sent it).
+        PlaybackNeverEndsError: the motion never ends at this step (Webots' clock wraps).
+        StreamTooLongError: more than :data:`~.player.MAX_HELD_STEPS` steps.
+    """
     import numpy as np
 
-    refuse_non_finite(motion)
+    motors, chunks = held_chunks(motion, timestep_ms)
     steps = played_steps(motion.duration_ms, timestep_ms)
     require_held(steps, timestep_ms)
-    motors = tuple(dict.fromkeys(motion.joints))
     elapsed = np.empty(steps, dtype=np.int64)
     targets = np.empty((steps, len(motors)))
-    holder = Holder(motors)
     at = 0
-    # A chunk of the stream at a time: only the held targets are the stream's size.
-    for chunk in iter_commands(motion, timestep_ms, chunk_steps=_CHUNK_STEPS):
-        end = at + chunk.elapsed_ms.shape[0]
-        elapsed[at:end] = chunk.elapsed_ms
-        targets[at:end] = holder.hold(chunk.targets, chunk.commanded, motion.joints).targets
+    for chunk_elapsed, chunk_targets in chunks():
+        end = at + chunk_elapsed.shape[0]
+        elapsed[at:end] = chunk_elapsed
+        targets[at:end] = chunk_targets
         at = end
     return HeldStream(motors, elapsed[:at], targets[:at])
+
+
+class Corners:
+    """:func:`corner_keys` of samples given a chunk at a time: the times and values of the
+    keys, the same as of the samples given at once. The last two samples are carried to the
+    next chunk (a sample is a key by its two neighbours)."""
+
+    def __init__(self) -> None:
+        import numpy as np
+
+        self.count = 0
+        self._at: list[npt.NDArray[np.int64]] = []  # the keys found, a chunk at a time
+        self._values: list[npt.NDArray[np.float64]] = []
+        self._tail = (np.zeros(0, dtype=np.int64), np.zeros(0))  # the last two samples
+
+    def add(self, at: npt.NDArray[np.int64], values: npt.NDArray[np.float64]) -> None:
+        """Take the samples at the times ``at`` (S,) (after every earlier one) of ``values``
+        (S,) float64, all finite."""
+        import numpy as np
+
+        if at.shape[0] == 0:
+            return
+        if self.count == 0:  # the first sample is a key
+            self._at.append(at[:1])
+            self._values.append(values[:1])
+        w_at = np.concatenate((self._tail[0], at))
+        w = np.concatenate((self._tail[1], values))
+        inner = corner_keys(w)[1:-1]  # w[0] is a key already or decided; w[-1] is not yet
+        self._at.append(w_at[inner])
+        self._values.append(w[inner])
+        self._tail = (w_at[-2:], w[-2:])
+        self.count += at.shape[0]
+
+    def keys(self) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]:
+        """The keys' times (K,) and values (K,) once every sample is in: the first, the
+        last, and every one off the line between its two neighbours."""
+        import numpy as np
+
+        last = (self._tail[0][-1:], self._tail[1][-1:]) if self.count >= 2 else ((), ())
+        at = np.concatenate([*self._at, last[0]]).astype(np.int64)
+        return at, np.concatenate([*self._values, last[1]]).astype(np.float64)
 
 
 def corner_keys(values: npt.NDArray[np.float64]) -> npt.NDArray[np.intp]:

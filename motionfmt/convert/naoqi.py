@@ -26,11 +26,12 @@ become ``LHand`` (``RPhalanx1..8``: ``RHand``) and ``RHipYawPitch`` follows ``LH
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
-from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stream
+from motiontool.motionfmt.convert.held import Corners, HeldChunk, held_chunks
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
 from motiontool.motionfmt.convert.naoqi_script import script
 from motiontool.motionfmt.units import MS_PER_S
@@ -70,78 +71,113 @@ def _keys(t_s: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> list[Key]
     return keys
 
 
-def _joints(held: HeldStream) -> dict[str, int]:
-    """NAOqi name -> the column of ``held`` that drives it (the first of the motion's motors
-    that maps to it and is ever commanded)."""
+def _corners(
+    motors: tuple[str, ...], chunks: Callable[[], Iterator[HeldChunk]]
+) -> tuple[dict[str, int], list[Corners]]:
+    """The keys of every motor's held targets from its first command on (:class:`Corners`),
+    and NAOqi name -> the motor that drives it (the first of the motion's motors that maps to
+    it and is ever commanded)."""
     import numpy as np
 
+    corners = [Corners() for _ in motors]
+    for elapsed, targets in chunks():
+        for k, found in enumerate(corners):
+            live = ~np.isnan(targets[:, k])
+            found.add(elapsed[live], targets[live, k])
     chosen: dict[str, int] = {}
-    for k, motor in enumerate(held.motors):
+    for k, motor in enumerate(motors):
         name = NAOQI_NAMES.get(motor, motor)
-        if name not in chosen and bool(np.any(~np.isnan(held.targets[:, k]))):
+        if name not in chosen and corners[k].count:
             chosen[name] = k
-    return chosen
+    return chosen, corners
 
 
-def _deviation(held: HeldStream, columns: dict[str, int], model: dict[str, Any]) -> Deviation:
-    """Worst |NAOqi model - Webots' held target| over every step where a motor holds one."""
+def _model(
+    curves: dict[str, tuple[list[float], list[Key]]], elapsed: npt.NDArray[np.int64], lead_in: int
+) -> dict[str, npt.NDArray[np.float64]]:
+    """What each NAOqi joint's curve gives at the steps ``elapsed`` (ms of Webots' playback
+    time), rad."""
     import numpy as np
 
-    worst, joint, at = 0.0, None, None
+    t_s = (elapsed.astype(np.float64) + lead_in) / MS_PER_S
+    return {name: curve_at(times, keys, t_s) for name, (times, keys) in curves.items()}
+
+
+def _deviation(
+    motors: tuple[str, ...],
+    chunks: Callable[[], Iterator[HeldChunk]],
+    curves: dict[str, tuple[list[float], list[Key]]],
+    lead_in: int,
+) -> Deviation:
+    """Worst |NAOqi model - Webots' held target| over every step where a motor holds one, the
+    stream read a chunk at a time (per motor the first of its worst, then the motors in
+    order)."""
+    import numpy as np
+
+    worst_by_motor: dict[int, tuple[float, int]] = {}
     compared = 0
-    for k, motor in enumerate(held.motors):
-        name = NAOQI_NAMES.get(motor, motor)
-        if name not in columns:
-            continue
-        got = model[name]
-        want = held.targets[:, k]
-        mask = ~np.isnan(want) & ~np.isnan(got)
-        compared += int(mask.sum())
-        err = np.where(mask, np.abs(got - want), 0.0)
-        i = int(np.argmax(err))
-        if err[i] > worst or joint is None:
-            worst, joint, at = float(err[i]), motor, int(held.elapsed_ms[i])
+    for elapsed, targets in chunks():
+        model = _model(curves, elapsed, lead_in)
+        for k, motor in enumerate(motors):
+            name = NAOQI_NAMES.get(motor, motor)
+            if name not in model:
+                continue
+            got, want = model[name], targets[:, k]
+            mask = ~np.isnan(want) & ~np.isnan(got)
+            compared += int(mask.sum())
+            err = np.where(mask, np.abs(got - want), 0.0)
+            i = int(np.argmax(err))
+            if k not in worst_by_motor or err[i] > worst_by_motor[k][0]:
+                worst_by_motor[k] = (float(err[i]), int(elapsed[i]))
+    worst, joint, at = 0.0, None, None
+    for k, (err_k, at_k) in sorted(worst_by_motor.items()):
+        if err_k > worst or joint is None:
+            worst, joint, at = err_k, motors[k], at_k
     what = f"{compared} targets, every control step of every motor from its first command on"
     return Deviation(worst, joint, at, what)
 
 
 def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
-    """The JSON of ``angleInterpolationBezier``'s arguments, with its script as a companion."""
+    """The JSON of ``angleInterpolationBezier``'s arguments, with its script as a companion.
+    Webots' stream is made a chunk of steps at a time, three times (the keys, the deviation,
+    the stream for the robot checks): never held whole, whatever the motion's duration."""
     import numpy as np
 
     if options.lead_in_ms <= 0:
         raise MotionToolError(
             f"the lead-in must be > 0 ms (NAOqi times are), got {options.lead_in_ms}"
         )
-    held = held_stream(motion, options.timestep_ms)
-    columns = _joints(held)
+    motors, chunks = held_chunks(motion, options.timestep_ms)
+    columns, corners = _corners(motors, chunks)
     if not columns:
         raise MotionToolError("no joint of the motion is ever commanded: nothing to send")
-    t_s = (held.elapsed_ms.astype(np.float64) + options.lead_in_ms) / MS_PER_S
-    names, times, keys = [], [], []
-    model: dict[str, Any] = {}
+    curves: dict[str, tuple[list[float], list[Key]]] = {}
     for name, k in columns.items():
-        live = np.nonzero(~np.isnan(held.targets[:, k]))[0]
-        picked = live[corner_keys(held.targets[live, k])]
-        names.append(name)
-        times.append([float(x) for x in t_s[picked]])
-        keys.append(_keys(t_s[picked], held.targets[picked, k]))
-        model[name] = curve_at(times[-1], keys[-1], t_s)
-    deviation = _deviation(held, columns, model)
+        at_ms, values = corners[k].keys()
+        t_s = (at_ms.astype(np.float64) + options.lead_in_ms) / MS_PER_S
+        curves[name] = ([float(x) for x in t_s], _keys(t_s, values))
+    names = list(curves)
+    deviation = _deviation(motors, chunks, curves, options.lead_in_ms)
+    times, keys = [c[0] for c in curves.values()], [c[1] for c in curves.values()]
     doc = _document(options, names, times, keys, deviation)
     data = (json.dumps(doc, indent=1) + "\n").encode("utf-8", "surrogateescape")
     n_keys = sum(len(t) for t in times)
-    stream = RobotStream(
-        tuple(held.motors[k] for k in columns.values()),
-        held.elapsed_ms,
-        np.column_stack([model[name] for name in names]),
+
+    def stream() -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]]:
+        for elapsed, _targets in chunks():
+            model = _model(curves, elapsed, options.lead_in_ms)
+            yield elapsed, np.column_stack([model[name] for name in names])
+
+    empty = np.zeros(0, dtype=np.int64)
+    sent = RobotStream(
+        tuple(motors[k] for k in columns.values()), empty, np.zeros((0, len(names))), stream
     )
     detail = (
         f"{n_keys} keys of {len(names)} NAOqi joints for angleInterpolationBezier, "
         f"times + {options.lead_in_ms} ms lead-in"
     )
     companion = ("_send.py", script(options.target_name or "motion.naoqi.json").encode())
-    return Exported(data, n_keys, detail, deviation, (companion,), stream)
+    return Exported(data, n_keys, detail, deviation, (companion,), sent)
 
 
 def _document(

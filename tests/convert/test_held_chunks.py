@@ -1,0 +1,82 @@
+"""Webots' held stream made a chunk of steps at a time: corner keys found across chunks are
+those of the whole stream, and the NAOqi export, which never holds the stream, writes the
+same bytes, deviation and stream whatever the chunk size, past the steps a held stream may
+have."""
+
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import ROOT
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from motiontool.cli.convert_checks import stream_findings
+from motiontool.errors import MotionToolError
+from motiontool.kinematics.robots import load_robot
+from motiontool.motionfmt import player, read_bytes
+from motiontool.motionfmt.convert import held
+from motiontool.motionfmt.convert.base import ExportOptions, RobotStream
+from motiontool.motionfmt.convert.held import Corners, corner_keys, held_stream
+from motiontool.motionfmt.convert.naoqi import write_naoqi
+
+NAO_FILES = sorted((ROOT / "motions" / "nao").glob("*.motion"))
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    steps=st.lists(st.sampled_from([0.0, 0.0, 0.5, -0.25, 1e-13, 0.3]), max_size=40),
+    cuts=st.lists(st.integers(0, 40), max_size=6),
+)
+def test_corners_across_chunks_are_the_corners_of_the_whole(
+    steps: list[float], cuts: list[int]
+) -> None:
+    # Straight runs (equal steps), corners, steps under COLLINEAR_RAD; any cuts.
+    values = np.cumsum(np.asarray(steps, dtype=np.float64))
+    at = np.arange(values.shape[0], dtype=np.int64) * 20 + 7
+    corners = Corners()
+    bounds = sorted({0, values.shape[0], *(c % (values.shape[0] + 1) for c in cuts)})
+    for a, b in itertools.pairwise(bounds):
+        corners.add(at[a:b], values[a:b])
+    got_at, got_values = corners.keys()
+    want = corner_keys(values)
+    assert corners.count == values.shape[0]
+    assert got_at.tolist() == at[want].tolist()
+    assert got_values.tobytes() == values[want].tobytes()
+
+
+def _export(path: Path, chunk_steps: int, monkeypatch: pytest.MonkeyPatch) -> tuple[object, ...]:
+    monkeypatch.setattr(held, "_CHUNK_STEPS", chunk_steps)
+    motion = read_bytes(path.read_bytes()).motion
+    out = write_naoqi(motion, ExportOptions(timestep_ms=20, robot="nao"))
+    spec = load_robot("nao")
+    assert out.stream is not None
+    found = stream_findings(out.stream, spec, "naoqi")
+    rows = list(out.stream.chunks())
+    times = np.concatenate([t for t, _ in rows])
+    targets = np.concatenate([q for _, q in rows])
+    return out.data, out.deviation, found, times.tobytes(), targets.tobytes()
+
+
+@pytest.mark.parametrize("path", [*NAO_FILES[:3], None], ids=lambda p: p.stem if p else "held")
+def test_naoqi_is_the_same_whatever_the_chunk_size(
+    path: Path | None, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    if path is None:  # no deviation at all: the first step of the first motor is named
+        path = tmp_path / "held.motion"
+        path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n400,B,0,0\n")
+    whole = _export(path, 1 << 20, monkeypatch)  # one chunk
+    assert _export(path, 7, monkeypatch) == whole
+
+
+def test_naoqi_exports_a_stream_longer_than_one_may_hold(monkeypatch: pytest.MonkeyPatch) -> None:
+    motion = read_bytes(NAO_FILES[0].read_bytes()).motion
+    monkeypatch.setattr(player, "MAX_HELD_STEPS", 50)
+    with pytest.raises(MotionToolError, match="more than the 50"):
+        held_stream(motion, 20)
+    out = write_naoqi(motion, ExportOptions(timestep_ms=20, robot="nao"))
+    assert out.poses > 0 and out.deviation is not None and out.deviation.max_rad < 1e-9
+    assert isinstance(out.stream, RobotStream) and out.stream.made is not None
