@@ -31,6 +31,7 @@ __all__ = [
     "Imported",
     "Recording",
     "RobotStream",
+    "StreamChunk",
     "WorstError",
 ]
 
@@ -132,8 +133,9 @@ class WorstError:
             self._seen = True
 
 
-_StreamChunk = tuple["npt.NDArray[np.int64]", "npt.NDArray[np.float64]"]
-"""(times_ms (S,), targets (S, N)) of a part of a :class:`RobotStream`, in its order."""
+StreamChunk = tuple["npt.NDArray[np.int64]", "npt.NDArray[np.float64]"]
+"""(times_ms int64 (S,), targets float64 (S, N)) of a part of a stream of targets, in its
+order: a :class:`RobotStream`'s, or the held stream of :func:`.held.held_chunks`."""
 
 
 @dataclass(frozen=True)
@@ -153,9 +155,9 @@ class RobotStream:
     joints: tuple[str, ...]
     times_ms: npt.NDArray[np.int64]
     targets: npt.NDArray[np.float64]
-    made: Callable[[], Iterator[_StreamChunk]] | None = None
+    made: Callable[[], Iterator[StreamChunk]] | None = None
 
-    def chunks(self) -> Iterator[_StreamChunk]:
+    def chunks(self) -> Iterator[StreamChunk]:
         """The rows as (times_ms (S,), targets (S, N)) chunks, in time order."""
         if self.made is None:
             yield self.times_ms, self.targets

@@ -15,6 +15,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.convert.base import StreamChunk
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import Holder, iter_commands, played_steps, require_held
 
@@ -26,8 +27,6 @@ if TYPE_CHECKING:
 
 __all__ = ["COLLINEAR_RAD", "Corners", "HeldStream", "corner_keys", "held_chunks", "held_stream"]
 
-HeldChunk = tuple["npt.NDArray[np.int64]", "npt.NDArray[np.float64]"]
-"""(elapsed_ms (S,), targets (S, N)) of a chunk of steps of :func:`held_chunks`."""
 
 COLLINEAR_RAD = 1e-12
 """How far (rad, m for linear joints) a target may sit off the line between its neighbours
@@ -57,7 +56,7 @@ class HeldStream:
 
 def held_chunks(
     motion: Motion, timestep_ms: int
-) -> tuple[tuple[str, ...], Callable[[], Iterator[HeldChunk]]]:
+) -> tuple[tuple[str, ...], Callable[[], Iterator[StreamChunk]]]:
     """The motors (a name two columns share once, as the robot has it) and what makes the
     targets they hold while Webots plays ``motion`` at ``timestep_ms`` (ms), a chunk of steps
     at a time, each time it is called: (elapsed_ms int64 (S,), targets float64 (S, N), rad or
@@ -71,7 +70,7 @@ def held_chunks(
     played_steps(motion.duration_ms, timestep_ms)
     motors = tuple(dict.fromkeys(motion.joints))
 
-    def chunks() -> Iterator[HeldChunk]:
+    def chunks() -> Iterator[StreamChunk]:
         holder = Holder(motors)
         for chunk in iter_commands(motion, timestep_ms, chunk_steps=_CHUNK_STEPS):
             held = holder.hold(chunk.targets, chunk.commanded, motion.joints).targets

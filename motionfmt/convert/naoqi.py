@@ -30,8 +30,14 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.convert.base import Deviation, Exported, ExportOptions, RobotStream
-from motiontool.motionfmt.convert.held import Corners, HeldChunk, held_chunks
+from motiontool.motionfmt.convert.base import (
+    Deviation,
+    Exported,
+    ExportOptions,
+    RobotStream,
+    StreamChunk,
+)
+from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
 from motiontool.motionfmt.convert.naoqi_script import script
 from motiontool.motionfmt.units import MS_PER_S
@@ -72,7 +78,7 @@ def _keys(t_s: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> list[Key]
 
 
 def _corners(
-    motors: tuple[str, ...], chunks: Callable[[], Iterator[HeldChunk]]
+    motors: tuple[str, ...], chunks: Callable[[], Iterator[StreamChunk]]
 ) -> tuple[dict[str, int], list[Corners]]:
     """The keys of every motor's held targets from its first command on (:class:`Corners`),
     and NAOqi name -> the motor that drives it (the first of the motion's motors that maps to
@@ -105,7 +111,7 @@ def _model(
 
 def _deviation(
     motors: tuple[str, ...],
-    chunks: Callable[[], Iterator[HeldChunk]],
+    chunks: Callable[[], Iterator[StreamChunk]],
     curves: dict[str, tuple[list[float], list[Key]]],
     lead_in: int,
 ) -> Deviation:
@@ -163,7 +169,7 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
     data = (json.dumps(doc, indent=1) + "\n").encode("utf-8", "surrogateescape")
     n_keys = sum(len(t) for t in times)
 
-    def stream() -> Iterator[tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]]:
+    def stream() -> Iterator[StreamChunk]:
         for elapsed, _targets in chunks():
             model = _model(curves, elapsed, options.lead_in_ms)
             yield elapsed, np.column_stack([model[name] for name in names])
