@@ -10,12 +10,14 @@ and ``resample --step`` flat from 60 to 600 minutes: it writes its grid and comp
 the original a block at a time (motionfmt/resample_grid.py), where it held both (3 GB for
 11 h of 22 joints); 6 minutes (18,000 steps) fill less than its blocks, so its ratio to the
 shortest run is printed too, without a target.
-``convert --to naoqi`` flat as well (its output holds the keys, not the steps): it makes
-Webots' stream a chunk of steps at a time for its keys, its deviation and its robot check
-(motionfmt/convert/naoqi.py), where it held it three times (1.35 GB for 10 h of 40 joints).
-The other ``convert`` formats have no ratio target: they hold the stream they send (steps x
-joints x 8 bytes, printed) and the file they write, and nothing else per step (a bag's
-messages and URScript's lines are made as they are written).
+``convert --to naoqi`` and ``--to ros-trajectory`` flat as well (their output holds the
+keys, not the steps): they make Webots' stream a chunk of steps at a time for their keys,
+their deviation and their robot check (motionfmt/convert/held.py ``held_chunks``), where they
+held it (NAOqi three times: 1.35 GB for 10 h of 40 joints). ``--to rosbag`` makes its
+messages from the stream a chunk at a time too, and holds the bag it writes (no target: it
+grows with the duration). ``--to urscript`` has no ratio target: it holds the stream it sends
+(steps x joints x 8 bytes, printed) and the program it writes (its servoj lines are made as
+they are written).
 """
 
 from __future__ import annotations
@@ -82,9 +84,9 @@ class Case(NamedTuple):
 
 CASES = (
     Case("plot", "nao", "png", flat=True),
-    Case("convert --to rosbag", "nao", "mcap", ("--robot", "nao"), joints=40),
+    Case("convert --to rosbag", "nao", "mcap", ("--robot", "nao")),
     Case("convert --to naoqi", "nao", "json", ("--robot", "nao-v5"), joints=40, flat=True),
-    Case("convert --to ros-trajectory", "nao", "yaml", ("--robot", "nao"), joints=40),
+    Case("convert --to ros-trajectory", "nao", "yaml", ("--robot", "nao"), joints=40, flat=True),
     Case("convert --to urscript", "ur5e", "script", step_ms=8, joints=6),
     Case("resample --step 20", "nao", "motion", flat=True, flat_from=1),
 )

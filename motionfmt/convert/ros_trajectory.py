@@ -24,6 +24,7 @@ that YAML reads them as floats.
 from __future__ import annotations
 
 import json
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -34,9 +35,10 @@ from motiontool.motionfmt.convert.base import (
     Exported,
     ExportOptions,
     RobotStream,
+    StreamChunk,
     WorstError,
 )
-from motiontool.motionfmt.convert.held import HeldStream, corner_keys, held_stream
+from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.joint_map import to_ros
 from motiontool.motionfmt.convert.urscript import number
 
@@ -60,34 +62,36 @@ class Trajectory:
     """The points of a trajectory that reproduces Webots' stream.
 
     Attributes:
-        held: the stream it reproduces.
-        ros_names: each motor's ROS name, in the order of ``held.motors``.
-        steps: intp (K,): the steps of ``held`` that are points.
+        motors: the N motors, in the stream's order.
+        ros_names: each motor's ROS name, in that order.
+        elapsed_ms: int64 (K,): Webots' playback time of each point, ms.
+        positions: float64 (K, N): each point's positions, rad (m).
         lead_in_ms: added to Webots' playback time in ``time_from_start``, ms.
+        held: what makes the stream it reproduces a chunk of steps at a time
+            (:func:`~.held.held_chunks`), each time it is called.
+        steps: how many steps that stream has.
     """
 
-    held: HeldStream
+    motors: tuple[str, ...]
     ros_names: tuple[str, ...]
-    steps: npt.NDArray[np.intp]
+    elapsed_ms: npt.NDArray[np.int64]
+    positions: npt.NDArray[np.float64]
     lead_in_ms: int
+    held: Callable[[], Iterator[StreamChunk]]
+    steps: int
 
     @property
     def times_ms(self) -> npt.NDArray[np.int64]:
         """int64 (K,): each point's ``time_from_start``, ms."""
-        return self.held.elapsed_ms[self.steps] + self.lead_in_ms
-
-    @property
-    def positions(self) -> npt.NDArray[np.float64]:
-        """float64 (K, N): each point's positions, rad (m)."""
-        return self.held.targets[self.steps]
+        return self.elapsed_ms + self.lead_in_ms
 
 
-def _every_joint_from_the_start(held: HeldStream) -> None:
+def _every_joint_from_the_start(motors: tuple[str, ...], first: npt.NDArray[np.float64]) -> None:
     import numpy as np
 
-    unset = np.isnan(held.targets[0])
+    unset = np.isnan(first)
     if unset.any():
-        name = held.motors[int(np.argmax(unset))]
+        name = motors[int(np.argmax(unset))]
         raise MotionToolError(
             f"{name} has no target in the first pose ('*'): a trajectory point sets every "
             "joint at once; give it a number there"
@@ -96,7 +100,8 @@ def _every_joint_from_the_start(held: HeldStream) -> None:
 
 def trajectory(motion: Motion, options: ExportOptions) -> Trajectory:
     """The points of ``motion`` at ``options.timestep_ms``, named through
-    ``options.joint_map``.
+    ``options.joint_map``: the steps where any joint's held target has a corner, found with
+    the stream made a chunk of steps at a time, then their positions (a second pass).
 
     Raises:
         MotionToolError: a joint without a target from the first step, a ``nan``/``inf``
@@ -104,36 +109,47 @@ def trajectory(motion: Motion, options: ExportOptions) -> Trajectory:
     """
     import numpy as np
 
-    held = held_stream(motion, options.timestep_ms)
-    _every_joint_from_the_start(held)
-    names = to_ros(held.motors, options.joint_map)
-    keys = [corner_keys(held.targets[:, k]) for k in range(len(held.motors))]
-    steps = np.unique(np.concatenate(keys)).astype(np.intp)
-    return Trajectory(held, names, steps, options.lead_in_ms)
+    motors, chunks = held_chunks(motion, options.timestep_ms)
+    names = to_ros(motors, options.joint_map)
+    corners = [Corners() for _ in motors]
+    for elapsed, targets in chunks():
+        if corners[0].count == 0:
+            _every_joint_from_the_start(motors, targets[0])
+        for k, found in enumerate(corners):
+            found.add(elapsed, targets[:, k])
+    points = np.unique(np.concatenate([found.keys()[0] for found in corners]))
+    positions = np.concatenate(
+        [targets[np.isin(elapsed, points)] for elapsed, targets in chunks()]
+    ).reshape(-1, len(motors))
+    return Trajectory(
+        motors, names, points, positions, options.lead_in_ms, chunks, corners[0].count
+    )
 
 
 def deviation(traj: Trajectory) -> Deviation:
     """The points interpolated in straight lines at every control step, against Webots'
-    stream (rad)."""
+    stream (rad), the stream made a chunk of steps at a time."""
     import numpy as np
 
-    held = traj.held
-    key_t = held.elapsed_ms[traj.steps].astype(np.float64)
-    key_q = held.targets[traj.steps]
-    worst = WorstError()
-    for lo in range(0, held.elapsed_ms.shape[0], _ROWS):  # each step alone: the same in blocks
-        t = held.elapsed_ms[lo : lo + _ROWS].astype(np.float64)
-        want = held.targets[lo : lo + _ROWS]
-        err = np.empty_like(want)
-        for k in range(len(held.motors)):
-            err[:, k] = np.abs(np.interp(t, key_t, key_q[:, k]) - want[:, k])
-        worst.update(err, lo)
+    key_t = traj.elapsed_ms.astype(np.float64)
+    worst, at_ms, row = WorstError(), 0, 0
+    for elapsed, want in traj.held():
+        for lo in range(0, elapsed.shape[0], _ROWS):  # each step alone: the same in blocks
+            t = elapsed[lo : lo + _ROWS].astype(np.float64)
+            block = want[lo : lo + _ROWS]
+            err = np.empty_like(block)
+            for k in range(len(traj.motors)):
+                err[:, k] = np.abs(np.interp(t, key_t, traj.positions[:, k]) - block[:, k])
+            worst.update(err, row)
+            if row <= worst.row < row + block.shape[0]:  # the worst is in this block
+                at_ms = int(elapsed[lo + worst.row - row])
+            row += block.shape[0]
     return Deviation(
         worst.rad,
-        held.motors[worst.column],
-        int(held.elapsed_ms[worst.row]),
-        f"{traj.steps.shape[0]} points interpolated in straight lines, against Webots' stream "
-        f"at every step ({held.targets.size} targets)",
+        traj.motors[worst.column],
+        at_ms,
+        f"{traj.elapsed_ms.shape[0]} points interpolated in straight lines, against Webots' "
+        f"stream at every step ({traj.steps * len(traj.motors)} targets)",
     )
 
 
@@ -159,7 +175,8 @@ def _yaml(traj: Trajectory, options: ExportOptions) -> bytes:
     names = ", ".join(json.dumps(n) for n in traj.ros_names)
     lines = [
         f"# motiontool convert: {options.source} for {options.robot or 'a ROS 2 robot'}: "
-        f"Webots' command stream every {options.timestep_ms} ms as {traj.steps.shape[0]} points",
+        f"Webots' command stream every {options.timestep_ms} ms as "
+        f"{traj.elapsed_ms.shape[0]} points",
         "# (joint_trajectory_controller draws straight lines between points given as positions),",
         f"# the first at {traj.lead_in_ms} ms: the robot reaches it from where it stands.",
         "# ros2 action send_goal /joint_trajectory_controller/follow_joint_trajectory \\",
@@ -181,6 +198,7 @@ def _yaml(traj: Trajectory, options: ExportOptions) -> bytes:
 def write_ros_trajectory(motion: Motion, options: ExportOptions) -> Exported:
     """The goal YAML (see the module)."""
     traj = trajectory(motion, options)
-    stream = RobotStream(traj.held.motors, traj.held.elapsed_ms[traj.steps], traj.positions)
+    stream = RobotStream(traj.motors, traj.elapsed_ms, traj.positions)
     detail = f"{len(traj.ros_names)} joints, the first at {traj.lead_in_ms} ms, a goal of {ACTION}"
-    return Exported(_yaml(traj, options), traj.steps.shape[0], detail, deviation(traj), (), stream)
+    points = traj.elapsed_ms.shape[0]
+    return Exported(_yaml(traj, options), points, detail, deviation(traj), (), stream)

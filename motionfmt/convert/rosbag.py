@@ -62,9 +62,11 @@ TRAJECTORY_TOPIC = "/joint_trajectory"
 
 def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
     """The bag (see the module)."""
+    import numpy as np
+
     traj = trajectory(motion, options)
-    held, names = traj.held, list(traj.ros_names)
-    states = (  # made one at a time as the bag is written: never all held
+    names = list(traj.ros_names)
+    states = (  # made one at a time as the bag is written, from the stream a chunk at a time
         (
             int(ms) * NS_PER_MS,
             {
@@ -75,7 +77,8 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
                 "effort": [],
             },
         )
-        for ms, row in zip(held.elapsed_ms, held.targets, strict=True)
+        for elapsed, targets in traj.held()
+        for ms, row in zip(elapsed, targets, strict=True)
     )
     data = write_bag(
         [
@@ -85,7 +88,7 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
         "a ROS 2 bag",
     )
     worst = deviation(traj)
-    n_states = held.elapsed_ms.shape[0]
+    n_states = traj.steps
     compared = (
         f"{n_states} JointState messages (the stream's own doubles) and the trajectory's "
         f"{worst.compared}"
@@ -93,9 +96,10 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
     detail = (
         f"{options.topic}: sensor_msgs/JointState every {options.timestep_ms} ms, "
         f"{len(names)} joints; {TRAJECTORY_TOPIC}: a JointTrajectory of "
-        f"{traj.steps.shape[0]} points"
+        f"{traj.elapsed_ms.shape[0]} points"
     )
-    stream = RobotStream(held.motors, held.elapsed_ms, held.targets)
+    empty = np.zeros(0, dtype=np.int64)
+    stream = RobotStream(traj.motors, empty, np.zeros((0, len(names))), traj.held)
     return Exported(
         data,
         n_states,

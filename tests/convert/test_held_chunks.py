@@ -1,7 +1,7 @@
 """Webots' held stream made a chunk of steps at a time: corner keys found across chunks are
-those of the whole stream, and the NAOqi export, which never holds the stream, writes the
-same bytes, deviation and stream whatever the chunk size, past the steps a held stream may
-have."""
+those of the whole stream, and the exports that never hold the stream (NAOqi, the ROS
+trajectory, the bag's messages) write the same bytes, deviation and stream whatever the chunk
+size, past the steps a held stream may have."""
 
 from __future__ import annotations
 
@@ -22,6 +22,8 @@ from motiontool.motionfmt.convert import held
 from motiontool.motionfmt.convert.base import ExportOptions, RobotStream
 from motiontool.motionfmt.convert.held import Corners, corner_keys, held_stream
 from motiontool.motionfmt.convert.naoqi import write_naoqi
+from motiontool.motionfmt.convert.ros_trajectory import trajectory, write_ros_trajectory
+from motiontool.motionfmt.convert.rosbag import write_rosbag
 
 NAO_FILES = sorted((ROOT / "motions" / "nao").glob("*.motion"))
 
@@ -80,3 +82,33 @@ def test_naoqi_exports_a_stream_longer_than_one_may_hold(monkeypatch: pytest.Mon
     out = write_naoqi(motion, ExportOptions(timestep_ms=20, robot="nao"))
     assert out.poses > 0 and out.deviation is not None and out.deviation.max_rad < 1e-9
     assert isinstance(out.stream, RobotStream) and out.stream.made is not None
+
+
+@pytest.mark.parametrize("path", NAO_FILES[:2], ids=lambda p: p.stem)
+def test_ros_formats_are_the_same_whatever_the_chunk_size(
+    path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    motion = read_bytes(path.read_bytes()).motion
+    options = ExportOptions(timestep_ms=20, robot="nao")
+
+    def export(chunk_steps: int) -> tuple[object, ...]:
+        monkeypatch.setattr(held, "_CHUNK_STEPS", chunk_steps)
+        traj, bag = write_ros_trajectory(motion, options), write_rosbag(motion, options)
+        assert bag.stream is not None
+        found = stream_findings(bag.stream, load_robot("nao"), "rosbag")
+        return traj.data, traj.deviation, bag.data, bag.deviation, bag.poses, found
+
+    assert export(7) == export(1 << 20)
+
+
+def test_a_trajectory_is_found_in_a_stream_longer_than_one_may_hold(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    motion = read_bytes(NAO_FILES[0].read_bytes()).motion
+    whole = trajectory(motion, ExportOptions(timestep_ms=20))
+    monkeypatch.setattr(player, "MAX_HELD_STEPS", 50)
+    monkeypatch.setattr(held, "_CHUNK_STEPS", 16)
+    chunked = trajectory(motion, ExportOptions(timestep_ms=20))
+    assert chunked.steps == whole.steps > 50
+    assert chunked.elapsed_ms.tolist() == whole.elapsed_ms.tolist()
+    assert chunked.positions.tobytes() == whole.positions.tobytes()
