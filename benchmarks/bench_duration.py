@@ -14,10 +14,9 @@ shortest run is printed too, without a target.
 keys, not the steps): they make Webots' stream a chunk of steps at a time for their keys,
 their deviation and their robot check (motionfmt/convert/held.py ``held_chunks``), where they
 held it (NAOqi three times: 1.35 GB for 10 h of 40 joints). ``--to rosbag`` makes its
-messages from the stream a chunk at a time too, and holds the bag it writes (no target: it
-grows with the duration). ``--to urscript`` has no ratio target: it holds the stream it sends
-(steps x joints x 8 bytes, printed) and the program it writes (its servoj lines are made as
-they are written).
+messages from the stream a chunk at a time too, and holds the bag it writes, as
+``--to urscript`` holds the program it writes (a servoj line a step): no target, their files
+grow with the duration.
 """
 
 from __future__ import annotations
@@ -87,7 +86,7 @@ CASES = (
     Case("convert --to rosbag", "nao", "mcap", ("--robot", "nao")),
     Case("convert --to naoqi", "nao", "json", ("--robot", "nao-v5"), joints=40, flat=True),
     Case("convert --to ros-trajectory", "nao", "yaml", ("--robot", "nao"), joints=40, flat=True),
-    Case("convert --to urscript", "ur5e", "script", step_ms=8, joints=6),
+    Case("convert --to urscript", "ur5e", "script", step_ms=8),
     Case("resample --step 20", "nao", "motion", flat=True, flat_from=1),
 )
 

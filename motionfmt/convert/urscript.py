@@ -20,7 +20,7 @@ from __future__ import annotations
 import io
 import itertools
 import re
-from collections.abc import Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
@@ -29,9 +29,10 @@ from motiontool.motionfmt.convert.base import (
     Exported,
     ExportOptions,
     RobotStream,
+    StreamChunk,
     WorstError,
 )
-from motiontool.motionfmt.convert.held import held_stream
+from motiontool.motionfmt.convert.held import held_chunks
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import hold_targets
 from motiontool.motionfmt.units import MS_PER_S
@@ -89,19 +90,26 @@ def _columns(motors: tuple[str, ...], order: tuple[str, ...]) -> list[int]:
 
 
 def _first_command(
-    targets: npt.NDArray[np.float64], order: tuple[str, ...], when: npt.NDArray[np.int64]
+    order: tuple[str, ...], first: npt.NDArray[np.float64], arm: Callable[[], Iterator[StreamChunk]]
 ) -> None:
+    """Raise where a joint of the arm has no target in the first row ``first`` (N,), saying
+    from when it has one (``arm`` makes the stream again to find that out)."""
     import numpy as np
 
-    unset = np.isnan(targets)
-    if unset.any():
-        k = int(np.argwhere(unset)[0][1])
-        last = int(np.nonzero(unset[:, k])[0][-1])
-        since = "ever" if last + 1 == when.shape[0] else f"before {int(when[last + 1])} ms"
-        raise MotionToolError(
-            f"{order[k]} has no target {since} ('*'): URScript sets "
-            "every joint at once; give it a number in the first pose"
-        )
+    unset = np.isnan(first)
+    if not unset.any():
+        return
+    k = int(np.argmax(unset))
+    since = "ever"
+    for elapsed, targets in arm():
+        live = np.flatnonzero(~np.isnan(targets[:, k]))
+        if live.size:
+            since = f"before {int(elapsed[live[0]])} ms"
+            break
+    raise MotionToolError(
+        f"{order[k]} has no target {since} ('*'): URScript sets "
+        "every joint at once; give it a number in the first pose"
+    )
 
 
 def _program(
@@ -131,29 +139,46 @@ def _program(
 
 def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
     """The URScript program (see the module); raises :class:`MotionToolError` where an arm
-    joint has no column or no target from the start."""
+    joint has no column or no target from the start. Webots' stream is made a chunk of steps
+    at a time (for the program, again for the robot check), never held whole."""
+    import numpy as np
 
     order = options.joint_order
     if order is None:
         raise MotionToolError("URScript needs the arm's joints in its order: name the robot")
     if options.keyframes:
         return _keyframes(motion, options, order)
-    held = held_stream(motion, options.timestep_ms)
-    targets = held.targets[:, _columns(held.motors, order)]
-    _first_command(targets, order, held.elapsed_ms)
+    motors, chunks = held_chunks(motion, options.timestep_ms)
+    columns = _columns(motors, order)
+
+    def arm() -> Iterator[StreamChunk]:
+        for elapsed, targets in chunks():
+            yield elapsed, targets[:, columns]
+
+    first = next(arm())[1][0]
+    _first_command(order, first, arm)
     t = number(options.timestep_ms / MS_PER_S)
     tail = f"t={t}, lookahead_time={number(SERVO_LOOKAHEAD_S)}, gain={SERVO_GAIN})"
-    worst = WorstError()
-    data = _program(options, order, _vector(targets[0]), _servoj(targets, tail, worst))
+    worst, rows = WorstError(), [0, 0]  # rows written; the worst row's time, ms
+
+    def body() -> Iterator[str]:
+        for elapsed, targets in arm():
+            yield from _servoj(targets, tail, worst, rows[0])
+            if rows[0] <= worst.row < rows[0] + targets.shape[0]:  # the worst is here
+                rows[1] = int(elapsed[worst.row - rows[0]])
+            rows[0] += targets.shape[0]
+
+    data = _program(options, order, _vector(first), body())
     deviation = Deviation(
         worst.rad,
         order[worst.column],
-        int(held.elapsed_ms[worst.row]),
-        f"{targets.size} servoj targets as written, against Webots' stream at every step",
+        rows[1],
+        f"{rows[0] * len(order)} servoj targets as written, against Webots' stream at every step",
     )
-    stream = RobotStream(order, held.elapsed_ms, targets)
+    empty = np.zeros(0, dtype=np.int64)
+    stream = RobotStream(order, empty, np.zeros((0, len(order))), arm)
     detail = f"servoj every {options.timestep_ms} ms, after a movej to the first pose"
-    return Exported(data, targets.shape[0], detail, deviation, stream=stream)
+    return Exported(data, rows[0], detail, deviation, stream=stream)
 
 
 _SERVOJ = re.compile(r"servoj\(\[([^\]]*)\]")
@@ -162,16 +187,18 @@ _ROWS = 8192
 """servoj lines made (and read back) at a time: a long motion's lines are never all held."""
 
 
-def _servoj(targets: npt.NDArray[np.float64], tail: str, worst: WorstError) -> Iterator[str]:
-    """A servoj line per row of ``targets``, :data:`_ROWS` at a time, each block read back
-    into ``worst``."""
+def _servoj(
+    targets: npt.NDArray[np.float64], tail: str, worst: WorstError, first_row: int
+) -> Iterator[str]:
+    """A servoj line per row of ``targets`` (rows from ``first_row`` on in the stream),
+    :data:`_ROWS` at a time, each block read back into ``worst``."""
     import numpy as np
 
     for lo in range(0, targets.shape[0], _ROWS):
         block = targets[lo : lo + _ROWS]
         lines = [f"  servoj({_vector(row)}, {tail}" for row in block]
         written = np.array([[float(x) for x in _SERVOJ.findall(ln)[0].split(",")] for ln in lines])
-        worst.update(np.abs(written - block), lo)
+        worst.update(np.abs(written - block), first_row + lo)
         yield from lines
 
 
@@ -180,7 +207,7 @@ def _keyframes(motion: Motion, options: ExportOptions, order: tuple[str, ...]) -
     motors = tuple(dict.fromkeys(motion.joints))
     held = hold_targets(motion.values, motion.commanded, motion.joints, motors).targets
     targets = held[:, _columns(motors, order)]
-    _first_command(targets, order, motion.times_ms)
+    _first_command(order, targets[0], lambda: iter([(motion.times_ms, targets)]))
     body = []
     for i in range(1, motion.n_poses):
         seconds = number(int(motion.times_ms[i] - motion.times_ms[i - 1]) / MS_PER_S)

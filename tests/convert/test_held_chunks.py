@@ -1,6 +1,6 @@
 """Webots' held stream made a chunk of steps at a time: corner keys found across chunks are
 those of the whole stream, and the exports that never hold the stream (NAOqi, the ROS
-trajectory, the bag's messages) write the same bytes, deviation and stream whatever the chunk
+trajectory, the bag's messages, URScript's servoj lines) write the same bytes, deviation and stream whatever the chunk
 size, past the steps a held stream may have."""
 
 from __future__ import annotations
@@ -18,12 +18,13 @@ from motiontool.cli.convert_checks import stream_findings
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import player, read_bytes
-from motiontool.motionfmt.convert import held
+from motiontool.motionfmt.convert import held, urscript
 from motiontool.motionfmt.convert.base import ExportOptions, RobotStream
 from motiontool.motionfmt.convert.held import Corners, corner_keys, held_stream
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.ros_trajectory import trajectory, write_ros_trajectory
 from motiontool.motionfmt.convert.rosbag import write_rosbag
+from motiontool.motionfmt.convert.urscript import write_urscript
 
 NAO_FILES = sorted((ROOT / "motions" / "nao").glob("*.motion"))
 
@@ -112,3 +113,27 @@ def test_a_trajectory_is_found_in_a_stream_longer_than_one_may_hold(
     assert chunked.steps == whole.steps > 50
     assert chunked.elapsed_ms.tolist() == whole.elapsed_ms.tolist()
     assert chunked.positions.tobytes() == whole.positions.tobytes()
+
+
+@pytest.mark.parametrize("lossy", [False, True], ids=["exact", "lossy"])
+@pytest.mark.parametrize("name", ["jog", "sorting"])
+def test_urscript_is_the_same_whatever_the_chunk_size(
+    name: str, lossy: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    if lossy:  # numbers written to 4 decimals: a deviation, at a step the report must name
+        monkeypatch.setattr(urscript, "number", lambda v: f"{v:.4f}")
+    motion = read_bytes((ROOT / "motions" / "ur5e" / f"{name}.motion").read_bytes()).motion
+    ur = load_robot("ur5e")
+    options = ExportOptions(timestep_ms=8, robot="ur5e", joint_order=ur.joint_names)
+
+    def export(chunk_steps: int) -> tuple[object, ...]:
+        monkeypatch.setattr(held, "_CHUNK_STEPS", chunk_steps)
+        out = write_urscript(motion, options)
+        assert out.stream is not None
+        found = stream_findings(out.stream, ur, "urscript")
+        return out.data, out.deviation, out.poses, found
+
+    whole = export(1 << 20)
+    assert whole[1].max_rad > 0 if lossy else whole[1].max_rad == 0  # type: ignore[attr-defined]
+    monkeypatch.setattr(player, "MAX_HELD_STEPS", 50)  # never held: not refused
+    assert export(7) == whole
