@@ -1,6 +1,8 @@
 """The targets each motor holds while Webots plays a motion, step by step, and the fewest
 keys that a straight-line interpolation needs to give them back: what the robot formats
-(NAOqi, URScript) reproduce.
+(NAOqi, URScript, ROS) reproduce. The formats make the stream a chunk of steps at a time
+(:func:`held_chunks`, :class:`Corners`), as often as they read it: never held whole, whatever
+the motion's duration; :func:`held_stream` holds it, for the tests and small motions.
 
 Webots' player sends a target at every control step where a segment's two ends are numbers
 and nothing where one is ``*``; a motor keeps its last target until it gets another. So the
@@ -35,7 +37,7 @@ and still be left out of the keys: floating-point rounding of Webots' interpolat
 
 
 _CHUNK_STEPS = 1 << 13
-"""Steps of the command stream made at once while :func:`held_stream` holds it."""
+"""Steps of the command stream made at once (:func:`held_chunks`)."""
 
 
 @dataclass(frozen=True)
