@@ -17,9 +17,16 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.convert.base import StreamChunk
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.player import Holder, iter_commands, played_steps, require_held
+from motiontool.motionfmt.player import (
+    Holder,
+    iter_commands,
+    played_steps,
+    require_held,
+    steps_span,
+)
 
 if TYPE_CHECKING:
     import numpy as np
@@ -27,13 +34,28 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["COLLINEAR_RAD", "Corners", "HeldStream", "corner_keys", "held_chunks", "held_stream"]
+__all__ = [
+    "COLLINEAR_RAD",
+    "MAX_EXPORT_STEPS",
+    "Corners",
+    "HeldStream",
+    "corner_keys",
+    "held_chunks",
+    "held_stream",
+]
 
 
 COLLINEAR_RAD = 1e-12
 """How far (rad, m for linear joints) a target may sit off the line between its neighbours
 and still be left out of the keys: floating-point rounding of Webots' interpolation only
 (a few units in the last place of joint angles of a few radians, ~1e-16 rad)."""
+
+
+MAX_EXPORT_STEPS = 2_000_000
+"""Most control steps a robot export makes (11 h at the Nao's 20 ms): NAOqi's and a ROS
+trajectory's memory stays flat, but a longer stream would compute for hours, and a bag or a
+URScript program holds a message or a line a step; it is refused in one line before it
+starts, as a run that long is (``sim.commands.MAX_RUN_STEPS``)."""
 
 
 _CHUNK_STEPS = 1 << 13
@@ -67,9 +89,16 @@ def held_chunks(
     Raises:
         NonFiniteCommandError: a ``nan`` or ``inf`` command (a robot cannot be sent it).
         PlaybackNeverEndsError: the motion never ends at this step (Webots' clock wraps).
+        MotionToolError: more than :data:`MAX_EXPORT_STEPS` steps.
     """
     refuse_non_finite(motion)
-    played_steps(motion.duration_ms, timestep_ms)
+    steps = played_steps(motion.duration_ms, timestep_ms)
+    if steps > MAX_EXPORT_STEPS:
+        raise MotionToolError(
+            f"the stream an export sends: {steps_span(steps, timestep_ms)}, more than the "
+            f"{MAX_EXPORT_STEPS:,} an export makes (it would compute for hours); trim the "
+            "motion first (motiontool trim)"
+        )
     motors = tuple(dict.fromkeys(motion.joints))
 
     def chunks() -> Iterator[StreamChunk]:

@@ -137,3 +137,11 @@ def test_urscript_is_the_same_whatever_the_chunk_size(
     assert whole[1].max_rad > 0 if lossy else whole[1].max_rad == 0  # type: ignore[attr-defined]
     monkeypatch.setattr(player, "MAX_HELD_STEPS", 50)  # never held: not refused
     assert export(7) == whole
+
+
+def test_an_export_past_its_steps_is_refused_in_one_line(monkeypatch: pytest.MonkeyPatch) -> None:
+    motion = read_bytes(NAO_FILES[0].read_bytes()).motion
+    monkeypatch.setattr(held, "MAX_EXPORT_STEPS", 50)
+    for write in (write_naoqi, write_ros_trajectory, write_rosbag):
+        with pytest.raises(MotionToolError, match=r"more than the 50 an export makes"):
+            write(motion, ExportOptions(timestep_ms=20, robot="nao"))
