@@ -115,14 +115,22 @@ class Deviation:
 
 class WorstError:
     """The largest entry of an (S, N) array of errors (rad; finite) seen a block of rows at a
-    time, and where: the first in row order, as ``argmax`` of the whole array finds it."""
+    time, and where: the first in row order, as ``argmax`` of the whole array finds it; its
+    row, column and time (``at_ms``: ms of Webots' playback time, where the blocks say)."""
 
     def __init__(self) -> None:
         self.rad, self.row, self.column = 0.0, 0, 0
+        self.at_ms: int | None = None
         self._seen = False
 
-    def update(self, err: npt.NDArray[np.float64], first_row: int) -> None:
-        """Take the errors ``err`` (rows, N) of the rows from ``first_row`` on."""
+    def update(
+        self,
+        err: npt.NDArray[np.float64],
+        first_row: int,
+        times_ms: npt.NDArray[np.int64] | None = None,
+    ) -> None:
+        """Take the errors ``err`` (rows, N) of the rows from ``first_row`` on, sent at the
+        times ``times_ms`` (rows,), ms."""
         import numpy as np
 
         if err.size == 0:
@@ -130,6 +138,7 @@ class WorstError:
         k = np.unravel_index(int(np.argmax(err)), err.shape)
         if err[k] > self.rad or not self._seen:
             self.rad, self.row, self.column = float(err[k]), first_row + int(k[0]), int(k[1])
+            self.at_ms = None if times_ms is None else int(times_ms[k[0]])
             self._seen = True
 
 

@@ -132,22 +132,20 @@ def deviation(traj: Trajectory) -> Deviation:
     import numpy as np
 
     key_t = traj.elapsed_ms.astype(np.float64)
-    worst, at_ms, row = WorstError(), 0, 0
+    worst, row = WorstError(), 0
     for elapsed, want in traj.held():
         for lo in range(0, elapsed.shape[0], _ROWS):  # each step alone: the same in blocks
-            t = elapsed[lo : lo + _ROWS].astype(np.float64)
-            block = want[lo : lo + _ROWS]
+            at = elapsed[lo : lo + _ROWS]
+            t, block = at.astype(np.float64), want[lo : lo + _ROWS]
             err = np.empty_like(block)
             for k in range(len(traj.motors)):
                 err[:, k] = np.abs(np.interp(t, key_t, traj.positions[:, k]) - block[:, k])
-            worst.update(err, row)
-            if row <= worst.row < row + block.shape[0]:  # the worst is in this block
-                at_ms = int(elapsed[lo + worst.row - row])
+            worst.update(err, row, at)
             row += block.shape[0]
     return Deviation(
         worst.rad,
         traj.motors[worst.column],
-        at_ms,
+        worst.at_ms,
         f"{traj.elapsed_ms.shape[0]} points interpolated in straight lines, against Webots' "
         f"stream at every step ({traj.steps * len(traj.motors)} targets)",
     )

@@ -159,26 +159,25 @@ def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
     _first_command(order, first, arm)
     t = number(options.timestep_ms / MS_PER_S)
     tail = f"t={t}, lookahead_time={number(SERVO_LOOKAHEAD_S)}, gain={SERVO_GAIN})"
-    worst, rows = WorstError(), [0, 0]  # rows written; the worst row's time, ms
+    worst, rows = WorstError(), 0
 
     def body() -> Iterator[str]:
+        nonlocal rows
         for elapsed, targets in arm():
-            yield from _servoj(targets, tail, worst, rows[0])
-            if rows[0] <= worst.row < rows[0] + targets.shape[0]:  # the worst is here
-                rows[1] = int(elapsed[worst.row - rows[0]])
-            rows[0] += targets.shape[0]
+            yield from _servoj(elapsed, targets, tail, worst, rows)
+            rows += targets.shape[0]
 
     data = _program(options, order, _vector(first), body())
     deviation = Deviation(
         worst.rad,
         order[worst.column],
-        rows[1],
-        f"{rows[0] * len(order)} servoj targets as written, against Webots' stream at every step",
+        worst.at_ms,
+        f"{rows * len(order)} servoj targets as written, against Webots' stream at every step",
     )
     empty = np.zeros(0, dtype=np.int64)
     stream = RobotStream(order, empty, np.zeros((0, len(order))), arm)
     detail = f"servoj every {options.timestep_ms} ms, after a movej to the first pose"
-    return Exported(data, rows[0], detail, deviation, stream=stream)
+    return Exported(data, rows, detail, deviation, stream=stream)
 
 
 _SERVOJ = re.compile(r"servoj\(\[([^\]]*)\]")
@@ -188,17 +187,21 @@ _ROWS = 8192
 
 
 def _servoj(
-    targets: npt.NDArray[np.float64], tail: str, worst: WorstError, first_row: int
+    elapsed: npt.NDArray[np.int64],
+    targets: npt.NDArray[np.float64],
+    tail: str,
+    worst: WorstError,
+    first_row: int,
 ) -> Iterator[str]:
-    """A servoj line per row of ``targets`` (rows from ``first_row`` on in the stream),
-    :data:`_ROWS` at a time, each block read back into ``worst``."""
+    """A servoj line per row of ``targets`` (rows from ``first_row`` on in the stream, sent
+    at ``elapsed`` ms), :data:`_ROWS` at a time, each block read back into ``worst``."""
     import numpy as np
 
     for lo in range(0, targets.shape[0], _ROWS):
         block = targets[lo : lo + _ROWS]
         lines = [f"  servoj({_vector(row)}, {tail}" for row in block]
         written = np.array([[float(x) for x in _SERVOJ.findall(ln)[0].split(",")] for ln in lines])
-        worst.update(np.abs(written - block), first_row + lo)
+        worst.update(np.abs(written - block), first_row + lo, elapsed[lo : lo + _ROWS])
         yield from lines
 
 

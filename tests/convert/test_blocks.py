@@ -80,13 +80,15 @@ def test_curve_in_blocks_is_the_curve_in_one() -> None:
 @pytest.mark.parametrize("rows", [1, 2, 5, 100])
 def test_worst_error_in_blocks_is_argmax_of_the_whole(err: np.ndarray, rows: int) -> None:
     worst = WorstError()
+    times = np.arange(err.shape[0], dtype=np.int64) * 20 + 5
     for lo in range(0, err.shape[0], rows):
-        worst.update(err[lo : lo + rows], lo)
+        worst.update(err[lo : lo + rows], lo, times[lo : lo + rows])
     if err.size == 0:
-        assert (worst.rad, worst.row, worst.column) == (0.0, 0, 0)
+        assert (worst.rad, worst.row, worst.column, worst.at_ms) == (0.0, 0, 0, None)
         return
     row, column = np.unravel_index(int(np.argmax(err)), err.shape)
     assert (worst.rad, worst.row, worst.column) == (err[row, column], row, column)
+    assert worst.at_ms == times[row]
 
 
 def _export(module: object, name: str, rows: int, run: object) -> object:
