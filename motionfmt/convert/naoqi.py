@@ -36,6 +36,7 @@ from motiontool.motionfmt.convert.base import (
     ExportOptions,
     RobotStream,
     StreamChunk,
+    WorstError,
 )
 from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
@@ -120,25 +121,22 @@ def _deviation(
     order)."""
     import numpy as np
 
-    worst_by_motor: dict[int, tuple[float, int]] = {}
-    compared = 0
+    compared_motors = [k for k, m in enumerate(motors) if NAOQI_NAMES.get(m, m) in curves]
+    worst_by_motor = {k: WorstError() for k in compared_motors}  # each motor's first worst
+    compared, row = 0, 0
     for elapsed, targets in chunks():
         model = _model(curves, elapsed, lead_in)
-        for k, motor in enumerate(motors):
-            name = NAOQI_NAMES.get(motor, motor)
-            if name not in model:
-                continue
-            got, want = model[name], targets[:, k]
+        for k in compared_motors:
+            got, want = model[NAOQI_NAMES.get(motors[k], motors[k])], targets[:, k]
             mask = ~np.isnan(want) & ~np.isnan(got)
             compared += int(mask.sum())
             err = np.where(mask, np.abs(got - want), 0.0)
-            i = int(np.argmax(err))
-            if k not in worst_by_motor or err[i] > worst_by_motor[k][0]:
-                worst_by_motor[k] = (float(err[i]), int(elapsed[i]))
+            worst_by_motor[k].update(err[:, None], row, elapsed)
+        row += elapsed.shape[0]
     worst, joint, at = 0.0, None, None
-    for k, (err_k, at_k) in sorted(worst_by_motor.items()):
-        if err_k > worst or joint is None:
-            worst, joint, at = err_k, motors[k], at_k
+    for k, of_motor in worst_by_motor.items():  # the motors in order
+        if of_motor.rad > worst or joint is None:
+            worst, joint, at = of_motor.rad, motors[k], of_motor.at_ms
     what = f"{compared} targets, every control step of every motor from its first command on"
     return Deviation(worst, joint, at, what)
 
