@@ -125,17 +125,7 @@ class GridResample:
 
     def blocks(self) -> Iterator[bytes]:
         """The result's bytes, a block at a time."""
-        return self.doc.stream_edited(self.kept.tolist(), self._new_lines)
-
-    def _new_lines(self, pose: int) -> Iterator[list[str]]:
-        """The new pose lines between original pose ``pose`` and the next, a block at a time."""
-        times = self.original.times_ms
-        if pose + 1 >= times.shape[0]:
-            return
-        for block in self._blocks(int(times[pose]) + 1, int(times[pose + 1]) - 1):
-            values = targets_at(self.original, block)
-            names = [pose_name(t) for t in block.tolist()]
-            yield pose_lines(block, names, values, self.doc.time_style)
+        return self.doc.stream_edited(self.kept.tolist(), _NewLines(self).after)
 
     def _blocks(self, lo: int, hi: int) -> Iterator[npt.NDArray[np.int64]]:
         """The grid times in ``[lo, hi]``, at most :data:`_BLOCK` at a time."""
@@ -185,3 +175,50 @@ class GridResample:
         values[own] = self.original.values[at[own]]
         commanded[own] = self.original.commanded[at[own]]
         return Motion(self.joints, ("",) * times.shape[0], times, values, commanded)
+
+
+class _NewLines:
+    """The new pose lines of a :class:`GridResample`, spelt :data:`_BLOCK` grid times at a time
+    whatever segments of the original they fall in (a file of short segments has a new line or
+    none in each: spelt a segment at a time, a line cost a call of its own), and handed out
+    segment by segment as :meth:`~motiontool.motionfmt.document.MotionDocument.stream_edited`
+    asks for them, in order."""
+
+    def __init__(self, gridded: GridResample) -> None:
+        self._gridded = gridded
+        self._times = gridded.time_blocks()
+        self._lines: list[str] = []
+        self._runs: list[tuple[int, int]] = []  # (original pose before, end): lines by segment
+        self._run = 0  # the first run not handed out
+        self._at = 0  # its first line
+
+    def after(self, pose: int) -> Iterator[list[str]]:
+        """The new pose lines between original pose ``pose`` and the next, a block at a time
+        (asked for every pose, in order: a segment's lines may end one block and start the next)."""
+        while self._run < len(self._runs) or self._fill():
+            segment, end = self._runs[self._run]
+            if segment != pose:
+                return
+            yield self._lines[self._at : end]
+            self._run, self._at = self._run + 1, end
+
+    def _fill(self) -> bool:
+        """Spell the new lines of the next block of grid times that has one; False at the end."""
+        import numpy as np
+
+        original = self._gridded.original
+        t0 = original.times_ms
+        for block in self._times:
+            at = np.searchsorted(t0, block)  # the first original pose at or after each
+            new = block[t0[np.minimum(at, t0.shape[0] - 1)] != block]
+            if new.shape[0] == 0:
+                continue
+            values = targets_at(original, new)
+            names = [pose_name(t) for t in new.tolist()]
+            self._lines = pose_lines(new, names, values, self._gridded.doc.time_style)
+            segment = np.searchsorted(t0, new) - 1
+            ends = np.append(np.flatnonzero(segment[1:] != segment[:-1]) + 1, new.shape[0])
+            self._runs = list(zip(segment[ends - 1].tolist(), ends.tolist(), strict=True))
+            self._run = self._at = 0
+            return True
+        return False
