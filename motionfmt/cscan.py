@@ -19,7 +19,7 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
-__all__ = ["INT_MAX", "ScannedDouble", "ScannedTime", "scan_double", "scan_time"]
+__all__ = ["INT_MAX", "PLAIN_DECIMAL", "ScannedDouble", "ScannedTime", "scan_double", "scan_time"]
 
 INT_MAX = 2**31 - 1
 _LONG_MAX = 2**63 - 1
@@ -32,7 +32,9 @@ _TIME_CHARS = frozenset(b"0123456789:")
 _STRTOD_HEX = re.compile(
     rb"[+-]?0[xX](?:[0-9a-fA-F]+\.?[0-9a-fA-F]*|\.[0-9a-fA-F]+)(?:[pP][+-]?\d+)?"
 )
-_STRTOD_DEC = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+PLAIN_DECIMAL = re.compile(rb"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+"""A decimal number as strtod reads it (no hex, no white space); a cell that is one and
+nothing else reads as ``float(cell)``."""
 
 
 class ScannedDouble(NamedTuple):
@@ -74,7 +76,7 @@ def _strtod_prefix(run: bytes) -> tuple[float, int] | None:
             return float.fromhex(text.decode("ascii")), m.end()
         except OverflowError:
             return (float("-inf") if text.startswith(b"-") else float("inf")), m.end()
-    m = _STRTOD_DEC.match(run)
+    m = PLAIN_DECIMAL.match(run)
     if m is not None:
         return float(m.group()), m.end()
     return None
@@ -94,6 +96,13 @@ def scan_double(token: bytes) -> ScannedDouble | None:
         The value and where its text ends, or ``None`` where ``sscanf`` does not return 1
         (Webots then rejects the file).
     """
+    if PLAIN_DECIMAL.fullmatch(token) is not None:  # a plain decimal, the whole cell: strtod's
+        return ScannedDouble(float(token), len(token))  # conversion, without the walk below
+    return _scan_double(token)
+
+
+def _scan_double(token: bytes) -> ScannedDouble | None:
+    """:func:`scan_double` of any token: glibc's vfscanf walk, then strtod."""
     n = len(token)
     i = 0
     while i < n and token[i] in _C_SPACE:

@@ -1,7 +1,7 @@
-"""The fast path for a pose line: the common case of a clean line (``time,name,number,...``, no
-``*``, no nan/inf or marker, valid increasing time), read with ``bytes.split`` and ``float``,
-without spans. Anything else goes to the exact path (:mod:`.pose_line`), which must read the same
-(``tests/readpaths.py`` compares them)."""
+"""The fast path for a pose line: the common case of a clean line (``time,name,number,...``,
+``*`` cells included, no nan/inf or marker, valid increasing time), read with ``bytes.split``
+and ``float``, without spans. Anything else goes to the exact path (:mod:`.pose_line`), which
+must read the same (``tests/readpaths.py`` compares them)."""
 
 from __future__ import annotations
 
@@ -17,6 +17,8 @@ if TYPE_CHECKING:
 
 __all__ = ["read_pose_fast"]
 
+_NAN = float("nan")
+
 
 def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None:
     """The common case of a clean line, without spans; ``None`` sends it to the exact path."""
@@ -29,8 +31,10 @@ def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None
     if len(toks) != state.n_joints + 2 or b"" in toks:
         return None
     values_raw = raw[len(toks[0]) + len(toks[1]) + 2 :]
-    if b"_" in values_raw or b"*" in values_raw:
-        return None  # float() reads '1_0' as 10; '*' needs the full path
+    if b"_" in values_raw:
+        return None  # float() reads '1_0' as 10
+    cells = toks[2:]
+    stars = b"*" in values_raw  # a cell '*' alone; float() refuses one with more ('* ', '*1')
     t_tok = toks[0]
     if t_tok.isdigit():
         if len(t_tok) > 9:
@@ -48,11 +52,16 @@ def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None
     if t <= prev_time:
         return None
     try:
-        values = list(map(float, toks[2:]))
+        numbers = list(map(float, [tok for tok in cells if tok != b"*"] if stars else cells))
     except ValueError:
         return None
-    if not math.isfinite(sum(values)) or NO_VALUE_MARKER in values:
+    if not math.isfinite(sum(numbers)) or NO_VALUE_MARKER in numbers:
         return None
+    values = numbers
+    if stars:  # no command: NaN, as the exact path reads '*'
+        state.star_seen = True
+        read = iter(numbers)
+        values = [_NAN if tok == b"*" else next(read) for tok in cells]
     res = state.result
     res.times_ms.append(t)
     res.pose_names.append(decode_name(toks[1]))

@@ -8,6 +8,7 @@ import math
 import re
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.cscan import PLAIN_DECIMAL as _PLAIN
 from motiontool.motionfmt.cscan import scan_double
 from motiontool.motionfmt.lines import PoseLine, show
 
@@ -31,7 +32,13 @@ def pose_values(
     values: list[float] = []
     nan_columns: list[int] = []
     ok = True
-    for j in range(min(state.n_joints, len(pose.tokens) - 2)):
+    tokens = pose.tokens
+    for j in range(min(state.n_joints, len(tokens) - 2)):
+        if _PLAIN.fullmatch(tokens[2 + j]) is not None:  # most cells of most lines
+            value = float(tokens[2 + j])  # as scan_double reads it
+            if math.isfinite(value) and value != NO_VALUE_MARKER:  # nothing to report
+                values.append(value)
+                continue
         cell = cell_value(state, pose, j, time_ms)
         if cell is None:
             ok = False

@@ -10,6 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from oracle import c_scan_double, c_scan_time, strtok
 
+from motiontool.motionfmt import cscan
 from motiontool.motionfmt.cscan import scan_double, scan_time
 from motiontool.motionfmt.lines import token_spans
 
@@ -45,6 +46,23 @@ def test_scan_double_matches_glibc(token: str) -> None:
     raw = token.encode()
     got = scan_double(raw)
     assert _same(got.value if got else None, c_scan_double(raw))
+
+
+@settings(max_examples=3000, deadline=None)
+@given(
+    NUMBERISH
+    | st.floats(allow_nan=False).map(repr)
+    | st.from_regex(r"[+-]?(\d{1,30}\.?\d{0,30}|\.\d{1,30})([eE][+-]?\d{1,4})?", fullmatch=True)
+)
+def test_a_plain_decimal_reads_as_the_walk_reads_it(token: str) -> None:
+    """The shortcut for a cell that is a plain decimal alone gives the value (bit for bit) and
+    the end that glibc's walk gives (the end says where trailing text starts: MT203)."""
+    raw = token.encode()
+    got, walked = scan_double(raw), cscan._scan_double(raw)
+    if got is None or walked is None:
+        assert got is walked
+    else:
+        assert got.end == walked.end and _same(got.value, walked.value)
 
 
 @settings(max_examples=500, deadline=None)
