@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from typing import TYPE_CHECKING, overload
 
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.finding_log import FindingLog
 
 if TYPE_CHECKING:
     import numpy as np
@@ -44,6 +45,8 @@ class Findings(Sequence[Diagnostic]):
         """Findings already made (a list, sorted here): what a small check returns."""
         if isinstance(findings, Findings):
             return findings
+        if isinstance(findings, FindingLog):  # the reader's: sorted a chunk at a time
+            return cls(findings.in_order)
         held = sorted(findings, key=Diagnostic.sort_key)
         return cls(lambda: held)
 

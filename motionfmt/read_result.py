@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionSyntaxError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.finding_log import FindingLog
 from motiontool.motionfmt.lines import FGETS_PIECE, plain_cell_spans, token_spans
 from motiontool.motionfmt.pose_names import PoseNames
 
@@ -36,7 +37,9 @@ class ReadResult:
 
     Attributes:
         path: the file as the user named it.
-        diagnostics: every finding, in file order.
+        diagnostics: every finding, as the read made them (in file order but for the checks
+            of the whole motion, made last; :meth:`FindingLog.in_order` sorts them), the
+            oldest on disk where a file has thousands.
         rejected_at: the error at which Webots' loader stops, or ``None`` when Webots loads the
             file (it may still mis-read it: see the warnings).
         joints: header joint names (undecodable bytes kept as surrogates).
@@ -55,7 +58,7 @@ class ReadResult:
     """
 
     path: str
-    diagnostics: list[Diagnostic] = field(default_factory=list)
+    diagnostics: FindingLog = field(default_factory=FindingLog)
     rejected_at: Diagnostic | None = None
     joints: list[str] = field(default_factory=list)
     pose_names: PoseNames = field(default_factory=PoseNames)
