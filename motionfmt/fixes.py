@@ -42,8 +42,10 @@ __all__ = [
     "Fix",
     "FixResult",
     "RobotPlanner",
+    "finding_fixes",
     "fix_bytes",
     "fixable",
+    "merge_fixes",
     "plan_fixes",
     "same_stream",
 ]
@@ -151,23 +153,34 @@ def plan_fixes(
     why it is rejected, with ``unsafe``: no fix is made over a syntax error it does not cover."""
     result = result if result is not None else read_bytes(data, path)
     lines = data.split(b"\n")
-    if not result.accepted:
-        if not unsafe:
-            return []
-        return [f for d in result.diagnostics if d.code == "MT202" for f in _cell_fixes(d, lines)]
     fixes: list[Fix] = []
-    for d in result.diagnostics:
-        if fixable(d, unsafe=unsafe):
-            fixes.extend(_cell_fixes(d, lines))
-    if any(d.code == "MT205" for d in result.diagnostics):
-        fixes.extend(_merge_fixes(result, lines))
+    codes: set[str] = set()
+    for d in result.diagnostics:  # one pass (a file's findings may be read back from disk)
+        codes.add(d.code)
+        fixes.extend(finding_fixes(d, result, lines, unsafe=unsafe))
+    if "MT205" in codes and result.accepted:
+        fixes.extend(merge_fixes(result, lines, codes))
     return sorted(fixes, key=lambda f: (f.line, f.column))
 
 
-def _merge_fixes(result: ReadResult, lines: Sequence[bytes]) -> list[Fix]:
+def finding_fixes(
+    d: Diagnostic, result: ReadResult, lines: Sequence[bytes], *, unsafe: bool = False
+) -> list[Fix]:
+    """The fixes of one of ``result``'s findings, ``d`` (the file's ``lines``), but a duplicated
+    joint's merge (MT205, :func:`merge_fixes`: one edit of the whole file fixes them all): safe
+    ones, unsafe ones too with ``unsafe``. A file Webots rejects gets none, but for an empty
+    cell (``,,``) that may be why it is rejected, with ``unsafe``: no fix is made over a
+    syntax error it does not cover."""
+    if not result.accepted:
+        return _cell_fixes(d, lines) if unsafe and d.code == "MT202" else []
+    return _cell_fixes(d, lines) if fixable(d, unsafe=unsafe) else []
+
+
+def merge_fixes(result: ReadResult, lines: Sequence[bytes], codes: set[str]) -> list[Fix]:
     """MT205: one column per joint, each pose's cell as Webots' merge leaves it; none where a
-    pose line is not plain (an empty cell, a cut line) or the proof would be too long."""
-    if any(d.code in ("MT202", "MT111", "MT114") for d in result.diagnostics):
+    pose line is not plain (an empty cell, a cut line: ``codes``, those of the file's findings)
+    or the proof would be too long."""
+    if codes & {"MT202", "MT111", "MT114"}:
         return []
     joints = list(result.joints)
     n = len(result.times_ms)

@@ -30,7 +30,8 @@ from motiontool.motionfmt.fixes import (
     UNSAFE_CODES,
     Fix,
     RobotPlanner,
-    plan_fixes,
+    finding_fixes,
+    merge_fixes,
 )
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
@@ -88,24 +89,21 @@ class FileReport:
         """How many findings of ``severity`` (counted by the first report that read them all)."""
         return self.diagnostics.count(severity)
 
+    def _reader_fixes(self, d: Diagnostic) -> tuple[Fix, ...]:
+        """The fixes of one of the reader's findings, ``d`` (those the file alone gives; made
+        for the finding when a report reaches it, never all held): a duplicated joint's are
+        the file's merge."""
+        if d.code == "MT205":
+            return self._merges
+        return tuple(finding_fixes(d, self.read, self._lines, unsafe=True))
+
     @functools.cached_property
-    def _file_fixes(self) -> dict[tuple[str, int, int], tuple[Fix, ...]]:
-        """The fixes that need only the file (not the robot), by (code, line, column) of the
-        finding they fix: those of the reader's findings (the robot checks' findings have
-        none)."""
-        by_place: dict[tuple[str, int, int], tuple[Fix, ...]] = {}
-        found = self.read.diagnostics
-        if not any(d.code in SAFE_CODES | UNSAFE_CODES for d in found):
-            return by_place
-        planned = plan_fixes(self.data, self.path, unsafe=True, result=self.read)
-        merges = tuple(f for f in planned if f.code == "MT205")
-        for f in planned:
-            if f.code != "MT205":
-                by_place[(f.code, f.line, f.column)] = (f,)
-        for d in found:
-            if d.code == "MT205" and merges:
-                by_place[(d.code, d.line, d.column)] = merges
-        return by_place
+    def _merges(self) -> tuple[Fix, ...]:
+        """The merge of the columns of the joints named twice (MT205): one edit of the file."""
+        if not self.read.accepted:
+            return ()
+        codes = {d.code for d in self.read.diagnostics}
+        return tuple(merge_fixes(self.read, self._lines, codes))
 
     @functools.cached_property
     def _stretch(self) -> tuple[Fix, ...]:
@@ -148,7 +146,7 @@ class FileReport:
             return False, ROBOT_FIX_TITLES[d.code]
         if d.code not in SAFE_CODES | UNSAFE_CODES:
             return None
-        fixes = self._file_fixes.get((d.code, d.line, d.column), ())
+        fixes = self._reader_fixes(d)
         return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
 
     @functools.cached_property
@@ -165,7 +163,7 @@ class FileReport:
         """The edits that fix finding ``d`` (empty: none)."""
         if d.code in ROBOT_CODES:
             return () if self.robot_fixes is None else self._robot_fix(d, self.robot_fixes)
-        return self._file_fixes.get((d.code, d.line, d.column), ())
+        return self._reader_fixes(d)
 
 
 HELD_INPUT_BYTES = 32 * 2**20
