@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import heapq
 import itertools
+import sys
 import threading
 from collections.abc import Iterable, Iterator, Sequence
 from typing import IO, overload
@@ -65,21 +66,28 @@ class FindingLog(Sequence[Diagnostic]):
             self._spill()
 
     def _spill(self) -> None:
-        """Write the oldest chunk of held findings to the file."""
+        """Write the oldest chunk of held findings to the file; where no temporary file can be
+        written (no space, no writable folder), hold them all from now on, as a list would."""
         import pickle
         import zlib
 
-        if self._file is None:
-            import tempfile
-            import weakref
-
-            # Kept open for the log's life, closed by the finalizer below.
-            self._file = tempfile.TemporaryFile(prefix="motiontool-findings-")  # noqa: SIM115
-            weakref.finalize(self, self._file.close)  # closed (and gone) with the log
         blob = zlib.compress(pickle.dumps(self._held[: self._size], pickle.HIGHEST_PROTOCOL), 1)
         offset = self._chunks[-1][0] + self._chunks[-1][1] if self._chunks else 0
-        self._file.seek(offset)
-        self._file.write(blob)
+        try:
+            if self._file is None:
+                import tempfile
+                import weakref
+
+                # Kept open for the log's life, closed by the finalizer below.
+                self._file = tempfile.TemporaryFile(prefix="motiontool-findings-")  # noqa: SIM115
+                weakref.finalize(self, self._file.close)  # closed (and gone) with the log
+            with self._lock:
+                self._file.seek(offset)
+                self._file.write(blob)
+                self._file.flush()
+        except OSError:
+            self._most = sys.maxsize
+            return
         self._chunks.append((offset, len(blob)))
         del self._held[: self._size]
 

@@ -103,3 +103,17 @@ def test_what_is_taken_back_leaves_no_trace_in_the_order() -> None:
     del log[2:]
     log.append(finding(3, 7))
     assert [d.line for d in log.in_order()] == [5, 7, 9]
+
+
+def test_where_no_temporary_file_can_be_written_the_findings_are_held() -> None:
+    def refuse(*_args: object, **_kwargs: object) -> None:
+        raise OSError(28, "No space left on device")
+
+    with (
+        mock.patch.object(finding_log, "CHUNK", 2),
+        mock.patch.object(finding_log, "HELD", 4),
+        mock.patch("tempfile.TemporaryFile", refuse),
+    ):
+        want = [finding(i, i + 1) for i in range(50)]
+        log = FindingLog(want)
+        assert log == want and list(log.in_order()) == want
