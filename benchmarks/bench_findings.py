@@ -25,6 +25,13 @@ Each command's report goes to a file (the bytes are written, then thrown away), 
   Then a motion of the head alone, 400 000 poses: its time against the syntax level's (the
   collision check clears a pair of joints for a block of poses that cannot bring them near:
   ``kinematics/sweep_bound.py``).
+- the reader's findings (``--part units``): files whose every value cell has a unit
+  (``0.5rad``, a finding and a fix each) of 16,000 and 64,000 poses (416,000 and 1,664,000
+  findings), ``validate --robot none`` to a report file, against the same files without the
+  units: what the findings add to the peak, the larger file's against the smaller's (target:
+  flat, at most 1.3x; the reader keeps the last 65,536 findings and writes older ones to a
+  temporary file, ``motionfmt/finding_log.py``, where it held them all, half a kilobyte
+  each).
 """
 
 from __future__ import annotations
@@ -48,9 +55,9 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=1)
     parser.add_argument(
         "--part",
-        choices=("all", "big", "many", "long"),
+        choices=("all", "big", "many", "long", "units"),
         default="all",
-        help="the big file, many files, clean files of two lengths",
+        help="the big file, many files, clean files of two lengths, a finding on every cell",
     )
     args = parser.parse_args()
     script = shutil.which("motiontool", path=os.path.dirname(sys.executable)) or "motiontool"
@@ -61,6 +68,8 @@ def main() -> None:
             many_files(script, Path(tmp), args.repeat)
         if args.part in ("all", "long"):
             long_files(script, Path(tmp), args.repeat)
+        if args.part in ("all", "units"):
+            reader_findings(script, Path(tmp), args.repeat)
 
 
 def big_file(script: str, tmp: Path, poses: int, repeat: int) -> None:
@@ -187,6 +196,47 @@ def long_files(
     print(
         f"the head alone, {4 * long} poses: syntax {syntax.wall_s:.2f} s; --robot nao "
         f"{checks.wall_s:.2f} s, ratio {checks.wall_s / syntax.wall_s:.1f}x"
+    )
+
+
+def reader_findings(
+    script: str, tmp: Path, repeat: int, lengths: tuple[int, int] = (16_000, 64_000)
+) -> None:
+    """What the reader's findings add to the syntax level's peak: files with a unit on every
+    value cell (26 findings a pose) against their twins without the units (no finding), a
+    file and one four times as long (target: flat, at most 1.3x)."""
+    from bench_validate import JOINTS
+
+    added = {}
+    for poses in lengths:
+        peaks = {}
+        for unit in ("", "rad"):
+            path = tmp / f"units{poses}{unit}.motion"
+            cells = ",".join(f"0.{j + 1}{unit}" for j in range(len(JOINTS)))
+            with path.open("w", newline="\n") as f:
+                f.write("#WEBOTS_MOTION,V1.0," + ",".join(JOINTS) + "\n")
+                f.writelines(f"{40 * p},Pose{p + 1},{cells}\n" for p in range(poses))
+            out = tmp / "report"
+            cmd = [script, "validate", str(path), "--robot", "none", "-o", str(out)]
+            child = best_child(repeat, cmd)
+            if child.returncode != 0:  # warnings only
+                raise SystemExit(f"units file: exit status {child.returncode}")
+            peaks[unit] = child.peak_bytes
+            print(
+                f"{poses} poses, {'a unit on every cell' if unit else 'no finding':<20} "
+                f"({path.stat().st_size / 1e6:4.1f} MB): {child.wall_s:5.1f} s, "
+                f"{child.peak_mib:4.0f} MiB peak, report {out.stat().st_size / 1e6:4.0f} MB"
+            )
+        added[poses] = peaks["rad"] - peaks[""]
+        print(
+            f"  {poses * len(JOINTS):,} findings add {added[poses] / 2**20:.0f} MiB "
+            f"({added[poses] / (poses * len(JOINTS)):.0f} bytes a finding)"
+        )
+    short, long = lengths
+    ratio = added[long] / added[short]
+    print(
+        f"{long // short}x the findings: they add {ratio:.2f}x as much (target <= 1.3x, flat: "
+        f"{'met' if ratio <= 1.3 else 'not met'})"
     )
 
 
