@@ -1,0 +1,71 @@
+"""plot draws a dense line from the points that draw it at the panel's resolution
+(cli/_plotting.py ``_kept``): in each span of time its first and last point, its lowest and
+highest, its first break; every point where a span has at most four."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from motiontool.cli._plotting import _SPANS, _kept
+
+SPANS = 5
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(st.integers(0, 3), min_size=2, max_size=120),
+    st.lists(st.one_of(st.floats(-5, 5), st.just(float("nan"))), min_size=120, max_size=120),
+    st.sets(st.integers(0, 119), max_size=12),
+)
+def test_each_span_keeps_its_ends_extremes_and_a_break(
+    steps: list[int], ys: list[float], gaps: set[int]
+) -> None:
+    n = len(steps)
+    x = np.cumsum(steps).astype(np.float64)
+    y = np.array(ys[:n])
+    x[[g for g in gaps if g < n]] = np.nan  # breaks in time, as the fast segments' line has
+    kept = _kept(x, y, SPANS)
+    timed = ~np.isnan(x)
+    if n <= 4 * SPANS or not timed.any() or x[timed].max() <= x[timed].min():
+        assert kept is None
+        return
+    assert kept is not None
+    # The span of each point, a break the span of the time before it (the first, before any).
+    lo, hi = x[timed].min(), x[timed].max()
+    span = np.zeros(n, dtype=np.int64)
+    last = None
+    for i in range(n):
+        last = x[i] if timed[i] else last
+        if last is not None:
+            span[i] = min(int((last - lo) * SPANS / (hi - lo)), SPANS - 1)
+    finite = timed & ~np.isnan(y)
+    for s in np.unique(span):
+        inside = span == s
+        idx = np.flatnonzero(inside)
+        assert kept[idx[0]] and kept[idx[-1]]
+        if (finite & inside).any():
+            assert y[finite & inside & kept].min() == y[finite & inside].min()
+            assert y[finite & inside & kept].max() == y[finite & inside].max()
+        if (~finite & inside).any():
+            assert (~finite & inside & kept).any()
+    assert kept.sum() <= 5 * len(np.unique(span))
+
+
+def test_a_dense_line_is_drawn_without_markers_and_a_sparse_one_with_them() -> None:
+    from matplotlib.figure import Figure
+
+    from motiontool.cli._plotting import Panel, _draw_panel
+    from motiontool.motionfmt import loads
+
+    for poses, dense in ((50, False), (20 * _SPANS, True)):
+        lines = "".join(f"{40 * p},P{p},{np.sin(p / 7):.4f}\n" for p in range(poses))
+        motion = loads(f"#WEBOTS_MOTION,V1.0,HeadYaw\n{lines}".encode()).motion
+        ax = Figure().subplots()
+        t_s = motion.times_ms.astype(np.float64) / 1000
+        _draw_panel(ax, motion, Panel("HeadYaw", ["HeadYaw"]), t_s, {}, None, None)
+        (line,) = ax.lines
+        x, _y = line.get_data()
+        assert (line.get_marker() in (None, "None", "")) is dense
+        assert x.shape[0] <= 5 * _SPANS if dense else x.shape[0] == poses
