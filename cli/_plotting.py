@@ -197,6 +197,19 @@ def _decimated(
     return (x, y) if keep is None else (x[keep], y[keep])
 
 
+def _decimated_pair(
+    x: npt.NDArray[np.float64], a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Two lines at the same times ``x`` (``diff --plot``'s old and new), thinned as
+    :func:`_decimated` thins one: the points either keeps, for both (the band between them is
+    filled from the same points)."""
+    keep_a, keep_b = _kept(x, a, _SPANS), _kept(x, b, _SPANS)
+    if keep_a is None or keep_b is None:
+        return x, a, b
+    keep = keep_a | keep_b
+    return x[keep], a[keep], b[keep]
+
+
 def _kept(
     x: npt.NDArray[np.float64], y: npt.NDArray[np.float64], spans: int
 ) -> npt.NDArray[np.bool_] | None:
@@ -436,14 +449,14 @@ def plot_diff(
             ax.set_visible(False)
             continue
         name = joints[i]
-        a, b = old[name], new[name]
-        ax.plot(t, a, color="#7f7f7f", lw=2.2, label="old", zorder=2)
-        ax.plot(t, b, color="#1f77b4", lw=1.0, label="new", zorder=3)
+        x, a, b = _decimated_pair(t, old[name], new[name])
+        ax.plot(x, a, color="#7f7f7f", lw=2.2, label="old", zorder=2)
+        ax.plot(x, b, color="#1f77b4", lw=1.0, label="new", zorder=3)
         # Shaded only where both hold a finite height: NaN is a joint not commanded yet (no
         # target) or a 'nan' command (a target with no height), and neither can be drawn.
         with np.errstate(invalid="ignore"):
             ax.fill_between(
-                t,
+                x,
                 a,
                 b,
                 where=~(np.isnan(a) | np.isnan(b)),

@@ -69,3 +69,18 @@ def test_a_dense_line_is_drawn_without_markers_and_a_sparse_one_with_them() -> N
         x, _y = line.get_data()
         assert (line.get_marker() in (None, "None", "")) is dense
         assert x.shape[0] <= 5 * _SPANS if dense else x.shape[0] == poses
+
+
+def test_diff_plots_old_and_new_from_the_points_either_keeps() -> None:
+    from motiontool.cli._plotting import _decimated_pair
+
+    t = np.arange(20 * _SPANS, dtype=np.float64)
+    old, new = np.sin(t / 3), np.cos(t / 5)
+    x, a, b = _decimated_pair(t, old, new)
+    keep_old, keep_new = _kept(t, old, _SPANS), _kept(t, new, _SPANS)
+    assert keep_old is not None and keep_new is not None
+    keep = keep_old | keep_new
+    assert x.tolist() == t[keep].tolist() and a.tolist() == old[keep].tolist()
+    assert b.tolist() == new[keep].tolist() and x.shape[0] <= 10 * _SPANS
+    short = t[:100]
+    assert _decimated_pair(short, old[:100], new[:100])[0] is short
