@@ -193,7 +193,7 @@ def _decimated(
     its time range (:func:`_kept`). The line is the same to the pixel; a file of 100,000
     keyframes drew 100,000 points a line (26 s and 774 MB for the random benchmark file). A
     line so dense is drawn without a marker on each keyframe (they would cover it)."""
-    keep = _kept(x, y, spans)
+    keep = _kept(x, (y,), spans)
     return (x, y) if keep is None else (x[keep], y[keep])
 
 
@@ -203,21 +203,18 @@ def _decimated_pair(
     """Two lines at the same times ``x`` (``diff --plot``'s old and new), thinned as
     :func:`_decimated` thins one: the points either keeps, for both (the band between them is
     filled from the same points)."""
-    keep_a, keep_b = _kept(x, a, _SPANS), _kept(x, b, _SPANS)
-    if keep_a is None or keep_b is None:
-        return x, a, b
-    keep = keep_a | keep_b
-    return x[keep], a[keep], b[keep]
+    keep = _kept(x, (a, b), _SPANS)
+    return (x, a, b) if keep is None else (x[keep], a[keep], b[keep])
 
 
 def _kept(
-    x: npt.NDArray[np.float64], y: npt.NDArray[np.float64], spans: int
+    x: npt.NDArray[np.float64], ys: Sequence[npt.NDArray[np.float64]], spans: int
 ) -> npt.NDArray[np.bool_] | None:
-    """Which points of the line ``(x, y)`` (``x`` the time, not decreasing; NaN in either: a
-    break) draw it in ``spans`` equal spans of its time range: None (all of them) where there
-    are at most four a span, else in each span its first and last point, the points of its
-    lowest and highest ``y`` and its first break (a break belongs to the span of the time
-    before it)."""
+    """Which points of the lines ``(x, y)`` for each ``y`` of ``ys`` (``x`` the time, not
+    decreasing; NaN in either: a break) draw them in ``spans`` equal spans of the time range:
+    None (all of them) where there are at most four a span, else in each span its first and
+    last point and, of each line, the points of its lowest and highest ``y`` and its first
+    break (a break belongs to the span of the time before it)."""
     import numpy as np
 
     n = x.shape[0]
@@ -232,13 +229,14 @@ def _kept(
     kept = np.zeros(n, dtype=bool)
     kept[first] = True
     kept[np.append(first[1:], n) - 1] = True
-    finite = timed & ~np.isnan(y)
-    for extreme in (np.where(finite, y, np.inf), np.where(finite, -y, np.inf)):
-        order = np.lexsort((extreme, span))  # by span, lowest first
-        heads = order[np.flatnonzero(np.diff(span[order], prepend=-1))]
-        kept[heads[finite[heads]]] = True
-    breaks = np.flatnonzero(~finite)
-    kept[breaks[np.flatnonzero(np.diff(span[breaks], prepend=-1))]] = True
+    for y in ys:
+        finite = timed & ~np.isnan(y)
+        for extreme in (np.where(finite, y, np.inf), np.where(finite, -y, np.inf)):
+            order = np.lexsort((extreme, span))  # by span, lowest first
+            heads = order[np.flatnonzero(np.diff(span[order], prepend=-1))]
+            kept[heads[finite[heads]]] = True
+        breaks = np.flatnonzero(~finite)
+        kept[breaks[np.flatnonzero(np.diff(span[breaks], prepend=-1))]] = True
     return kept
 
 

@@ -26,7 +26,7 @@ def test_each_span_keeps_its_ends_extremes_and_a_break(
     x = np.cumsum(steps).astype(np.float64)
     y = np.array(ys[:n])
     x[[g for g in gaps if g < n]] = np.nan  # breaks in time, as the fast segments' line has
-    kept = _kept(x, y, SPANS)
+    kept = _kept(x, (y,), SPANS)
     timed = ~np.isnan(x)
     if n <= 4 * SPANS or not timed.any() or x[timed].max() <= x[timed].min():
         assert kept is None
@@ -77,7 +77,7 @@ def test_diff_plots_old_and_new_from_the_points_either_keeps() -> None:
     t = np.arange(20 * _SPANS, dtype=np.float64)
     old, new = np.sin(t / 3), np.cos(t / 5)
     x, a, b = _decimated_pair(t, old, new)
-    keep_old, keep_new = _kept(t, old, _SPANS), _kept(t, new, _SPANS)
+    keep_old, keep_new = _kept(t, (old,), _SPANS), _kept(t, (new,), _SPANS)
     assert keep_old is not None and keep_new is not None
     keep = keep_old | keep_new
     assert x.tolist() == t[keep].tolist() and a.tolist() == old[keep].tolist()

@@ -42,27 +42,26 @@ def test_chunks_say_what_the_whole_stream_says(seed: int, rows: int, cuts: list[
     assert whole[-1] == "x: not_a_joint is not a motor of robot ur5e"
 
 
-def test_a_move_across_two_chunks_is_checked() -> None:
-    times = np.array([0, 8, 16], dtype=np.int64)
-    targets = np.array([[0.0], [0.0], [0.1]])  # 0.1 rad in 8 ms, between the chunks
+def _two_chunks(times: np.ndarray, targets: np.ndarray) -> RobotStream:
+    """The UR5e's shoulder_pan_joint stream ``(times, targets)`` made in two chunks, split
+    after its second step."""
 
     def made():  # type: ignore[no-untyped-def]
         yield times[:2], targets[:2]
         yield times[2:], targets[2:]
 
-    stream = RobotStream(("shoulder_pan_joint",), times[:0], targets[:0], made=made)
-    (line,) = stream_findings(stream, UR, "x")
+    return RobotStream(("shoulder_pan_joint",), times[:0], targets[:0], made=made)
+
+
+def test_a_move_across_two_chunks_is_checked() -> None:
+    times = np.array([0, 8, 16], dtype=np.int64)
+    targets = np.array([[0.0], [0.0], [0.1]])  # 0.1 rad in 8 ms, between the chunks
+    (line,) = stream_findings(_two_chunks(times, targets), UR, "x")
     assert "shoulder_pan_joint moves at 12.5 rad/s from 8 ms to 16 ms" in line
 
 
 def test_the_first_of_two_equally_fast_moves_is_named_across_chunks() -> None:
     times = np.array([0, 8, 16, 24], dtype=np.int64)
     targets = np.array([[0.0], [0.1], [0.1], [0.2]])  # 12.5 rad/s twice
-
-    def made():  # type: ignore[no-untyped-def]
-        yield times[:2], targets[:2]
-        yield times[2:], targets[2:]
-
-    stream = RobotStream(("shoulder_pan_joint",), times[:0], targets[:0], made=made)
-    (line,) = stream_findings(stream, UR, "x")
+    (line,) = stream_findings(_two_chunks(times, targets), UR, "x")
     assert "from 0 ms to 8 ms" in line
