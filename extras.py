@@ -25,7 +25,6 @@ EXTRAS: dict[str, tuple[tuple[str, ...], str]] = {
     "plot": (("matplotlib",), "matplotlib: plot, and the plots of diff"),
     "erd": (("example_robot_data",), "example-robot-data robots (erd:<name>)"),
     "ray": (("ray",), "the Ray executor of batch"),
-    "fast": (("pyarrow",), "pyarrow: faster reading of motion files of 1 MB or more"),
     "lsp": (("pygls", "lsprotocol"), "pygls: motiontool server, findings in the editor"),
     "ros": (
         ("rosbags", "mcap", "mcap_ros2", "ruamel"),
@@ -43,7 +42,6 @@ _LIBRARIES = {
     "matplotlib": "matplotlib",
     "example_robot_data": "example-robot-data",
     "ray": "Ray",
-    "pyarrow": "pyarrow",
     "pygls": "pygls",
     "lsprotocol": "lsprotocol (pygls' LSP types)",
     "rosbags": "rosbags",

@@ -7,7 +7,7 @@ fields of 1-5 digits and times that wrap a C int, nan / inf / the -9999999.9 mar
 ``,,``, CR, NUL, blank lines, non-UTF-8 bytes, huge numbers, and now and then a line of 4095
 bytes or more). Input ``i`` depends only on ``--seed`` and ``i``, not on ``--jobs``. For each one:
 
-* the exact, fast and bulk (pyarrow) reading paths agree: verdict, diagnostics, times, values
+* the exact, fast and bulk (numpy loadtxt) reading paths agree: verdict, diagnostics, times, values
   bit for bit (NaN positions included) and the commanded mask;
 * the reader agrees with the oracle: accepted or not, the line where Webots stops, the times,
   the values and which cells are ``*``;

@@ -1,20 +1,23 @@
-"""A fast path for large, clean files, read with pyarrow's CSV parser when it is installed.
+"""A fast path for large, clean files: numpy's text reader parses the values in C.
 
 It only ever answers for files where every pose line is plain ``time,name,number,...``: no
 ``*``, no empty cell, no blank line, no lone CR, no long line, no nan/inf/marker value, valid
 times in strictly increasing order and none beyond the 2**31 - 1 ms a C ``int`` holds (Webots'
-time arithmetic wraps there). For such lines pyarrow's parser (correctly rounded, whole-cell)
-and glibc's ``sscanf`` read the same doubles; anything else makes this module answer ``None`` and
-the reader takes its exact line-by-line path. A test checks that both paths agree.
+time arithmetic wraps there). For such lines ``numpy.loadtxt`` (Python's correctly rounded
+``PyOS_string_to_double``, on the whole cell) and glibc's ``sscanf`` read the same doubles;
+anything else makes this module answer ``None`` and the reader takes its exact line-by-line
+path. A test checks that both paths agree.
 
-Only ``pyarrow`` and ``pyarrow.csv`` are imported (``pyarrow.compute`` costs more to import
-than this path spends reading): times and names are read from the columns' buffers with numpy.
+The file is read a block of lines at a time (:data:`_BLOCK` bytes): the times and names are
+read from the block's bytes with numpy, the values by ``loadtxt``, into arrays of their final
+size (no copy of the whole file, no table of it all besides them), or checked and dropped
+where the reader keeps no values (a check of the syntax only). Single-threaded: ``loadtxt``
+holds Python's lock.
 """
 
 from __future__ import annotations
 
-import itertools
-import os
+import io
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
@@ -24,31 +27,40 @@ from motiontool.motionfmt.pose_names import PoseNames
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
-    import pyarrow as pa
 
-__all__ = ["read_clean_body"]
+__all__ = ["read_clean_body", "read_values"]
+
+_BLOCK = 1 << 18
+"""Bytes of the file parsed at a time (cut after a newline)."""
+
+_REFUSED = (b"*", b"\0", b"\x1c", b"\x1d", b"\x1e", b"\x1f", b"\x85", b"\xa0")
+"""Bytes that send a file to the exact path wherever they are: ``*`` (no command), a NUL (it
+ends a C string), and what ``loadtxt`` strips from a cell as whitespace (a Latin-1 character
+for which ``str.isspace``) and Python's ``float`` and C's ``sscanf`` do not."""
 
 
-def _tokens(column: pa.Array) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.uint8]]:
-    """The offsets (n + 1, into the bytes) and the bytes of a column of n binary or string
-    tokens, read from its buffers (no copy)."""
+def _gather(
+    raw: npt.NDArray[np.uint8], starts: npt.NDArray[np.intp], ends: npt.NDArray[np.intp]
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.uint8]]:
+    """The tokens ``raw[starts[i]:ends[i]]`` one after the other: their offsets (n + 1) into
+    the bytes, and the bytes."""
     import numpy as np
 
-    _validity, offsets_buf, data_buf = column.buffers()
-    offsets = np.frombuffer(
-        offsets_buf, dtype=np.int32, count=len(column) + 1, offset=4 * column.offset
-    )
-    raw = np.frombuffer(data_buf, dtype=np.uint8) if data_buf is not None else np.zeros(0, np.uint8)
-    return offsets.astype(np.int64), raw
+    width = ends - starts
+    offsets = np.zeros(width.shape[0] + 1, dtype=np.int64)
+    np.cumsum(width, out=offsets[1:])
+    at = np.repeat(starts - offsets[:-1], width) + np.arange(offsets[-1])
+    return offsets, raw[at]
 
 
-def _times(column: pa.Array, fields: int | None) -> tuple[npt.NDArray[np.int64], int] | None:
-    """Times in ms of a column of time tokens (one batch of them) and how many ``:`` each has,
-    if every token is plain (1 to 5 digits, up to twice ``:`` and 1 to 5 digits) and all have
-    the same number of ``:`` (``fields``, where a batch before said)."""
+def _times(
+    offsets: npt.NDArray[np.int64], raw: npt.NDArray[np.uint8], fields: int | None
+) -> tuple[npt.NDArray[np.int64], int] | None:
+    """Times in ms of n time tokens (``raw[offsets[i]:offsets[i + 1]]``) and how many ``:``
+    each has, if every token is plain (1 to 5 digits, up to twice ``:`` and 1 to 5 digits) and
+    all have the same number of ``:`` (``fields``, where a block before said)."""
     import numpy as np
 
-    offsets, raw = _tokens(column)
     n = len(offsets) - 1
     if n == 0:
         return np.zeros(0, dtype=np.int64), fields or 0
@@ -77,186 +89,126 @@ def _times(column: pa.Array, fields: int | None) -> tuple[npt.NDArray[np.int64],
     return per_field @ np.array([60000, 1000, 1][-(k + 1) :], dtype=np.int64), k
 
 
-def _longest_line(data: bytes, start: int) -> int:
-    """The longest line of ``data[start:]`` in bytes, newline excluded; scanned a few MiB at a
-    time (no copy of the file)."""
-    import numpy as np
-
-    longest, line_start, step = 0, start, 1 << 22
-    for chunk in range(start, len(data), step):
-        raw = np.frombuffer(data, dtype=np.uint8, count=min(step, len(data) - chunk), offset=chunk)
-        ends = np.flatnonzero(raw == 10) + chunk
-        if ends.size:
-            starts = np.concatenate(([line_start], ends[:-1] + 1))
-            longest = max(longest, int((ends - starts).max()))
-            line_start = int(ends[-1]) + 1
-    return max(longest, len(data) - line_start)
-
-
 def read_clean_body(
-    data: bytes, n_joints: int, marker: float, max_line: int, start: int = 0
-) -> tuple[npt.NDArray[np.int64], PoseNames, npt.NDArray[np.float64]] | None:
+    data: bytes,
+    n_joints: int,
+    marker: float,
+    max_line: int,
+    start: int = 0,
+    *,
+    keep_values: bool = True,
+) -> tuple[npt.NDArray[np.int64], PoseNames, npt.NDArray[np.float64] | None] | None:
     """Times (ms), pose names and values (P, J) of the pose lines in ``data[start:]`` (the file
     after its header line), or ``None``.
-
-    The lines are parsed a block at a time into arrays of their final size: no copy of the
-    file, and no table of it all besides them. A large file is cut into parts (:func:`_parts`)
-    parsed at once, one thread each (pyarrow parses without Python's lock).
 
     Args:
         data, start: the file, and where its pose lines start.
         n_joints: J, from the header.
         marker: Webots' 'no value' number; a file holding it takes the exact path.
         max_line: the longest line (bytes, newline excluded) that Webots reads in one piece.
+        keep_values: False: every value is read and checked, a block at a time, but none is
+            kept (the values are ``None``; :func:`read_values` reads them again).
     """
     if start >= len(data) or n_joints < 1 or not _plain(data, start):
         return None
-    try:
-        import numpy as np
-        import pyarrow  # noqa: F401 - the fast path needs it; without it, the exact path
-    except ImportError:
-        return None
-    if _longest_line(data, start) > max_line:
-        return None
-    parts = _parts(data, start)
-    n_poses = sum(rows for _, rows in parts)
-    values = np.empty((n_poses, n_joints), dtype=np.float64)
-    times = np.empty(n_poses, dtype=np.int64)
-    jobs, row = [], 0
-    for body, rows in parts:
-        jobs.append((body, values[row : row + rows], times[row : row + rows]))
-        row += rows
-    if len(jobs) == 1:
-        got = [_fill(*jobs[0])]
-    else:  # pyarrow parses without the GIL: one thread a part
-        from concurrent.futures import ThreadPoolExecutor
+    import numpy as np
 
-        with ThreadPoolExecutor(len(jobs)) as pool:
-            got = list(pool.map(lambda job: _fill(*job), jobs))
-    read = [g for g in got if g is not None]
-    if len(read) < len(got) or len({f for _, f in read if f is not None}) > 1:
-        return None  # a part refused, or parts that write their times differently
-    if not bool(np.isfinite(values).all()) or bool((values == marker).any()):
-        return None
+    n_poses = data.count(b"\n", start) + (not data.endswith(b"\n"))
+    values = np.empty((n_poses, n_joints), dtype=np.float64) if keep_values else None
+    times = np.empty(n_poses, dtype=np.int64)
+    names = PoseNames()
+    row, fields = 0, None
+    for block in _blocks(data, start):
+        got = _read_block(block, n_joints, max_line, fields)
+        if got is None:
+            return None
+        block_times, fields, block_names, block_values = got
+        if not bool(np.isfinite(block_values).all()) or bool((block_values == marker).any()):
+            return None
+        k = len(block_times)
+        times[row : row + k] = block_times
+        if values is not None:
+            values[row : row + k] = block_values
+        names.extend(block_names)
+        row += k
     if int(times.max()) > INT_MAX:
         return None  # Webots' int arithmetic wraps: the exact path wraps it too
     if bool((np.diff(times) <= 0).any()):
         return None
-    names = read[0][0]
-    for more, _ in read[1:]:
-        names.extend(more)
     return times, names, values
 
 
-def _parts(data: bytes, start: int) -> list[tuple[memoryview, int]]:
-    """``data[start:]`` cut after a newline into as many parts as there are cores (at most
-    :data:`_PARTS`; one for a file under :data:`_PART_MIN` bytes), each with its number of
-    lines."""
-    count = min(_PARTS, os.cpu_count() or 1, max(1, (len(data) - start) // _PART_MIN))
-    cuts = [start]
-    for i in range(1, count):
-        at = data.find(b"\n", start + (len(data) - start) * i // count)
-        if at < 0 or at + 1 <= cuts[-1] or at + 1 >= len(data):
-            break
-        cuts.append(at + 1)
-    cuts.append(len(data))
-    view = memoryview(data)
-    parts = [(view[a:b], data.count(b"\n", a, b)) for a, b in itertools.pairwise(cuts)]
-    if not data.endswith(b"\n"):  # the last line has no newline
-        parts[-1] = (parts[-1][0], parts[-1][1] + 1)
-    return parts
+def read_values(
+    data: bytes, n_joints: int, marker: float, max_line: int, start: int
+) -> npt.NDArray[np.float64]:
+    """The values, pose after pose (P * J), of a body that :func:`read_clean_body` has read
+    (without keeping them): read again.
+
+    Raises:
+        RuntimeError: ``read_clean_body`` refuses the body (it did not before: a bug).
+    """
+    got = read_clean_body(data, n_joints, marker, max_line, start)
+    if got is None or got[2] is None:
+        raise RuntimeError("a motion read in bulk no longer reads in bulk")
+    return got[2].reshape(-1)
 
 
-def _fill(
-    body: memoryview, values: npt.NDArray[np.float64], times: npt.NDArray[np.int64]
-) -> tuple[PoseNames, int | None] | None:
-    """Parse the lines of ``body`` into ``values`` and ``times`` (exactly as many rows as it
-    has lines); its pose names, and how many ``:`` its times have. None: refused."""
-    n_rows, n_joints = values.shape
-    names = PoseNames()
-    row, fields = 0, None
-    for batch in _batches(body, n_joints):
-        k = batch.num_rows
-        if (
-            batch.num_columns != n_joints + 2
-            or row + k > n_rows
-            or any(c.null_count for c in batch.columns)
-        ):
-            return None
-        for j in range(n_joints):
-            values[row : row + k, j] = batch.column(j + 2).to_numpy()
-        got = _times(batch.column(0), fields)
-        if got is None:
-            return None
-        times[row : row + k], fields = got
-        batch_names = _names(batch.column(1))
-        if batch_names is None:
-            return None
-        names.extend(batch_names)
-        row += k
-    return (names, fields) if row == n_rows else None
+def _blocks(data: bytes, start: int) -> Iterator[bytes]:
+    """``data[start:]`` a block of whole lines at a time (:data:`_BLOCK` bytes or a line)."""
+    while start < len(data):
+        end = data.find(b"\n", min(start + _BLOCK, len(data)) - 1)
+        end = len(data) if end < 0 else end + 1
+        yield data[start:end]
+        start = end
 
 
-def _names(column: pa.Array) -> list[str] | None:
-    """The pose names of a column of them, or None if one is empty (Webots reads the next
-    cell as the name: the exact path reports it)."""
+def _read_block(
+    block: bytes, n_joints: int, max_line: int, fields: int | None
+) -> tuple[npt.NDArray[np.int64], int, list[str], npt.NDArray[np.float64]] | None:
+    """The times (ms), how many ``:`` they have, the pose names and the values (k, J) of the
+    k lines of ``block``; None: a line only the exact path reads right (or longer than
+    ``max_line`` bytes, newline excluded)."""
     import numpy as np
 
-    offsets, _raw = _tokens(column)
-    if len(column) and int(np.diff(offsets).min()) == 0:
+    raw = np.frombuffer(block, dtype=np.uint8)
+    ends = np.flatnonzero(raw == 10)
+    if not block.endswith(b"\n"):
+        ends = np.append(ends, len(raw))
+    starts = np.empty_like(ends)
+    starts[0], starts[1:] = 0, ends[:-1] + 1
+    if int((ends - starts).max()) > max_line:
+        return None  # Webots reads it in pieces
+    commas = np.flatnonzero(raw == ord(","))
+    first = np.searchsorted(commas, starts)
+    if not bool((np.searchsorted(commas, ends) - first == n_joints + 1).all()):
+        return None  # a cell too many or too few (a blank line has none)
+    # From here no line is blank: loadtxt (which skips blank lines) reads a row a line.
+    got = _times(*_gather(raw, starts, commas[first]), fields)
+    if got is None:
         return None
-    names: list[str] = column.to_pylist()
-    return names
+    # Each name with the comma after it: the text of the names, a comma after each.
+    offsets, text = _gather(raw, commas[first] + 1, commas[first + 1] + 1)
+    if bool((np.diff(offsets) == 1).any()):
+        return None  # an empty name: Webots reads the next cell as the name
+    try:
+        names = text.tobytes().decode("utf-8").split(",")[:-1]
+        values = np.loadtxt(
+            io.BytesIO(block),
+            dtype=np.float64,
+            delimiter=",",
+            comments=None,
+            usecols=range(2, n_joints + 2),
+            ndmin=2,
+        )
+    except (UnicodeDecodeError, ValueError):  # loadtxt: a cell not a number, a lone CR
+        return None
+    return got[0], got[1], names, values
 
 
 def _plain(data: bytes, start: int) -> bool:
-    """No byte in ``data[start:]`` that only the exact path reads right: ``*``, a NUL (it ends
-    a C string), ``_`` (Python's ``float`` reads ``1_0``); one ``memchr`` pass each. The rest
-    needs no scan of the file: pyarrow refuses an empty cell or a blank line (a column too many
-    or too few, an empty number), the time's pattern an empty time, :func:`_names` an empty
-    name, and a lone CR ends pyarrow's row where Webots' line goes on, so pyarrow finds more
-    rows than the file has lines (:func:`read_clean_body` counts them)."""
-    return all(data.find(byte, start) < 0 for byte in (b"*", b"\0", b"_"))
-
-
-def _batches(body: memoryview, n_joints: int) -> Iterator[pa.RecordBatch]:
-    """The pose lines as record batches of columns t, n (bytes) and v0..v{J-1} (float64), a
-    block of the file each; stops at a block pyarrow's CSV reader refuses (the caller then
-    finds too few rows)."""
-    import pyarrow as pa
-    import pyarrow.csv as pacsv
-
-    columns = ["t", "n", *(f"v{j}" for j in range(n_joints))]
-    # The names as UTF-8 text: a name that is not makes pyarrow refuse the block (exact path).
-    types = {"t": pa.binary(), "n": pa.string(), **{f"v{j}": pa.float64() for j in range(n_joints)}}
-    refused = (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError)
-    try:
-        reader = pacsv.open_csv(
-            pa.py_buffer(body),
-            read_options=pacsv.ReadOptions(column_names=columns, block_size=_BLOCK),
-            parse_options=pacsv.ParseOptions(
-                quote_char=False, escape_char=False, ignore_empty_lines=False
-            ),
-            convert_options=pacsv.ConvertOptions(
-                column_types=types,
-                null_values=[],
-                strings_can_be_null=False,
-                quoted_strings_can_be_null=False,
-            ),
-            # The C library's allocator gives each block back: pyarrow's default pool keeps a
-            # heap per thread (about 20 MiB more where two parts are read at once).
-            memory_pool=pa.system_memory_pool(),
-        )
-        yield from reader
-    except refused:
-        return
-
-
-_BLOCK = 1 << 20
-"""Bytes of the file pyarrow parses at a time."""
-
-_PARTS = 2
-"""At most this many parts of a file are parsed at once, one thread each."""
-
-_PART_MIN = 4 << 20
-"""A part is at least this many bytes (4 blocks): a smaller file is one part."""
+    """No byte in ``data[start:]`` that only the exact path reads right (:data:`_REFUSED`); one
+    ``memchr`` pass each. The rest needs no scan of the file: ``loadtxt`` refuses an empty
+    number, text in one, Python's ``1_0`` (C reads 1) and a lone CR (an embedded newline to
+    it); :func:`_read_block` a line with a cell too many or too few, an empty name; the time's
+    pattern an empty time."""
+    return all(data.find(byte, start) < 0 for byte in _REFUSED)

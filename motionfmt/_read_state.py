@@ -45,7 +45,7 @@ class ReadState:
         self.cells = array("d")
         self.result = ReadResult(
             path=path,
-            cells=self.cells,
+            _cells=self.cells,
             pose_lines=self.pose_lines,
             _data=data,
             _cols0=self.pose_cols0,

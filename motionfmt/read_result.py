@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import itertools
 from array import array
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -63,7 +63,7 @@ class ReadResult:
     joints: list[str] = field(default_factory=list)
     pose_names: PoseNames = field(default_factory=PoseNames)
     times_ms: array[int] = field(default_factory=lambda: array("q"))
-    cells: array[float] | npt.NDArray[np.float64] = field(default_factory=lambda: array("d"))
+    _cells: array[float] | npt.NDArray[np.float64] = field(default_factory=lambda: array("d"))
     pose_lines: Sequence[int] = field(default_factory=list)
     nan_commands: list[tuple[int, int]] = field(default_factory=list)
     end_line: int | None = None
@@ -72,6 +72,26 @@ class ReadResult:
     _cols0: Sequence[int] = field(default_factory=list, repr=False)
     _line_starts: list[int] = field(default_factory=list, repr=False)
     _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
+    _cells_later: Callable[[], npt.NDArray[np.float64]] | None = field(
+        default=None, repr=False, compare=False
+    )
+
+    @property
+    def cells(self) -> array[float] | npt.NDArray[np.float64]:
+        """See the class doc; a read that kept no values (``read_bytes(keep_values=False)``)
+        reads them again on first use."""
+        if self._cells_later is not None:
+            self._cells, self._cells_later = self._cells_later(), None
+        return self._cells
+
+    @cells.setter
+    def cells(self, cells: array[float] | npt.NDArray[np.float64]) -> None:
+        self._cells, self._cells_later = cells, None
+
+    def cells_later(self, read: Callable[[], npt.NDArray[np.float64]]) -> None:
+        """Let ``read()`` give :attr:`cells` when they are first asked for (none held until
+        then)."""
+        self._cells, self._cells_later = array("d"), read
 
     @property
     def data(self) -> bytes:

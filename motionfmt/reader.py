@@ -14,7 +14,7 @@ This module drives the read; each step has its own module, taking the read's sha
 * a pose line on one of three paths that must read alike (``tests/readpaths.py``): the fast
   path for clean lines (:mod:`.pose_fast`), the exact path with every check (:mod:`.pose_line`,
   its time :mod:`.pose_time` and its cells :mod:`.pose_values`), and the bulk path for large
-  clean files (:mod:`._bulk`, pyarrow);
+  clean files (:mod:`._bulk`, numpy's ``loadtxt``);
 * :mod:`.motion_checks`: the whole motion (MT206, MT207, MT209, MT211, MT115);
 * :mod:`.read_result`: what the read found, :class:`ReadResult`.
 
@@ -25,6 +25,7 @@ Columns are 1-based byte offsets in the physical line (lines split on ``\\n``).
 
 from __future__ import annotations
 
+import functools
 from array import array
 from collections.abc import Iterator
 
@@ -54,7 +55,7 @@ __all__ = [
 ]
 
 BULK_MIN_BYTES = 1 << 20
-"""Files of at least this size try the bulk path (pyarrow) before the line-by-line one."""
+"""Files of at least this size try the bulk path (:mod:`._bulk`) before the line-by-line one."""
 
 
 class _Reader(ReadState):
@@ -72,10 +73,12 @@ class _Reader(ReadState):
         bulk_min_bytes: int = BULK_MIN_BYTES,
         *,
         exact: bool = False,
+        keep_values: bool = True,
     ) -> None:
         super().__init__(data, path, timestep_ms)
         self.bulk_min_bytes = bulk_min_bytes
         self.exact = exact
+        self.keep_values = keep_values
 
     def read(self) -> ReadResult:
         res = self.result
@@ -144,14 +147,13 @@ class _Reader(ReadState):
 
     def read_bulk(self) -> bool:
         """Read a large clean file in one go (see :mod:`._bulk`); False to take the exact path."""
-        from motiontool.motionfmt._bulk import read_clean_body
+        from motiontool.motionfmt._bulk import read_clean_body, read_values
 
         header_end = self.data.find(b"\n")
         if header_end < 0 or header_end + 1 > FGETS_PIECE:
             return False
-        got = read_clean_body(
-            self.data, self.n_joints, NO_VALUE_MARKER, FGETS_PIECE - 1, start=header_end + 1
-        )
+        body = (self.data, self.n_joints, NO_VALUE_MARKER, FGETS_PIECE - 1, header_end + 1)
+        got = read_clean_body(*body, keep_values=self.keep_values)
         if got is None:
             return False
         times, names, values = got
@@ -159,7 +161,10 @@ class _Reader(ReadState):
         res.times_ms = array("q")
         res.times_ms.frombytes(times.data.cast("B"))
         res.pose_names = names
-        res.cells = values.reshape(-1)
+        if values is None:  # read again if asked for
+            res.cells_later(functools.partial(read_values, *body))
+        else:
+            res.cells = values.reshape(-1)
         res.pose_lines = range(2, len(times) + 2)  # a pose a line: no list of them
         check_motion(self)
         return True
@@ -187,7 +192,11 @@ class _Reader(ReadState):
 
 
 def read_bytes(
-    data: bytes, path: str = "<string>", *, timestep_ms: int | None = None
+    data: bytes,
+    path: str = "<string>",
+    *,
+    timestep_ms: int | None = None,
+    keep_values: bool = True,
 ) -> ReadResult:
     """Read a ``.motion`` file's bytes as Webots does and collect every diagnostic.
 
@@ -196,10 +205,13 @@ def read_bytes(
         path: how diagnostics name the file.
         timestep_ms: the controller time step in milliseconds; when given, pose times that are
             not a multiple of it are reported.
+        keep_values: False where nothing is expected to read the values (a check of the
+            syntax only): a large clean file's values are then checked but not kept, and
+            :attr:`ReadResult.cells` reads them again if asked for.
 
     Returns:
         The poses Webots reads and the diagnostics; never raises on bad content.
     """
     if timestep_ms is not None and timestep_ms <= 0:
         raise ValueError(f"timestep_ms must be positive, got {timestep_ms}")
-    return _Reader(data, path, timestep_ms).read()
+    return _Reader(data, path, timestep_ms, keep_values=keep_values).read()

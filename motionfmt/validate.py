@@ -374,7 +374,7 @@ def validate_bytes(
     display."""
     if on_step is not None:
         on_step(f"{path}: read")
-    result = read_bytes(data, path, timestep_ms=timestep_ms)
+    result = read_bytes(data, path, timestep_ms=timestep_ms, keep_values=bool(checks))
     if on_step is not None and checks:
         on_step(f"{path}: checks")
     parts: list[Sequence[Diagnostic]] = [result.diagnostics]

@@ -1,5 +1,5 @@
 """The reader's three paths side by side: exact (line by line, every check), fast (clean lines
-without spans) and bulk (pyarrow). Each must read every file exactly as the exact path does."""
+without spans) and bulk (numpy loadtxt). Each must read every file exactly as the exact path does."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ PATHS = ("exact", "fast", "bulk")
 
 
 def read_all(data: bytes, timestep_ms: int | None = 20) -> dict[str, ReadResult]:
-    """The file read by each path (the bulk path only answers where pyarrow is installed)."""
+    """The file read by each path."""
     return {
         "exact": reader._Reader(data, "f.motion", timestep_ms, exact=True).read(),
         "fast": reader._Reader(data, "f.motion", timestep_ms, bulk_min_bytes=1 << 62).read(),

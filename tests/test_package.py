@@ -29,7 +29,6 @@ HEAVY_DISTS = {
     "matplotlib": "plot",
     "example-robot-data": "erd",
     "ray": "ray",
-    "pyarrow": "fast",
 }
 
 

@@ -1,4 +1,5 @@
-"""The bulk (pyarrow) fast path reads exactly what the line-by-line path reads, or steps aside."""
+"""The bulk path (numpy's ``loadtxt``) reads exactly what the line-by-line path reads, or steps
+aside."""
 
 from __future__ import annotations
 
@@ -12,8 +13,6 @@ from hypothesis import strategies as st
 from strategies import motion_files
 
 from motiontool.motionfmt import reader
-
-pytest.importorskip("pyarrow", reason="the bulk path needs pyarrow")
 
 
 def assert_same(data: bytes) -> None:
@@ -61,21 +60,15 @@ def test_bulk_path_is_taken_on_a_clean_file() -> None:
     assert_same(data)
 
 
-@pytest.mark.parametrize(
-    ("block", "part_min"), [(4096, 1 << 62), (1 << 20, 1 << 62), (4096, 40_000)]
-)
+@pytest.mark.parametrize("block", [4096, 1 << 20])
 def test_a_file_read_a_block_at_a_time_reads_as_the_exact_path(
-    block: int, part_min: int, monkeypatch: pytest.MonkeyPatch
+    block: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Parsed in record batches (a block of the file each) into arrays of their final size,
-    in parts read by threads of their own where the file is large enough: batch and part
-    boundaries change nothing, bit for bit."""
+    """Parsed a block of lines at a time into arrays of their final size: block boundaries
+    change nothing, bit for bit."""
     from motiontool.motionfmt import _bulk
 
     monkeypatch.setattr(_bulk, "_BLOCK", block)
-    monkeypatch.setattr(_bulk, "_PART_MIN", part_min)
-    monkeypatch.setattr(_bulk.os, "cpu_count", lambda: 4)
-    monkeypatch.setattr(_bulk, "_PARTS", 4)
     rng = np.random.default_rng(3)
     rows = "\n".join(
         f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d},Pose{t},"
@@ -101,12 +94,26 @@ def test_a_file_read_a_block_at_a_time_reads_as_the_exact_path(
         (b",80,P,1,2\n", False),  # a leading comma
         (b"80,P,1,,2\n", False),  # an empty cell between values
         (b"80,P\x00Q,1,2\n", False),  # a NUL ends the line for Webots
-        (b"80,P,1,2\r120,Q,1,2\n", False),  # a lone CR: one line for Webots, two for pyarrow
+        (b"80,P,1,2\r120,Q,1,2\n", False),  # a lone CR: one line for Webots, two for loadtxt
         (b"80,P,1,2\r\r\n", False),
         (b"80,P,*,2\n", False),
         (b"80,P*,1,2\n", False),  # harmless, but '*' anywhere takes the exact path
         (b"80,P,1,2\r\n", True),  # CRLF
         (b"80,P Q,1 ,\t2\n", True),  # spaces and tabs stay inside tokens
+        (b"80,P,1,2,3\n", False),  # a cell too many (loadtxt reads the columns it is given)
+        (b"80,P,1\n", False),  # a cell too few
+        (b"80,P,1_0,2\n", False),  # Python's float reads 10, C reads 1
+        (b"80,P_1,1,2\n", True),  # '_' in a name
+        (b"80,P,\x1c1,2\n", False),  # whitespace to loadtxt, not to C
+        (b"80,P,1\xa0,2\n", False),
+        (b"80,P,1\x85,2\n", False),
+        (b"80,P\xc3\xa0,1,2\n", False),  # "\xa0" in a name (à): the exact path
+        (b"80,P\xc3\xa8,1,2\n", True),  # UTF-8 in a name
+        (b"80,P\xe8,1,2\n", False),  # not UTF-8: the exact path
+        (b"80,P,1e2,-.5\n", True),
+        (b"80,P,0x1p3,2\n", False),  # C reads hexadecimal, Python does not
+        (b"80," + b"P" * 4087 + b",1,2\n", True),  # 4094 bytes: one fgets piece
+        (b"80," + b"P" * 4088 + b",1,2\n", False),  # 4095 bytes: Webots reads it in pieces
     ],
 )
 def test_what_only_the_exact_path_reads_right_steps_aside(
@@ -159,36 +166,54 @@ _TIME_TOKENS = st.one_of(
 def test_time_tokens_read_as_the_pattern_says(
     tokens: list[bytes], fields: int | None, offset: int
 ) -> None:
-    """The times of a column of tokens (a slice of one, as a batch may be) are those of the
-    pattern Webots' ``str_to_time`` accepts, or None."""
-    import pyarrow as pa
-
+    """The times of tokens (after other bytes, as a block's may be) are those of the pattern
+    Webots' ``str_to_time`` accepts, or None."""
     from motiontool.motionfmt import _bulk
 
-    column = pa.array([b"junk"] * offset + tokens, type=pa.binary())[offset:]
-    got = _bulk._times(column, fields)
+    raw = np.frombuffer(b"junk" * offset + b"".join(tokens), dtype=np.uint8)
+    offsets = np.cumsum([4 * offset, *(len(t) for t in tokens)], dtype=np.int64)
+    got = _bulk._times(offsets, raw, fields)
     want = _times_reference(tokens, fields)
     assert (None if got is None else (got[0].tolist(), got[1])) == want
 
 
-def test_parts_whose_times_are_written_differently_take_the_exact_path(
+def test_blocks_whose_times_are_written_differently_take_the_exact_path(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """Webots reads ``m:s:ms`` and ``ms`` times alike; the bulk path reads one way per file."""
     from motiontool.motionfmt import _bulk
 
-    monkeypatch.setattr(_bulk, "_PART_MIN", 4096)
     monkeypatch.setattr(_bulk, "_BLOCK", 4096)
-    monkeypatch.setattr(_bulk.os, "cpu_count", lambda: 2)
-    # 1,001 lines m:s:ms then 1,000 lines ms, all 15 bytes: the two parts are cut between them.
+    # 1,001 lines m:s:ms then 1,000 lines ms: many blocks, the later ones in ms.
     early = "\n".join(f"00:{t // 1000:02d}:{t % 1000:03d},P,0.5" for t in range(0, 40040, 40))
     late = "\n".join(f"{t},PP,0.5000" for t in range(40040, 80040, 40))
     data = f"#WEBOTS_MOTION,V1.0,A\n{early}\n{late}\n".encode()
-    parts = _bulk._parts(data, 22)
-    assert [rows for _, rows in parts] == [1001, 1000]
     assert _bulk.read_clean_body(data, 1, reader.NO_VALUE_MARKER, 4094, start=22) is None
     same = data.replace(b"00:", b"").replace(b":", b"")  # every time in ms
     got = _bulk.read_clean_body(same, 1, reader.NO_VALUE_MARKER, 4094, start=22)
     assert got is not None and got[0][-1] == 80000 and len(got[0]) == 2001
     assert_same(data)
     assert_same(same)
+
+
+def test_a_read_that_keeps_no_values_reads_them_again_when_asked() -> None:
+    """``keep_values=False`` (a syntax check): the values are checked but not held; asked for,
+    they are read again, bit for bit; the read pickles either way."""
+    import pickle
+
+    rng = np.random.default_rng(5)
+    rows = "\n".join(
+        f"{t},P{t}," + ",".join(repr(float(v)) for v in rng.uniform(-2, 2, 3))
+        for t in range(0, 40 * 500, 40)
+    )
+    data = f"#WEBOTS_MOTION,V1.0,A,B,C\n{rows}\n".encode()
+    kept = reader._Reader(data, "f.motion", None, bulk_min_bytes=0).read()
+    lazy = reader._Reader(data, "f.motion", None, bulk_min_bytes=0, keep_values=False).read()
+    assert len(lazy._cells) == 0 and lazy._cells_later is not None  # nothing held
+    assert lazy.times_ms == kept.times_ms and lazy.pose_names == kept.pose_names
+    again = pickle.loads(pickle.dumps(lazy))
+    assert lazy.values.tobytes() == kept.values.tobytes()
+    assert lazy._cells_later is None  # read once
+    assert again.values.tobytes() == kept.values.tobytes()
+    bad = data.replace(b",P40,", b",P40,*,")  # not clean: read line by line, values kept
+    assert reader.read_bytes(bad, keep_values=False)._cells_later is None

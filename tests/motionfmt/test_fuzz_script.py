@@ -9,8 +9,6 @@ from pathlib import Path
 import pytest
 from conftest import CORPUS, ROOT
 
-pytest.importorskip("pyarrow", reason="the fuzzer compares the bulk path too")
-
 
 def test_fuzz_script_runs_clean(
     tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch

@@ -12,8 +12,6 @@ from strategies import motion_files, timed_files
 
 from motiontool.motionfmt import read_bytes, sample
 
-pytest.importorskip("pyarrow", reason="the bulk path needs pyarrow")
-
 HEADER = b"#WEBOTS_MOTION,V1.0,A\n"
 
 
