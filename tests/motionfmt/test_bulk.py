@@ -16,15 +16,18 @@ from motiontool.motionfmt import reader
 
 
 def assert_same(data: bytes) -> None:
-    bulk = reader._Reader(data, "f.motion", 20, bulk_min_bytes=0).read()
+    """The bulk path reads ``data`` as the line-by-line path does, keeping its values or not
+    (read again when asked for)."""
     exact = reader._Reader(data, "f.motion", 20, bulk_min_bytes=1 << 62).read()
-    assert bulk.diagnostics == exact.diagnostics
-    assert bulk.accepted == exact.accepted
-    assert bulk.times_ms == exact.times_ms
-    assert bulk.pose_names == exact.pose_names
-    assert list(bulk.pose_lines) == list(exact.pose_lines)
-    a, b = bulk.values, exact.values
-    assert a.shape == b.shape and a.tobytes() == b.tobytes()  # bit for bit
+    for keep in (True, False):
+        bulk = reader._Reader(data, "f.motion", 20, bulk_min_bytes=0, keep_values=keep).read()
+        assert bulk.diagnostics == exact.diagnostics
+        assert bulk.accepted == exact.accepted
+        assert bulk.times_ms == exact.times_ms
+        assert bulk.pose_names == exact.pose_names
+        assert list(bulk.pose_lines) == list(exact.pose_lines)
+        a, b = bulk.values, exact.values
+        assert a.shape == b.shape and a.tobytes() == b.tobytes()  # bit for bit
 
 
 @pytest.mark.parametrize("path", corpus_params())
@@ -217,3 +220,23 @@ def test_a_read_that_keeps_no_values_reads_them_again_when_asked() -> None:
     assert again.values.tobytes() == kept.values.tobytes()
     bad = data.replace(b",P40,", b",P40,*,")  # not clean: read line by line, values kept
     assert reader.read_bytes(bad, keep_values=False)._cells_later is None
+
+
+def test_a_syntax_only_validate_keeps_no_values() -> None:
+    """``validate_bytes`` without checks (``--robot none``) holds a large clean file's bytes
+    but not its values; with a check it reads them once."""
+    from motiontool.kinematics.checks import Limits
+    from motiontool.kinematics.robots import resolve_robot
+    from motiontool.motionfmt import validate_bytes
+
+    rows = "\n".join(
+        f"{t // 60000}:{t // 1000 % 60}:{t % 1000},P,{(t % 997) / 1000!r},-0.25"
+        for t in range(0, 40 * 60_000, 40)
+    )
+    data = f"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n{rows}\n".encode()
+    assert len(data) >= reader.BULK_MIN_BYTES
+    syntax = validate_bytes(data, "f.motion").read
+    assert syntax._cells_later is not None and len(syntax._cells) == 0
+    checked = validate_bytes(data, "f.motion", checks=[Limits(resolve_robot("nao"))]).read
+    assert checked._cells_later is None and len(checked.cells) == 2 * 60_000
+    assert syntax.values.tobytes() == checked.values.tobytes()
