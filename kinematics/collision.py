@@ -22,7 +22,10 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
    bounding spheres (the sphere test), then, for what is left, along the line between the
    centres, the 3 + 3 axes of the two shapes and their 9 cross products (for two boxes this
    is the separating-axis theorem, and the bound is the exact depth;
-   :mod:`motiontool.kinematics.overlap_bound`);
+   :mod:`motiontool.kinematics.overlap_bound`); in between, a pair of geometries is dropped
+   for a run of consecutive configurations where its bound at the run's first one, plus how
+   far its geometries move in the run, stays below the tolerance
+   (:mod:`motiontool.kinematics.pair_sweep`);
 5. only the remaining candidates go to coal (GJK/EPA signed distance, through Pinocchio), the
    deepest bound of each pair of bodies first: a geometry pair whose bound is no deeper than
    the depth already found for its bodies is not measured
@@ -44,6 +47,7 @@ from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTable
 from motiontool.kinematics.contact_depth import body_ids, deepest_by_row, deepest_first
 from motiontool.kinematics.distinct_rows import Known, distinct_rows
 from motiontool.kinematics.overlap_bound import overlap_bound
+from motiontool.kinematics.pair_sweep import uncleared
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.kinematics.sweep_bound import SWEEP_BLOCK, cleared_groups
 from motiontool.kinematics.tables_cache import stored_tables
@@ -298,6 +302,8 @@ def _near_pairs(
     limit = reach[pairs] - tolerance
     near = (diff * diff).sum(axis=1) <= limit * limit  # bounding spheres of the geometries
     rows, pairs = rows[near], pairs[near]
+    if rot is not None:
+        rows, pairs = uncleared(tables, unique, rot, centers, rows, pairs, tolerance)
     bound = np.full(rows.shape[0], np.inf)
     if rot is not None and rows.size:
         bound = overlap_bound(tables, rot, centers, rows, pairs, cutoff=tolerance)

@@ -56,13 +56,14 @@ def overlap_bound(
     centers: npt.NDArray[np.float64],
     rows: npt.NDArray[np.int64],
     pairs: npt.NDArray[np.int64],
-    cutoff: float | None = None,
+    cutoff: float | npt.NDArray[np.float64] | None = None,
 ) -> npt.NDArray[np.float64]:
     """Upper bound (n,) m on the penetration depth of pair ``pairs[i]`` at configuration
     ``rows[i]``: the smallest projected overlap over 16 directions (see the module doc).
 
-    With ``cutoff`` (m), entries whose bound over the 7 face directions is already below it
-    are left at that value (still an upper bound, and below ``cutoff``)."""
+    With ``cutoff`` (m; one for all, or (n,) one each), entries whose bound over the 7 face
+    directions is already below it are left at that value (still an upper bound, and below
+    ``cutoff``)."""
     import numpy as np
 
     a = tables.pair_first[pairs]
