@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from walks import random_walk
 
 from motiontool.kinematics import _pinocchio, load_robot, pair_sweep
 from motiontool.kinematics import collision as collision_module
@@ -18,17 +19,6 @@ from motiontool.kinematics.collision import geometry_poses, scan_self_collisions
 from motiontool.kinematics.overlap_bound import _projected_overlap
 
 pytest.importorskip("pinocchio")
-
-
-def _walk(robot: str, n: int, step: float, seed: int) -> np.ndarray:
-    """A random walk of ``n`` configurations within the limits, ``step`` rad at most a motor
-    and a step, from a random start."""
-    spec = load_robot(robot)
-    lo = np.array([max(j.lower, -math.pi) for j in spec.joints])
-    hi = np.array([min(j.upper, math.pi) for j in spec.joints])
-    rng = np.random.default_rng(seed)
-    start = lo + (hi - lo) * rng.random(lo.shape[0])
-    return np.clip(start + np.cumsum(rng.uniform(-step, step, (n, lo.shape[0])), axis=0), lo, hi)
 
 
 def _overlap_along_first_directions(
@@ -66,7 +56,7 @@ def test_a_cleared_candidate_overlaps_less_than_the_tolerance_along_a_direction(
     penetrate less deep than that (the separating-axis argument of the module doc)."""
     spec = load_robot(robot)
     tables = _pinocchio.kinematic_tables(spec)
-    q = _walk(robot, n, step, seed)
+    q = random_walk(robot, n, step, seed)
     rot, centers = geometry_poses(tables, q)
     pairs_all = np.arange(tables.pair_first.shape[0])
     rows = np.repeat(np.arange(n), pairs_all.shape[0])
@@ -86,7 +76,7 @@ def test_the_scan_finds_the_same_contacts_without_the_pair_sweep(
     monkeypatch: pytest.MonkeyPatch, robot: str, step: float, tolerance: float
 ) -> None:
     spec = load_robot(robot)
-    q = _walk(robot, 3000, step, seed=11)
+    q = random_walk(robot, 3000, step, seed=11)
     dropped: list[int] = []
     sweep = collision_module.uncleared
 

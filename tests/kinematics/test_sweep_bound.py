@@ -5,12 +5,11 @@ are measured deepest bound first, and distinct configurations are found by their
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from walks import random_walk
 
 from motiontool.kinematics import _pinocchio, load_robot
 from motiontool.kinematics import collision as collision_module
@@ -19,18 +18,6 @@ from motiontool.kinematics.collision import forward_kinematics, scan_self_collis
 from motiontool.kinematics.sweep_bound import SWEEP_BLOCK, cleared_groups
 
 pytest.importorskip("pinocchio")
-
-
-def _walk(robot: str, n: int, step: float, seed: int) -> np.ndarray:
-    """A random walk of ``n`` configurations within the limits, ``step`` rad at most a motor
-    and a step, from a random start."""
-    spec = load_robot(robot)
-    lo = np.array([max(j.lower, -math.pi) for j in spec.joints])
-    hi = np.array([min(j.upper, math.pi) for j in spec.joints])
-    rng = np.random.default_rng(seed)
-    start = lo + (hi - lo) * rng.random(lo.shape[0])
-    steps = rng.uniform(-step, step, (n, lo.shape[0]))
-    return np.clip(start + np.cumsum(steps, axis=0), lo, hi)
 
 
 def _joint_gaps(tables: _pinocchio.KinematicTables, q: np.ndarray) -> np.ndarray:
@@ -54,7 +41,7 @@ def test_a_cleared_pair_is_apart_at_every_configuration_of_its_block(
 ) -> None:
     spec = load_robot(robot)
     tables = _pinocchio.kinematic_tables(spec)
-    q = _walk(robot, n, step, seed)
+    q = random_walk(robot, n, step, seed)
     groups = np.arange(tables.group_joints.shape[0])
     cleared = cleared_groups(tables, q, groups, tolerance)
     assert cleared is not None and cleared.shape == (-(-n // SWEEP_BLOCK), groups.shape[0])
@@ -67,8 +54,8 @@ def test_small_moves_clear_most_pairs_and_large_ones_few() -> None:
     # The bound is of use: a slow motion clears most (block, pair)s, a wild one hardly any.
     tables = _pinocchio.kinematic_tables(load_robot("nao"))
     groups = np.arange(tables.group_joints.shape[0])
-    slow = cleared_groups(tables, _walk("nao", 320, 0.002, 1), groups, 0.015)
-    wild = cleared_groups(tables, _walk("nao", 320, 1.0, 1), groups, 0.015)
+    slow = cleared_groups(tables, random_walk("nao", 320, 0.002, 1), groups, 0.015)
+    wild = cleared_groups(tables, random_walk("nao", 320, 1.0, 1), groups, 0.015)
     assert slow is not None and wild is not None
     assert slow.mean() > 0.9 and wild.mean() < slow.mean() - 0.1
 
@@ -85,7 +72,7 @@ def test_the_scan_finds_the_same_contacts_without_the_sweep(
     monkeypatch: pytest.MonkeyPatch, robot: str, step: float, tolerance: float
 ) -> None:
     spec = load_robot(robot)
-    q = _walk(robot, 3000, step, seed=9)
+    q = random_walk(robot, 3000, step, seed=9)
     swept = scan_self_collisions(spec, q, penetration_tolerance_m=tolerance)
     skipped: list[int] = []
     sweep = collision_module.cleared_groups
@@ -109,7 +96,7 @@ def test_the_deepest_pair_of_geometries_is_found_without_measuring_them_all(
     # A forearm folded across the belly and wild poses: each pair of bodies' depth is the
     # deepest of its geometry pairs, as measuring every one of them gives, with fewer measures.
     spec = load_robot("nao")
-    q = _walk("nao", 400, 0.6, seed=2)
+    q = random_walk("nao", 400, 0.6, seed=2)
     measured: list[int] = []
     distances = _pinocchio.pair_signed_distances
 
