@@ -113,9 +113,11 @@ def read_clean_body(
         return None
     import numpy as np
 
-    n_poses = data.count(b"\n", start) + (not data.endswith(b"\n"))
-    values = np.empty((n_poses, n_joints), dtype=np.float64) if keep_values else None
-    times = np.empty(n_poses, dtype=np.int64)
+    values = None
+    if keep_values:  # of its final size: a line a pose (a line too few or many: refused)
+        n_poses = data.count(b"\n", start) + (not data.endswith(b"\n"))
+        values = np.empty((n_poses, n_joints), dtype=np.float64)
+    times: list[npt.NDArray[np.int64]] = []
     names = PoseNames()
     row, fields = 0, None
     for block in _blocks(data, start):
@@ -126,16 +128,17 @@ def read_clean_body(
         if not bool(np.isfinite(block_values).all()) or bool((block_values == marker).any()):
             return None
         k = len(block_times)
-        times[row : row + k] = block_times
+        times.append(block_times)
         if values is not None:
             values[row : row + k] = block_values
         names.extend(block_names)
         row += k
-    if int(times.max()) > INT_MAX:
+    every = np.concatenate(times)
+    if int(every.max()) > INT_MAX:
         return None  # Webots' int arithmetic wraps: the exact path wraps it too
-    if bool((np.diff(times) <= 0).any()):
+    if bool((np.diff(every) <= 0).any()):
         return None
-    return times, names, values
+    return every, names, values
 
 
 def read_values(
