@@ -86,11 +86,10 @@ class Velocity(GroupingCheck):
         if group:
             found = self._segment_runs(table, [joints[k] for k in limited], driver, delta, fast)
             return Findings.merge([found, group_findings(steps)])
-        segs, ii = np.nonzero(fast)
         if keep is not None:  # a segment's finding is at its end pose's time (cell)
-            kept = keep(table.times[segs + 1])
-            segs, ii = segs[kept], ii[kept]
+            fast = fast & keep(table.times[1:])[:, None]
             steps = [d for d, k in zip(steps, keep(_times(steps)), strict=True) if k]
+        segs, ii = np.nonzero(fast)
         cols, moves = driver[segs, ii], delta[segs, ii]  # gathered: no (S, I) array is kept
 
         def segment(n: int) -> Diagnostic:
