@@ -131,11 +131,13 @@ def scale(
     ref = _reference(doc, about)
     values = motion.values
     commanded = motion.commanded
-    with np.errstate(invalid="ignore"):
-        new = ref + amplitude * (values - ref)
-    new = np.where(commanded, new, np.nan)
+    with np.errstate(invalid="ignore"):  # in place: one (P, J) array, not four
+        new = values - ref
+        new *= amplitude
+        new += ref
+    new[~commanded] = np.nan
     clips, unlimited = _clip(new, motion, limits or {})
-    new = new + 0.0
+    new += 0.0  # -0.0 -> 0.0
     changed = commanded & (new != values)
     document = repair(loads(_respelt(doc, new, changed), doc.path), new, commanded)
     return Scaled(
