@@ -297,10 +297,9 @@ def _near_pairs(
         centers = _pinocchio.geometry_centers(spec, unique)
         rows = np.repeat(np.arange(unique.shape[0]), active.shape[0])
         pairs = np.tile(active, unique.shape[0])
-    first, second = tables.pair_first[pairs], tables.pair_second[pairs]
-    diff = centers[rows, first] - centers[rows, second]
     limit = reach[pairs] - tolerance
-    near = (diff * diff).sum(axis=1) <= limit * limit  # bounding spheres of the geometries
+    gap2 = _squared_gaps(centers, rows, tables.pair_first[pairs], tables.pair_second[pairs])
+    near = gap2 <= limit * limit  # bounding spheres of the geometries
     rows, pairs = rows[near], pairs[near]
     if rot is not None:
         rows, pairs = uncleared(tables, unique, rot, centers, rows, pairs, tolerance)
@@ -310,6 +309,29 @@ def _near_pairs(
         tight = bound >= tolerance
         rows, pairs, bound = rows[tight], pairs[tight], bound[tight]
     return rows, pairs, bound
+
+
+def _squared_gaps(
+    centers: npt.NDArray[np.float64],
+    rows: npt.NDArray[np.int64],
+    first: npt.NDArray[np.int64],
+    second: npt.NDArray[np.int64],
+) -> npt.NDArray[np.float64]:
+    """(C,) m²: squared distance of geometry ``first[i]``'s centre from ``second[i]``'s at
+    configuration ``rows[i]``, of ``centers`` (N, G, 3), m; a coordinate at a time (gathers of
+    single numbers from one contiguous plane are several times faster than of (3,) rows)."""
+    import numpy as np
+
+    n = centers.shape[0]
+    planes = np.ascontiguousarray(centers.transpose(2, 1, 0)).reshape(3, -1)  # (3, G * N)
+    at_first, at_second = first * n + rows, second * n + rows
+    gap2 = np.zeros(rows.shape[0])
+    for plane in planes:
+        d = plane[at_first]
+        d -= plane[at_second]
+        d *= d
+        gap2 += d
+    return gap2
 
 
 KNOWN_CONFIGURATIONS = 1 << 15
