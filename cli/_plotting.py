@@ -232,12 +232,25 @@ def _kept(
     for y in ys:
         finite = timed & ~np.isnan(y)
         for extreme in (np.where(finite, y, np.inf), np.where(finite, -y, np.inf)):
-            order = np.lexsort((extreme, span))  # by span, lowest first
-            heads = order[np.flatnonzero(np.diff(span[order], prepend=-1))]
+            heads = _first_lowest(extreme, first)  # a span's points follow each other
             kept[heads[finite[heads]]] = True
         breaks = np.flatnonzero(~finite)
         kept[breaks[np.flatnonzero(np.diff(span[breaks], prepend=-1))]] = True
     return kept
+
+
+def _first_lowest(
+    values: npt.NDArray[np.float64], starts: npt.NDArray[np.intp]
+) -> npt.NDArray[np.intp]:
+    """The index of the first lowest of ``values`` in each run ``[starts[k], starts[k + 1])``
+    (``starts`` increasing from 0; the last run ends with ``values``); no NaN."""
+    import numpy as np
+
+    lowest = np.minimum.reduceat(values, starts)
+    at = np.flatnonzero(values == np.repeat(lowest, np.diff(starts, append=values.shape[0])))
+    run = np.searchsorted(starts, at, side="right") - 1
+    heads: npt.NDArray[np.intp] = at[np.flatnonzero(np.diff(run, prepend=-1))]
+    return heads
 
 
 def _view(

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from motiontool.cli._plotting import _SPANS, _kept
+from motiontool.cli._plotting import _SPANS, _first_lowest, _kept
 
 SPANS = 5
 
@@ -84,3 +84,20 @@ def test_diff_plots_old_and_new_from_the_points_either_keeps() -> None:
     assert b.tolist() == new[keep].tolist() and x.shape[0] <= 10 * _SPANS
     short = t[:100]
     assert _decimated_pair(short, old[:100], new[:100])[0] is short
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    st.lists(st.sampled_from([-1.0, 0.0, 2.5, float("inf")]), min_size=1, max_size=40),
+    st.sets(st.integers(1, 39), max_size=10),
+)
+def test_the_lowest_point_of_a_span_is_its_first_lowest(
+    values: list[float], cuts: set[int]
+) -> None:
+    """``_first_lowest``: per run, the first index of its lowest value (as a stable sort by
+    run and value finds it; ties are frequent here, and the drawn point must not move)."""
+    v = np.array(values)
+    starts = np.array([0, *sorted(c for c in cuts if c < v.shape[0])])
+    ends = [*starts[1:].tolist(), v.shape[0]]
+    want = [a + int(np.argmin(v[a:b])) for a, b in zip(starts.tolist(), ends, strict=True)]
+    assert _first_lowest(v, starts).tolist() == want
