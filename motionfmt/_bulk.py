@@ -22,6 +22,7 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import INT_MAX
+from motiontool.motionfmt.lines import plain_cell_spans
 from motiontool.motionfmt.pose_names import PoseNames
 
 if TYPE_CHECKING:
@@ -173,28 +174,22 @@ def _read_block(
     ``max_line`` bytes, newline excluded)."""
     import numpy as np
 
-    raw = np.frombuffer(block, dtype=np.uint8)
-    ends = np.flatnonzero(raw == 10)
-    if not block.endswith(b"\n"):
-        ends = np.append(ends, len(raw))
-    starts = np.empty_like(ends)
-    starts[0], starts[1:] = 0, ends[:-1] + 1
-    if int((ends - starts).max()) > max_line:
-        return None  # Webots reads it in pieces
-    commas = np.flatnonzero(raw == ord(","))
-    first = np.searchsorted(commas, starts)
-    if not bool((np.searchsorted(commas, ends) - first == n_joints + 1).all()):
-        return None  # a cell too many or too few (a blank line has none)
+    text = np.frombuffer(block, dtype=np.uint8, count=len(block) - block.endswith(b"\n"))
+    n_lines = block.count(b"\n", 0, text.shape[0]) + 1
+    spans = plain_cell_spans(text, n_lines, n_joints + 2, np.int64)
+    if spans is None:
+        return None  # a cell too many, too few or empty (a blank line: none, an empty name)
     # From here no line is blank: loadtxt (which skips blank lines) reads a row a line.
-    got = _times(*_gather(raw, starts, commas[first]), fields)
+    starts, stops = spans
+    if int((stops[:, -1] - starts[:, 0]).max()) > max_line:
+        return None  # Webots reads it in pieces
+    got = _times(*_gather(text, starts[:, 0], stops[:, 0]), fields)
     if got is None:
         return None
     # Each name with the comma after it: the text of the names, a comma after each.
-    offsets, text = _gather(raw, commas[first] + 1, commas[first + 1] + 1)
-    if bool((np.diff(offsets) == 1).any()):
-        return None  # an empty name: Webots reads the next cell as the name
+    names_text = _gather(text, starts[:, 1], stops[:, 1] + 1)[1]
     try:
-        names = text.tobytes().decode("utf-8").split(",")[:-1]
+        names = names_text.tobytes().decode("utf-8").split(",")[:-1]
         values = np.loadtxt(
             io.BytesIO(block),
             dtype=np.float64,
@@ -212,6 +207,6 @@ def _plain(data: bytes, start: int) -> bool:
     """No byte in ``data[start:]`` that only the exact path reads right (:data:`_REFUSED`); one
     ``memchr`` pass each. The rest needs no scan of the file: ``loadtxt`` refuses an empty
     number, text in one, Python's ``1_0`` (C reads 1) and a lone CR (an embedded newline to
-    it); :func:`_read_block` a line with a cell too many or too few, an empty name; the time's
-    pattern an empty time."""
+    it); :func:`_read_block` (:func:`~motiontool.motionfmt.lines.plain_cell_spans`) a line with a
+    cell too many, too few or empty."""
     return all(data.find(byte, start) < 0 for byte in _REFUSED)
