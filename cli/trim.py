@@ -15,7 +15,7 @@ from motiontool.cli._authoring import (
     parse_time_ms,
     report_header,
     say,
-    write_result,
+    write_blocks,
 )
 from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output
 from motiontool.motionfmt.fileio import source_name
@@ -59,7 +59,7 @@ def trim_command(
     target = output_target(path, output, in_place)
     doc = load_input(path)
     result = trim(doc, lo, hi, keep_times=keep_times)
-    write_result(result.document, target)
+    write_blocks(result.blocks(), target, result.n_poses, result.duration_ms)
     report = _json if format is Format.json else _text
     say(report(result, path, target, doc.n_poses), target)
 
@@ -75,7 +75,7 @@ def _text(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
         f"trimmed {source_name(source)} -> {dest}: kept {r.from_ms} ms to {r.to_ms} ms\n"
         f"poses: {r.kept} of {poses} kept, {r.inserted} boundary poses inserted "
         "(Webots' interpolation there, exact)\n"
-        f"{shift}; duration {r.document.motion.duration_ms} ms\n"
+        f"{shift}; duration {r.duration_ms} ms\n"
     )
 
 
@@ -87,6 +87,6 @@ def _json(r: Trimmed, source: Path, target: Path | None, poses: int) -> str:
         "to_ms": r.to_ms,
         "shift_ms": r.shift_ms,
         "poses": {"old": poses, "kept": r.kept, "inserted": r.inserted},
-        "duration_ms": r.document.motion.duration_ms,
+        "duration_ms": r.duration_ms,
     }
     return jsontext.dumps(doc)

@@ -2,18 +2,23 @@
 
 :func:`trim` keeps the poses inside a window as written, and at each boundary without a pose adds
 one that holds the targets Webots' player commands there
-(:func:`~motiontool.motionfmt.player.commands_at`; ``*`` where it sends none).
+(:func:`~motiontool.motionfmt.player.commands_at`; ``*`` where it sends none). The result is
+never held: :meth:`Trimmed.blocks` gives its bytes a block of lines at a time, sliced from the
+input's bytes, so that trimming holds the input and one block (it once held the input's lines,
+the result's lines, its bytes and its read: eight times the file).
 """
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.ops._cells import PoseLines, set_time, with_eol
+from motiontool.motionfmt.ops._cells import pose_block, set_time, with_eol
 from motiontool.motionfmt.writer import TimeStyle, format_time, pose_lines, pose_name
 
 if TYPE_CHECKING:
@@ -21,36 +26,105 @@ if TYPE_CHECKING:
 
 __all__ = ["Trimmed", "trim"]
 
+_LINES = 8192
+"""Kept pose lines :meth:`Trimmed.blocks` gives at a time."""
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, eq=False)
 class Trimmed:
-    """What :func:`trim` did.
+    """What :func:`trim` did, and the result (:meth:`blocks`, :attr:`document`).
 
     Attributes:
-        document: the trimmed document.
         from_ms, to_ms: the window kept, ms, in the input's times (``to_ms`` clamped to the
             input's last pose).
         shift_ms: how much earlier every kept time is in the result, ms (0 with keep_times).
         kept: input poses kept (their lines keep their spelling, but for the time).
         inserted: boundary poses added (0, 1 or 2).
+        source: the input document (not modified).
+        first: the input's first kept pose (0-based; ``first + kept`` past the last).
+        before, after: the boundary pose lines added before and after the kept ones (their
+            ends included), ``b""`` where none.
     """
 
-    document: MotionDocument
     from_ms: int
     to_ms: int
     shift_ms: int
     kept: int
     inserted: int
+    source: MotionDocument
+    first: int
+    before: bytes
+    after: bytes
+
+    @property
+    def n_poses(self) -> int:
+        """The result's poses."""
+        return self.kept + self.inserted
+
+    @property
+    def duration_ms(self) -> int:
+        """The result's last pose time, ms: the window's end, in the result's times."""
+        return self.to_ms - self.shift_ms
+
+    def blocks(self) -> Iterator[bytes]:
+        """The result's bytes, :data:`_LINES` pose lines at a time: the input's header, the
+        boundary poses and the kept pose lines (each ended as the header is; the time re-spelt
+        where shifted), then what follows the input's last pose (lines after a terminating
+        blank line, the final newline or its absence, which the last pose line then has too)."""
+        source = self.source
+        data = source.to_bytes()
+        start, stop = pose_block(data, source.n_poses)
+        header = data[: start - 1]
+        tail = data[stop:]
+        eol = b"\r" if header.endswith(b"\r") else b""
+        last_eol = eol if tail else b""  # the end of the result's last line
+        yield header
+        if self.before:  # never the last line: a kept pose or the other boundary follows
+            yield b"\n" + self.before + eol
+        at = start  # where the next pose line starts (found line by line: no index of all)
+        for _ in range(self.first):
+            at = data.index(b"\n", at) + 1
+        stop_at = self.first + self.kept
+        times = source.motion.times_ms
+        for a in range(self.first, stop_at, _LINES):
+            b = min(a + _LINES, stop_at)
+            end = at
+            for _ in range(b - a):
+                end = data.find(b"\n", end, stop) + 1 or stop + 1
+            lines = data[at : end - 1].split(b"\n")
+            at = end
+            if self.shift_ms:
+                new = (times[a:b] - self.shift_ms).tolist()
+                lines = [
+                    set_time(line, format_time(t, source.time_style).encode("ascii"))
+                    for line, t in zip(lines, new, strict=True)
+                ]
+            ends_as = [eol] * len(lines)
+            if b == stop_at and not self.after:
+                ends_as[-1] = last_eol
+            yield b"".join(
+                [b"\n" + with_eol(line, e) for line, e in zip(lines, ends_as, strict=True)]
+            )
+        if self.after:
+            yield b"\n" + self.after + last_eol
+        yield tail
+
+    @functools.cached_property
+    def document(self) -> MotionDocument:
+        """The result, read as a document (joined from :meth:`blocks` on first use)."""
+        return loads(b"".join(self.blocks()), self.source.path)
 
 
-def _boundary_line(motion: Motion, at_ms: int, time_ms: int, style: TimeStyle, eol: bytes) -> bytes:
+def _boundary_line(motion: Motion, at_ms: int, time_ms: int, style: TimeStyle) -> bytes:
+    """The pose line (without its end) at ``time_ms`` holding what Webots commands at ``at_ms``
+    (both ms)."""
     import numpy as np
 
     from motiontool.motionfmt.player import commands_at
 
     targets, sent = commands_at(motion, np.asarray([at_ms], dtype=np.int64))
     row = np.where(sent[0], targets[0], np.nan)[None, :]
-    return pose_lines([time_ms], [pose_name(time_ms)], row, style)[0].encode("utf-8") + eol
+    return pose_lines([time_ms], [pose_name(time_ms)], row, style)[0].encode("utf-8")
 
 
 def _window(from_ms: int | None, to_ms: int | None, last: int) -> tuple[int, int]:
@@ -90,33 +164,18 @@ def trim(
         MotionToolError: ``from_ms >= to_ms``, a negative time, ``from_ms`` at or past the end,
             or a ``nan``/``inf`` command.
     """
-    import numpy as np
-
     motion = doc.motion
     refuse_non_finite(motion, doc.result, "trimming")
     times = motion.times_ms
     lo, hi = _window(from_ms, to_ms, int(times[-1]))
     shift = 0 if keep_times else lo
-    lines = PoseLines.of(doc)
-    style = doc.time_style
-    eol = lines.eol
-    inside = np.flatnonzero((times >= lo) & (times <= hi)).tolist()
-    poses: list[bytes] = []
-    inserted = 0
-    if not inside or int(times[inside[0]]) != lo:
-        poses.append(_boundary_line(motion, lo, lo - shift, style, eol))
-        inserted += 1
-    for p in inside:
-        t = int(times[p]) - shift
-        line = lines.poses[p]
-        if shift:
-            line = set_time(line, format_time(t, style).encode("ascii"))
-        poses.append(with_eol(line, eol))
-    if not inside or int(times[inside[-1]]) != hi:
-        poses.append(_boundary_line(motion, hi, hi - shift, style, eol))
-        inserted += 1
-    if not lines.final_newline and not lines.suffix:
-        poses[-1] = with_eol(poses[-1], b"")
-    out = PoseLines(lines.header, poses, lines.suffix, eol, lines.final_newline)
-    document = loads(out.to_bytes(), doc.path)
-    return Trimmed(document, lo, hi, shift, len(inside), inserted)
+    first, stop = (int(i) for i in times.searchsorted([lo, hi], side="left"))
+    if stop < len(times) and int(times[stop]) == hi:
+        stop += 1  # the inside poses: lo <= t <= hi
+    before = after = b""
+    if first == stop or int(times[first]) != lo:
+        before = _boundary_line(motion, lo, lo - shift, doc.time_style)
+    if first == stop or int(times[stop - 1]) != hi:
+        after = _boundary_line(motion, hi, hi - shift, doc.time_style)
+    inserted = (before != b"") + (after != b"")
+    return Trimmed(lo, hi, shift, stop - first, inserted, doc, first, before, after)

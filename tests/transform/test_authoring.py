@@ -18,6 +18,7 @@ from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
 from motiontool.motionfmt.ops import scale as scale_module
+from motiontool.motionfmt.ops import trim as trim_module
 from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.ops.scale import _respelt, scale
@@ -207,6 +208,58 @@ def test_trim_keeps_kept_lines_and_boundary_poses_are_exact() -> None:
     )
     kept = trim(loads(data, "m.motion"), 25, 150, keep_times=True).document.motion
     assert kept.times_ms.tolist() == [25, 100, 150]
+
+
+@SETTINGS
+@given(motion_files(), st.data())
+def test_trim_blocks_join_to_the_result_whatever_their_size(
+    data: bytes, draw: st.DataObject
+) -> None:
+    doc = loads(data, "m.motion")
+    end = doc.motion.duration_ms
+    if end < 2:
+        return
+    lo = draw.draw(st.integers(0, end - 1))
+    r = trim(doc, lo, draw.draw(st.integers(lo + 1, end + 50)), keep_times=draw.draw(st.booleans()))
+    whole = b"".join(r.blocks())  # one block of lines (a generated file has few)
+    with patch.object(trim_module, "_LINES", draw.draw(st.integers(1, 3))):
+        assert b"".join(r.blocks()) == whole
+    assert r.document.to_bytes() == whole
+    assert (r.document.n_poses, r.document.motion.duration_ms) == (r.n_poses, r.duration_ms)
+
+
+@pytest.mark.parametrize(
+    ("data", "lo", "hi", "want"),
+    [
+        # Every kept line ends as the header does; no final newline: none after the last line.
+        (
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,P0,0\r\n100,P1,1\n200,P2,2",
+            50,
+            200,
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,Pose0ms,0.5\r\n50,P1,1\r\n150,P2,2",
+        ),
+        (
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,P0,0\r\n100,P1,1\n200,P2,2",
+            0,
+            200,
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,P0,0\r\n100,P1,1\r\n200,P2,2",
+        ),
+        # The lines after the terminating blank line stay, after the boundary pose.
+        (
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,P0,0\r\n100,P1,1\n200,P2,2\r\n\r\nnot read\r\n",
+            0,
+            150,
+            b"#WEBOTS_MOTION,V1.0,A\r\n0,P0,0\r\n100,P1,1\r\n150,Pose150ms,1.5\r\n\r\nnot read\r\n",
+        ),
+    ],
+)
+@pytest.mark.parametrize("lines", [1, 8192])
+def test_trim_keeps_the_line_ends_and_what_follows_the_poses(
+    data: bytes, lo: int, hi: int, want: bytes, lines: int
+) -> None:
+    r = trim(loads(data, "m.motion"), lo, hi)
+    with patch.object(trim_module, "_LINES", lines):
+        assert b"".join(r.blocks()) == want
 
 
 @pytest.mark.parametrize(("lo", "hi"), [(50, 50), (300, 400), (60, 20)])
