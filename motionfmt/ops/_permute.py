@@ -7,12 +7,13 @@ symmetrically about 0, so the text reads as exactly minus the number.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.lines import plain_cell_spans
-from motiontool.motionfmt.ops._cells import lf_block
+from motiontool.motionfmt.ops._cells import lf_span
 
 if TYPE_CHECKING:
     import numpy as np
@@ -51,55 +52,65 @@ _GATHER_BYTES = 1 << 20
 
 
 def permute_cells(
-    block: bytes,
+    data: bytes,
     n_lines: int,
     eol: bytes,
     cells: Sequence[int],
     negate: npt.NDArray[np.bool_],
     head: bytes = b"",
     tail: bytes = b"",
+    *,
+    start: int = 0,
+    stop: int | None = None,
 ) -> bytes | None:
-    """The pose block with every line's cells rearranged, by a numpy gather of its bytes,
-    between ``head`` and ``tail`` (joined once: the file's bytes are made once).
+    """The pose block ``data[start:stop]`` with every line's cells rearranged, by a numpy gather
+    of its bytes, between ``head`` and ``tail`` (the file's bytes are made once, written a
+    block at a time into one buffer).
 
     Output cell ``k`` of line ``p`` is input cell ``cells[k]`` of that line, negated where
     ``negate[p, k]`` (shape (n_lines, len(cells)), bool; column 0, the time, never) as
     :func:`negate_column` does it on plain cells: a leading ``-`` is dropped, otherwise one is
     put in front. The bytes :func:`cell_columns`, :func:`negate_column` and :func:`join_columns`
     give, without a Python object per cell. None (the caller takes that path) unless every
-    line is plain: ends as ``eol`` says, no NUL (:func:`lf_block`), exactly ``len(cells)``
+    line is plain: ends as ``eol`` says, no NUL (:func:`lf_span`), exactly ``len(cells)``
     cells, none empty nor starting with white space or ``+`` (:data:`ODD_STARTS`). Those
     conditions imply the ones of that path's fast, plain case, where it is exact.
     """
     import numpy as np
 
-    plain = lf_block(block, n_lines, eol)
-    if plain is None or bool(negate[:, 0].any()):
+    span = lf_span(data, n_lines, eol, start, len(data) if stop is None else stop)
+    if span is None or bool(negate[:, 0].any()):
         return None
-    n_cells = len(cells)
+    plain, at, end = span
+    if plain.count(b"\n", at, end) != n_lines - 1:
+        return None
     order = np.asarray(cells, dtype=np.intp)
     # Lines are done about a megabyte of input at a time, each such block on its own: the
     # offsets, masks and index arrays stay that small (for the whole file they are several
     # times its size, and fresh memory is slow to touch).
-    line_end = np.flatnonzero(np.frombuffer(plain, dtype=np.uint8) == 10)  # 10: '\n'
-    if line_end.shape[0] != n_lines - 1:
-        return None
-    line_start = np.concatenate(([0], line_end + 1, [len(plain) + 1]))
-    rows = max(1, _GATHER_BYTES * n_lines // max(len(plain), 1))
-    parts = []
-    for a in range(0, n_lines, rows):
-        b = min(a + rows, n_lines)
-        gather = _Gather.of(plain[line_start[a] : line_start[b] - 1], b - a, n_cells, eol)
-        spans = _cell_spans(gather.text, b - a, n_cells, gather.idx)
-        if spans is None:
+    out = io.BytesIO()  # grown in place: its bytes are not copied again by getvalue
+    out.write(head)
+    line = 0
+    while line < n_lines:
+        cut = end if end - at <= _GATHER_BYTES else _block_end(plain, at, end)
+        rows = plain.count(b"\n", at, cut) + 1
+        gather = _Gather.of(plain[at:cut], rows, len(cells), eol)
+        part = gather.permuted(order, negate[line : line + rows], line == 0, line + rows == n_lines)
+        if part is None:
             return None
-        starts, stops = spans
-        parts.append(
-            gather.lines(
-                starts[:, order], stops[:, order], negate[a:b], opens=a == 0, closes=b == n_lines
-            )
-        )
-    return b"".join([head, *parts, tail])
+        out.write(part)
+        line, at = line + rows, cut + 1
+    out.write(tail)
+    return out.getvalue()
+
+
+def _block_end(plain: bytes, at: int, end: int) -> int:
+    """Where a block of about :data:`_GATHER_BYTES` of the lines from ``at`` ends: the last
+    line end within that many bytes, or the first after them for a longer line."""
+    cut = plain.rfind(b"\n", at, at + _GATHER_BYTES)
+    if cut < 0:
+        cut = plain.find(b"\n", at + _GATHER_BYTES, end)
+    return end if cut < 0 else cut
 
 
 def _cell_spans(
@@ -154,6 +165,17 @@ class _Gather:
     def text(self) -> npt.NDArray[np.uint8]:
         """The plain block's bytes."""
         return self.buf[: self.size]
+
+    def permuted(
+        self, order: npt.NDArray[np.intp], neg: npt.NDArray[np.bool_], opens: bool, closes: bool
+    ) -> bytes | None:
+        """The block's lines with their cells in ``order`` (negated where ``neg``), as
+        :meth:`lines` writes them; None unless every line is plain (:func:`_cell_spans`)."""
+        spans = _cell_spans(self.text, neg.shape[0], order.shape[0], self.idx)
+        if spans is None:
+            return None
+        starts, stops = spans
+        return self.lines(starts[:, order], stops[:, order], neg, opens=opens, closes=closes)
 
     def lines(
         self,

@@ -35,6 +35,8 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.motionfmt.motion import Motion
+
 __all__ = ["Mirrored", "mirror"]
 
 
@@ -68,19 +70,35 @@ class Mirrored:
 @dataclass(frozen=True, eq=False)
 class _MirrorPlan:
     """What :func:`mirror` writes: output column ``j`` (header name ``names[j]``) holds input
-    column ``source[j]`` times ``signs[j]``; ``flip`` (P, J) bool: the cells whose text is
-    negated; ``values`` (P, J) float64, rad (m), and ``commanded`` (P, J) bool: the result."""
+    column ``source[j]`` of ``motion`` times ``signs[j]``; ``flip`` (P, J) bool: the cells
+    whose text is negated (:attr:`values` and :attr:`commanded`: the result, made when the
+    per-cell path needs them)."""
 
-    joints: tuple[str, ...]
+    motion: Motion
     source: list[int]
     signs: list[int]
     names: list[str]
     flip: npt.NDArray[np.bool_]
-    values: npt.NDArray[np.float64]
-    commanded: npt.NDArray[np.bool_]
     swapped: tuple[tuple[str, str], ...]
     renamed: tuple[tuple[str, str], ...]
     unmapped: tuple[str, ...]
+
+    @property
+    def joints(self) -> tuple[str, ...]:
+        return self.motion.joints
+
+    @property
+    def values(self) -> npt.NDArray[np.float64]:
+        """(P, J) float64, rad (m): the result's values."""
+        import numpy as np
+
+        sgn = np.asarray(self.signs, dtype=np.float64)
+        return self.motion.values[:, self.source] * sgn + 0.0  # + 0.0: no '-0'
+
+    @property
+    def commanded(self) -> npt.NDArray[np.bool_]:
+        """(P, J) bool: the result's commanded cells."""
+        return self.motion.commanded[:, self.source]
 
     @property
     def moves(self) -> list[int]:
@@ -129,27 +147,20 @@ def _mirror_plan(doc: MotionDocument, mapping: Mapping[str, tuple[str, int]]) ->
                 swapped.append((name, partner))
         signs.append(sign)
 
-    src = np.asarray(source, dtype=np.intp)
-    sgn = np.asarray(signs, dtype=np.float64)
-    values = motion.values[:, src] * sgn + 0.0  # + 0.0: no '-0'
-    commanded = motion.commanded[:, src]
-    flip = (sgn < 0)[None, :] & commanded & (motion.values[:, src] != 0.0)
-    if np.any(flip & (values == NO_VALUE_MARKER)):
-        raise MotionToolError(
-            f"{doc.path}: a value of {-NO_VALUE_MARKER} negated is Webots' 'no value' marker "
-            f"{NO_VALUE_MARKER}: the mirror cannot be written"
-        )
+    # Column by column (a negated one's cells only): no (P, J) array of values is made.
+    flip = np.zeros((motion.n_poses, len(joints)), dtype=bool)
+    for j, (k, sign) in enumerate(zip(source, signs, strict=True)):
+        if sign > 0:
+            continue
+        column = motion.values[:, k]
+        flip[:, j] = motion.commanded[:, k] & (column != 0.0)
+        if np.any(flip[:, j] & (column == -NO_VALUE_MARKER)):
+            raise MotionToolError(
+                f"{doc.path}: a value of {-NO_VALUE_MARKER} negated is Webots' 'no value' "
+                f"marker {NO_VALUE_MARKER}: the mirror cannot be written"
+            )
     return _MirrorPlan(
-        joints,
-        source,
-        signs,
-        names,
-        flip,
-        values,
-        commanded,
-        tuple(swapped),
-        tuple(renamed),
-        tuple(unmapped),
+        motion, source, signs, names, flip, tuple(swapped), tuple(renamed), tuple(unmapped)
     )
 
 
@@ -180,7 +191,9 @@ def _mirror_gather(doc: MotionDocument, plan: _MirrorPlan) -> bytes | None:
     cells = [0, 1, *(2 + k for k in plan.source)]
     eol = b"\r" if header.endswith(b"\r") else b""
     head = _mirror_header(header, plan) + b"\n"
-    return permute_cells(data[start:stop], doc.n_poses, eol, cells, negate, head, data[stop:])
+    return permute_cells(
+        data, doc.n_poses, eol, cells, negate, head, data[stop:], start=start, stop=stop
+    )
 
 
 def _mirror_bytes(doc: MotionDocument, plan: _MirrorPlan, *, gather: bool = True) -> bytes:

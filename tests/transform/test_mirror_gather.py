@@ -8,12 +8,15 @@ the gather applies its bytes are too.
 
 from __future__ import annotations
 
+from unittest.mock import patch
+
 import pytest
 from hypothesis import HealthCheck, event, example, given, settings
 from hypothesis import strategies as st
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt import loads
+from motiontool.motionfmt.ops import _permute
 from motiontool.motionfmt.ops._permute import permute_cells
 from motiontool.motionfmt.ops.mirror import _mirror_bytes, _mirror_gather, _mirror_plan, mirror
 
@@ -214,6 +217,25 @@ def _check(data: bytes, mapping: Mapping) -> tuple[str, bytes | None]:
 @example((_nao_like(2, 2, ["9999999.9", "1"]), _lr_map(2)))  # the marker refusal
 def test_the_gather_writes_the_bytes_of_the_per_cell_path(case: tuple[bytes, Mapping]) -> None:
     event(_check(*case)[0])
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(mirror_cases(), st.integers(1, 120))
+@example((EXTREMES[0][1], EXTREMES[0][2]), 1)  # lines longer than a block
+def test_the_gather_in_blocks_of_a_few_bytes_writes_the_same_bytes(
+    case: tuple[bytes, Mapping], block: int
+) -> None:
+    """The lines are gathered about ``_GATHER_BYTES`` at a time (a line longer than that in a
+    block of its own): a generated file in one block against the same in many."""
+    data, mapping = case
+    doc = loads(data, "m.motion")
+    try:
+        plan = _mirror_plan(doc, mapping)
+    except MotionToolError:
+        return
+    whole = _mirror_gather(doc, plan)
+    with patch.object(_permute, "_GATHER_BYTES", block):
+        assert _mirror_gather(doc, plan) == whole
 
 
 @pytest.mark.parametrize(
