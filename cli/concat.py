@@ -112,6 +112,7 @@ def concat_command(
         )
     limits = None if spec is None else {j.name: j.max_velocity for j in spec.joints}
     result = concat(docs, transition_ms=transition, max_velocity=limits, margin=margin)
+    del docs  # the inputs go before the result is read (its memory is theirs again)
     step, findings = _transition_findings(result, spec, timestep)
     write_result(result.document, target)
     if format is Format.json:

@@ -8,13 +8,14 @@ given one. The inputs' pose lines keep their spelling, but for their times.
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.document import MotionDocument, loads
+from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
     PoseLines,
@@ -25,6 +26,7 @@ from motiontool.motionfmt.ops._cells import (
     set_time,
     with_eol,
 )
+from motiontool.motionfmt.ops._result import ReadOnUse
 from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
 from motiontool.motionfmt.writer import TimeStyle, format_time
 
@@ -56,19 +58,21 @@ class Transition:
     fitted: bool
 
 
-@dataclass(frozen=True)
-class Concatenated:
+@dataclass(frozen=True, eq=False)
+class Concatenated(ReadOnUse):
     """What :func:`concat` did.
 
     Attributes:
-        document: the joined document (the first input's header and lines first).
+        data: the joined file's bytes (the first input's header and lines first).
+        path: its name (the first input's).
         transitions: one per joint between two inputs.
         reordered: inputs whose columns were put in the first input's order.
         dropped_lines: lines after a terminating blank line (ignored by Webots) left out.
         unconstrained: joints without a velocity limit (not constrained by the fit).
     """
 
-    document: MotionDocument
+    data: bytes
+    path: str
     transitions: tuple[Transition, ...]
     reordered: tuple[str, ...]
     dropped_lines: int
@@ -124,7 +128,12 @@ def concat(
         transitions.append(transition)
         joined.append(doc, order, transition.duration_ms)
     return Concatenated(
-        joined.document(), tuple(transitions), tuple(reordered), joined.dropped, unconstrained
+        joined.to_bytes(),
+        first.path,
+        tuple(transitions),
+        tuple(reordered),
+        joined.dropped,
+        unconstrained,
     )
 
 
@@ -134,9 +143,9 @@ class _Joined:
 
     Attributes:
         first: the first input (its path and time style are the result's).
-        header: the first input's header line, the result's.
         eol: the first input's line end before ``\\n``: ``\\r`` (CRLF) or nothing.
-        poses: the pose lines, each ended by ``eol``.
+        out: the bytes so far: the first input's header line, then each pose line after a
+            ``\\n``, ended by ``eol`` (one buffer, grown in place: no line is held on its own).
         end_ms: the last pose's time, ms.
         last_row: (J,) the last pose's targets in the first input's column order, rad (m);
             NaN where it has ``*``.
@@ -145,9 +154,8 @@ class _Joined:
     """
 
     first: MotionDocument
-    header: bytes
     eol: bytes
-    poses: list[bytes]
+    out: io.BytesIO
     end_ms: int
     last_row: npt.NDArray[np.float64]
     dropped: int
@@ -157,31 +165,45 @@ class _Joined:
     def of(cls, first: MotionDocument) -> _Joined:
         """The first input, as it is (but for its last line's end)."""
         base = PoseLines.of(first)
-        poses = [with_eol(line, base.eol) for line in base.poses]
+        out = io.BytesIO()
+        out.write(base.header)
+        _write_lines(out, [with_eol(line, base.eol) for line in base.poses])
         end = int(first.motion.times_ms[-1])
         last_row = _targets(first.motion, list(range(first.motion.n_joints)), -1)
-        return cls(
-            first, base.header, base.eol, poses, end, last_row, len(base.suffix), base.final_newline
-        )
+        return cls(first, base.eol, out, end, last_row, len(base.suffix), base.final_newline)
 
     def append(self, doc: MotionDocument, order: list[int], transition_ms: int) -> None:
         """``doc``'s poses, its columns in ``order`` (the input column of each of the first
         input's joints), its first pose ``transition_ms`` after the last pose so far."""
         new_times = _shifted_times(doc, self.end_ms + transition_ms)
         lines = PoseLines.of(doc)
-        self.poses.extend(_retimed_lines(lines, order, new_times, self.first.time_style, self.eol))
+        _write_lines(
+            self.out, _retimed_lines(lines, order, new_times, self.first.time_style, self.eol)
+        )
         self.dropped += len(lines.suffix)
         self.final_newline = lines.final_newline
         self.end_ms = new_times[-1]
         self.last_row = _targets(doc.motion, order, -1)
 
-    def document(self) -> MotionDocument:
-        """The joined document, read back (named as the first input)."""
-        poses = list(self.poses)
-        if not self.final_newline:
-            poses[-1] = with_eol(poses[-1], b"")
-        out = PoseLines(self.header, poses, [], self.eol, self.final_newline)
-        return loads(out.to_bytes(), self.first.path)
+    def to_bytes(self) -> bytes:
+        """The joined file's bytes (the buffer's, not copied; nothing can be appended after)."""
+        if self.final_newline:
+            self.out.write(b"\n")
+        elif self.eol:  # no final newline: the last line has no end
+            self.out.truncate(self.out.tell() - len(self.eol))
+        return self.out.getvalue()
+
+
+def _write_lines(out: io.BytesIO, lines: list[bytes]) -> None:
+    """Write each of ``lines`` after a ``\\n`` (the line before it ends there), joined
+    :data:`_LINES` at a time."""
+    for a in range(0, len(lines), _LINES):
+        out.write(b"\n")
+        out.write(b"\n".join(lines[a : a + _LINES]))
+
+
+_LINES = 8192
+"""Pose lines :func:`_write_lines` joins at a time."""
 
 
 def _targets(motion: Motion, order: list[int], pose: int) -> npt.NDArray[np.float64]:

@@ -10,7 +10,6 @@ pose lines are rearranged by one numpy gather of the file's bytes
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -29,6 +28,7 @@ from motiontool.motionfmt.ops._cells import (
     replace_cells,
 )
 from motiontool.motionfmt.ops._permute import negate_column, odd_start, permute_cells
+from motiontool.motionfmt.ops._result import ReadOnUse
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, token_spans
 
 if TYPE_CHECKING:
@@ -41,7 +41,7 @@ __all__ = ["Mirrored", "mirror"]
 
 
 @dataclass(frozen=True, eq=False)
-class Mirrored:
+class Mirrored(ReadOnUse):
     """What :func:`mirror` did.
 
     Attributes:
@@ -60,11 +60,6 @@ class Mirrored:
     negated: tuple[str, ...]
     renamed: tuple[tuple[str, str], ...]
     unmapped: tuple[str, ...]
-
-    @functools.cached_property
-    def document(self) -> MotionDocument:
-        """The mirrored document (read on first use)."""
-        return loads(self.data, self.path)
 
 
 @dataclass(frozen=True, eq=False)

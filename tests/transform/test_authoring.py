@@ -17,6 +17,7 @@ from motiontool.kinematics.checks import Limits, Velocity
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
+from motiontool.motionfmt.ops import concat as concat_module
 from motiontool.motionfmt.ops import scale as scale_module
 from motiontool.motionfmt.ops import trim as trim_module
 from motiontool.motionfmt.ops.concat import concat
@@ -313,6 +314,29 @@ def test_concat_keeps_the_first_file_and_respells_only_the_next_times() -> None:
         b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\r\n00:00:000,A,0,+0.10\r\n00:00:040,B,0.5,0.1\r\n"
         b"00:00:108,C,1.0,0.2 \r\n00:00:308,D,1.5,*\r\n"
     )
+
+
+@pytest.mark.parametrize("lines", [1, 8192])
+@pytest.mark.parametrize(
+    ("inputs", "want"),
+    [
+        # The first input's line ends throughout; the last one's lack of a final newline.
+        (
+            [b"#WEBOTS_MOTION,V1.0,J\r\n0,A,0\r\n40,B,0.5\r\n", b"#WEBOTS_MOTION,V1.0,J\n0,C,1"],
+            b"#WEBOTS_MOTION,V1.0,J\r\n0,A,0\r\n40,B,0.5\r\n41,C,1",
+        ),
+        (
+            [b"#WEBOTS_MOTION,V1.0,J\n0,C,1\n9,D,2", b"#WEBOTS_MOTION,V1.0,J\r\n0,A,0\r\n"] * 2,
+            b"#WEBOTS_MOTION,V1.0,J\n0,C,1\n9,D,2\n10,A,0\n11,C,1\n20,D,2\n21,A,0\n",
+        ),
+    ],
+)
+def test_concat_ends_its_lines_as_the_inputs_say(
+    inputs: list[bytes], want: bytes, lines: int
+) -> None:
+    docs = [loads(data, f"{k}.motion") for k, data in enumerate(inputs)]
+    with patch.object(concat_module, "_LINES", lines):
+        assert concat(docs, transition_ms=1).data == want
 
 
 def test_concat_refuses_different_joints() -> None:
