@@ -12,7 +12,7 @@ first.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -34,6 +34,7 @@ __all__ = [
     "lf_block",
     "lf_span",
     "pose_block",
+    "pose_line_blocks",
     "refuse_duplicates",
     "repair",
     "replace_cells",
@@ -91,6 +92,25 @@ def pose_block(data: bytes, n_poses: int) -> tuple[int, int]:
     for _ in range(n_poses):  # lines after a blank line follow the poses
         stop = data.index(b"\n", stop) + 1
     return start, stop - 1
+
+
+def pose_line_blocks(
+    data: bytes, span: tuple[int, int], size: int, first: int, stop_at: int
+) -> Iterator[tuple[int, list[bytes]]]:
+    """Pose lines ``first`` to ``stop_at - 1`` (0-based) of a document's bytes ``data`` whose
+    pose lines are at ``span`` (:func:`pose_block`), ``size`` at a time: (the index of a
+    block's first line, its lines split from the bytes). The lines are found one ``find`` at a
+    time: neither all lines nor an index of them is held."""
+    start, stop = span
+    at = start  # where the next line starts
+    for _ in range(first):
+        at = data.index(b"\n", at) + 1
+    for a in range(first, stop_at, size):
+        end = at
+        for _ in range(min(size, stop_at - a)):
+            end = data.find(b"\n", end, stop) + 1 or stop + 1
+        yield a, data[at : end - 1].split(b"\n")
+        at = end
 
 
 def split_cells(line: bytes) -> list[bytes] | None:

@@ -7,6 +7,7 @@ here.
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -16,10 +17,11 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
-    PoseLines,
     cell_columns,
     cell_tokens,
     join_columns,
+    pose_block,
+    pose_line_blocks,
     repair,
     replace_cells,
     respell,
@@ -233,23 +235,27 @@ def _respelt(
     reference the column path is tested against (the bytes are the same)."""
     import numpy as np
 
-    lines = PoseLines.of(doc)
-    for lo in range(0, len(lines.poses), _LINES):
-        block = slice(lo, lo + _LINES)
+    data = doc.to_bytes()
+    span = pose_block(data, doc.n_poses)
+    eol = b"\r" if data[: span[0] - 1].endswith(b"\r") else b""
+    out = io.BytesIO()  # grown in place: the result's bytes are not copied again
+    out.write(data[: span[0]])
+    for lo, poses in pose_line_blocks(data, span, _LINES, 0, doc.n_poses):
+        block = slice(lo, lo + len(poses))
         edited = None
         if columns:
-            edited = _respelt_columns(lines.poses[block], new[block], changed[block], lines.eol)
-        if edited is not None:
-            lines.poses[block] = edited
-            continue
-        for p in (lo + np.flatnonzero(changed[block].any(axis=1))).tolist():
-            line = lines.poses[p]
-            tokens = cell_tokens(line)
-            cols = np.flatnonzero(changed[p]).tolist()
-            lines.poses[p] = replace_cells(
-                line, {2 + j: respell(tokens[2 + j], float(new[p, j])) for j in cols}
-            )
-    return lines.to_bytes()
+            edited = _respelt_columns(poses, new[block], changed[block], eol)
+        if edited is None:
+            edited = poses
+            for p in np.flatnonzero(changed[block].any(axis=1)).tolist():
+                tokens = cell_tokens(poses[p])
+                cols = np.flatnonzero(changed[lo + p]).tolist()
+                edited[p] = replace_cells(
+                    poses[p], {2 + j: respell(tokens[2 + j], float(new[lo + p, j])) for j in cols}
+                )
+        out.write(b"\n".join(edited) if lo == 0 else b"\n" + b"\n".join(edited))
+    out.write(data[span[1] :])
+    return out.getvalue()
 
 
 def _respelt_columns(

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.ops._cells import pose_block, set_time, with_eol
+from motiontool.motionfmt.ops._cells import pose_block, pose_line_blocks, set_time, with_eol
 from motiontool.motionfmt.writer import TimeStyle, format_time, pose_lines, pose_name
 
 if TYPE_CHECKING:
@@ -81,18 +81,10 @@ class Trimmed:
         yield header
         if self.before:  # never the last line: a kept pose or the other boundary follows
             yield b"\n" + self.before + eol
-        at = start  # where the next pose line starts (found line by line: no index of all)
-        for _ in range(self.first):
-            at = data.index(b"\n", at) + 1
         stop_at = self.first + self.kept
         times = source.motion.times_ms
-        for a in range(self.first, stop_at, _LINES):
-            b = min(a + _LINES, stop_at)
-            end = at
-            for _ in range(b - a):
-                end = data.find(b"\n", end, stop) + 1 or stop + 1
-            lines = data[at : end - 1].split(b"\n")
-            at = end
+        for a, lines in pose_line_blocks(data, (start, stop), _LINES, self.first, stop_at):
+            b = a + len(lines)
             if self.shift_ms:
                 new = (times[a:b] - self.shift_ms).tolist()
                 lines = [
