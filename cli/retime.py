@@ -18,6 +18,7 @@ from motiontool.cli._authoring import (
     report_header,
     say,
     values_count,
+    write_blocks,
     write_result,
 )
 from motiontool.cli.options import (
@@ -37,6 +38,7 @@ from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.nonfinite import refuse_non_finite
+from motiontool.motionfmt.ops.retimed import retimed_blocks
 from motiontool.motionfmt.transform import (
     DEFAULT_MARGIN,
     Retimed,
@@ -151,10 +153,14 @@ def retime_command(
             times, motion.joints, motion.values, limits, margin=margin, max_acceleration=accel
         )
         how = f"fit to {spec.name}'s limits"
-    doc.set_times(list(result.times_ms))
-    if spec is not None:
+    times_ms = list(result.times_ms)
+    if spec is None:  # times only: the lines are written a block at a time, never all held
+        blocks = retimed_blocks(doc, range(doc.n_poses), times_ms, ends_as_header=False)
+        write_blocks(blocks, target, doc.n_poses, times_ms[-1])
+    else:
+        doc.set_times(times_ms)
         findings = check_result(doc, Velocity(spec, timestep))
-    write_result(doc, target)
+        write_result(doc, target)
     if format is Format.json:
         say(_json(result, path, target, spec, margin, accel, findings), target)
     else:

@@ -18,16 +18,13 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.ops._cells import pose_block, pose_line_blocks, set_time, with_eol
-from motiontool.motionfmt.writer import TimeStyle, format_time, pose_lines, pose_name
+from motiontool.motionfmt.ops.retimed import retimed_blocks
+from motiontool.motionfmt.writer import TimeStyle, pose_lines, pose_name
 
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["Trimmed", "trim"]
-
-_LINES = 8192
-"""Kept pose lines :meth:`Trimmed.blocks` gives at a time."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -67,39 +64,12 @@ class Trimmed:
         return self.to_ms - self.shift_ms
 
     def blocks(self) -> Iterator[bytes]:
-        """The result's bytes, :data:`_LINES` pose lines at a time: the input's header, the
-        boundary poses and the kept pose lines (each ended as the header is; the time re-spelt
-        where shifted), then what follows the input's last pose (lines after a terminating
-        blank line, the final newline or its absence, which the last pose line then has too)."""
-        source = self.source
-        data = source.to_bytes()
-        start, stop = pose_block(data, source.n_poses)
-        header = data[: start - 1]
-        tail = data[stop:]
-        eol = b"\r" if header.endswith(b"\r") else b""
-        last_eol = eol if tail else b""  # the end of the result's last line
-        yield header
-        if self.before:  # never the last line: a kept pose or the other boundary follows
-            yield b"\n" + self.before + eol
-        stop_at = self.first + self.kept
-        times = source.motion.times_ms
-        for a, lines in pose_line_blocks(data, (start, stop), _LINES, self.first, stop_at):
-            b = a + len(lines)
-            if self.shift_ms:
-                new = (times[a:b] - self.shift_ms).tolist()
-                lines = [
-                    set_time(line, format_time(t, source.time_style).encode("ascii"))
-                    for line, t in zip(lines, new, strict=True)
-                ]
-            ends_as = [eol] * len(lines)
-            if b == stop_at and not self.after:
-                ends_as[-1] = last_eol
-            yield b"".join(
-                [b"\n" + with_eol(line, e) for line, e in zip(lines, ends_as, strict=True)]
-            )
-        if self.after:
-            yield b"\n" + self.after + last_eol
-        yield tail
+        """The result's bytes, a block of lines at a time (:func:`retimed_blocks`): the
+        input's header, the boundary poses and the kept pose lines (the times re-spelt where
+        shifted), then what follows the input's last pose."""
+        poses = range(self.first, self.first + self.kept)
+        times = self.source.motion.times_ms[poses.start : poses.stop] - self.shift_ms
+        return retimed_blocks(self.source, poses, times.tolist(), self.before, self.after)
 
     @functools.cached_property
     def document(self) -> MotionDocument:

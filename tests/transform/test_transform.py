@@ -395,3 +395,21 @@ def test_fitting_velocities_mends_the_rounding_of_its_first_guess_and_names_the_
         assert fl._fit_velocity([0, 1], v, vlim, ["A", "B", "C"], reason, vectorised=vectorised)
         assert reason == {0: ("A", "velocity")}
         assert fl._fit_velocity([0, 1], v, vlim, ["A", "B", "C"], {}, vectorised=vectorised) == [3]
+
+
+@SETTINGS
+@given(data=motion_files(), speed=st.sampled_from([0.3, 0.7, 1.0, 2.5]), lines=st.integers(1, 3))
+def test_retimed_blocks_write_what_set_times_makes(data: bytes, speed: float, lines: int) -> None:
+    """``retime --speed`` streams its result (``ops.retimed``): the bytes of the document whose
+    times ``set_times`` set, in blocks of any size; every line keeps its own end."""
+    from unittest.mock import patch
+
+    from motiontool.motionfmt.ops import retimed
+
+    doc = loads(data, "m.motion")
+    times = list(scale_times([int(t) for t in doc.motion.times_ms], speed).times_ms)
+    edited = doc.copy()
+    edited.set_times(times)
+    with patch.object(retimed, "_LINES", lines):
+        blocks = retimed.retimed_blocks(doc, range(doc.n_poses), times, ends_as_header=False)
+        assert b"".join(blocks) == edited.to_bytes()
