@@ -12,8 +12,10 @@ integers), resample (a 30 ms grid, its deviation compared at every ms) and diff
 
 Then the peak memory of each command as a whole process (``motiontool mirror big.motion -o
 out.motion``, ...; GNU time), against ``motiontool info big.motion`` (which reads the file) in
-the same run, and per MB of file. No target: a command that edits a document holds it, and what
-it writes (for the record; ``validate``, ``sample``, ``diff`` and ``plot`` are measured flat by
+the same run, and per MB of file. No target: ``trim`` and ``retime --speed`` hold the input
+and write their result a block of lines at a time (``motionfmt/ops/retimed.py``); ``mirror``,
+``concat`` and ``scale`` hold the input and the result's bytes, read back for their checks
+(for the record; ``validate``, ``sample``, ``diff`` and ``plot`` are measured flat by
 ``bench_findings.py`` and ``bench_duration.py``).
 """
 
@@ -139,6 +141,7 @@ def peaks(big: Path, tmp: Path) -> None:
         ("trim (80 %)", ["trim", str(big), "-o", out, "--from", "1000", "--to", "3200000"]),
         ("retime --speed 0.5", ["retime", str(big), "-o", out, "--speed", "0.5"]),
         ("scale --amplitude 0.5", ["scale", str(big), "-o", out, "--amplitude", "0.5"]),
+        ("concat (the file and itself)", ["concat", str(big), str(big), "-o", out]),
         ("resample --step 20", ["resample", str(big), "-o", out, "--step", "20"]),
     ):
         child = best_child(1, [script, *args])
