@@ -39,8 +39,8 @@ class Trimmed:
         inserted: boundary poses added (0, 1 or 2).
         source: the input document (not modified).
         first: the input's first kept pose (0-based; ``first + kept`` past the last).
-        before, after: the boundary pose lines added before and after the kept ones (their
-            ends included), ``b""`` where none.
+        before, after: the boundary pose lines added before and after the kept ones
+            (without their ends), ``b""`` where none.
     """
 
     from_ms: int
