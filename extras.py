@@ -71,8 +71,24 @@ def require(module: str, extra: str, what: str) -> ModuleType:
     try:
         return importlib.import_module(module)
     except ImportError as exc:
+        if _interrupted(exc):  # Ctrl-C in a compiled module's import: not a missing extra
+            raise KeyboardInterrupt from exc
         top = module.partition(".")[0]
         raise MissingExtraError(top, extra, what, _LIBRARIES.get(top, top)) from exc
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """Whether a Ctrl-C is behind ``exc``: a compiled (pybind11) module whose initialisation
+    is interrupted fails to import with ``ImportError: initialization failed``, caused by the
+    ``KeyboardInterrupt``."""
+    seen: set[int] = set()
+    cause: BaseException | None = exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
 
 
 def require_installed(module: str, extra: str, what: str) -> None:

@@ -310,8 +310,15 @@ def case_ctrl_c(tally: Tally) -> None:
     try:
         cache = here / "cache-dir"
         line = ["batch", "in.motion", "--samples", "400", "--perturb", "friction=0.8:1.2"]
+        # As from a terminal: SIGINT at its default. A shell starts a background job with
+        # SIGINT ignored (`.ci/run &`, nohup), the ignore is inherited through exec, and
+        # Python then installs no handler: the batch would ignore the Ctrl-C and end with 0.
+        default_sigint = (
+            "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+            "os.execv(sys.argv[1], sys.argv[1:])"
+        )
         proc = subprocess.Popen(
-            [SCRIPT, *line, "--cache-dir", str(cache)],
+            [sys.executable, "-c", default_sigint, SCRIPT, *line, "--cache-dir", str(cache)],
             cwd=here,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,

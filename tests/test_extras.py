@@ -9,6 +9,7 @@ site-packages), as ``pip install motiontool`` leaves it.
 
 from __future__ import annotations
 
+import importlib
 import json
 import os
 import subprocess
@@ -271,6 +272,32 @@ def test_require_imports_or_names_the_extra() -> None:
         "motiontool plot needs motiontool_no_such_module: pip install 'motiontool[plot]'"
     )
     assert install_hint("sim") == "pip install 'motiontool[sim]'"
+
+
+def test_ctrl_c_in_an_import_is_an_interrupt_not_a_missing_extra(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # pybind11 turns an exception in a module's initialisation into ImportError, caused by it:
+    # Ctrl-C while MuJoCo loads said "needs MuJoCo: pip install ..." and exited 2, not 130.
+    def interrupted(name: str) -> None:
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as exc:
+            raise ImportError("initialization failed") from exc
+
+    monkeypatch.setattr(importlib, "import_module", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        require("mujoco", "sim", "motiontool batch")
+
+    def missing(name: str) -> None:
+        try:
+            raise OSError("libGL.so.1: cannot open shared object file")
+        except OSError as exc:
+            raise ImportError("initialization failed") from exc
+
+    monkeypatch.setattr(importlib, "import_module", missing)
+    with pytest.raises(MissingExtraError):
+        require("mujoco", "sim", "motiontool batch")
 
 
 def test_every_extra_of_the_helper_is_an_extra_of_the_package() -> None:

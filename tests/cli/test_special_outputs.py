@@ -352,8 +352,14 @@ def test_ctrl_c_in_batch_exits_130_without_a_traceback(here: Path) -> None:
 
     cache = here / "cache-dir"
     line = ["batch", "in.motion", "--samples", "400", "--perturb", "friction=0.8:1.2"]
+    # SIGINT at its default, as from a terminal: a test run started in the background (`&`,
+    # nohup) inherits it ignored, and the batch would then ignore the Ctrl-C.
+    default_sigint = (
+        "import os, signal, sys; signal.signal(signal.SIGINT, signal.SIG_DFL); "
+        "os.execv(sys.argv[1], sys.argv[1:])"
+    )
     proc = subprocess.Popen(
-        [SCRIPT, *line, "--cache-dir", str(cache)],
+        [sys.executable, "-c", default_sigint, SCRIPT, *line, "--cache-dir", str(cache)],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         cwd=here,
