@@ -11,6 +11,7 @@ first.
 
 from __future__ import annotations
 
+import io
 import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
@@ -30,6 +31,7 @@ __all__ = [
     "PoseLines",
     "cell_columns",
     "cell_tokens",
+    "header_eol",
     "join_columns",
     "lf_block",
     "lf_span",
@@ -42,6 +44,7 @@ __all__ = [
     "set_time",
     "split_cells",
     "with_eol",
+    "write_lines",
 ]
 
 
@@ -69,12 +72,30 @@ class PoseLines:
         lines = data.split(b"\n")
         if final:
             lines.pop()
-        eol = b"\r" if lines[0].endswith(b"\r") else b""
+        eol = header_eol(lines[0])
         return cls(lines[0], lines[1 : n_poses + 1], lines[n_poses + 1 :], eol, final)
 
     def to_bytes(self) -> bytes:
         body = b"\n".join([self.header, *self.poses, *self.suffix])
         return body + b"\n" if self.final_newline else body
+
+
+def header_eol(header: bytes) -> bytes:
+    """What ends every line of a file whose header line (without its ``\\n``) is ``header``,
+    before the ``\\n``: ``\\r`` for a CRLF file, nothing otherwise."""
+    return b"\r" if header.endswith(b"\r") else b""
+
+
+def write_lines(out: io.BytesIO, lines: list[bytes]) -> None:
+    """Write each of ``lines`` after a ``\\n`` (the line before it ends there), joined
+    :data:`_LINES` at a time."""
+    for a in range(0, len(lines), _LINES):
+        out.write(b"\n")
+        out.write(b"\n".join(lines[a : a + _LINES]))
+
+
+_LINES = 8192
+"""Pose lines :func:`write_lines` joins at a time."""
 
 
 def pose_block(data: bytes, n_poses: int) -> tuple[int, int]:

@@ -25,6 +25,7 @@ from motiontool.motionfmt.ops._cells import (
     refuse_duplicates,
     set_time,
     with_eol,
+    write_lines,
 )
 from motiontool.motionfmt.ops._result import ReadOnUse
 from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
@@ -128,7 +129,7 @@ def concat(
         transitions.append(transition)
         joined.append(doc, order, transition.duration_ms)
     return Concatenated(
-        joined.to_bytes(),
+        joined.finish(),
         first.path,
         tuple(transitions),
         tuple(reordered),
@@ -167,7 +168,7 @@ class _Joined:
         base = PoseLines.of(first)
         out = io.BytesIO()
         out.write(base.header)
-        _write_lines(out, [with_eol(line, base.eol) for line in base.poses])
+        write_lines(out, [with_eol(line, base.eol) for line in base.poses])
         end = int(first.motion.times_ms[-1])
         last_row = _targets(first.motion, list(range(first.motion.n_joints)), -1)
         return cls(first, base.eol, out, end, last_row, len(base.suffix), base.final_newline)
@@ -177,7 +178,7 @@ class _Joined:
         input's joints), its first pose ``transition_ms`` after the last pose so far."""
         new_times = _shifted_times(doc, self.end_ms + transition_ms)
         lines = PoseLines.of(doc)
-        _write_lines(
+        write_lines(
             self.out, _retimed_lines(lines, order, new_times, self.first.time_style, self.eol)
         )
         self.dropped += len(lines.suffix)
@@ -185,25 +186,14 @@ class _Joined:
         self.end_ms = new_times[-1]
         self.last_row = _targets(doc.motion, order, -1)
 
-    def to_bytes(self) -> bytes:
-        """The joined file's bytes (the buffer's, not copied; nothing can be appended after)."""
+    def finish(self) -> bytes:
+        """End the joined file and give its bytes (the buffer's, not copied; nothing can be
+        appended after)."""
         if self.final_newline:
             self.out.write(b"\n")
         elif self.eol:  # no final newline: the last line has no end
             self.out.truncate(self.out.tell() - len(self.eol))
         return self.out.getvalue()
-
-
-def _write_lines(out: io.BytesIO, lines: list[bytes]) -> None:
-    """Write each of ``lines`` after a ``\\n`` (the line before it ends there), joined
-    :data:`_LINES` at a time."""
-    for a in range(0, len(lines), _LINES):
-        out.write(b"\n")
-        out.write(b"\n".join(lines[a : a + _LINES]))
-
-
-_LINES = 8192
-"""Pose lines :func:`_write_lines` joins at a time."""
 
 
 def _targets(motion: Motion, order: list[int], pose: int) -> npt.NDArray[np.float64]:

@@ -21,6 +21,7 @@ from motiontool.motionfmt.ops._cells import (
     PoseLines,
     cell_columns,
     cell_tokens,
+    header_eol,
     join_columns,
     pose_block,
     refuse_duplicates,
@@ -184,7 +185,7 @@ def _mirror_gather(doc: MotionDocument, plan: _MirrorPlan) -> bytes | None:
     negate = np.zeros((doc.n_poses, 2 + len(plan.source)), dtype=bool)
     negate[:, 2:] = plan.flip
     cells = [0, 1, *(2 + k for k in plan.source)]
-    eol = b"\r" if header.endswith(b"\r") else b""
+    eol = header_eol(header)
     head = _mirror_header(header, plan) + b"\n"
     return permute_cells(
         data, doc.n_poses, eol, cells, negate, head, data[stop:], start=start, stop=stop

@@ -8,7 +8,13 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.ops._cells import pose_block, pose_line_blocks, set_time, with_eol
+from motiontool.motionfmt.ops._cells import (
+    header_eol,
+    pose_block,
+    pose_line_blocks,
+    set_time,
+    with_eol,
+)
 from motiontool.motionfmt.writer import format_time
 
 if TYPE_CHECKING:
@@ -42,7 +48,7 @@ def retimed_blocks(
     start, stop = pose_block(data, doc.n_poses)
     header = data[: start - 1]
     tail = data[stop:]
-    eol = b"\r" if header.endswith(b"\r") else b""
+    eol = header_eol(header)
     last_eol = eol if tail else b""  # the end of the result's last line
     yield header
     if before:  # never the last line: a kept pose or ``after`` follows

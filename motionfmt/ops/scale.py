@@ -19,12 +19,14 @@ from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
     cell_columns,
     cell_tokens,
+    header_eol,
     join_columns,
     pose_block,
     pose_line_blocks,
     repair,
     replace_cells,
     respell,
+    write_lines,
 )
 from motiontool.motionfmt.ops._permute import odd_start
 from motiontool.motionfmt.writer import format_values
@@ -237,9 +239,10 @@ def _respelt(
 
     data = doc.to_bytes()
     span = pose_block(data, doc.n_poses)
-    eol = b"\r" if data[: span[0] - 1].endswith(b"\r") else b""
+    header = data[: span[0] - 1]
+    eol = header_eol(header)
     out = io.BytesIO()  # grown in place: the result's bytes are not copied again
-    out.write(data[: span[0]])
+    out.write(header)
     for lo, poses in pose_line_blocks(data, span, _LINES, 0, doc.n_poses):
         block = slice(lo, lo + len(poses))
         edited = None
@@ -253,7 +256,7 @@ def _respelt(
                 edited[p] = replace_cells(
                     poses[p], {2 + j: respell(tokens[2 + j], float(new[lo + p, j])) for j in cols}
                 )
-        out.write(b"\n".join(edited) if lo == 0 else b"\n" + b"\n".join(edited))
+        write_lines(out, edited)
     out.write(data[span[1] :])
     return out.getvalue()
 

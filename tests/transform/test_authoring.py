@@ -17,7 +17,7 @@ from motiontool.kinematics.checks import Limits, Velocity
 from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.ops import concat as concat_module
+from motiontool.motionfmt.ops import _cells as cells_module
 from motiontool.motionfmt.ops import retimed as retimed_module
 from motiontool.motionfmt.ops import scale as scale_module
 from motiontool.motionfmt.ops.concat import concat
@@ -335,7 +335,7 @@ def test_concat_ends_its_lines_as_the_inputs_say(
     inputs: list[bytes], want: bytes, lines: int
 ) -> None:
     docs = [loads(data, f"{k}.motion") for k, data in enumerate(inputs)]
-    with patch.object(concat_module, "_LINES", lines):
+    with patch.object(cells_module, "_LINES", lines):
         assert concat(docs, transition_ms=1).data == want
 
 
