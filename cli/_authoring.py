@@ -23,6 +23,7 @@ from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.fileio import STDOUT, is_stdin, open_output, read_file, source_name
 from motiontool.motionfmt.reader import ReadResult
+from motiontool.motionfmt.units import time_fields_ms
 from motiontool.motionfmt.validate import run_check
 from motiontool.stamps import stamps
 
@@ -170,5 +171,4 @@ def parse_time_ms(text: str, option: str) -> int:
             f"{option} expects a time in ms (1500), s:ms (1:500) or m:s:ms (00:01:500), "
             f"got '{text}'"
         )
-    scale = (1, 1000, 60000)[: len(fields)]
-    return sum(int(f) * s for f, s in zip(reversed(fields), scale, strict=True))
+    return time_fields_ms([int(f) for f in fields])

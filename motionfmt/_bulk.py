@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.lines import plain_cell_spans
 from motiontool.motionfmt.pose_names import PoseNames
+from motiontool.motionfmt.units import TIME_FIELD_MS
 
 if TYPE_CHECKING:
     import numpy as np
@@ -87,7 +88,7 @@ def _times(
     value = np.zeros(len(raw), dtype=np.int64)
     value[~colon] = (raw[~colon] - ord("0")).astype(np.int64) * 10**after
     per_field = np.add.reduceat(value, starts.ravel()).reshape(n, k + 1)
-    return per_field @ np.array([60000, 1000, 1][-(k + 1) :], dtype=np.int64), k
+    return per_field @ np.array(TIME_FIELD_MS[2 - k :], dtype=np.int64), k
 
 
 def read_clean_body(

@@ -19,6 +19,8 @@ from __future__ import annotations
 import re
 from typing import NamedTuple
 
+from motiontool.motionfmt.units import TIME_FIELD_MS, time_fields_ms
+
 __all__ = ["INT_MAX", "PLAIN_DECIMAL", "ScannedDouble", "ScannedTime", "scan_double", "scan_time"]
 
 INT_MAX = 2**31 - 1
@@ -194,8 +196,8 @@ def scan_time(token: bytes) -> ScannedTime | None:
     exact = [int(f) for f in fields]
     ints = [_wrap32(min(v, _LONG_MAX)) for v in exact]
     ints = [0] * (3 - len(ints)) + ints
-    exact = [0] * (3 - len(exact)) + exact
-    ms = _wrap32(_wrap32(_wrap32(ints[0] * 60000) + _wrap32(ints[1] * 1000)) + ints[2])
+    minute, second, _ms = TIME_FIELD_MS
+    ms = _wrap32(_wrap32(_wrap32(ints[0] * minute) + _wrap32(ints[1] * second)) + ints[2])
     if ms == -1:
         return None
-    return ScannedTime(ms, exact[0] * 60000 + exact[1] * 1000 + exact[2])
+    return ScannedTime(ms, time_fields_ms(exact))

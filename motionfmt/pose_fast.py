@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.lines import Piece, decode_name
 from motiontool.motionfmt.pose_values import NO_VALUE_MARKER
+from motiontool.motionfmt.units import TIME_FIELD_MS
 
 if TYPE_CHECKING:
     from motiontool.motionfmt._read_state import ReadState
@@ -18,6 +19,7 @@ if TYPE_CHECKING:
 __all__ = ["read_pose_fast"]
 
 _NAN = float("nan")
+_MINUTE, _SECOND, _MS = TIME_FIELD_MS
 
 
 def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None:
@@ -44,9 +46,9 @@ def read_pose_fast(state: ReadState, piece: Piece, prev_time: int) -> int | None
         parts = t_tok.split(b":")
         if len(parts) > 3 or not all(p.isdigit() and len(p) < 6 for p in parts):
             return None
-        t = int(parts[-1]) + 1000 * int(parts[-2])
+        t = int(parts[-1]) + _SECOND * int(parts[-2])
         if len(parts) == 3:
-            t += 60000 * int(parts[0])
+            t += _MINUTE * int(parts[0])
         if t > INT_MAX:
             return None  # Webots' int arithmetic wraps: the exact path wraps it too
     if t <= prev_time:

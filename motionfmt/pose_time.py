@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import INT_MAX, scan_time
 from motiontool.motionfmt.lines import PoseLine, show
+from motiontool.motionfmt.units import time_fields_ms
 
 if TYPE_CHECKING:
     from motiontool.motionfmt._read_state import ReadState
@@ -70,9 +71,7 @@ def _well_formed_time(tok: bytes) -> bool:
 
 
 def _exact_time(tok: bytes) -> int:
-    fields = [int(f) for f in tok.split(b":")]
-    fields = [0] * (3 - len(fields)) + fields
-    return fields[0] * 60000 + fields[1] * 1000 + fields[2]
+    return time_fields_ms([int(f) for f in tok.split(b":")])
 
 
 def _time_hint(tok: bytes) -> str:

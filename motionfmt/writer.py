@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.nonfinite import refuse_non_finite
+from motiontool.motionfmt.units import TIME_FIELD_MS
 
 if TYPE_CHECKING:
     import numpy as np
@@ -29,6 +30,7 @@ __all__ = [
 ]
 
 _TIME_SHAPE = re.compile(r"\d+(?::\d+){0,2}")
+_MINUTE, _SECOND, _MS = TIME_FIELD_MS
 
 
 @dataclass(frozen=True)
@@ -55,9 +57,11 @@ def format_time(ms: int, style: TimeStyle = TimeStyle()) -> str:
     w = style.widths
     if len(w) == 1:
         return f"{ms:0{w[0]}d}"
+    minutes, rest = divmod(ms, _MINUTE) if len(w) == 3 else (0, ms)
+    seconds, rest = divmod(rest, _SECOND)
     if len(w) == 2:
-        return f"{ms // 1000:0{w[0]}d}:{ms % 1000:0{w[1]}d}"
-    return f"{ms // 60000:0{w[0]}d}:{ms // 1000 % 60:0{w[1]}d}:{ms % 1000:0{w[2]}d}"
+        return f"{seconds:0{w[0]}d}:{rest:0{w[1]}d}"
+    return f"{minutes:0{w[0]}d}:{seconds:0{w[1]}d}:{rest:0{w[2]}d}"
 
 
 def format_value(value: float) -> str:

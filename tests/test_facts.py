@@ -57,18 +57,8 @@ def _scaled_by_1000(tree: ast.Module) -> Iterator[int]:
                     yield node.lineno
 
 
-#: Where 1000 is not a unit conversion: the "MM:SS:mmm" time fields, read as Webots' C int
-#: arithmetic reads them (integers that wrap, never a float MS_PER_S).
-TIME_FIELDS = {"motionfmt/cscan.py", "motionfmt/pose_fast.py", "motionfmt/pose_time.py"}
-
-
 def test_unit_conversions_come_from_the_units_module() -> None:
-    stray = [
-        f"{rel}:{line}"
-        for rel, tree in sources()
-        if rel not in TIME_FIELDS
-        for line in _scaled_by_1000(tree)
-    ]
+    stray = [f"{rel}:{line}" for rel, tree in sources() for line in _scaled_by_1000(tree)]
     assert not stray, "use motiontool.motionfmt.units (MS_PER_S, MM_PER_M):\n" + "\n".join(stray)
     homes = [
         rel
@@ -79,6 +69,19 @@ def test_unit_conversions_come_from_the_units_module() -> None:
         if isinstance(target, ast.Name) and target.id in ("MS_PER_S", "MM_PER_M")
     ]
     assert homes == ["motionfmt/units.py", "motionfmt/units.py"]
+
+
+def test_the_time_fields_have_one_home() -> None:
+    """What a pose time's m:s:ms fields are worth is spelt once (the reader's three paths,
+    the writer and the command line read it from the units module)."""
+    stray = [
+        f"{rel}:{c.lineno}: {c.value!r}"
+        for rel, tree in sources()
+        if rel != "motionfmt/units.py"
+        for c in constants(tree)
+        if type(c.value) is int and c.value == 60_000
+    ]
+    assert not stray, "use motiontool.motionfmt.units.TIME_FIELD_MS:\n" + "\n".join(stray)
 
 
 def test_the_substep_slack_has_one_home() -> None:
