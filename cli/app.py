@@ -7,7 +7,6 @@ import contextvars
 import functools
 import importlib
 import os
-import signal
 import sys
 import traceback
 from collections.abc import Callable, Iterator, MutableMapping, Sequence
@@ -25,6 +24,7 @@ from typer._click.utils import make_default_short_help
 from typer.core import TyperGroup
 from typer.models import CommandInfo, TyperInfo
 
+from motiontool import exit_codes
 from motiontool.cli.color import set_no_color
 from motiontool.errors import MotionToolError
 
@@ -94,7 +94,7 @@ class _Group(TyperGroup):
             code = exc.exit_code
         except typer.Abort:  # end of input at a prompt (there is none) or Ctrl-C outside a command
             typer.echo("motiontool: error: interrupted", err=True)
-            code = 128 + signal.SIGINT
+            code = exit_codes.INTERRUPTED
         code = code if isinstance(code, int) else 0
         if standalone_mode:
             sys.exit(code)
@@ -104,10 +104,7 @@ class _Group(TyperGroup):
 app = typer.Typer(
     cls=_Group,
     name="motiontool",
-    help=(
-        "Lint, transform and simulate Webots .motion files.\n\n"
-        "Exit codes: 0 clean, 1 findings (or a failed run), 2 usage or I/O error."
-    ),
+    help=(f"Lint, transform and simulate Webots .motion files.\n\n{exit_codes.SUMMARY}"),
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
@@ -129,10 +126,10 @@ def _guard(func: F) -> F:
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
             typer.echo(f"motiontool: error: {_error_line(exc)}", err=True)
-            raise typer.Exit(2) from None
+            raise typer.Exit(exit_codes.ERROR) from None
         except BrokenPipeError:  # the reader went away (| head): quiet, as a SIGPIPE ends it
             _quiet_stdout()
-            raise typer.Exit(128 + signal.SIGPIPE) from None
+            raise typer.Exit(exit_codes.BROKEN_PIPE) from None
         except MemoryError:  # what no guard foresaw: one line, never a traceback
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
@@ -140,12 +137,12 @@ def _guard(func: F) -> F:
                 "motiontool: error: out of memory: the input is too large for this machine",
                 err=True,
             )
-            raise typer.Exit(2) from None
+            raise typer.Exit(exit_codes.ERROR) from None
         except KeyboardInterrupt:  # before Click turns it into 'Aborted!' and exit 1
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
             typer.echo("motiontool: error: interrupted", err=True)
-            raise typer.Exit(128 + signal.SIGINT) from None
+            raise typer.Exit(exit_codes.INTERRUPTED) from None
 
     return wrapper  # type: ignore[return-value]
 
@@ -400,13 +397,13 @@ def main() -> None:
         finally:
             sys.stdout.flush()  # a failed write surfaces here, not in the interpreter's exit
     except MotionToolError as exc:
-        _report(exc, _error_line(exc), 2)
+        _report(exc, _error_line(exc), exit_codes.ERROR)
     except BrokenPipeError as exc:
         _quiet_stdout()
-        _report(exc, "", 128 + signal.SIGPIPE)
+        _report(exc, "", exit_codes.BROKEN_PIPE)
     except KeyboardInterrupt as exc:
-        _report(exc, "interrupted", 128 + signal.SIGINT)
+        _report(exc, "interrupted", exit_codes.INTERRUPTED)
     except OSError as exc:  # a stream write: standard output or error
         _quiet_stdout()
         where = f"'{exc.filename}'" if exc.filename else "to standard output"
-        _report(exc, f"cannot write {where}: {exc.strerror or exc}", 2)
+        _report(exc, f"cannot write {where}: {exc.strerror or exc}", exit_codes.ERROR)

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli.color import rich_no_color
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import collect
@@ -183,7 +184,7 @@ def batch_command(
         )
         _write_reports(batch, profile, outputs)
     if batch.failures:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _inputs(

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     destination,
@@ -120,7 +121,7 @@ def concat_command(
     else:
         say(_text(result, paths, target, spec, margin, findings, step), target)
     if findings:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _transition_findings(

@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli.convert_checks import (
     motion_findings,
     refuse_unknown_joints,
@@ -74,7 +75,7 @@ def _robot(requested: str | None, out: Format, joints: tuple[str, ...]) -> Robot
 
 def _refuse(lines: list[str], heading: str) -> None:
     emit_stderr("".join(f"{line}\n" for line in [heading, *lines]))
-    raise typer.Exit(1)
+    raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _recording(r: Recording, poses: int) -> list[str]:

@@ -8,6 +8,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import Format, FormatOption, finite, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
@@ -192,4 +193,4 @@ def diff_command(
     if plot is not None:
         _plot(diff, a, b, old, new, plot)
     if not diff.same:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)

@@ -7,6 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     check_result,
@@ -181,4 +182,4 @@ def mirror_command(
     else:
         say(_text(result, m, path, target, show_map, new), target)
     if new:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)

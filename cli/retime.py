@@ -7,6 +7,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     check_result,
@@ -166,7 +167,7 @@ def retime_command(
     else:
         say(_text(result, path, target, how, spec, margin, accel, findings, timestep), target)
     if findings:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _refuse_modes(

@@ -7,6 +7,7 @@ from typing import Annotated
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli import jsontext
 from motiontool.cli._authoring import (
     check_result,
@@ -92,7 +93,7 @@ def scale_command(
     else:
         say(_text(result, path, target, spec, new), target)
     if new:
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _about(r: Scaled) -> str:

@@ -9,6 +9,7 @@ from typing import Annotated, Any
 
 import typer
 
+from motiontool import exit_codes
 from motiontool.cli.color import color_enabled
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.fixing import fix_files
@@ -337,7 +338,7 @@ def validate_command(
             step=step,
         )
     if run.failed():
-        raise typer.Exit(1)
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _overrides(
@@ -377,7 +378,7 @@ def _apply_fixes(
             changes = fix_files(
                 files, unsafe=unsafe, write=False, robot=robot_fixes, diff=sink.write
             )
-        raise typer.Exit(1 if changes.files else 0)
+        raise typer.Exit(exit_codes.FINDINGS if changes.files else exit_codes.CLEAN)
     fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
     typer.echo(f"motiontool: {fixed.line()}", err=True)
 

@@ -84,6 +84,8 @@ from dataclasses import asdict, dataclass, field, fields
 from pathlib import PurePath
 from typing import TYPE_CHECKING, Any, TypeVar
 
+from motiontool import exit_codes
+
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
@@ -335,8 +337,8 @@ class PlayReport:
     def exit_code(self) -> int:
         """0 clean, 1 fell / collided / simulator warning, 2 the run could not complete."""
         if self.error:
-            return 2
-        return 0 if self.clean else 1
+            return exit_codes.ERROR
+        return exit_codes.CLEAN if self.clean else exit_codes.FINDINGS
 
     def to_json(self) -> dict[str, Any]:
         """The JSON document (a dict of JSON types; non-finite numbers become null)."""

@@ -24,6 +24,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
+from motiontool import exit_codes
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.fileio import is_stdin, source_name
@@ -36,7 +37,7 @@ from motiontool.stamps import stamps
 
 __all__ = ["MotionPlan", "PlayPlan", "PlayResult", "plan_motion", "plan_play"]
 
-NOT_STARTED_EXIT_CODE = 2
+NOT_STARTED_EXIT_CODE = exit_codes.ERROR
 """The exit code a run that could not start reports (a usage or input error)."""
 
 

@@ -84,6 +84,34 @@ def test_the_time_fields_have_one_home() -> None:
     assert not stray, "use motiontool.motionfmt.units.TIME_FIELD_MS:\n" + "\n".join(stray)
 
 
+def _spelt_exit_code(node: ast.AST) -> bool:
+    """``Exit(1)``, ``sys.exit(2)``, ``os._exit(0)`` or ``128 + signal...``."""
+    if isinstance(node, ast.BinOp):
+        return isinstance(node.left, ast.Constant) and node.left.value == 128
+    if not isinstance(node, ast.Call):
+        return False
+    name = getattr(node.func, "attr", getattr(node.func, "id", None))
+    return name in ("Exit", "exit", "_exit") and any(isinstance(a, ast.Constant) for a in node.args)
+
+
+def test_exit_codes_come_from_their_module() -> None:
+    """Every exit status a command ends with is named in ``motiontool.exit_codes``: no
+    ``typer.Exit(1)``, ``sys.exit(2)`` or ``128 + signal.SIGINT`` spelt by hand."""
+    stray = [
+        f"{rel}:{node.lineno}"
+        for rel, tree in sources()
+        for node in ast.walk(tree)
+        if _spelt_exit_code(node)
+    ]
+    assert not stray, "use motiontool.exit_codes:\n" + "\n".join(stray)
+    from typer.testing import CliRunner
+
+    from motiontool import exit_codes
+    from motiontool.cli.app import app
+
+    assert exit_codes.SUMMARY in " ".join(CliRunner().invoke(app, ["--help"]).output.split())
+
+
 def test_the_substep_slack_has_one_home() -> None:
     slack = [
         f"{rel}:{c.lineno}"
