@@ -181,7 +181,9 @@ def long_files(
         print(
             f"clean file, {poses} poses ({size_mb:.0f} MB): syntax {syntax.wall_s:.2f} s, "
             f"{syntax.peak_mib:.0f} MiB; --robot nao {checks.wall_s:.2f} s, "
-            f"{checks.peak_mib:.0f} MiB: the checks add {added[poses]:.1f} MiB per MB of file"
+            f"{checks.peak_mib:.0f} MiB: the checks add {added[poses]:.1f} MiB per MB of file; "
+            f"{checks.wall_s / syntax.wall_s:.1f}x the syntax level's time (the grouped target, "
+            f"3x, on a motion a robot can play: {'met' if checks.wall_s <= 3 * syntax.wall_s else 'not met'})"
         )
     short, long = lengths
     print(

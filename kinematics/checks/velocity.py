@@ -4,8 +4,8 @@ the controller time step (target jumps after a ``*`` stretch, one step per segme
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterator, Sequence
+from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.kinematics.checks._table import (
     EPS,
@@ -22,7 +22,7 @@ from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
 from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.grouping import group_findings, run_finding
-from motiontool.motionfmt.player import hold_targets
+from motiontool.motionfmt.player import Held, hold_targets
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.units import MS_PER_S
 
@@ -39,6 +39,20 @@ for a Nao, whatever the motion's duration)."""
 _SEGMENTS = 1 << 14
 """Keyframe segments whose values are compared at a time: what the check keeps of the whole
 motion is, per joint and segment, the move and whether it is too fast (9 bytes)."""
+
+
+class _Sent(NamedTuple):
+    """The S steps that send one motor a target, (S,) each."""
+
+    elapsed: npt.NDArray[np.int64]
+    """Their playback times, ms."""
+    targets: npt.NDArray[np.float64]
+    """The targets sent then."""
+    after: npt.NDArray[np.intp]
+    """How many poses are at or before each step's time (``searchsorted`` right)."""
+    at_or_after: npt.NDArray[np.intp]
+    """How many poses are before each step's time (``searchsorted`` left)."""
+
 
 #: A fast controller step of one motor: (speed (unit/s), its start and end playback times (ms),
 #: how many controller steps apart the two commands are).
@@ -252,24 +266,13 @@ class Velocity(GroupingCheck):
         np.cumsum(fast, axis=0, out=fast_before[1:])
         defined = table.defined
         worst: dict[tuple[int, int], _Step] = {}
-        last: dict[int, tuple[npt.NDArray[np.int64], npt.NDArray[np.float64]]] = {}
+        last: dict[int, _Sent] = {}
         for stream in chunks:
             motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
-            for i, k in enumerate(limited):
-                steps = np.flatnonzero(motors.sent[:, k])
-                if steps.shape[0] == 0:
-                    continue
-                # Each joint's sent targets, its last one of the chunks before first.
-                before_e, before_t = last.get(i, (stream.elapsed_ms[:0], motors.targets[:0, k]))
-                elapsed = np.concatenate((before_e, stream.elapsed_ms[steps]))
-                targets = np.concatenate((before_t, motors.targets[steps, k]))
-                last[i] = (elapsed[-1:], targets[-1:])
-                if elapsed.shape[0] < 2:
-                    continue
+            for i, k, now in _sent_steps(table.times, stream.elapsed_ms, motors, limited, last):
                 fast_steps = self._fast_steps(
                     table.times,
-                    elapsed,
-                    targets,
+                    now,
                     (joints[k].max_velocity, defined[:, k], fast_before[:, i]),
                 )
                 for pose, found in fast_steps:
@@ -283,8 +286,7 @@ class Velocity(GroupingCheck):
     def _fast_steps(
         self,
         times: npt.NDArray[np.int64],
-        elapsed: npt.NDArray[np.int64],
-        targets: npt.NDArray[np.float64],
+        sent: _Sent,
         motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int32]],
     ) -> list[tuple[int, _Step]]:
         """The steps of one motor whose target moves faster than its maximum velocity, each
@@ -292,8 +294,7 @@ class Velocity(GroupingCheck):
 
         Args:
             times: (P,) the pose times, ms.
-            elapsed: (S,) the playback times of the steps that send the motor a target, ms.
-            targets: (S,) the targets sent then.
+            sent: the steps that send the motor a target.
             motor: its maximum velocity (unit/s), (P,) which poses command it, and (P,) how
                 many of its segments before each pose are MT303 segments.
         """
@@ -301,6 +302,7 @@ class Velocity(GroupingCheck):
 
         step = self.timestep_ms
         vmax, defined, fast_before = motor
+        elapsed, targets, after, at_or_after = sent
         with np.errstate(invalid="ignore"):  # 'inf' targets: left to MT302
             per_step = np.abs(np.diff(targets)) / (step / MS_PER_S)
             n = np.flatnonzero(np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS)))
@@ -308,16 +310,17 @@ class Velocity(GroupingCheck):
             return []
         at0, at1 = elapsed[n], elapsed[n + 1]
         jump = at1 - at0 > step
-        # After a '*' stretch, the first number after the last command restarts the joint.
-        numbered = np.flatnonzero(defined)
-        after = np.searchsorted(times[numbered], at0, "right")
-        restart = numbered[np.minimum(after, numbered.shape[0] - 1)]
-        # Otherwise the steps of a segment MT303 already reports are left to it.
+        # The steps of a segment MT303 already reports are left to it.
         last_seg = times.shape[0] - 2
-        seg_start = np.clip(np.searchsorted(times, at0, "right") - 1, 0, last_seg)
-        seg_end = np.clip(np.searchsorted(times, at1, "left") - 1, 0, last_seg)
+        seg_start = np.clip(after[n] - 1, 0, last_seg)
+        seg_end = np.clip(at_or_after[n + 1] - 1, 0, last_seg)
         covered = fast_before[seg_end + 1] - fast_before[seg_start] > 0
-        poses = np.where(jump, restart, seg_end + 1)
+        poses = seg_end + 1
+        if jump.any():  # after a '*' stretch, the first number after the last command restarts
+            numbered = np.flatnonzero(defined)
+            jumps = np.flatnonzero(jump)
+            past = np.searchsorted(times[numbered], at0[jumps], "right")
+            poses[jumps] = numbered[np.minimum(past, numbered.shape[0] - 1)]
         return [
             (
                 int(poses[m]),
@@ -379,6 +382,36 @@ class Velocity(GroupingCheck):
                 speed - vmax,
             ),
         )
+
+
+def _sent_steps(
+    times: npt.NDArray[np.int64],
+    elapsed_ms: npt.NDArray[np.int64],
+    motors: Held,
+    limited: list[int],
+    last: dict[int, _Sent],
+) -> Iterator[tuple[int, int, _Sent]]:
+    """For each motor ``limited[i] = k`` sent two targets or more (counting its last of the
+    chunks before, kept in ``last[i]``): ``(i, k, sent)``, ``sent`` as
+    :meth:`Velocity._fast_steps` takes it, of a chunk of steps (``elapsed_ms`` (S,), ms, and
+    what the motors hold then)."""
+    import numpy as np
+
+    sent = np.ascontiguousarray(motors.sent.T)  # a row per motor
+    # Where each step's time falls among the poses', found once for every motor.
+    after = np.searchsorted(times, elapsed_ms, "right")
+    at_or_after = np.searchsorted(times, elapsed_ms, "left")
+    for i, k in enumerate(limited):
+        steps = np.flatnonzero(sent[k])
+        if steps.shape[0] == 0:
+            continue
+        now = _Sent(elapsed_ms[steps], motors.targets[steps, k], after[steps], at_or_after[steps])
+        carried = last.get(i)
+        if carried is not None:
+            now = _Sent._make(np.concatenate(pair) for pair in zip(carried, now, strict=True))
+        last[i] = _Sent._make(a[-1:] for a in now)
+        if now.elapsed.shape[0] >= 2:
+            yield i, k, now
 
 
 def _times(findings: list[Diagnostic]) -> npt.NDArray[np.int64]:
