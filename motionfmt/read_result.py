@@ -20,6 +20,9 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
+    #: (line of a block's first pose, 1-based column and end column of each of its cells).
+    _BlockSpans = tuple[int, npt.NDArray[np.int64], npt.NDArray[np.int64]]
+
 __all__ = ["ReadResult"]
 
 
@@ -72,6 +75,9 @@ class ReadResult:
     _cols0: Sequence[int] = field(default_factory=list, repr=False)
     _line_starts: list[int] = field(default_factory=list, repr=False)
     _span_cache: dict[int, list[tuple[int, int]]] = field(default_factory=dict, repr=False)
+    _block_spans: tuple[tuple[int, int], _BlockSpans | None] | None = field(
+        default=None, repr=False, compare=False
+    )
     _cells_later: Callable[[], npt.NDArray[np.float64]] | None = field(
         default=None, repr=False, compare=False
     )
@@ -150,7 +156,10 @@ class ReadResult:
         cuts = [0, *(np.flatnonzero(block[1:] != block[:-1]) + 1).tolist(), at.shape[0]]
         for lo, hi in itertools.pairwise(cuts):  # a run of cells in one block of poses
             first = int(block[lo]) * _SPAN_BLOCK
-            table = self._plain_spans(first)
+            if self._block_spans is None or self._block_spans[0] != (first, _SPAN_BLOCK):
+                # Kept for the next call: a report asks for its findings' cells one at a time.
+                self._block_spans = ((first, _SPAN_BLOCK), self._plain_spans(first))
+            table = self._block_spans[1]
             if table is None:
                 for i in range(lo, hi):
                     yield self.cell_span(int(at[i]), joints[i])
@@ -160,9 +169,7 @@ class ReadResult:
             spans = (line + rows).tolist(), starts[rows, c].tolist(), stops[rows, c].tolist()
             yield from zip(*spans, strict=True)
 
-    def _plain_spans(
-        self, lo: int
-    ) -> tuple[int, npt.NDArray[np.int64], npt.NDArray[np.int64]] | None:
+    def _plain_spans(self, lo: int) -> _BlockSpans | None:
         """(line of pose ``lo``, 1-based column and end column of every cell of poses ``lo``
         to ``lo + _SPAN_BLOCK`` (rows), as :func:`plain_cell_spans` finds them), or None
         where a line is not plain (CR, NUL, cut, an empty cell, a cell too many or few)."""
