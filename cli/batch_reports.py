@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import re
 import tempfile
 from collections import defaultdict
@@ -14,6 +13,7 @@ from motiontool.cli.jsontext import (
     HOLE,
     dumps_around,
     escape_undecodable,
+    indented,
     list_pieces,
     text_after,
 )
@@ -122,7 +122,7 @@ def _runs(batch: BatchResult, escaped: list[int]) -> Iterator[str]:
     for r in batch.runs:
         clean, n = escape_undecodable(result_json(r))
         escaped[0] += n
-        yield json.dumps(clean, indent=2, ensure_ascii=False)
+        yield indented(clean)
 
 
 def md_cell(text: object) -> str:

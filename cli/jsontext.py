@@ -10,9 +10,11 @@ only when there were any).
 
 from __future__ import annotations
 
+import functools
 import json
+import math
 import re
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import Any
 
 __all__ = [
@@ -21,6 +23,7 @@ __all__ = [
     "dumps",
     "dumps_around",
     "escape_undecodable",
+    "indented",
     "list_pieces",
     "text_after",
 ]
@@ -101,6 +104,116 @@ def dumps(
     if count and count_field:
         clean[ESCAPED_BYTES] = count
     return json.dumps(clean, indent=indent, ensure_ascii=False, allow_nan=allow_nan) + "\n"
+
+
+class _Unusual(Exception):
+    """A value :func:`indented` leaves to :func:`json.dumps` (a key that is not a string, a
+    type that is not JSON's)."""
+
+
+_STRING = json.encoder.encode_basestring  # the C function, as json.dumps(ensure_ascii=False)
+_CONSTANTS = {True: "true", False: "false"}
+_FLOATS = {math.inf: "Infinity", -math.inf: "-Infinity"}
+
+
+def indented(value: Any) -> str:
+    """``json.dumps(value, indent=2, ensure_ascii=False)``, the same text, several times faster
+    for the large documents of a report (a fix of a million cells): the standard library
+    writes indented JSON in pure Python, a generator per nesting level."""
+    out: list[str] = []
+    try:
+        _put(value, out, "\n")
+    except _Unusual:
+        return json.dumps(value, indent=2, ensure_ascii=False)
+    return "".join(out)
+
+
+def _put(value: Any, out: list[str], newline: str) -> None:
+    """Append ``value``'s indented text to ``out``, ``newline`` the line break and indentation
+    of the level it is at."""
+    kind = type(value)
+    if kind is str:
+        out.append(_STRING(value))
+    elif kind is int:
+        out.append(int.__repr__(value))
+    elif kind is float:
+        out.append(
+            float.__repr__(value) if value == value and value not in _FLOATS else _float(value)
+        )
+    elif kind is bool:
+        out.append(_CONSTANTS[value])
+    elif value is None:
+        out.append("null")
+    elif kind is dict:
+        if not value:
+            out.append("{}")
+            return
+        inner = newline + "  "
+        if all(type(v) in _FLAT for v in value.values()):  # one call of the C encoder
+            text = "".join(_flat_encoder(inner)(value, 0))
+            out.append("{" + inner + text[1:-1] + newline + "}")
+            return
+        separator = "{" + inner
+        for key, item in value.items():
+            if type(key) is not str:
+                raise _Unusual
+            out.append(separator + _STRING(key) + ": ")
+            _put(item, out, inner)
+            separator = "," + inner
+        out.append(newline + "}")
+    elif kind is list or kind is tuple:
+        if not value:
+            out.append("[]")
+            return
+        inner = newline + "  "
+        if _flat_dicts(value):  # one call of the C encoder for them all (a fix's edits)
+            fields = inner + "  "
+            text = "".join(_flat_encoder(fields)(value, 0))[2:-2]  # without '[{' and '}]'
+            text = text.replace("}," + fields + "{", inner + "}," + inner + "{" + fields)
+            out.append("[" + inner + "{" + fields + text + inner + "}" + newline + "]")
+            return
+        separator = "[" + inner
+        for item in value:
+            out.append(separator)
+            _put(item, out, inner)
+            separator = "," + inner
+        out.append(newline + "]")
+    else:
+        raise _Unusual
+
+
+_FLAT = frozenset((str, int, float, bool, type(None)))
+"""The types of a dict's values that :func:`_flat_encoder` writes as :func:`json.dumps` does."""
+
+
+@functools.cache
+def _flat_encoder(inner: str) -> Callable[[Any, int], Sequence[str]]:
+    """The C encoder of the standard library (as :func:`json.dumps` makes it, no circular
+    check) that writes a dict of plain values (string keys) with its items separated by
+    ``inner`` (a line break and indentation), as they are in an indented document (without
+    the breaks after ``{`` and before ``}``)."""
+    make = json.encoder.c_make_encoder  # type: ignore[attr-defined]
+    if make is None:  # an interpreter without the C accelerator
+        encoder = json.JSONEncoder(ensure_ascii=False, separators=("," + inner, ": "))
+        return lambda value, _level: [encoder.encode(value)]
+    return make(None, None, _STRING, None, ": ", "," + inner, False, False, True)  # type: ignore[no-any-return]
+
+
+def _flat_dicts(items: list[Any] | tuple[Any, ...]) -> bool:
+    """Whether every item is a non-empty dict of plain values: written by the C encoder, such a
+    list's only ``},`` followed by a line break are between its items (a string's line break
+    is written ``\\n``, and no value ends with ``}``)."""
+    return (
+        type(items[0]) is dict
+        and {type(item) for item in items} == {dict}
+        and all(items)
+        and {type(v) for item in items for v in item.values()} <= _FLAT
+    )
+
+
+def _float(value: float) -> str:
+    """A non-finite float as :func:`json.dumps` writes it (``allow_nan``, the default)."""
+    return "NaN" if value != value else _FLOATS[value]
 
 
 HOLE = "\x00 findings \x00"

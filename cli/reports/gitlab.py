@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterator
 
-from motiontool.cli.jsontext import escape_undecodable, list_pieces
+from motiontool.cli.jsontext import escape_undecodable, indented, list_pieces
 from motiontool.cli.reports.common import (
     PLAIN,
     Context,
@@ -66,4 +65,4 @@ def _issues(report: ValidationReport, context: Context) -> Iterator[str]:
             "location": {"path": _path(d.path), "lines": _lines(d)},
         }
         clean, _count = escape_undecodable(issue)  # a name that is not UTF-8: \xNN
-        yield json.dumps(clean, indent=2, ensure_ascii=False)
+        yield indented(clean)

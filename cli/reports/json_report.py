@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Iterable, Iterator
 from typing import Any
 
@@ -11,6 +10,7 @@ from motiontool.cli.jsontext import (
     HOLE,
     dumps_around,
     escape_undecodable,
+    indented,
     list_pieces,
     text_after,
 )
@@ -121,4 +121,4 @@ def _diagnostic_texts(
     for d in shown:
         clean, n = escape_undecodable(_diagnostic_json(d, f))
         escaped[0] += n
-        yield json.dumps(clean, indent=2, ensure_ascii=False)
+        yield indented(clean)

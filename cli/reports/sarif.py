@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import functools
-import json
 import os
 import urllib.parse
 from collections.abc import Iterator
@@ -14,6 +13,7 @@ from motiontool.cli.jsontext import (
     HOLE,
     dumps_around,
     escape_undecodable,
+    indented,
     list_pieces,
     text_after,
 )
@@ -234,4 +234,4 @@ def _results(
     for f, d in findings(report, context.order):
         clean, n = escape_undecodable(_result(f, d, index[d.code], fingerprint(d, context.order)))
         escaped[0] += n
-        yield json.dumps(clean, indent=2, ensure_ascii=False)
+        yield indented(clean)
