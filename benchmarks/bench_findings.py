@@ -147,6 +147,7 @@ def clean_file(path: Path, poses: int, joints_named: tuple[str, ...] = ()) -> No
     import numpy as np
 
     from motiontool.kinematics import load_robot
+    from motiontool.motionfmt.writer import format_time
 
     joints = [j for j in load_robot("nao").joints if j.name in joints_named or not joints_named]
     lower, upper = np.array([j.lower for j in joints]), np.array([j.upper for j in joints])
@@ -158,9 +159,7 @@ def clean_file(path: Path, poses: int, joints_named: tuple[str, ...] = ()) -> No
         for p in range(poses):
             ms = 40 * p
             cells = ",".join(f"{v:.4f}" for v in values[p])
-            f.write(
-                f"{ms // 60000:02d}:{ms // 1000 % 60:02d}:{ms % 1000:03d},Pose{p + 1},{cells}\n"
-            )
+            f.write(f"{format_time(ms)},Pose{p + 1},{cells}\n")
 
 
 def long_files(

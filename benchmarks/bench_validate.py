@@ -43,6 +43,8 @@ JOINTS = [
 
 
 def make_file(path: Path, poses: int, seed: int = 0) -> None:
+    from motiontool.motionfmt.writer import format_time
+
     rng = np.random.default_rng(seed)
     values = rng.uniform(-2.0, 2.0, size=(poses, len(JOINTS)))
     with path.open("w", newline="\n") as f:
@@ -50,7 +52,7 @@ def make_file(path: Path, poses: int, seed: int = 0) -> None:
         for p in range(poses):
             t = 40 * p
             cells = ",".join(repr(round(float(v), 6)) for v in values[p])
-            f.write(f"{t // 60000:02d}:{t // 1000 % 60:02d}:{t % 1000:03d},Pose{p + 1},{cells}\n")
+            f.write(f"{format_time(t)},Pose{p + 1},{cells}\n")
 
 
 WEBOTS_LOADER = r"""

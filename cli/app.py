@@ -104,7 +104,7 @@ class _Group(TyperGroup):
 app = typer.Typer(
     cls=_Group,
     name="motiontool",
-    help=(f"Lint, transform and simulate Webots .motion files.\n\n{exit_codes.SUMMARY}"),
+    help=f"Lint, transform and simulate Webots .motion files.\n\n{exit_codes.SUMMARY}",
     no_args_is_help=True,
     add_completion=True,
     pretty_exceptions_enable=False,
