@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.document import MotionDocument
 
 __all__ = [
+    "BLOCK_LINES",
     "PoseLines",
     "cell_columns",
     "cell_tokens",
@@ -88,14 +89,16 @@ def header_eol(header: bytes) -> bytes:
 
 def write_lines(out: io.BytesIO, lines: list[bytes]) -> None:
     """Write each of ``lines`` after a ``\\n`` (the line before it ends there), joined
-    :data:`_LINES` at a time."""
-    for a in range(0, len(lines), _LINES):
+    :data:`BLOCK_LINES` at a time."""
+    for a in range(0, len(lines), BLOCK_LINES):
         out.write(b"\n")
-        out.write(b"\n".join(lines[a : a + _LINES]))
+        out.write(b"\n".join(lines[a : a + BLOCK_LINES]))
 
 
-_LINES = 8192
-"""Pose lines :func:`write_lines` joins at a time."""
+BLOCK_LINES = 8192
+"""Pose lines the operations that stream their result (trim, retime, scale, concat) handle at
+a time: split from the input, re-spelt and joined this many at once, never all of them (read
+as ``_cells.BLOCK_LINES`` where it is used, so that a test can make the blocks small)."""
 
 
 def pose_block(data: bytes, n_poses: int) -> tuple[int, int]:

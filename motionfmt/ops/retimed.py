@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Sequence
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.ops import _cells
 from motiontool.motionfmt.ops._cells import (
     header_eol,
     pose_block,
@@ -23,10 +24,6 @@ if TYPE_CHECKING:
 __all__ = ["retimed_blocks"]
 
 
-_LINES = 8192
-"""Pose lines :func:`retimed_blocks` gives at a time."""
-
-
 def retimed_blocks(
     doc: MotionDocument,
     poses: range,
@@ -39,7 +36,8 @@ def retimed_blocks(
     """The bytes of ``doc`` with only the pose lines ``poses`` (consecutive), pose
     ``poses[k]`` at ``times_ms[k]`` (ms: its time cell re-spelt in ``doc``'s time style where
     the time changes), after the pose line ``before`` and followed by ``after`` (lines without
-    their ends; ``b""``: none), a block of :data:`_LINES` lines at a time, never all held.
+    their ends; ``b""``: none), a block of :data:`~motiontool.motionfmt.ops._cells.BLOCK_LINES`
+    lines at a time, never all held.
 
     The header, and what follows the last pose (lines after a terminating blank line, the
     final newline or its absence, which the last line then has too), stay as they are; every
@@ -55,7 +53,8 @@ def retimed_blocks(
         yield b"\n" + before + eol
     old = doc.result.times_ms
     style = doc.time_style
-    blocks = pose_line_blocks(data, (start, stop), _LINES, poses.start, poses.stop)
+    size = _cells.BLOCK_LINES
+    blocks = pose_line_blocks(data, (start, stop), size, poses.start, poses.stop)
     for a, lines in blocks:
         b = a + len(lines)
         for k, (was, now) in enumerate(

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
+from motiontool.motionfmt.ops import _cells
 from motiontool.motionfmt.ops._cells import (
     cell_columns,
     cell_tokens,
@@ -217,11 +218,6 @@ def _clip(
     return clips, unlimited
 
 
-_LINES = 8192
-"""Pose lines re-spelt at a time: their cells, one bytes object each, are held for a block,
-not for the whole file."""
-
-
 def _respelt(
     doc: MotionDocument,
     new: npt.NDArray[np.float64],
@@ -243,7 +239,8 @@ def _respelt(
     eol = header_eol(header)
     out = io.BytesIO()  # grown in place: the result's bytes are not copied again
     out.write(header)
-    for lo, poses in pose_line_blocks(data, span, _LINES, 0, doc.n_poses):
+    # A block of lines at a time: their cells, one bytes object each, are never all held.
+    for lo, poses in pose_line_blocks(data, span, _cells.BLOCK_LINES, 0, doc.n_poses):
         block = slice(lo, lo + len(poses))
         edited = None
         if columns:

@@ -18,8 +18,6 @@ from motiontool.kinematics.mirror import mirror_map
 from motiontool.kinematics.robots import load_robot
 from motiontool.motionfmt import loads
 from motiontool.motionfmt.ops import _cells as cells_module
-from motiontool.motionfmt.ops import retimed as retimed_module
-from motiontool.motionfmt.ops import scale as scale_module
 from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.ops.scale import _respelt, scale
@@ -223,7 +221,7 @@ def test_trim_blocks_join_to_the_result_whatever_their_size(
     lo = draw.draw(st.integers(0, end - 1))
     r = trim(doc, lo, draw.draw(st.integers(lo + 1, end + 50)), keep_times=draw.draw(st.booleans()))
     whole = b"".join(r.blocks())  # one block of lines (a generated file has few)
-    with patch.object(retimed_module, "_LINES", draw.draw(st.integers(1, 3))):
+    with patch.object(cells_module, "BLOCK_LINES", draw.draw(st.integers(1, 3))):
         assert b"".join(r.blocks()) == whole
     assert r.document.to_bytes() == whole
     assert (r.document.n_poses, r.document.motion.duration_ms) == (r.n_poses, r.duration_ms)
@@ -259,7 +257,7 @@ def test_trim_keeps_the_line_ends_and_what_follows_the_poses(
     data: bytes, lo: int, hi: int, want: bytes, lines: int
 ) -> None:
     r = trim(loads(data, "m.motion"), lo, hi)
-    with patch.object(retimed_module, "_LINES", lines):
+    with patch.object(cells_module, "BLOCK_LINES", lines):
         assert b"".join(r.blocks()) == want
 
 
@@ -335,7 +333,7 @@ def test_concat_ends_its_lines_as_the_inputs_say(
     inputs: list[bytes], want: bytes, lines: int
 ) -> None:
     docs = [loads(data, f"{k}.motion") for k, data in enumerate(inputs)]
-    with patch.object(cells_module, "_LINES", lines):
+    with patch.object(cells_module, "BLOCK_LINES", lines):
         assert concat(docs, transition_ms=1).data == want
 
 
@@ -416,7 +414,7 @@ def test_scale_respells_column_by_column_as_line_by_line(
         return
     want = _respelt(doc, new, changed, columns=False)
     assert _respelt(doc, new, changed) == want
-    with patch.object(scale_module, "_LINES", draw.draw(st.integers(1, 3))):  # in blocks
+    with patch.object(cells_module, "BLOCK_LINES", draw.draw(st.integers(1, 3))):  # in blocks
         assert _respelt(doc, new, changed) == want
 
 

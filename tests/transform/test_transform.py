@@ -404,12 +404,12 @@ def test_retimed_blocks_write_what_set_times_makes(data: bytes, speed: float, li
     times ``set_times`` set, in blocks of any size; every line keeps its own end."""
     from unittest.mock import patch
 
-    from motiontool.motionfmt.ops import retimed
+    from motiontool.motionfmt.ops import _cells, retimed
 
     doc = loads(data, "m.motion")
     times = list(scale_times([int(t) for t in doc.motion.times_ms], speed).times_ms)
     edited = doc.copy()
     edited.set_times(times)
-    with patch.object(retimed, "_LINES", lines):
+    with patch.object(_cells, "BLOCK_LINES", lines):
         blocks = retimed.retimed_blocks(doc, range(doc.n_poses), times, ends_as_header=False)
         assert b"".join(blocks) == edited.to_bytes()
