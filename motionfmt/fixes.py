@@ -47,6 +47,7 @@ __all__ = [
     "fixable",
     "merge_fixes",
     "plan_fixes",
+    "proved",
     "same_stream",
 ]
 
@@ -336,6 +337,12 @@ def fix_bytes(
         if not progressed:
             break
     return FixResult(current, tuple(applied), tuple(refused))
+
+
+def proved(data: bytes, fixes: Sequence[Fix], path: str = "<string>") -> bool:
+    """Whether ``data`` with ``fixes`` applied plays exactly as ``data`` (:func:`same_stream`):
+    the proof :func:`fix_bytes` asks of a round of safe fixes before it applies them."""
+    return same_stream(data, _apply(data, fixes), path)
 
 
 def _keys(fixes: Sequence[Fix]) -> set[tuple[str, int]]:

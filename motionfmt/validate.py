@@ -32,6 +32,7 @@ from motiontool.motionfmt.fixes import (
     RobotPlanner,
     finding_fixes,
     merge_fixes,
+    proved,
 )
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
@@ -99,11 +100,14 @@ class FileReport:
 
     @functools.cached_property
     def _merges(self) -> tuple[Fix, ...]:
-        """The merge of the columns of the joints named twice (MT205): one edit of the file."""
+        """The merge of the columns of the joints named twice (MT205): one edit of the file,
+        offered only where it is proved to play as before (as ``--fix`` applies it: a merge
+        of columns whose ``*`` cells interleave is refused there, and not advertised here)."""
         if not self.read.accepted:
             return ()
         codes = {d.code for d in self.read.diagnostics}
-        return tuple(merge_fixes(self.read, self._lines, codes))
+        merges = merge_fixes(self.read, self._lines, codes)
+        return tuple(merges) if merges and proved(self.data, merges, self.path) else ()
 
     @functools.cached_property
     def _stretch(self) -> tuple[Fix, ...]:

@@ -61,6 +61,13 @@ def _fix_line(summary: tuple[bool, str] | None) -> list[str]:
     return [f"   = fix ({'--fix' if safe else '--fix --unsafe-fixes'}): {title}"]
 
 
+def _mark(summary: tuple[bool, str] | None) -> str:
+    """``[*] `` before the message of a finding ``--fix`` fixes, as ruff marks it (an unsafe
+    fix is not marked: ``--fix`` alone leaves it); after the code and its colon, so that
+    editors' problem matchers read the code as before."""
+    return "[*] " if summary is not None and summary[0] else ""
+
+
 def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
     """The robot line, then compiler-style lines with the source line and a caret, a finding
     at a time as they are made; ANSI colours only with ``context.color`` (never for a file or
@@ -72,11 +79,11 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     fixable = FixCounts()
     for f, d in findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
-        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {d.message}"]
+        fix = f.fix_summary(d)
+        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {_mark(fix)}{d.message}"]
         out.extend(_source_excerpt(f, d, color))
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-        fix = f.fix_summary(d)
         fixable.add(fix)
         out.extend(_fix_line(fix))
         out.append("")

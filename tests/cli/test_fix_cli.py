@@ -303,3 +303,35 @@ def test_sarif_counts_a_large_fix_as_json_lists_its_edits(
         if r["ruleId"] == "MT302"
     ]
     assert edits == counted == [n, n + 7, 1]
+
+
+UNPROVED_MERGE = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw,HeadPitch\n0,P1,0,*,0.1rad\n400,P2,*,0,0\n"
+"""HeadYaw named twice, each column with a '*' where the other commands: merged, the columns
+would play differently, so --fix keeps them (issue 36 item 10)."""
+
+
+def test_only_fixes_that_apply_are_advertised(motion: Path) -> None:
+    path = motion.parent / "dup.motion"
+    path.write_bytes(UNPROVED_MERGE)
+    _, out, _ = invoke("validate", "dup.motion", "--robot", "none")
+    assert out.splitlines()[-1].endswith("; 1 fixable with --fix"), out  # MT203 only
+    assert "merge the columns" not in out
+    _, out, _ = invoke("validate", "dup.motion", "--robot", "none", "-f", "json")
+    fixes = {d["code"]: d["fix"] for d in json.loads(out)["files"][0]["diagnostics"]}
+    assert fixes["MT205"] is None and fixes["MT203"] is not None
+    assert (
+        invoke("validate", "dup.motion", "--fix")[2]
+        == "motiontool: fixed 1 finding in 1 file (MT203)\n"
+    )
+    _, out, _ = invoke("validate", "dup.motion", "--robot", "none")
+    assert "fixable" not in out.splitlines()[-1], out
+    assert invoke("validate", "dup.motion", "--fix")[2] == "motiontool: nothing to fix\n"
+
+
+def test_fixable_findings_are_marked_as_ruff_marks_them(motion: Path) -> None:
+    _, out, _ = invoke("validate", "m.motion")
+    lines = out.splitlines()
+    mt203 = next(line for line in lines if " MT203: " in line)
+    assert mt203.startswith("m.motion:2:6: warning MT203: [*] "), mt203  # matchers: unchanged
+    mt201 = next(line for line in lines if " MT201: " in line)  # unsafe: no mark, as ruff
+    assert "[*]" not in mt201 and "[*]" not in next(line for line in lines if " MT207: " in line)
