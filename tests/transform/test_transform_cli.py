@@ -415,6 +415,37 @@ def test_plot_is_deterministic_and_reports(here: Path) -> None:
     assert (here / "head.motion").read_bytes() == HEAD
 
 
+@pytest.mark.parametrize(
+    ("raw", "shown"),
+    [
+        (b"Bad\xff\xfeName", b"Bad\\xff\\xfeName"),  # not UTF-8: kept as surrogates
+        (b"a$\\frac$", None),  # drawn as typed, not as mathtext
+    ],
+)
+def test_plot_and_diff_plot_draw_a_name_as_its_escaped_text(
+    tmp_path: Path, raw: bytes, shown: bytes | None
+) -> None:
+    """A joint name matplotlib cannot draw as it is (a TypeError on the surrogate of an
+    undecodable byte, a ParseSyntaxException on '$\\frac$' read as mathtext) is drawn as its
+    text, escaped: the very PNG of a file whose joint is named that text."""
+    pngs = []
+    for name, label in [("raw", raw), ("shown", shown)]:
+        if label is None:
+            continue
+        (tmp_path / name).mkdir()
+        old, new = tmp_path / name / "a.motion", tmp_path / name / "b.motion"
+        old.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,%s\n0,P1,0,0\n1000,P2,0.5,0.3\n" % label)
+        new.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,%s\n0,P1,0,0\n1000,P2,0.5,0.4\n" % label)
+        code, _, err = invoke("plot", str(old), "-o", str(tmp_path / name / "p.png"))
+        assert code == 0, err
+        plot = str(tmp_path / name / "d.png")
+        code, _, err = invoke("diff", str(old), str(new), "--plot", plot, "-f", "json")
+        assert code == 1, err
+        pngs.append([(tmp_path / name / png).read_bytes() for png in ("p.png", "d.png")])
+    assert all(png.startswith(b"\x89PNG") for png in pngs[0])
+    assert shown is None or pngs[0] == pngs[1]
+
+
 def test_limb_groups_for_the_nao() -> None:
     from motiontool.cli._plotting import limb_groups, panels_for
 
