@@ -10,8 +10,12 @@ other command pays for importing it). What it does:
   and "fix all safe findings" (``source.fixAll``), as ``validate --fix`` would edit the file;
 - hover on a cell: the joint, the pose and its time (ms), the value and the robot's limits.
 
-Positions: LSP counts lines from 0 and characters in UTF-16 code units; findings count lines
-from 1 and columns in bytes (:func:`motiontool.cli.reports.common.text_column` converts).
+Positions: LSP counts lines from 0 and characters in the code units of the encoding the client
+and server agreed at ``initialize`` (pygls takes the first of the client's
+``general.positionEncodings`` it knows: utf-8, utf-16 or utf-32; utf-16 when none is offered);
+findings count lines from 1 and columns in bytes. pygls' :class:`~pygls.workspace.PositionCodec`
+for that encoding (``workspace.position_codec``) converts both ways, for every position the
+server sends (finding ranges, edits) or receives (hover, code action ranges, incremental edits).
 """
 
 from __future__ import annotations
@@ -24,9 +28,9 @@ from pathlib import Path
 from lsprotocol import types as lsp
 from pygls.lsp.server import LanguageServer
 from pygls.uris import to_fs_path
+from pygls.workspace import PositionCodec
 
 from motiontool import __version__
-from motiontool.cli.reports.common import text_column
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.fixes import Fix, fix_bytes
@@ -73,7 +77,8 @@ class MotionServer(LanguageServer):
         path = Path(to_fs_path(uri) or uri)
         report, robot = self.lint(path, data)
         self.documents[uri] = _Document(doc.version, report, robot)
-        diagnostics = [_diagnostic(report, d) for d in report.diagnostics]
+        codec = self.workspace.position_codec
+        diagnostics = [_diagnostic(report, codec, d) for d in report.diagnostics]
         self.text_document_publish_diagnostics(
             lsp.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=doc.version)
         )
@@ -82,36 +87,40 @@ class MotionServer(LanguageServer):
 # --------------------------------------------------------------------------- positions
 
 
-def _position(report: FileReport, line: int, column: int) -> lsp.Position:
-    """LSP position of 1-based ``line`` and byte ``column``."""
+def _position(report: FileReport, codec: PositionCodec, line: int, column: int) -> lsp.Position:
+    """LSP position of 1-based ``line`` and byte ``column``, in ``codec``'s code units (a
+    column past the end of the line stays that many past it)."""
     raw = report.source_line(line)
-    return lsp.Position(line=line - 1, character=text_column(raw, column, utf16=True) - 1)
+    head = raw[: max(column - 1, 0)]
+    units = int(codec.client_num_units(head.decode("utf-8", "surrogateescape")))
+    return lsp.Position(line=line - 1, character=units + max(column - 1 - len(raw), 0))
 
 
-def _range(report: FileReport, line: int, column: int, end_column: int | None) -> lsp.Range:
+def _range(
+    report: FileReport, codec: PositionCodec, line: int, column: int, end_column: int | None
+) -> lsp.Range:
     """From byte ``column`` to ``end_column`` (exclusive; None: the end of the line)."""
     end = len(report.source_line(line)) + 1 if end_column is None else end_column
-    return lsp.Range(start=_position(report, line, column), end=_position(report, line, end))
+    return lsp.Range(
+        start=_position(report, codec, line, column), end=_position(report, codec, line, end)
+    )
 
 
-def _byte_column(raw: bytes, character: int) -> int:
-    """The 1-based byte column of UTF-16 offset ``character`` (0-based) in line ``raw``."""
-    units = 0
+def _byte_column(codec: PositionCodec, raw: bytes, character: int) -> int:
+    """The 1-based byte column of LSP offset ``character`` (0-based, in ``codec``'s code
+    units) in line ``raw``; an offset inside a character means that character."""
     text = raw.decode("utf-8", "surrogateescape")
-    for i, ch in enumerate(text):
-        if units >= character:
-            return len(text[:i].encode("utf-8", "surrogateescape")) + 1
-        units += 2 if ord(ch) > 0xFFFF else 1
-    return len(raw) + 1 + max(character - units, 0)
+    at = codec.position_from_client_units([text], lsp.Position(line=0, character=character))
+    return len(text[: at.character].encode("utf-8", "surrogateescape")) + 1
 
 
 # --------------------------------------------------------------------------- diagnostics
 
 
-def _diagnostic(report: FileReport, d: Diagnostic) -> lsp.Diagnostic:
+def _diagnostic(report: FileReport, codec: PositionCodec, d: Diagnostic) -> lsp.Diagnostic:
     fixes = report.fix_of(d)
     return lsp.Diagnostic(
-        range=_range(report, d.line, d.column, d.end_column or d.column + 1),
+        range=_range(report, codec, d.line, d.column, d.end_column or d.column + 1),
         message=d.message + (f"\nhint: {d.hint}" if d.hint else ""),
         severity=_SEVERITY[d.severity],
         code=d.code,
@@ -120,7 +129,7 @@ def _diagnostic(report: FileReport, d: Diagnostic) -> lsp.Diagnostic:
     )
 
 
-def _edits(report: FileReport, fixes: Sequence[Fix]) -> list[lsp.TextEdit]:
+def _edits(report: FileReport, codec: PositionCodec, fixes: Sequence[Fix]) -> list[lsp.TextEdit]:
     """A fix's byte edits as text edits (a deleted line goes with its end of line)."""
     out = []
     for f in fixes:
@@ -133,12 +142,14 @@ def _edits(report: FileReport, fixes: Sequence[Fix]) -> list[lsp.TextEdit]:
             continue
         text = f.replacement.decode("utf-8", "surrogateescape")
         out.append(
-            lsp.TextEdit(range=_range(report, f.line, f.column, f.end_column), new_text=text)
+            lsp.TextEdit(range=_range(report, codec, f.line, f.column, f.end_column), new_text=text)
         )
     return out
 
 
-def _code_actions(uri: str, doc: _Document, wanted: lsp.Range) -> list[lsp.CodeAction]:
+def _code_actions(
+    uri: str, doc: _Document, codec: PositionCodec, wanted: lsp.Range
+) -> list[lsp.CodeAction]:
     """The fixes of the findings in ``wanted``, then "fix all" where a safe fix exists."""
     report = doc.report
     actions = []
@@ -152,14 +163,14 @@ def _code_actions(uri: str, doc: _Document, wanted: lsp.Range) -> list[lsp.CodeA
             lsp.CodeAction(
                 title=title,
                 kind=lsp.CodeActionKind.QuickFix,
-                diagnostics=[_diagnostic(report, d)],
+                diagnostics=[_diagnostic(report, codec, d)],
                 is_preferred=safe,
-                edit=lsp.WorkspaceEdit(changes={uri: _edits(report, fixes)}),
+                edit=lsp.WorkspaceEdit(changes={uri: _edits(report, codec, fixes)}),
             )
         )
     fixed = fix_bytes(report.data, report.path, unsafe=False)
     if fixed.data != report.data:
-        whole = _range(report, 1, 1, None)
+        whole = _range(report, codec, 1, 1, None)
         last = len(report.data.split(b"\n"))
         whole.end = lsp.Position(line=last, character=0)
         text = fixed.data.decode("utf-8", "surrogateescape")
@@ -176,11 +187,11 @@ def _code_actions(uri: str, doc: _Document, wanted: lsp.Range) -> list[lsp.CodeA
 # --------------------------------------------------------------------------- hover
 
 
-def _hover(doc: _Document, at: lsp.Position) -> lsp.Hover | None:
+def _hover(doc: _Document, codec: PositionCodec, at: lsp.Position) -> lsp.Hover | None:
     """What the cell under the cursor is: joint, pose, time (ms), value, the robot's limits."""
     result = doc.report.read
     line = at.line + 1
-    column = _byte_column(doc.report.source_line(line), at.character)
+    column = _byte_column(codec, doc.report.source_line(line), at.character)
     if line == 1 and result.joints:
         return _joint_hover(doc, _header_cell(doc, column))
     p = bisect.bisect_left(result.pose_lines, line)
@@ -271,11 +282,15 @@ def build_server(lint: Linter) -> MotionServer:
     )
     def code_action(ls: MotionServer, params: lsp.CodeActionParams) -> list[lsp.CodeAction]:
         doc = ls.documents.get(params.text_document.uri)
-        return [] if doc is None else _code_actions(params.text_document.uri, doc, params.range)
+        if doc is None:
+            return []
+        return _code_actions(
+            params.text_document.uri, doc, ls.workspace.position_codec, params.range
+        )
 
     @server.feature(lsp.TEXT_DOCUMENT_HOVER)
     def hover(ls: MotionServer, params: lsp.HoverParams) -> lsp.Hover | None:
         doc = ls.documents.get(params.text_document.uri)
-        return None if doc is None else _hover(doc, params.position)
+        return None if doc is None else _hover(doc, ls.workspace.position_codec, params.position)
 
     return server

@@ -49,6 +49,7 @@ class Session:
 
     def __init__(self, client: LanguageClient) -> None:
         self.client = client
+        self.result: lsp.InitializeResult | None = None
         self.published: dict[str, asyncio.Queue[lsp.PublishDiagnosticsParams]] = {}
 
     def queue(self, uri: str) -> asyncio.Queue[lsp.PublishDiagnosticsParams]:
@@ -59,7 +60,12 @@ class Session:
         return list(params.diagnostics)
 
 
-def run_session(root: Path, body: Callable[[Session], Awaitable[None]], *args: str) -> None:
+def run_session(
+    root: Path,
+    body: Callable[[Session], Awaitable[None]],
+    *args: str,
+    capabilities: lsp.ClientCapabilities | None = None,
+) -> None:
     async def main() -> None:
         client = LanguageClient("test-client", "1")
         session = Session(client)
@@ -69,9 +75,10 @@ def run_session(root: Path, body: Callable[[Session], Awaitable[None]], *args: s
             session.queue(params.uri).put_nowait(params)
 
         await client.start_io(motiontool(), "server", *args, cwd=str(root))
-        await client.initialize_async(
+        session.result = await client.initialize_async(
             lsp.InitializeParams(
-                capabilities=lsp.ClientCapabilities(), root_uri=from_fs_path(str(root))
+                capabilities=capabilities or lsp.ClientCapabilities(),
+                root_uri=from_fs_path(str(root)),
             )
         )
         client.initialized(lsp.InitializedParams())
@@ -304,3 +311,112 @@ def test_the_editor_stores_saved_text_in_the_findings_cache_not_typed_text(
     again = CliRunner().invoke(app, ["validate", "nao/look.motion"])
     assert (again.exit_code, again.stdout) == (fresh.exit_code, fresh.stdout)
     assert len(list(store.glob("??/*.json"))) == 1 and " MT302: " in again.stdout
+
+
+# A pose name of 1-, 2- and 4-byte UTF-8 characters: "Pösé😀" is 10 UTF-8 code units, 6 UTF-16
+# code units and 5 code points, so each encoding gives different columns after it.
+WIDE = MOTION.replace("Pose2", "Pösé😀")
+_CODECS = {"utf-8": ("utf-8", 1), "utf-16": ("utf-16-le", 2), "utf-32": ("utf-32-le", 4)}
+
+
+def _units(text: str, encoding: str) -> int:
+    codec, width = _CODECS[encoding]
+    return len(text.encode(codec)) // width
+
+
+def _index(line: str, character: int, encoding: str) -> int:
+    """The string index of LSP ``character`` in ``line``, counted in ``encoding``'s units."""
+    for i in range(len(line) + 1):
+        if _units(line[:i], encoding) == character:
+            return i
+    raise AssertionError(f"{character} is inside a character of {line!r} in {encoding}")
+
+
+def _position(text: str, index: int, encoding: str) -> lsp.Position:
+    before = text[:index].split("\n")
+    return lsp.Position(line=len(before) - 1, character=_units(before[-1], encoding))
+
+
+def _offset(text: str, at: lsp.Position, encoding: str) -> int:
+    lines = text.split("\n")
+    return sum(len(x) + 1 for x in lines[: at.line]) + _index(
+        lines[at.line], at.character, encoding
+    )
+
+
+@pytest.mark.parametrize(
+    "offered",
+    [["utf-8", "utf-16"], ["utf-16"], ["utf-32", "utf-16"]],
+    ids=["utf-8 (Neovim's order)", "utf-16", "utf-32"],
+)
+def test_positions_use_the_encoding_the_client_and_server_agreed(
+    project: Path, offered: list[str]
+) -> None:
+    """Issue #36 item 14: the server answers the client's first encoding, and every position it
+    sends (finding ranges, quick-fix edits) or receives (hover, an incremental change) counts
+    in that encoding's code units on a line with a non-ASCII pose name."""
+    encoding = offered[0]
+    rad = WIDE.index("2rad") + 1
+    capabilities = lsp.ClientCapabilities(
+        general=lsp.GeneralClientCapabilities(position_encodings=offered)
+    )
+
+    async def body(session: Session) -> None:
+        assert session.result is not None
+        assert session.result.capabilities.position_encoding == encoding
+        uri = open_doc(session, project / "other.motion", WIDE)
+        mt203 = next(d for d in await session.diagnostics(uri) if d.code == "MT203")
+        assert _offset(WIDE, mt203.range.start, encoding) == rad
+        assert _offset(WIDE, mt203.range.end, encoding) == rad + len("rad")
+        actions = await session.client.text_document_code_action_async(
+            lsp.CodeActionParams(
+                text_document=lsp.TextDocumentIdentifier(uri=uri),
+                range=mt203.range,
+                context=lsp.CodeActionContext(diagnostics=[mt203]),
+            )
+        )
+        assert actions is not None
+        (quick,) = [a for a in actions if isinstance(a, lsp.CodeAction) and a.title[:5] == "MT203"]
+        assert quick.edit is not None and quick.edit.changes is not None
+        (edit,) = quick.edit.changes[uri]
+        start = _offset(WIDE, edit.range.start, encoding)
+        end = _offset(WIDE, edit.range.end, encoding)
+        assert WIDE[:start] + edit.new_text + WIDE[end:] == WIDE.replace("2rad", "2")
+        # Hover on the 0.1 after the wide pose name: the client counts in its encoding.
+        at = _position(WIDE, WIDE.index("0.1"), encoding)
+        hover = await session.client.text_document_hover_async(
+            lsp.HoverParams(text_document=lsp.TextDocumentIdentifier(uri=uri), position=at)
+        )
+        assert hover_text(hover).startswith("**HeadPitch** = 0.1, pose **Pösé😀**")
+        # An incremental change that deletes 'rad', its range in the client's encoding.
+        session.client.text_document_did_change(
+            lsp.DidChangeTextDocumentParams(
+                text_document=lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
+                content_changes=[
+                    lsp.TextDocumentContentChangePartial(
+                        range=lsp.Range(
+                            start=_position(WIDE, rad, encoding),
+                            end=_position(WIDE, rad + 3, encoding),
+                        ),
+                        text="",
+                    )
+                ],
+            )
+        )
+        after = await session.diagnostics(uri)
+        assert "MT203" not in {d.code for d in after}
+        assert hover_text(
+            await session.client.text_document_hover_async(
+                lsp.HoverParams(
+                    text_document=lsp.TextDocumentIdentifier(uri=uri),
+                    position=_position(WIDE.replace("2rad", "2"), WIDE.index("2rad"), encoding),
+                )
+            )
+        ).startswith("**HeadYaw** = 2.0, pose **Pösé😀**")
+
+    run_session(project, body, capabilities=capabilities)
+
+
+def hover_text(hover: lsp.Hover | None) -> str:
+    assert hover is not None and isinstance(hover.contents, lsp.MarkupContent)
+    return hover.contents.value
