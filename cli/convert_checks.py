@@ -9,7 +9,8 @@ and joint are named). An error stops the export; so does a warning when the file
 robot. An unknown joint is one error at its header cell where the robot was named or the file
 drives a robot (:func:`refuse_unknown_joints`). What the export sends (a URScript's
 ``servoj`` targets, NAOqi's keys as NAOqi interpolates them) is checked too: within the limits,
-and no faster than maxVelocity from one target to the next.
+and no faster than maxVelocity from one target to the next, with validate's slack for float
+rounding (:data:`~motiontool.kinematics.checks.EPS`).
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import math
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
-from motiontool.kinematics.checks import Limits, UnknownJoints, Velocity
+from motiontool.kinematics.checks import EPS, Limits, UnknownJoints, Velocity
 from motiontool.kinematics.robots import RobotSpec, fmt_name, unknown_joint_message
 from motiontool.motionfmt.convert.base import Imported, RobotStream
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
@@ -34,9 +35,6 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
 __all__ = ["motion_findings", "refuse_unknown_joints", "stream_findings"]
-
-#: Relative slack on the velocity of a stream, for a step that sits exactly at the limit.
-_VELOCITY_SLACK = 1e-9
 
 
 def _where(d: Diagnostic, imported: Imported, motion: Motion) -> str:
@@ -130,7 +128,7 @@ class _JointStream:
         sent = ~np.isnan(q)
         if self.beyond is None:
             with np.errstate(invalid="ignore"):
-                beyond = sent & ((q < joint.lower) | (q > joint.upper))
+                beyond = sent & ((q < joint.lower - EPS) | (q > joint.upper + EPS))
             if beyond.any():
                 i = int(np.argmax(beyond))
                 self.beyond = (float(q[i]), int(times_ms[i]))
@@ -157,7 +155,7 @@ class _JointStream:
         both = sent[1:] & sent[:-1]
         with np.errstate(invalid="ignore", divide="ignore"):
             speed = np.where(both, np.abs(np.diff(q)) / np.diff(t), 0.0)
-        fast = speed > max_velocity * (1 + _VELOCITY_SLACK)
+        fast = speed > max_velocity * (1 + EPS)
         if fast.any():
             i = int(np.argmax(np.where(fast, speed, -1.0)))
             if self.fastest is None or speed[i] > self.fastest[0]:  # the first of the fastest

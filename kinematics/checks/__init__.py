@@ -27,6 +27,7 @@ the collision and balance checks load Pinocchio, when they first run.
 
 from __future__ import annotations
 
+from motiontool.kinematics.checks._table import EPS
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import COUPLING_TOLERANCE, Limits
@@ -50,6 +51,7 @@ __all__ = [
     "COUPLING_TOLERANCE",
     "DEFAULT_CHECKS",
     "DEFAULT_PENETRATION_TOLERANCE_MM",
+    "EPS",
     "PLAIN_WORDING",
     "Balance",
     "CheckUnavailableError",

@@ -52,7 +52,9 @@ __all__ = [
 ]
 
 EPS = 1e-9
-"""Relative slack on velocity comparisons, for values that sit exactly at a limit."""
+"""Slack on a comparison with a limit, for values that sit exactly at it: relative on velocities,
+absolute (rad, m) on positions. It covers float rounding (a computed target one float step past
+the limit it was written at), never a real excess."""
 
 
 # --------------------------------------------------------------------------- message pieces

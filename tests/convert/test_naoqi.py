@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import ROOT, corpus_params
+from conftest import CORPUS, ROOT, corpus_params
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -167,3 +167,19 @@ def test_a_hand_the_real_robot_cannot_do_is_refused(tmp_path: Path) -> None:
     assert result.exit_code == 1
     assert "warning MT306" in result.stderr and "not written" in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("name", ["SideStepLeft", "SideStepRight"])
+def test_webots_side_steps_export_as_validate_passes_them(name: str, tmp_path: Path) -> None:
+    # Their LAnkleRoll sits at its lower limit -0.397761 rad; the Bezier model evaluates the
+    # flat segment there one float step below it. validate finds nothing: neither may the
+    # export's check of what it sends.
+    src = CORPUS / "projects/robots/softbank/dancing_nao/motions" / f"{name}.motion"
+    target = tmp_path / f"{name}.naoqi.json"
+    assert CliRunner().invoke(app, ["validate", "--robot", "nao-v5", str(src)]).exit_code == 0
+    result = CliRunner().invoke(app, ["convert", str(src), str(target)])
+    assert result.exit_code == 0, result.stderr
+    assert "checked against robot nao-v5: clean" in result.stderr
+    doc = json.loads(target.read_text())
+    ankle = doc["keys"][doc["names"].index("LAnkleRoll")]
+    assert min(key[0] for key in ankle) == -0.397761
