@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
+import errno
 import functools
 import importlib
+import io
 import os
 import sys
 import traceback
@@ -382,20 +384,60 @@ def _quiet_stdout() -> None:
         os.close(null)
 
 
+class _ClosedStream(io.RawIOBase):
+    """A standard stream the process was started without (``>&-``): every write fails, as
+    a write to a closed descriptor would, in words a user reads."""
+
+    def writable(self) -> bool:
+        return True
+
+    def write(self, data: Any) -> int:
+        raise OSError(errno.EBADF, "it is closed")
+
+
+def _hold_standard_streams() -> None:
+    """Give a standard descriptor that the process was started without (``>&-``, ``2>&-``,
+    ``<&-``) the null device, so that the first file the command opens cannot take its number
+    and receive what was meant for the stream; a closed standard output then fails at its first
+    write (one line, exit 2), and a command that writes nothing there runs as usual; what is
+    written to a closed standard error is dropped (the exit code still says how it ended)."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDONLY if fd == 0 else os.O_WRONLY)
+            if null != fd:  # the lowest free number: fd itself, unless a lower one was free too
+                os.dup2(null, fd)
+                os.close(null)
+            if fd == 1:
+                sys.stdout = io.TextIOWrapper(_ClosedStream(), encoding="utf-8", write_through=True)
+            elif fd == 2:
+                sys.stderr = open(fd, "w", encoding="utf-8", closefd=False)  # noqa: SIM115
+
+
+def _flush_stdout() -> None:
+    """Flush standard output, so that a failed write surfaces in :func:`main`, not in the
+    interpreter's exit; nothing for a stream already closed (the LSP server closes it when
+    its client says ``exit``)."""
+    if sys.stdout is not None and not sys.stdout.closed:
+        sys.stdout.flush()
+
+
 def main() -> None:
     """Console entry point: every failure ends as one ``motiontool: error:`` line (a traceback
     too with ``--debug``) and a non-zero exit code.
 
     - :class:`MotionToolError` raised outside a command (commands go through ``_guard``): 2;
-    - standard output that cannot be written (``> /dev/full``): 2, naming the reason;
+    - standard output that cannot be written (``> /dev/full``, ``>&-``): 2, naming the reason;
     - a reader that went away (``| head -1``): quiet, 141 as for a process that SIGPIPE ends;
     - Ctrl-C: ``interrupted``, 130.
     """
+    _hold_standard_streams()
     try:
         try:
             app(prog_name="motiontool")
         finally:
-            sys.stdout.flush()  # a failed write surfaces here, not in the interpreter's exit
+            _flush_stdout()
     except MotionToolError as exc:
         _report(exc, _error_line(exc), exit_codes.ERROR)
     except BrokenPipeError as exc:
