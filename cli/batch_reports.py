@@ -81,10 +81,16 @@ def render_summary(batch: BatchResult) -> str:
     lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip() for r in table]
     runs = len(batch.runs)
     cached = sum(r.cached for r in batch.runs)
-    rate = (runs - cached) / batch.wall_s if batch.wall_s > 0 else 0.0
+    simulated = runs - cached
+    # A rate of the runs simulated: a batch the cache answered whole simulated none.
+    pace = (
+        f"{simulated / batch.wall_s:.2f} runs/s"
+        if simulated and batch.wall_s > 0
+        else "none simulated"
+    )
     lines.append(
         f"{runs} runs: {runs - len(batch.failures)} clean, {len(batch.failures)} not clean,"
-        f" {cached} from cache; {batch.wall_s:.1f} s wall, {rate:.2f} runs/s"
+        f" {cached} from cache; {batch.wall_s:.1f} s wall, {pace}"
         f" ({batch.executor}, {batch.jobs} jobs)"
     )
     return "\n".join(lines) + "\n"

@@ -30,7 +30,7 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit_pieces, refuse_overwrite
+from motiontool.cli.output import emit_pieces, refuse_overwrite, say_wrote
 from motiontool.cli.progress import Step, progress
 from motiontool.cli.reports import (
     DEFAULT_FORMAT,
@@ -39,6 +39,7 @@ from motiontool.cli.reports import (
     FormatName,
     Order,
     render_pieces,
+    summary,
 )
 from motiontool.cli.reports.statistics import render_statistics
 from motiontool.cli.text import plural
@@ -378,6 +379,7 @@ def _apply_fixes(
             changes = fix_files(
                 files, unsafe=unsafe, write=False, robot=robot_fixes, diff=sink.write
             )
+        say_wrote(output, f"unified diff, the fixes of {plural(len(changes.files), 'file')}")
         raise typer.Exit(exit_codes.FINDINGS if changes.files else exit_codes.CLEAN)
     fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
     typer.echo(f"motiontool: {fixed.line()}", err=True)
@@ -418,6 +420,8 @@ def _print_report(
     )
     before_writing = step.stop if _to_terminal(output) else None
     emit_pieces(pieces, output, color=color, before_writing=before_writing)
+    label = "statistics" if statistics else REPORTS[format.value].label
+    say_wrote(output, f"{label} report of {summary(report).removeprefix('checked ')}")
 
 
 def _to_terminal(output: Path | None) -> bool:

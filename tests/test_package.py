@@ -56,6 +56,18 @@ def test_core_is_light_and_each_heavy_library_is_an_extra() -> None:
     assert "motiontool[all]" in extras["test"]
 
 
+def test_the_readme_extras_table_names_every_extra() -> None:
+    """Issue 36 item 22: the Install section's table has a row for each extra of pyproject.toml
+    (it lacked ``lsp``), and no row for an extra that does not exist."""
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"
+    ]
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    table = readme[readme.index("| extra | brings | for |") :].split("\n\n", 1)[0]
+    rows = re.findall(r"^\| `([a-z-]+)` \|", table, flags=re.MULTILINE)
+    assert sorted(rows) == sorted(extras)
+
+
 #: Code folders left out of the wheel on purpose: build-time tools that run from a checkout.
 NOT_SHIPPED = {
     # Writes kinematics/models from tests/data/robot_facts, which the wheel does not hold either.

@@ -4,8 +4,11 @@ follows) is what the command prints, and the library example runs."""
 
 from __future__ import annotations
 
+import glob
 import re
 import shlex
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from string import Template
@@ -177,3 +180,141 @@ def test_the_library_example_runs_from_the_repository_root(
     ]
     monkeypatch.chdir(ROOT)
     exec(compile(code, str(README), "exec"), {})  # README's own example
+
+
+def _shell_commands(block: Block) -> list[tuple[int, list[str]]]:
+    """The ``motiontool`` command lines of a shell block as the shell splits them: variables
+    of the block expanded, a pipeline cut at ``|`` (the part that runs ``motiontool``), the
+    brackets kept (``[--x]`` is synopsis, not a command)."""
+    found: list[tuple[int, list[str]]] = []
+    variables: dict[str, str] = {}
+    for number, line in _joined(block):
+        if match := _ASSIGNMENT.fullmatch(line.strip()):
+            variables[match[1]] = match[2]
+            continue
+        lexer = shlex.shlex(
+            Template(line).safe_substitute(variables), posix=True, punctuation_chars=True
+        )
+        lexer.whitespace_split = True
+        lexer.commenters = "#"
+        tokens = list(lexer)
+        start = 0
+        for i, token in enumerate([*tokens, "|"]):
+            if token in {"|", "||", "&&", ";"}:
+                part = tokens[start:i]
+                start = i + 1
+                if part and (part[0] == "motiontool" or part[0].endswith("/motiontool")):
+                    found.append((number, part[1:]))
+    return found
+
+
+def _parse(args: list[str]) -> str | None:
+    """What the command line's own parser says of ``args`` (``motiontool``'s arguments): None
+    when they parse, else the reason. Nothing runs: only the options and arguments are read."""
+    import typer
+    from typer._click.exceptions import ClickException
+    from typer.core import TyperGroup
+
+    if any(a.startswith("[") or a.endswith("]") or a.startswith("<") for a in args):
+        return f"synopsis, not a command: {args}"
+    group = typer.main.get_command(app)
+    try:
+        with group.make_context("motiontool", list(args)) as ctx:
+            name, command, rest = group.resolve_command(ctx, [*ctx._protected_args, *ctx.args])
+            assert command is not None
+            while isinstance(command, TyperGroup) and rest:
+                parent = command.make_context(name or "", rest, parent=ctx)
+                name, command, rest = command.resolve_command(
+                    parent, [*parent._protected_args, *parent.args]
+                )
+                assert command is not None
+                ctx = parent
+            command.make_context(name or "", rest, parent=ctx).close()
+    except typer.Exit:  # -V: eager and done
+        return None
+    except SystemExit as exc:  # --show-completion: eager, prints and exits
+        return None if exc.code in (0, None) else f"exit {exc.code}"
+    except ClickException as exc:
+        return exc.format_message()
+    return None
+
+
+SCRIPT = str(Path(sys.executable).parent / "motiontool")
+"""The installed console script, as a user runs it."""
+
+QUICK = frozenset(
+    {
+        "validate",
+        "info",
+        "codes",
+        "rule",
+        "robots",
+        "sample",
+        "diff",
+        "resample",
+        "retime",
+        "mirror",
+        "trim",
+        "scale",
+        "convert",
+        "concat",
+        "expect",
+    }
+)
+"""The commands whose README examples the test runs for real (play, batch, generate and plot
+take seconds to minutes each: they are parsed, and run by their own tests)."""
+
+
+def _shell_blocks() -> list[Block]:
+    return [
+        b for b in blocks(README.read_text(encoding="utf-8")) if b.info in {"sh", "bash", "shell"}
+    ]
+
+
+def test_every_command_line_of_a_shell_block_parses_as_written() -> None:
+    """Issue 36 item 22: a line of a copyable block runs as written (no ``[--x]``, no
+    ``json|sarif``, no option that does not exist); synopsis lives in ``text`` blocks."""
+    bad = []
+    lines = [(b, n, a) for b in _shell_blocks() for n, a in _shell_commands(b)]
+    assert len(lines) >= 55
+    for _block, number, args in lines:
+        if (why := _parse(args)) is not None:
+            bad.append(f"README.md:{number}: {why}")
+    assert bad == [], "\n".join(bad)
+
+
+def test_the_parse_check_refuses_synopsis() -> None:
+    assert _parse(["validate", "motions/", "--format", "json|sarif"]) is not None
+    assert _parse(["validate", "motions/", "[--timestep", "20]"]) is not None
+    assert _parse(["validate", "motions/", "--no-such-option"]) is not None
+    assert _parse(["validate", "motions/", "--format", "sarif"]) is None
+    assert _parse(["robots", "show", "nao", "--format", "json"]) is None
+    assert _parse(["robots", "show", "nao", "--fromat", "json"]) is not None
+
+
+def test_the_quick_examples_run_as_written(tmp_path: Path) -> None:
+    """The read-only and file-writing examples of the Commands block run in a clone-like folder
+    (the repository's motions and test data linked in): none is a usage or I/O error."""
+    for name in ("motions", "tests"):
+        (tmp_path / name).symlink_to(ROOT / name)
+    (commands,) = [b for b in _shell_blocks() if any("DANCE=" in line for line in b.lines)]
+    ran = 0
+    for number, args in _shell_commands(commands):
+        if args[:1] and args[0] in QUICK and "-" not in args and "--fix" not in args:
+            expanded = [
+                p
+                for a in args
+                for p in (sorted(glob.glob(a, root_dir=tmp_path)) if "*" in a else [a])
+            ]
+            result = subprocess.run(
+                [SCRIPT, *expanded],
+                cwd=tmp_path,
+                capture_output=True,
+                text=True,
+                check=False,
+                stdin=subprocess.DEVNULL,
+                timeout=120,
+            )
+            assert result.returncode in (0, 1), f"README.md:{number}: {result.stderr}"
+            ran += 1
+    assert ran >= 25

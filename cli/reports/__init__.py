@@ -45,20 +45,22 @@ class ReportFormat:
             a format that streams its findings: text, json, github).
         help: what it is for, in ``validate --help``.
         colors: whether it may use ANSI colours (on a terminal only).
+        label: what a file of it is, in the ``wrote`` line of ``validate -o``.
     """
 
     render: Callable[[ValidationReport, Context], str | Iterator[str]]
     help: str
     colors: bool = False
+    label: str = "text"
 
 
 REPORTS: dict[str, ReportFormat] = {
     "text": ReportFormat(render_text, "for people", colors=True),
-    "json": ReportFormat(render_json, "the versioned JSON report"),
-    "sarif": ReportFormat(render_sarif, "SARIF 2.1.0 for code scanning"),
-    "github": ReportFormat(render_github, "GitHub Actions annotations"),
-    "gitlab": ReportFormat(render_gitlab, "GitLab Code Quality"),
-    "junit": ReportFormat(render_junit, "JUnit XML, a test case per file"),
+    "json": ReportFormat(render_json, "the versioned JSON report", label="JSON"),
+    "sarif": ReportFormat(render_sarif, "SARIF 2.1.0 for code scanning", label="SARIF"),
+    "github": ReportFormat(render_github, "GitHub Actions annotations", label="GitHub annotations"),
+    "gitlab": ReportFormat(render_gitlab, "GitLab Code Quality", label="GitLab Code Quality"),
+    "junit": ReportFormat(render_junit, "JUnit XML, a test case per file", label="JUnit XML"),
 }
 """Every report format of ``validate``, by the name ``--format`` takes."""
 

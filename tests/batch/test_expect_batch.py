@@ -75,6 +75,7 @@ def test_a_wrong_expectation_fails_with_its_reason_in_every_report(tmp_path: Pat
     code, stdout, _ = batch(str(motions), *cache)
     assert code == 0, stdout
     assert "2 from cache" in stdout
+    assert "none simulated" in stdout and "runs/s" not in stdout  # was '0.00 runs/s'
     code, stdout, _ = batch(str(motions), "--no-sidecar", "--expect", "yaw>5", *cache)
     assert code == 1 and "expected yaw > 5 deg, measured" in stdout
 

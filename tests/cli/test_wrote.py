@@ -129,3 +129,22 @@ def test_batch_says_each_report_and_its_recordings(here: Path) -> None:
         "rrd": "a folder of Rerun recordings, one per run: 2 runs",
     }
     assert len(list((here / "rrd").glob("*.rrd"))) == 2
+
+
+def test_validate_says_the_report_it_wrote(here: Path) -> None:
+    """Issue 36 item 22: ``validate -o FILE`` said nothing; now its line names the format and
+    the counts, and ``--diff -o FILE`` the patch."""
+    (here / "bad.motion").write_bytes(NOD + b"00:00:080,C,2rad,0\n")
+    assert wrote(["validate", "nod.motion", "-o", "r.txt"])[1] == {
+        "r.txt": "text report of 1 file: 0 errors, 0 warnings, 0 notes"
+    }
+    assert wrote(["validate", "nod.motion", "bad.motion", "-f", "sarif", "-o", "r.sarif"])[1] == {
+        "r.sarif": "SARIF report of 2 files: 0 errors, 2 warnings, 0 notes"
+    }
+    assert wrote(["validate", "nod.motion", "--statistics", "-o", "s.txt"])[1] == {
+        "s.txt": "statistics report of 1 file: 0 errors, 0 warnings, 0 notes"
+    }
+    assert wrote(["validate", "nod.motion", "-f", "json", "-o", "-"])[1] == {}
+    assert wrote(["validate", "bad.motion", "--diff", "-o", "fix.patch"])[1] == {
+        "fix.patch": "unified diff, the fixes of 1 file"
+    }
