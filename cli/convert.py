@@ -16,7 +16,13 @@ from motiontool.cli.convert_checks import (
     refuse_unknown_joints,
     stream_findings,
 )
-from motiontool.cli.options import ROBOT_OPTION, finite, robot_option, timestep_option
+from motiontool.cli.options import (
+    ROBOT_OPTION,
+    finite,
+    output_path,
+    robot_option,
+    timestep_option,
+)
 from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite, say_wrote
 from motiontool.cli.text import num, plural
 from motiontool.errors import MotionToolError
@@ -123,7 +129,11 @@ _Source = Annotated[
 ]
 _Target = Annotated[
     Path,
-    typer.Argument(help="Where to write it ('-': stdout; never the input).", show_default=False),
+    typer.Argument(
+        parser=output_path,
+        help="Where to write it ('-': stdout; never the input).",
+        show_default=False,
+    ),
 ]
 _To = Annotated[
     str | None,

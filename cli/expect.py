@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from motiontool.cli.options import output_path
 from motiontool.cli.output import emit, refuse_overwrite, say_wrote
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
@@ -52,7 +53,13 @@ def expect_command(
     ] = False,
     output: Annotated[
         Path | None,
-        typer.Option("--output", "-o", help="Write the motions.toml here (default: stdout)."),
+        typer.Option(
+            "--output",
+            "-o",
+            parser=output_path,
+            metavar="PATH",
+            help="Write the motions.toml here (default: stdout).",
+        ),
     ] = None,
 ) -> None:
     """Propose expectations (a motions.toml sidecar) from motion names, for people to review:

@@ -40,6 +40,7 @@ __all__ = [
     "Timestep",
     "error_line",
     "finite",
+    "output_path",
     "robot_option",
     "timestep_option",
 ]
@@ -110,6 +111,17 @@ class TableFormat(enum.StrEnum):
     json = "json"
 
 
+def output_path(value: str | Path) -> Path:
+    """Typer ``parser`` of every option and argument naming a file to write: any path but the
+    empty one, which pathlib reads as ``.`` (the folder) and which names no file (``-o ''`` is
+    a usage error, exit 2)."""
+    if isinstance(value, Path):
+        return value
+    if value == "":
+        raise typer.BadParameter("an empty path names no file; give a file name, or '-' for stdout")
+    return Path(value)
+
+
 MotionFile = Annotated[Path, typer.Argument(help="A motion file ('-': stdin).", show_default=False)]
 """The one motion file a command reads."""
 FormatOption = Annotated[
@@ -123,6 +135,8 @@ Output = Annotated[
     typer.Option(
         "--output",
         "-o",
+        parser=output_path,
+        metavar="PATH",
         help="Write the result here ('-': stdout). Never the input file, unless --in-place.",
     ),
 ]
@@ -131,6 +145,8 @@ ReportOutput = Annotated[
     typer.Option(
         "--output",
         "-o",
+        parser=output_path,
+        metavar="PATH",
         help="Write the report to this file instead of stdout (never over an input file).",
     ),
 ]

@@ -8,7 +8,13 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from motiontool.cli.options import ROBOT_OPTION, MotionFile, robot_option, timestep_option
+from motiontool.cli.options import (
+    ROBOT_OPTION,
+    MotionFile,
+    output_path,
+    robot_option,
+    timestep_option,
+)
 from motiontool.cli.output import emit_bytes, refuse_overwrite, say_wrote
 from motiontool.cli.text import file_name, plural
 from motiontool.extras import require
@@ -28,7 +34,14 @@ _DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
 
 _Output = Annotated[
     Path,
-    typer.Option("--output", "-o", help="The PNG file to write ('-': stdout).", show_default=False),
+    typer.Option(
+        "--output",
+        "-o",
+        parser=output_path,
+        metavar="PATH",
+        help="The PNG file to write ('-': stdout).",
+        show_default=False,
+    ),
 ]
 _Robot = Annotated[
     str, robot_option("Robot whose limits are drawn", none="no limits (as auto finding none)")

@@ -15,7 +15,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.options import MAX_LOOPS, MotionFile, timestep_option
+from motiontool.cli.options import MAX_LOOPS, MotionFile, output_path, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.sample_text import csv_header, csv_rows, json_document
 from motiontool.cli.text import plural
@@ -102,7 +102,11 @@ def sample_command(
     output: Annotated[
         Path | None,
         typer.Option(
-            "--output", "-o", help="Write to this file instead of stdout (never over the input)."
+            "--output",
+            "-o",
+            parser=output_path,
+            metavar="PATH",
+            help="Write to this file instead of stdout (never over the input).",
         ),
     ] = None,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play backwards.")] = False,

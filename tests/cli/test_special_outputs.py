@@ -396,3 +396,14 @@ def test_a_read_only_folder_is_refused_before_anything_runs(here: Path) -> None:
         )
     finally:
         subprocess.run(["umount", str(ro)], check=True)
+
+
+@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+def test_an_empty_path_is_a_usage_error(here: Path, line: list[str]) -> None:
+    # '' is no file (pathlib reads it as '.'): one line, exit 2, nothing written.
+    code, _, err = invoke(*command(line, ""))
+    assert code == 2, err
+    assert err.startswith("motiontool: error: ") and err.count("\n") == 1, err
+    if "-o" in line:  # the shared --output options say what is wrong
+        assert "an empty path names no file" in err, err
+    assert {p.name for p in here.iterdir()} <= {"cache", "in.motion", "model.xml", "other.motion"}

@@ -6,11 +6,13 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
+import pytest
 from conftest import ROOT
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.motionfmt import read_bytes, read_motion, sample
+from motiontool.motionfmt.convert import FORMATS
 
 runner = CliRunner()
 WAVE = ROOT / "motions" / "nao" / "wave_right.motion"
@@ -97,3 +99,16 @@ def test_npz_round_trip_through_the_command(tmp_path: Path) -> None:
 def test_bad_format_names_the_choices(tmp_path: Path) -> None:
     code, _, err = _run(WAVE, tmp_path / "x.out", "--to", "xls")
     assert code == 2 and "--to 'xls': unknown format; choose one of motion, csv, npz" in err
+
+
+@pytest.mark.parametrize("fmt", [f.name for f in FORMATS if f.write is not None])
+def test_an_empty_target_is_a_usage_error(fmt: str, tmp_path: Path) -> None:
+    source = tmp_path / "wave.motion"
+    source.write_bytes(WAVE.read_bytes())
+    code, _, err = _run(source, "", "--to", fmt)
+    assert code == 2
+    assert err == (
+        "motiontool: error: invalid value for 'target': an empty path names no file; "
+        "give a file name, or '-' for stdout; see 'motiontool convert --help'\n"
+    )
+    assert [p.name for p in tmp_path.iterdir()] == ["wave.motion"]
