@@ -12,7 +12,7 @@ from motiontool import exit_codes
 from motiontool.cli.color import rich_no_color
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import collect
-from motiontool.cli.options import Timestep, finite, robot_option
+from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
 from motiontool.cli.output import (
     emit,
     emit_pieces,
@@ -66,7 +66,7 @@ _Robots = Annotated[
         more="Repeat to run every file on several robots.",
     ),
 ]
-_Jobs = Annotated[int, typer.Option("--jobs", "-j", min=1, help="Runs in parallel.")]
+_Jobs = Annotated[int, typer.Option("--jobs", "-j", min=1, max=MAX_COUNT, help="Runs in parallel.")]
 _Executor = Annotated[
     str,
     typer.Option("--executor", help=" or ".join(f"{e.name} ({e.summary})" for e in REGISTRY) + "."),
@@ -92,7 +92,10 @@ _Perturb = Annotated[
     ),
 ]
 _Samples = Annotated[
-    int, typer.Option("--samples", min=1, help="Perturbation samples per file and robot.")
+    int,
+    typer.Option(
+        "--samples", min=1, max=MAX_COUNT, help="Perturbation samples per file and robot."
+    ),
 ]
 _Seed = Annotated[int, typer.Option("--seed", help="Seed of the perturbation draws.")]
 _Junit = Annotated[Path | None, typer.Option("--junit", help="Write JUnit XML here.")]

@@ -20,6 +20,7 @@ from motiontool.cli._authoring import (
     write_result,
 )
 from motiontool.cli.options import (
+    MAX_MS,
     Format,
     FormatOption,
     InPlace,
@@ -73,6 +74,7 @@ _Transition = Annotated[
     typer.Option(
         "--transition",
         min=1,
+        max=MAX_MS,
         help="Transition time in ms, instead of fitting the shortest one within the "
         "robot's maxVelocity x margin.",
     ),

@@ -17,6 +17,7 @@ from motiontool.cli.convert_checks import (
     stream_findings,
 )
 from motiontool.cli.options import (
+    MAX_MS,
     ROBOT_OPTION,
     finite,
     output_path,
@@ -157,6 +158,7 @@ _LeadIn = Annotated[
     typer.Option(
         "--lead-in",
         min=1,
+        max=MAX_MS,
         help="ms the real robot gets to reach the first pose before the motion starts "
         "(naoqi, ros-trajectory: every time is the Webots time plus this).",
     ),

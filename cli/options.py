@@ -19,11 +19,13 @@ import typer
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks.wording import Wording
 from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
+from motiontool.motionfmt.cscan import INT_MAX
 
 __all__ = [
     "CLI_WORDING",
-    "MAX_LOOPS",
-    "MAX_TIMESTEP_MS",
+    "MAX_COUNT",
+    "MAX_MS",
+    "MAX_ROWS",
     "ROBOT_OPTION",
     "Format",
     "FormatOption",
@@ -45,13 +47,23 @@ __all__ = [
     "timestep_option",
 ]
 
-MAX_TIMESTEP_MS = 2**31 - 1
-"""The largest controller time step in ms: Webots keeps it in a C ``int``."""
+MAX_MS = INT_MAX
+"""The most whole ms an option takes (a time step, a grid step, a duration, a transition, a
+lead-in): Webots keeps a motion's times and its controller step in a C ``int``."""
 
 
-MAX_LOOPS = 1_000_000
-"""The most cycles ``--loop`` plays (``play``, ``sample``): a bound on the option's range, so
-that a mistyped number is refused instead of overflowing."""
+MAX_COUNT = 1_000_000
+"""The most cycles ``--loop`` plays (``play``, ``sample``), samples ``--samples`` draws and
+workers ``--jobs`` starts (``batch``)."""
+
+MAX_ROWS = MAX_COUNT * (MAX_MS + 1)
+"""The most rows a stream of targets has (``sample --max-rows``): every cycle of the most
+``--loop`` cycles sent at every ms a C ``int`` holds."""
+
+# Every int option has a range (tests/cli/test_files.py keeps it so): a number outside it is
+# refused as a usage error naming the option and the range, where an unbounded one overflowed a
+# C long (resample --step 99999999999999999999) or listed runs until memory ran out (batch
+# --samples).
 
 
 def finite(value: Any) -> Any:
@@ -182,7 +194,7 @@ def timestep_option(
         "--timestep",
         "-t",
         min=1,
-        max=MAX_TIMESTEP_MS,
+        max=MAX_MS,
         help=f"Controller time step in ms{': ' + use if use else ''} (default: {default}).",
     )
 

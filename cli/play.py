@@ -10,7 +10,7 @@ import typer
 
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import MAX_LOOPS, Timestep, finite, robot_option
+from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
 from motiontool.cli.output import (
     emit,
     emit_stderr,
@@ -178,7 +178,7 @@ _Rrd = Annotated[
     Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
 ]
 _Loop = Annotated[
-    int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play each motion N times.")
+    int, typer.Option("--loop", min=1, max=MAX_COUNT, help="Play each motion N times.")
 ]
 _Reverse = Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")]
 _Robot = Annotated[

@@ -16,7 +16,15 @@ from motiontool.cli._authoring import (
     say,
     write_blocks,
 )
-from motiontool.cli.options import Format, FormatOption, InPlace, MotionFile, Output, finite
+from motiontool.cli.options import (
+    MAX_MS,
+    Format,
+    FormatOption,
+    InPlace,
+    MotionFile,
+    Output,
+    finite,
+)
 from motiontool.cli.text import num, plural
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff
@@ -109,6 +117,7 @@ def resample_command(
         typer.Option(
             "--step",
             min=1,
+            max=MAX_MS,
             help="Grid step in ms: keyframes at every multiple of it from the first to the last "
             "pose (both kept). Lossless when the grid holds every pose time.",
         ),

@@ -23,6 +23,7 @@ from motiontool.cli._authoring import (
     write_result,
 )
 from motiontool.cli.options import (
+    MAX_MS,
     Format,
     FormatOption,
     InPlace,
@@ -82,7 +83,9 @@ _Speed = Annotated[
 ]
 _Duration = Annotated[
     int | None,
-    typer.Option("--duration", min=0, help="Scale the times so the last pose is at this ms."),
+    typer.Option(
+        "--duration", min=0, max=MAX_MS, help="Scale the times so the last pose is at this ms."
+    ),
 ]
 _FitLimits = Annotated[
     bool,

@@ -15,7 +15,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.options import MAX_LOOPS, MotionFile, output_path, timestep_option
+from motiontool.cli.options import MAX_COUNT, MAX_ROWS, MotionFile, output_path, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.sample_text import csv_header, csv_rows, json_document
 from motiontool.cli.text import plural
@@ -111,13 +111,14 @@ def sample_command(
     ] = None,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play backwards.")] = False,
     loop: Annotated[
-        int, typer.Option("--loop", min=1, max=MAX_LOOPS, help="Play this many cycles.")
+        int, typer.Option("--loop", min=1, max=MAX_COUNT, help="Play this many cycles.")
     ] = 1,
     max_rows: Annotated[
         int | None,
         typer.Option(
             "--max-rows",
             min=1,
+            max=MAX_ROWS,
             help="Refuse, before writing anything, a stream of more rows (steps) than this."
             " Default: no limit (the stream is written as it is computed, in constant memory).",
             show_default=False,

@@ -304,6 +304,40 @@ def test_robot_and_timestep_options_share_their_help_and_choices() -> None:
     } <= set(timesteps)
 
 
+ANY_INT = {"--seed"}
+"""Int options that take any int: a seed (numpy's generators take one of any size)."""
+
+
+def _int_options() -> list[tuple[str, str]]:
+    return [
+        (name, param.opts[0])
+        for name, command in _commands()
+        for param in command.params
+        if param.param_type_name == "option"
+        and param.type.name in ("integer", "int range")
+        and not ANY_INT & set(param.opts)
+    ]
+
+
+@pytest.mark.parametrize(("command", "option"), _int_options())
+def test_a_huge_int_is_refused_naming_the_option_and_its_range(
+    here: Path, command: str, option: str
+) -> None:
+    """``resample --step 99999999999999999999`` raised OverflowError (a C long), ``batch
+    --samples`` of it listed runs until memory ran out: every int option has a range, and a
+    number outside it is a usage error, before the command runs."""
+    args = ("in.motion", "out.motion")  # as many as any command takes (convert IN OUT)
+    code, out, err = invoke(*command.split(), option, "99999999999999999999", *args)
+    assert code == 2 and out == "", err
+    assert err.startswith(f"motiontool: error: invalid value for '{option}'"), err
+    assert "99999999999999999999 is not in the range" in err and err.count("\n") == 1, err
+
+
+def test_int_options_are_found(here: Path) -> None:
+    found = set(_int_options())
+    assert {("resample", "--step"), ("batch", "--samples"), ("retime", "--duration")} <= found
+
+
 def test_no_robot_fits_the_cli_names_the_robot_option(here: Path) -> None:
     # The library says "name the robot explicitly"; the CLI says how: --robot.
     (here / "hex.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,leg0\n0,p,0\n100,q,1\n")
