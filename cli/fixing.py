@@ -73,14 +73,50 @@ def fix_files(
 
 
 def _unified(path: Path, old: bytes, new: bytes) -> Iterator[bytes]:
-    """The unified diff of ``path`` from ``old`` to ``new``, line by line: ``a/`` and ``b/``
-    before the name as git writes them (``git apply`` reads it), but for an absolute path."""
+    """The unified diff of ``path`` from ``old`` to ``new``, line by line, as ``git apply``
+    and ``patch -p1`` read it: lines split at ``\\n`` alone (a carriage return stays in its
+    line), a last line without one followed by ``\\ No newline at end of file``; ``a/`` and
+    ``b/`` before the name as git writes them, but for an absolute path, and the name as git
+    writes it (:func:`_quoted`)."""
     name = str(path).encode("utf-8", "surrogateescape")
     before, after = (b"", b"") if path.is_absolute() else (b"a/", b"b/")
-    return difflib.diff_bytes(
+    lines = difflib.diff_bytes(
         difflib.unified_diff,
-        old.splitlines(keepends=True),
-        new.splitlines(keepends=True),
-        before + name,
-        after + name,
+        _lines(old),
+        _lines(new),
+        _quoted(before + name),
+        _quoted(after + name),
     )
+    for line in lines:
+        yield line if line.endswith(b"\n") else line + b"\n" + NO_NEWLINE
+
+
+NO_NEWLINE = b"\\ No newline at end of file\n"
+"""What follows a diff line that ends its file without a newline (git, GNU diff)."""
+
+
+def _lines(data: bytes) -> list[bytes]:
+    """The lines of ``data``, each with its ``\\n`` but the last where the file has no final
+    newline (``bytes.splitlines`` would also split at a lone carriage return)."""
+    lines = [line + b"\n" for line in data.split(b"\n")]
+    last = lines.pop()[:-1]
+    return [*lines, last] if last else lines
+
+
+_C_ESCAPES = {ord('"'): b'\\"', ord("\\"): b"\\\\", 7: b"\\a", 8: b"\\b", 9: b"\\t"}
+_C_ESCAPES |= {10: b"\\n", 11: b"\\v", 12: b"\\f", 13: b"\\r"}
+"""The bytes of a name that git writes as a backslash and a character; other control
+characters as a backslash and three octal digits."""
+
+
+def _quoted(name: bytes) -> bytes:
+    """``name`` as git writes it in a diff header, and ``git apply`` and GNU ``patch`` read
+    it: in double quotes with C escapes (``\\t``, ``\\"``, octal) where it holds a quote, a
+    backslash or a control character; else as it is, with a tab after a name that holds a
+    space (``patch`` ends a name at a space where no tab follows)."""
+    if not any(b < 0x20 or b in b'"\\\x7f' for b in name):
+        return name + b"\t" if b" " in name else name
+    out = b"".join(
+        _C_ESCAPES.get(b, b"\\%03o" % b if b < 0x20 or b == 0x7F else bytes((b,))) for b in name
+    )
+    return b'"' + out + b'"'
