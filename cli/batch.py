@@ -31,7 +31,7 @@ from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_o
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
 from motiontool.extras import EXTRAS, require
-from motiontool.motionfmt.fileio import is_stdin
+from motiontool.motionfmt.fileio import is_stdin, output_kind
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 
 if TYPE_CHECKING:
@@ -175,6 +175,7 @@ def batch_command(
         sidecar=not no_sidecar,
         rrd_dir=rrd_dir,
     )
+    _refuse_reports_over_recordings(specs, outputs)
     with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
         batch = _run(
             specs,
@@ -221,6 +222,33 @@ def _check_outputs(
     require_folder(outputs["--rrd-dir"], "--rrd-dir")
     require_folder(cache_dir, "--cache-dir")
     _require_extras(junit=outputs["--junit"], rrd_dir=outputs["--rrd-dir"], executor=executor)
+
+
+def _refuse_reports_over_recordings(specs: list[RunSpec], outputs: dict[str, Path | None]) -> None:
+    """A report (``--json``, ``--markdown``, ``--junit``) on the file where ``--rrd-dir`` keeps
+    a run's recording, named or through a symlink (a report replaced the recording and said
+    "wrote"): exit 2 before anything runs."""
+    import os
+
+    from motiontool.sim.runs import run_outputs
+
+    if outputs["--rrd-dir"] is None:
+        return
+    reports = {
+        os.path.realpath(path): option
+        for option, path in outputs.items()
+        if option != "--rrd-dir" and path is not None and output_kind(path) == "file"
+    }
+    if not reports:
+        return
+    for spec in specs:
+        for recording in run_outputs(spec):
+            option = reports.get(os.path.realpath(recording))
+            if option is not None:
+                raise MotionToolError(
+                    f"{option} and --rrd-dir both write '{recording}' (the recording of "
+                    f"{spec.path} on {spec.robot}, sample {spec.sample}); give each its own file"
+                )
 
 
 def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) -> None:

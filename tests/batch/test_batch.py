@@ -245,6 +245,37 @@ def test_batch_keeps_one_recording_per_motion_when_names_collide(
     ]
 
 
+@pytest.mark.parametrize("option", ["--json", "--markdown", "--junit"])
+def test_a_report_where_a_recording_goes_is_refused_before_any_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, option: str
+) -> None:
+    """``batch in.motion --rrd-dir R --json R/in.nao.0.rrd`` replaced the run's recording with
+    the report and said "wrote": refused (exit 2, one line) before anything runs, the
+    recording as it was, whether it is named or reached through a symlink."""
+    (tmp_path / "in.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B,0.2\n")
+    monkeypatch.chdir(tmp_path)
+    base = ["batch", "in.motion", "--no-cache", "-j", "1", "--rrd-dir", "rrd"]
+    fresh = CliRunner().invoke(app, [*base, option, "rrd/in.nao.0.rrd"])
+    assert (fresh.exit_code, fresh.stdout) == (2, ""), fresh.output
+    assert fresh.stderr == (
+        f"motiontool: error: {option} and --rrd-dir both write 'rrd/in.nao.0.rrd' (the "
+        "recording of in.motion on nao, sample 0); give each its own file\n"
+    )
+    assert not (tmp_path / "rrd" / "in.nao.0.rrd").exists()
+    first = CliRunner().invoke(app, base)
+    assert first.exit_code == 0, first.output
+    recording = tmp_path / "rrd" / "in.nao.0.rrd"
+    before = recording.read_bytes()
+    (tmp_path / "link").symlink_to(recording)
+    for target in ("rrd/in.nao.0.rrd", "link", "./rrd/../rrd/in.nao.0.rrd"):
+        again = CliRunner().invoke(app, [*base, option, target])
+        assert again.exit_code == 2 and "--rrd-dir both write" in again.stderr, again.output
+        assert "wrote" not in again.output
+        assert recording.read_bytes() == before
+    ok = CliRunner().invoke(app, [*base, option, "rrd/report"])  # beside the recordings: fine
+    assert ok.exit_code == 0, ok.output
+
+
 def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
     tmp_path: Path,
 ) -> None:
