@@ -4,6 +4,7 @@ the robot before anything is written."""
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Annotated
@@ -24,7 +25,13 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit_bytes, emit_stderr, refuse_overwrite, say_wrote
+from motiontool.cli.output import (
+    emit_files,
+    emit_stderr,
+    refuse_overwrite,
+    refuse_shared_outputs,
+    say_wrote,
+)
 from motiontool.cli.text import num, plural
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
@@ -41,7 +48,13 @@ from motiontool.motionfmt.convert.base import (
     Recording,
 )
 from motiontool.motionfmt.convert.joint_map import parse_joint_map
-from motiontool.motionfmt.fileio import is_stdin, is_stdout, read_file, source_name
+from motiontool.motionfmt.fileio import (
+    is_stdin,
+    is_stdout,
+    output_kind,
+    read_file,
+    source_name,
+)
 from motiontool.motionfmt.units import MS_PER_S
 
 __all__ = ["convert_command"]
@@ -70,6 +83,22 @@ def _format(path: Path, given: str | None, option: str, can: str) -> Format:
 def _companion(target: Path, suffix: str) -> Path:
     """A file written beside ``target``: its name up to the first dot, then ``suffix``."""
     return target.with_name(target.name.split(".", 1)[0] + suffix)
+
+
+def _beside(target: Path) -> bool:
+    """Whether a companion goes beside ``target`` unasked: only a regular file (or a new
+    path) has a folder of its own; standard output and a device (``/dev/null``) have none."""
+    return not is_stdout(target) and output_kind(target) == "file"
+
+
+def _target_name(target: Path, send_script: Path | None) -> str | None:
+    """OUT as its companion opens it: its path from the companion's folder, or None where
+    OUT is no regular file."""
+    if not _beside(target):
+        return None
+    if send_script is None:
+        return target.name
+    return os.path.relpath(os.path.abspath(target), os.path.abspath(send_script.parent))
 
 
 def _robot(requested: str | None, out: Format, joints: tuple[str, ...]) -> RobotSpec | None:
@@ -198,8 +227,24 @@ _MaxError = Annotated[
     ),
 ]
 
-#: The ROS options, and the field of ImportOptions / ExportOptions each sets.
-_FIELDS = {"--topic": "topic", "--joint-map": "joint_map", "--max-error": "max_error_rad"}
+_SendScript = Annotated[
+    Path | None,
+    typer.Option(
+        "--send-script",
+        parser=output_path,
+        metavar="PATH",
+        help="naoqi: write the script that sends the JSON here (default: beside OUT, "
+        "'wave_send.py' for 'wave.naoqi.json'; none where OUT is stdout or a device).",
+    ),
+]
+
+#: The options of some formats only, and the field of ImportOptions / ExportOptions each sets.
+_FIELDS = {
+    "--topic": "topic",
+    "--joint-map": "joint_map",
+    "--max-error": "max_error_rad",
+    "--send-script": "script_name",
+}
 
 
 def _refuse_unused(given: Mapping[str, object], fmt_in: Format, fmt_out: Format) -> None:
@@ -227,18 +272,31 @@ def _checked(
     return notes
 
 
-def _write(exported: Exported, fmt_out: Format, source: Path, target: Path) -> None:
-    """Write OUT and its companions (none over the input); say what was written."""
-    companions = [_companion(target, suffix) for suffix, _ in exported.companions]
-    if companions and is_stdout(target):
-        raise MotionToolError(f"{fmt_out.name} writes a script beside its file: give OUT a name")
-    for path in companions:
+def _write(exported: Exported, source: Path, target: Path, send_script: Path | None) -> None:
+    """Write OUT and its companion, both or neither (none over the input): the companion
+    where ``--send-script`` names it, else beside OUT where OUT is a regular file, else none
+    (said in one line); say what was written."""
+    companions: list[tuple[Path | None, bytes]] = []
+    for suffix, data in exported.companions:
+        if send_script is not None:
+            companions.append((send_script, data))
+        elif _beside(target):
+            companions.append((_companion(target, suffix), data))
+        else:
+            what = (
+                "OUT is standard output"
+                if is_stdout(target)
+                else f"'{target}' is not a regular file"
+            )
+            emit_stderr(
+                f"motiontool: no script written: {what} (give --send-script PATH for one)\n"
+            )
+    for path, _ in companions:
         refuse_overwrite(path, [source], "OUT's companion", "write to another file")
-    emit_bytes(exported.data, None if is_stdout(target) else target)
-    for path, (_, data) in zip(companions, exported.companions, strict=True):
-        emit_bytes(data, path)
+        refuse_shared_outputs({"OUT": target, "its companion": path})
+    emit_files([(None if is_stdout(target) else target, exported.data), *companions])
     say_wrote(target, f"{plural(exported.poses, 'pose')}, {exported.detail}")
-    for path in companions:
+    for path, _ in companions:
         say_wrote(path, "the script that sends it")
 
 
@@ -254,6 +312,7 @@ def convert_command(
     topic: _Topic = None,
     joint_map: _JointMap = None,
     max_error: _MaxError = None,
+    send_script: _SendScript = None,
 ) -> None:
     """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ
     or a bag's recorded joint states back to a motion.
@@ -265,7 +324,12 @@ def convert_command(
     """
     fmt_in = _format(source, from_ or ("motion" if is_stdin(source) else None), "--from", "read")
     fmt_out = _format(target, to, "--to", "write")
-    given = {"--topic": topic, "--joint-map": joint_map, "--max-error": max_error}
+    given = {
+        "--topic": topic,
+        "--joint-map": joint_map,
+        "--max-error": max_error,
+        "--send-script": send_script,
+    }
     _refuse_unused(given, fmt_in, fmt_out)
     refuse_overwrite(target, [source], "OUT", "write to another file")
     pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
@@ -282,7 +346,8 @@ def convert_command(
         joint_order=None if spec is None else spec.joint_names,
         lead_in_ms=lead_in,
         keyframes=keyframes,
-        target_name=None if is_stdout(target) else target.name,
+        target_name=_target_name(target, send_script),
+        script_name=None if send_script is None else send_script.name,
         joint_map=pairs,
         topic=topic,
     )
@@ -291,5 +356,5 @@ def convert_command(
         bad = stream_findings(exported.stream, spec, f"{fmt_out.name} export")
         if bad:
             _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
-    _write(exported, fmt_out, source, target)
+    _write(exported, source, target, send_script)
     emit_stderr(_report(exported, spec, notes, imported))

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import AnyStr
 
@@ -25,6 +26,7 @@ from motiontool.motionfmt.units import MS_PER_S
 __all__ = [
     "emit",
     "emit_bytes",
+    "emit_files",
     "emit_pieces",
     "emit_stderr",
     "in_blocks",
@@ -154,6 +156,32 @@ def emit_bytes(data: bytes, output: Path | None) -> None:
     (a regular file atomically, a device, FIFO or ``/dev/fd/N`` straight through) or, for None
     or ``-``, to stdout."""
     atomic_write(STDOUT if output is None else output, data)
+
+
+def emit_files(outputs: Sequence[tuple[Path | None, bytes]]) -> None:
+    """Write several outputs as one, all or none: each as :func:`emit_bytes` writes it, every
+    regular file to a temporary file first; a file is renamed into place only when every
+    output after it is written (the last one first), and if a rename fails, the files renamed
+    before it are removed. An interrupted or failed write leaves none of the regular files."""
+    done: list[Path] = []
+    try:
+        _emit_nested(outputs, done)
+    except BaseException:
+        for path in done:
+            with contextlib.suppress(OSError):
+                os.unlink(os.path.realpath(path))
+        raise
+
+
+def _emit_nested(outputs: Sequence[tuple[Path | None, bytes]], done: list[Path]) -> None:
+    (path, data), rest = outputs[0], outputs[1:]
+    target = STDOUT if path is None else path
+    with open_output(target) as sink:
+        sink.write(data)
+        if rest:
+            _emit_nested(rest, done)
+    if path is not None and output_kind(path) == "file":
+        done.append(path)
 
 
 def _one_output(a: Path, b: Path) -> bool:

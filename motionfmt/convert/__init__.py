@@ -63,6 +63,7 @@ FORMATS: tuple[Format, ...] = (
         write=write_naoqi,
         for_robot=True,
         default_robot="nao-v5",
+        uses=frozenset({"script_name"}),
     ),
     Format(
         "urscript",

@@ -61,7 +61,11 @@ class ExportOptions:
         joint_order: the robot's motors in its own order (a UR arm's six joints), or None.
         lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
         keyframes: one move per keyframe instead of the stream at every step (URScript).
-        target_name: the output file's name (a companion script refers to it), or None.
+        target_name: the output file as its companion script opens it: its path from the
+            script's folder (its name, beside it), or None where it is no file (standard
+            output, a device: the script is told where the file is).
+        script_name: the companion script's file name, or None: the format's own, beside the
+            output (NAOqi: ``wave_send.py`` for ``wave.naoqi.json``).
         joint_map: (motion's joint, the robot's ROS name) pairs for the joints whose names
             differ (ROS formats); the others keep their name.
         topic: the ``sensor_msgs/JointState`` topic of a ROS 2 bag.
@@ -74,6 +78,7 @@ class ExportOptions:
     lead_in_ms: int = DEFAULT_LEAD_IN_MS
     keyframes: bool = False
     target_name: str | None = None
+    script_name: str | None = None
     joint_map: tuple[tuple[str, str], ...] = ()
     topic: str = DEFAULT_JOINT_STATE_TOPIC
 

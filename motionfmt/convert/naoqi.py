@@ -40,7 +40,7 @@ from motiontool.motionfmt.convert.base import (
 )
 from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
-from motiontool.motionfmt.convert.naoqi_script import script
+from motiontool.motionfmt.convert.naoqi_script import SCRIPT_SUFFIX, script
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
@@ -180,7 +180,7 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
         f"{n_keys} keys of {len(names)} NAOqi joints for angleInterpolationBezier, "
         f"times + {options.lead_in_ms} ms lead-in"
     )
-    companion = ("_send.py", script(options.target_name or "motion.naoqi.json").encode())
+    companion = (SCRIPT_SUFFIX, script(options.target_name, options.script_name).encode())
     return Exported(data, n_keys, detail, deviation, (companion,), sent)
 
 

@@ -4,9 +4,12 @@ sends exactly the JSON's arguments."""
 
 from __future__ import annotations
 
+import errno
 import itertools
 import json
+import os
 import runpy
+import stat
 import sys
 import types
 from pathlib import Path
@@ -124,14 +127,8 @@ def test_handles_off_the_line_are_measured_not_hidden() -> None:
     assert _worst_from_json(motion, doc) > 0.01
 
 
-def test_the_script_sends_the_json(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    target = tmp_path / "wave.naoqi.json"
-    result = CliRunner().invoke(
-        app, ["convert", str(ROOT / "motions" / "nao" / "wave_right.motion"), str(target)]
-    )
-    assert result.exit_code == 0, result.stderr
-    assert "worst deviation from Webots' command stream: " in result.stderr
-    assert "(the script that sends it)" in result.stderr
+def _send(script: Path, monkeypatch: pytest.MonkeyPatch, *args: str) -> list[tuple[str, Any]]:
+    """Run the companion script with a stand-in ``qi``: the calls it makes."""
     calls: list[tuple[str, tuple[Any, ...]]] = []
 
     class Service:
@@ -147,8 +144,20 @@ def test_the_script_sends_the_json(tmp_path: Path, monkeypatch: pytest.MonkeyPat
             return Service()
 
     monkeypatch.setitem(sys.modules, "qi", types.SimpleNamespace(Session=Session))
-    monkeypatch.setattr(sys, "argv", ["wave_send.py", "--ip", "10.0.0.5"])
-    runpy.run_path(str(tmp_path / "wave_send.py"), run_name="__main__")
+    monkeypatch.setattr(sys, "argv", [script.name, "--ip", "10.0.0.5", *args])
+    runpy.run_path(str(script), run_name="__main__")
+    return calls
+
+
+def test_the_script_sends_the_json(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    target = tmp_path / "wave.naoqi.json"
+    result = CliRunner().invoke(
+        app, ["convert", str(ROOT / "motions" / "nao" / "wave_right.motion"), str(target)]
+    )
+    assert result.exit_code == 0, result.stderr
+    assert "worst deviation from Webots' command stream: " in result.stderr
+    assert "(the script that sends it)" in result.stderr
+    calls = _send(tmp_path / "wave_send.py", monkeypatch)
     doc = json.loads(target.read_text())
     assert calls[0] == ("connect", ("tcp://10.0.0.5:9559",))
     assert calls[-1] == ("angleInterpolationBezier", (doc["names"], doc["times"], doc["keys"]))
@@ -183,3 +192,89 @@ def test_webots_side_steps_export_as_validate_passes_them(name: str, tmp_path: P
     doc = json.loads(target.read_text())
     ankle = doc["keys"][doc["names"].index("LAnkleRoll")]
     assert min(key[0] for key in ankle) == -0.397761
+
+
+WAVE = ROOT / "motions" / "nao" / "wave_right.motion"
+
+
+def _convert(*args: str | Path) -> Any:
+    return CliRunner().invoke(app, ["convert", *map(str, args)])
+
+
+def test_send_script_puts_the_script_where_it_is_named(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    target, script = tmp_path / "out" / "wave.naoqi.json", tmp_path / "bin" / "play_wave.py"
+    result = _convert(WAVE, target, "--send-script", script)
+    assert result.exit_code == 0, result.stderr
+    assert f"motiontool: wrote {script} (the script that sends it)" in result.stderr
+    assert sorted(p.name for p in target.parent.iterdir()) == ["wave.naoqi.json"]
+    monkeypatch.chdir(tmp_path / "out")  # the script finds the JSON from its own folder
+    calls = _send(script, monkeypatch)
+    doc = json.loads(target.read_text())
+    assert calls[-1] == ("angleInterpolationBezier", (doc["names"], doc["times"], doc["keys"]))
+
+
+def test_no_script_beside_a_device(tmp_path: Path) -> None:
+    # Beside /dev/null it wrote /dev/null_send.py (as root). A node made here, not the machine's.
+    null = tmp_path / "null"
+    try:
+        os.mknod(null, stat.S_IFCHR | 0o666, os.makedev(1, 3))
+    except PermissionError:
+        pytest.skip("mknod needs root (CI runs as root)")
+    result = _convert(WAVE, null, "--to", "naoqi")
+    assert result.exit_code == 0, result.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["null"]
+    assert (
+        f"motiontool: no script written: '{null}' is not a regular file "
+        "(give --send-script PATH for one)" in result.stderr
+    )
+
+
+def test_to_stdout_the_json_alone(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    result = _convert(WAVE, "-", "--to", "naoqi")
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(result.stdout)["call"] == "ALMotion.angleInterpolationBezier"
+    assert "motiontool: no script written: OUT is standard output" in result.stderr
+    assert list(tmp_path.iterdir()) == []
+    script = tmp_path / "send.py"  # named: it needs --json, the JSON having no file
+    result = _convert(WAVE, "-", "--to", "naoqi", "--send-script", script)
+    assert result.exit_code == 0, result.stderr
+    (tmp_path / "w.naoqi.json").write_text(result.stdout)
+    calls = _send(script, monkeypatch, "--json", str(tmp_path / "w.naoqi.json"))
+    assert calls[-1][0] == "angleInterpolationBezier"
+
+
+def test_a_script_that_cannot_be_written_leaves_no_json(tmp_path: Path) -> None:
+    (tmp_path / "wave_send.py").mkdir()
+    result = _convert(WAVE, tmp_path / "wave.naoqi.json")
+    assert result.exit_code == 2
+    assert result.stderr.endswith("wave_send.py': Is a directory\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["wave_send.py"]
+
+
+def test_a_json_that_cannot_be_renamed_takes_its_script_away(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # The last step of the pair fails (a full disk, a lost mount): the script already in place
+    # is removed, so neither file is there.
+    replace = os.replace
+
+    def failing(src: Any, dst: Any) -> None:
+        if str(dst).endswith(".naoqi.json"):
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        replace(src, dst)
+
+    monkeypatch.setattr(os, "replace", failing)
+    result = _convert(WAVE, tmp_path / "wave.naoqi.json")
+    assert result.exit_code == 2
+    assert result.stderr.endswith("wave.naoqi.json': No space left on device\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_send_script_is_for_naoqi_only(tmp_path: Path) -> None:
+    result = _convert(WAVE, tmp_path / "w.csv", "--send-script", tmp_path / "s.py")
+    assert result.exit_code == 2
+    assert "--send-script applies to naoqi, not to motion -> csv" in result.stderr
+    assert list(tmp_path.iterdir()) == []
