@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
-__all__ = ["MissingExtraError", "MotionSyntaxError", "MotionToolError"]
+__all__ = ["MissingExtraError", "MotionSyntaxError", "MotionToolError", "OutputError"]
 
 
 class MotionToolError(Exception):
     """Root error of motiontool: a one-line message meant for the user, never a traceback."""
+
+
+class OutputError(MotionToolError):
+    """A file the command writes cannot be written (``cannot write 'PATH': No space left on
+    device``): not the input's fault, so a batch stops on it instead of counting a failed
+    run."""
 
 
 class MotionSyntaxError(MotionToolError):

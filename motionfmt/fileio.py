@@ -14,7 +14,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionToolError, OutputError
 
 __all__ = [
     "STDIN",
@@ -175,8 +175,8 @@ def output_kind(path: str | Path) -> str:
     return "file" if stat.S_ISREG(mode) or stat.S_ISDIR(mode) else "special"
 
 
-def _cannot_write(path: str | Path, exc: OSError) -> MotionToolError:
-    return MotionToolError(f"cannot write '{path}': {exc.strerror or exc}")
+def _cannot_write(path: str | Path, exc: OSError) -> OutputError:
+    return OutputError(f"cannot write '{path}': {exc.strerror or exc}")
 
 
 @contextlib.contextmanager
@@ -198,7 +198,7 @@ def open_output(path: str | Path) -> Iterator[Sink]:
     a temporary file is removed and the target is left as it was.
 
     Raises:
-        MotionToolError: ``cannot write 'PATH': REASON``, whatever the reason.
+        OutputError: ``cannot write 'PATH': REASON``, whatever the reason.
     """
     kind = output_kind(path)
     if kind == "file":
@@ -272,7 +272,7 @@ def _stdout() -> Iterator[BinaryIO]:
     except BrokenPipeError:
         raise
     except OSError as exc:
-        raise MotionToolError(f"cannot write to {STDOUT_NAME}: {exc.strerror or exc}") from exc
+        raise OutputError(f"cannot write to {STDOUT_NAME}: {exc.strerror or exc}") from exc
 
 
 @contextlib.contextmanager
@@ -285,7 +285,7 @@ def _atomic(path: str | Path) -> Iterator[BinaryIO]:
     except OSError as exc:
         raise _cannot_write(path, exc) from exc
     if st is not None and stat.S_ISDIR(st.st_mode):
-        raise MotionToolError(f"cannot write '{path}': Is a directory")
+        raise OutputError(f"cannot write '{path}': Is a directory")
     if st is not None:
         mode = st.st_mode & 0o7777
     else:
@@ -325,7 +325,7 @@ def atomic_write(path: str | Path, data: bytes) -> None:
     to standard output.
 
     Raises:
-        MotionToolError: ``cannot write 'PATH': REASON``.
+        OutputError: ``cannot write 'PATH': REASON``.
     """
     with open_output(path) as stream:
         stream.write(data)

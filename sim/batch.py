@@ -19,13 +19,13 @@ import math
 import os
 import random
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Generator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from motiontool import __version__
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionToolError, OutputError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.disk_cache import ResultCache
 from motiontool.motionfmt.fileio import read_file
@@ -298,9 +298,16 @@ def _verdict(spec: RunSpec, report: dict[str, Any], wall_s: float, cached: bool)
 
 
 def _classify(spec: RunSpec, outcome: Outcome) -> RunResult:
-    if outcome.status != "done":
-        return RunResult(spec, outcome.status, outcome.reason, None, outcome.wall_s)
-    return _verdict(spec, outcome.value, outcome.wall_s, cached=False)
+    """The result of the run of ``spec`` that ended as ``outcome``.
+
+    Raises:
+        OutputError: the run could not write a file it writes (``unwritten``).
+    """
+    if outcome.status == "done":
+        return _verdict(spec, outcome.value, outcome.wall_s, cached=False)
+    if outcome.status == "unwritten":
+        raise OutputError(outcome.reason)
+    return RunResult(spec, outcome.status, outcome.reason, None, outcome.wall_s)
 
 
 def _judged(result: RunResult) -> RunResult:
@@ -364,6 +371,10 @@ def run_batch(
         spool_dir: an empty folder where each run's report is stored as it ends, and read
             back when a report of the batch needs it (:meth:`RunResult.full_report`), so that
             a batch of any number of runs holds none of their reports; None: held.
+
+    Raises:
+        OutputError: a run could not write a file it writes (its recording on a full disk):
+            the batch stops, its runs still going are stopped.
     """
     _check_timeout(timeout_s)
     t0 = time.monotonic()
@@ -376,11 +387,20 @@ def run_batch(
     for i, hit in enumerate(hits):
         if hit is not None:
             results.finish(i, hit)
-    for outcome in run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s):
-        i = todo[outcome.index]
-        result = _classify(specs[i], outcome)
-        _store(cache, result, keys[i])
-        results.finish(i, result)
+    outcomes = run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s)
+    try:
+        for outcome in outcomes:
+            i = todo[outcome.index]
+            try:
+                result = _classify(specs[i], outcome)
+            except OutputError as exc:
+                at = f"the batch stopped at run {results.done + 1} of {len(specs)}"
+                raise OutputError(f"{exc} ({at})") from None
+            _store(cache, result, keys[i])
+            results.finish(i, result)
+    finally:
+        if isinstance(outcomes, Generator):  # a batch that stops stops its runs now
+            outcomes.close()
     if cache is not None:
         cache.prune()
     return BatchResult(results.in_plan_order(), time.monotonic() - t0, executor, jobs)
@@ -413,6 +433,11 @@ class _Results:
         self._done += 1
         if self._progress:
             self._progress(judged, self._done, len(self._results))
+
+    @property
+    def done(self) -> int:
+        """How many runs have a result."""
+        return self._done
 
     def in_plan_order(self) -> list[RunResult]:
         """Every result, in plan order (each run has one by now)."""

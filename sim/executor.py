@@ -18,7 +18,7 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionToolError, OutputError
 
 __all__ = [
     "EXECUTORS",
@@ -38,9 +38,11 @@ MAX_TIMEOUT_S = 7 * 24 * 3600.0
 """The longest wall-clock limit of one run, in s (a week): the process pool waits on its
 workers with ``poll``, whose limit in ms is a C ``int`` (about 24 days)."""
 
-Status = Literal["done", "error", "crashed", "timeout"]
-"""How a task ended: ``done`` (the runner returned), ``error`` (it raised), ``crashed`` (its
-worker died) or ``timeout`` (it outlived the time limit; its worker was killed)."""
+Status = Literal["done", "error", "unwritten", "crashed", "timeout"]
+"""How a task ended: ``done`` (the runner returned), ``error`` (it raised), ``unwritten`` (it
+raised :class:`~motiontool.errors.OutputError`: a file it writes could not be written, a full
+disk), ``crashed`` (its worker died) or ``timeout`` (it outlived the time limit; its worker was
+killed)."""
 
 
 @dataclass(frozen=True)
@@ -84,13 +86,17 @@ def error_reason(exc: BaseException) -> str:
 
 
 def call_runner(runner: Callable[[Any], Any], task: Any) -> tuple[Status, Any, str]:
-    """``("done", runner(task), "")``, or ``("error", None, reason)`` when the runner raises.
+    """``("done", runner(task), "")``, or ``("error", None, reason)`` when the runner raises
+    (``"unwritten"`` for an :class:`~motiontool.errors.OutputError`).
 
     Any exception: a worker reports every run's end to the batch, which goes on with the
-    others; the run's reason is the exception's message (:func:`error_reason`).
+    others (or stops, on a file it cannot write); the run's reason is the exception's message
+    (:func:`error_reason`).
     """
     try:
         return "done", runner(task), ""
+    except OutputError as exc:  # a full disk, not the run's fault: the batch stops
+        return "unwritten", None, error_reason(exc)
     except Exception as exc:  # one run's failure, reported with the others: never lost
         return "error", None, error_reason(exc)
 

@@ -3,8 +3,11 @@ in tests/sim; here a small deterministic runner stands in for it)."""
 
 from __future__ import annotations
 
+import contextlib
 import json
+import subprocess
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -13,6 +16,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.cli.batch_reports import render_json, render_markdown, render_summary, write_junit
+from motiontool.errors import OutputError
 from motiontool.kinematics.robots import UnknownRobotError
 from motiontool.motionfmt import MotionToolError, read_motion
 from motiontool.sim.batch import (
@@ -274,6 +278,65 @@ def test_a_report_where_a_recording_goes_is_refused_before_any_run(
         assert recording.read_bytes() == before
     ok = CliRunner().invoke(app, [*base, option, "rrd/report"])  # beside the recordings: fine
     assert ok.exit_code == 0, ok.output
+
+
+def unwritable(spec: RunSpec) -> dict[str, Any]:
+    """Stand-in that cannot write its output for the short motion (a full disk)."""
+    if "short" in spec.path:
+        raise OutputError(f"cannot write '{spec.path}.rrd': No space left on device")
+    return runner(spec)
+
+
+def test_a_run_that_cannot_write_its_output_stops_the_batch(motions: list[Path]) -> None:
+    """An OutputError is no failed run among others (the next ones would fail the same way):
+    the batch stops with it, whatever the executor (one line, exit 2 in the CLI)."""
+    specs = plan(motions, ["nao"])
+    with pytest.raises(OutputError, match=r"No space left on device \(the batch stopped at run"):
+        run_batch(specs, unwritable, model_hash=lambda _: "m", jobs=1)
+    specs = plan(motions[1:], ["nao"])  # the other motion alone: a run that fails, no error
+    assert run_batch(specs, unwritable, model_hash=lambda _: "m", jobs=1).runs[0].ok is False
+
+
+@pytest.fixture
+def full_folder(tmp_path: Path) -> Iterator[Path]:
+    """A folder on a full disk: a tiny tmpfs, filled (mounting needs root, which CI has)."""
+    folder = tmp_path / "full"
+    folder.mkdir()
+    done = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(folder)],
+        capture_output=True,
+        check=False,
+    )
+    if done.returncode != 0:
+        pytest.skip(f"cannot mount a tmpfs: {done.stderr.decode(errors='replace').strip()}")
+    try:
+        with contextlib.suppress(OSError), (folder / "filler").open("wb") as f:
+            f.write(b"\0" * (1 << 20))  # ENOSPC once the 64 KiB are taken
+        yield folder
+    finally:
+        subprocess.run(["umount", str(folder)], check=True)
+
+
+def test_recordings_on_a_full_disk_are_an_io_error_not_a_failed_run(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, full_folder: Path
+) -> None:
+    """``batch --rrd-dir`` on a full disk counted a failed run, exit 1, and said "wrote" about
+    its reports and the folder: an I/O error stops the batch (exit 2, one line, nothing
+    written, no temporary file left)."""
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.motion").write_bytes(
+            b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B,0.2\n"
+        )
+    monkeypatch.chdir(tmp_path)
+    args = ["batch", "a.motion", "b.motion", "--no-cache", "-j", "1", "--json", "r.json"]
+    result = CliRunner().invoke(app, [*args, "--rrd-dir", "full/rrd"])
+    assert (result.exit_code, result.stdout) == (2, ""), result.output
+    assert result.stderr == (
+        "motiontool: error: cannot write 'full/rrd/a.nao.0.rrd': No space left on device "
+        "(the batch stopped at run 1 of 2)\n"
+    )
+    assert not (tmp_path / "r.json").exists()
+    assert sorted(p.name for p in full_folder.rglob("*")) == ["filler", "rrd"]
 
 
 def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
