@@ -61,6 +61,32 @@ def test_parse_perturbation() -> None:
         parse_perturbation("mass=1.1:0.9")
 
 
+@pytest.mark.parametrize(
+    ("given", "message"),
+    [
+        ("mass=-1:0", "mass takes values > 0 (a factor on every body mass), got LOW -1"),
+        ("speed=0:0", "speed takes values > 0 (a factor on the playback speed), got LOW 0"),
+        ("friction=0:1", "friction takes values > 0 (a factor on the floor friction), got LOW 0"),
+        ("motor-strength=-0.5", "motor-strength takes values > 0 (a factor on every motor's"),
+        ("start-noise=-0.1:0.1", "start-noise takes values >= 0 (the standard deviation of"),
+    ],
+)
+def test_a_perturbation_out_of_its_range_is_a_usage_error_before_any_run(
+    tmp_path: Path, given: str, message: str
+) -> None:
+    """Every run errored (mass 0 has no inertia, speed 0 no duration) and the batch exited 1;
+    start-noise below 0 was played as no noise. Refused where parsed, the range in the line."""
+    (tmp_path / "nod.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n200,B,0.2\n")
+    result = CliRunner().invoke(
+        app, ["batch", str(tmp_path / "nod.motion"), "--no-cache", "--perturb", given]
+    )
+    assert (result.exit_code, result.stdout) == (2, ""), result.output
+    assert result.stderr.startswith(f"motiontool: error: perturbation {given!r}: {message}")
+    assert result.stderr.count("\n") == 1
+    for edge in ("start-yaw=-180:180", "start-noise=0:0.01", "mass=0.9:1.1", "speed=0.5:2"):
+        parse_perturbation(edge)  # in range: drawn as given
+
+
 def test_plan_is_seeded_and_independent_of_order(motions: list[Path]) -> None:
     perturb = [parse_perturbation("friction=0.7:1.3"), parse_perturbation("mass=0.9:1.1")]
     a = plan(motions, ["nao"], perturbations=perturb, samples=4, seed=1)
