@@ -22,7 +22,9 @@ SYNTAX_RULES = (
     Rule(
         "MT101",
         "The first cell must be exactly '#WEBOTS_MOTION' (case, spaces and a byte-order mark "
-        "count); otherwise Webots rejects the file.",
+        "count); otherwise Webots rejects the file. Cells are separated by commas only: a "
+        "header separated by '%', ';', tabs or spaces is one cell (the hint names the "
+        "separator).",
         Example(b"#webots_motion,V1.0,HeadYaw\n" + P0),
         "write '#WEBOTS_MOTION' in capitals, first on line 1",
         H + P0,
@@ -38,10 +40,12 @@ SYNTAX_RULES = (
     Rule(
         "MT103",
         "After reading every pose Webots checks that the header named a joint; with none it "
-        "rejects the file.",
-        Example(b"#WEBOTS_MOTION,V1.0\n00:00:000,P1\n"),
-        "name the joints (motors) in the header, one column each, and give every pose a value "
-        "for each",
+        "rejects the file. Joint names on a line of their own below the header are read as a "
+        "pose line, whose time is not a time: Webots stops there, and motiontool says so once "
+        "(the 'expected 0 values' on every later line follow from it and are only counted).",
+        Example(b"#WEBOTS_MOTION,V1.0\nHeadYaw\n00:00:000,P1,0\n"),
+        "name the joints (motors) on the header line, after 'V1.0', one column each, and give "
+        "every pose a value for each",
         H + P0,
     ),
     Rule(

@@ -9,8 +9,9 @@ bytes or more). Input ``i`` depends only on ``--seed`` and ``i``, not on ``--job
 
 * the exact, fast and bulk (numpy loadtxt) reading paths agree: verdict, diagnostics, times, values
   bit for bit (NaN positions included) and the commanded mask;
-* the reader agrees with the oracle: accepted or not, the line where Webots stops, the times,
-  the values and which cells are ``*``;
+* the reader agrees with the oracle: accepted or not, the line where Webots stops (and the
+  finding there is reported, also after a cut line), the times, the values and which cells are
+  ``*``;
 * a file Webots accepts round-trips: ``dumps(loads(x)) == x``, and the document's motion is the
   reader's (a file with a cut line must be refused with MotionSyntaxError instead);
 * the command stream of an accepted file (``sample``) is the oracle's, step by step, bit for bit,
@@ -241,6 +242,8 @@ def _check(data: bytes, index: int, out: list[tuple[str, str]]) -> bool:
         ):
             where = None if exact.rejected_at is None else exact.rejected_at.line
             out.append(("oracle", f"rejected at line {where}, Webots at {oracle.stop_line}"))
+        if not any(d is exact.rejected_at for d in exact.diagnostics):
+            out.append(("oracle", "the finding where Webots stops is not among the findings"))
         try:
             loads(data)
         except MotionSyntaxError:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.lines import Piece, decode_name, show, token_spans
+from motiontool.motionfmt.lines import Piece, decode_name, separator_hint, show, token_spans
 
 if TYPE_CHECKING:
     from motiontool.motionfmt._read_state import ReadState
@@ -34,6 +34,19 @@ def read_header(state: ReadState, piece: Piece) -> bool:
             1,
             "the first line is empty; expected the header '#WEBOTS_MOTION,V1.0,<joint>,...'",
             "the header must be the very first line of the file",
+        )
+        return False
+    separated = separator_hint(
+        tokens[0], len(HEADER), "'#WEBOTS_MOTION,V1.0,<joint>,...' and 'time,name,value,...'"
+    )
+    if tokens[0].startswith(HEADER) and separated:  # one cell: no version to check either
+        state.report(
+            "MT101",
+            piece.line,
+            spans[0][0] + 1,
+            f"expected '#WEBOTS_MOTION' as the first token, found {show(tokens[0])}",
+            separated,
+            end_column=spans[0][1] + 1,
         )
         return False
     proceed = _magic_word(state, piece.line, tokens[0], spans[0])

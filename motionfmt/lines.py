@@ -30,6 +30,7 @@ __all__ = [
     "decode_name",
     "fgets_pieces",
     "plain_cell_spans",
+    "separator_hint",
     "show",
     "token_spans",
 ]
@@ -93,6 +94,23 @@ def show(token: bytes, limit: int = 40) -> str:
     if len(text) > limit:
         text = text[: limit - 3] + "..."
     return repr(text)
+
+
+SEPARATORS = frozenset(b"%;\t |")
+"""Bytes (as ints) that people separate cells with and Webots does not: ``strtok`` splits on
+commas only (and ends of line), so a line cut by one of them reads as one cell."""
+
+
+def separator_hint(cell: bytes, start: int, example: str) -> str | None:
+    """The hint for a cell whose byte ``start`` is one of :data:`SEPARATORS` followed by more
+    text (the line is separated by it, not by commas), else None; ``example`` is how the line
+    is written."""
+    if start + 1 >= len(cell) or cell[start] not in SEPARATORS:
+        return None
+    return (
+        f"the cells are separated by {show(cell[start : start + 1])}: Webots separates them by"
+        f" commas only, so this line is one cell; write {example}"
+    )
 
 
 def decode_name(raw: bytes) -> str:

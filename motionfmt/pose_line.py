@@ -113,12 +113,15 @@ def _value_count(state: ReadState, pose: PoseLine, time_ms: int | None) -> bool:
             pose.c0 + a,
             f"expected {n} values (one per joint), found {len(values_toks)}; extra"
             f" {show(values_toks[n])}",
-            _decimal_comma_hint(values_toks),
+            _decimal_comma_hint(values_toks) if n else _NO_JOINT_HINT,
             time_ms=time_ms,
             end_column=pose.c0 + b,
         )
         return False
     return True
+
+
+_NO_JOINT_HINT = "the header names no joint (MT103): list the joints after 'V1.0' on line 1"
 
 
 def _decimal_comma_hint(values: list[bytes]) -> str | None:

@@ -40,6 +40,8 @@ def test_invalid_files_are_rejected_where_webots_stops(path: Path) -> None:
     assert not oracle.ok, "golden invalid file must be rejected by the oracle"
     assert not result.accepted
     assert result.rejected_at is not None and result.rejected_at.severity is Severity.ERROR
+    # The finding that decides the verdict is reported, also after a cut line (issue #36 item 16).
+    assert any(d is result.rejected_at for d in result.diagnostics)
     if oracle.stop_line is not None:
         lines = {d.line for d in result.errors}
         assert oracle.stop_line in lines

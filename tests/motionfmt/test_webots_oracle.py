@@ -39,6 +39,8 @@ def check_against_oracle(data: bytes, timesteps: tuple[int, ...] = TIMESTEPS) ->
         if oracle.stop_line is not None:
             assert result.rejected_at is not None
             assert result.rejected_at.line == oracle.stop_line
+        # The reason Webots stops is among the findings, also after a cut line (issue #36 item 16).
+        assert any(d is result.rejected_at for d in result.diagnostics)
         return
     motion = result.motion
     assert list(motion.times_ms) == oracle.times
