@@ -14,6 +14,7 @@ import typer
 from motiontool import exit_codes
 from motiontool.cli.convert_checks import (
     motion_findings,
+    refuse_split_joints,
     refuse_unknown_joints,
     stream_findings,
 )
@@ -339,6 +340,8 @@ def convert_command(
     spec = _robot(robot, fmt_out, imported.motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
     notes = _checked(imported, spec, fmt_out, step, robot)
+    if "joint_map" in fmt_out.uses:  # a ROS export: one position per ROS name
+        refuse_split_joints(imported, pairs)
     options = ExportOptions(
         timestep_ms=step,
         source=source_name(source),

@@ -19,9 +19,10 @@ import math
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
-from motiontool.kinematics.checks import EPS, Limits, UnknownJoints, Velocity
+from motiontool.kinematics.checks import COUPLING_TOLERANCE, EPS, Limits, UnknownJoints, Velocity
 from motiontool.kinematics.robots import RobotSpec, fmt_name, unknown_joint_message
 from motiontool.motionfmt.convert.base import Imported, RobotStream
+from motiontool.motionfmt.convert.joint_map import disagreement, to_ros
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.units import MS_PER_S
@@ -34,7 +35,7 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["motion_findings", "refuse_unknown_joints", "stream_findings"]
+__all__ = ["motion_findings", "refuse_split_joints", "refuse_unknown_joints", "stream_findings"]
 
 
 def _where(d: Diagnostic, imported: Imported, motion: Motion) -> str:
@@ -68,6 +69,46 @@ def refuse_unknown_joints(imported: Imported, spec: RobotSpec) -> None:
         if imported.header is not None:
             raise MotionSyntaxError(message, imported.path, 1, int(imported.header[j]))
         raise MotionToolError(f"'{imported.path}': {message}")
+
+
+def _cell_error(imported: Imported, pose: int, j: int, message: str) -> MotionToolError:
+    """``message`` at the input's cell of motion column ``j`` at ``pose`` (``path:line:col``),
+    or naming the pose where the format has no lines (``.npz``, a bag)."""
+    if imported.read is not None:
+        line, col, _ = imported.read.cell_span(pose, j)
+        return MotionSyntaxError(message, imported.path, line, col)
+    if imported.cells is not None:
+        line, col = (int(x) for x in imported.cells[pose, j])
+        return MotionSyntaxError(message, imported.path, line, col)
+    return MotionToolError(f"'{imported.path}': pose {pose}: {message}")
+
+
+def refuse_split_joints(imported: Imported, joint_map: tuple[tuple[str, str], ...]) -> None:
+    """Raise where joints that go to one ROS name (a Nao's phalanges to ``LHand``, a joint
+    map's many-to-one) differ by more than the real NAO's coupling tolerance
+    (:data:`~motiontool.kinematics.checks.COUPLING_TOLERANCE`): a ROS joint has one position.
+    One error at the first cell that differs (``grip.motion:3:42: LPhalanx7 = 0.1 rad at 400
+    ms is not LPhalanx1's 0.8 rad: ...``)."""
+    motion = imported.motion
+    names = to_ros(motion.joints, joint_map)
+    found = disagreement(motion.values, names, COUPLING_TOLERANCE + EPS)
+    if found is None:
+        return
+    pose, lead, j = found
+
+    def value(k: int) -> str:
+        v = float(motion.values[pose, k])
+        return "*" if math.isnan(v) else f"{v:.6g} rad"
+
+    a, b = fmt_name(motion.joints[j]), fmt_name(motion.joints[lead])
+    raise _cell_error(
+        imported,
+        pose,
+        j,
+        f"{a} = {value(j)} at {int(motion.times_ms[pose])} ms is not {b}'s {value(lead)}: "
+        f"both go to ROS joint {fmt_name(names[j])!r}, which has one position; keep them apart "
+        f'in --joint-map ({a} = "{a}")',
+    )
 
 
 def motion_findings(

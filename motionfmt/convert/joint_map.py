@@ -8,9 +8,16 @@ or YAML::
     # nao_ros.yaml
     HeadYaw: head_yaw_joint
 
-A joint the map does not name keeps its name. The built-in robots need no map: the UR5e's
-Webots motors are the names Universal Robots' ROS 2 driver publishes (``shoulder_pan_joint`` ...
-``wrist_3_joint``), and the Webots Nao's are NAOqi's, which ``naoqi_driver`` publishes.
+A joint the map does not name keeps its name, but for the Nao's hands (:data:`NAO_HANDS`). The
+built-in robots need no map: the UR5e's Webots motors are the names Universal Robots' ROS 2
+driver publishes (``shoulder_pan_joint`` ... ``wrist_3_joint``), and the Webots Nao's are
+NAOqi's, which ``naoqi_driver`` publishes, once its eight phalanges per hand are NAOqi's one
+hand joint (``LPhalanx1..8`` -> ``LHand``).
+
+Several joints may go to one ROS name (the phalanges of a hand, or a map's many-to-one): a ROS
+joint has one position, so the first of them in the motion's order gives it, and the caller
+checks that the others agree with it (:func:`disagreement`). Read back, a ROS name becomes the
+first joint the map gives it.
 """
 
 from __future__ import annotations
@@ -18,12 +25,23 @@ from __future__ import annotations
 import re
 import tomllib
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.extras import require
 
-__all__ = ["from_ros", "parse_joint_map", "to_ros"]
+if TYPE_CHECKING:
+    import numpy as np
+    import numpy.typing as npt
+
+__all__ = ["NAO_HANDS", "disagreement", "from_ros", "parse_joint_map", "to_ros"]
+
+NAO_HANDS: dict[str, str] = {
+    f"{side}Phalanx{i}": f"{side}Hand" for side in "LR" for i in range(1, 9)
+}
+"""Webots Nao motor -> the real robot's joint: one motor opens and closes each hand (``LHand``,
+``RHand``: 0 closed to 1 open, as the simulated phalanges), the name NAOqi and ``naoqi_driver``
+give it. The NAOqi export and the ROS exports name the hands by it."""
 
 _TOML_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
 
@@ -60,11 +78,12 @@ def _load(text: str, path: str) -> Any:
 
 
 def parse_joint_map(data: bytes, path: str) -> tuple[tuple[str, str], ...]:
-    """The (motion joint, ROS name) pairs of a joint map file, in file order.
+    """The (motion joint, ROS name) pairs of a joint map file, in file order (one ROS name
+    may be given to several joints: :func:`to_ros`).
 
     Raises:
-        MotionSyntaxError: not TOML or YAML, a value that is not a name, or one ROS name given
-            to two joints, at its line and column.
+        MotionSyntaxError: not TOML or YAML, or a value that is not a name, at its line and
+            column.
         MotionToolError: not a flat table, or a file that is neither ``.toml`` nor ``.yaml``.
     """
     text = data.decode("utf-8", "surrogateescape")
@@ -74,7 +93,6 @@ def parse_joint_map(data: bytes, path: str) -> tuple[tuple[str, str], ...]:
     if not isinstance(table, dict):
         raise MotionSyntaxError("a joint map is a table: joint = ROS name", path, 1, 1)
     pairs: list[tuple[str, str]] = []
-    seen: dict[str, str] = {}
     for key, value in table.items():
         joint = str(key)
         if not isinstance(value, str) or not value:
@@ -82,26 +100,44 @@ def parse_joint_map(data: bytes, path: str) -> tuple[tuple[str, str], ...]:
             raise MotionSyntaxError(
                 f"{joint}: the ROS name must be a non-empty string, got {value!r}", path, line, col
             )
-        if value in seen:
-            line, col = _where(text, joint)
-            raise MotionSyntaxError(
-                f"{joint} and {seen[value]} both map to ROS name {value!r}", path, line, col
-            )
-        seen[value] = joint
         pairs.append((joint, value))
     return tuple(pairs)
 
 
 def to_ros(joints: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tuple[str, ...]:
-    """The ROS name of each of ``joints`` (the map's, else its own).
+    """The ROS name of each of ``joints``: the map's, else :data:`NAO_HANDS`', else its own.
+    Several joints may get one name (see the module)."""
+    table: Mapping[str, str] = {**NAO_HANDS, **dict(joint_map)}
+    return tuple(table.get(j, j) for j in joints)
 
-    Raises:
-        MotionToolError: two joints would get one ROS name.
+
+def disagreement(
+    values: npt.NDArray[np.float64], names: Sequence[str], tolerance: float
+) -> tuple[int, int, int] | None:
+    """The first cell where two columns that get one ROS name differ: (pose, the first
+    column of that name, the column that differs from it), or None.
+
+    Args:
+        values: float64 (P, J), rad (m); NaN for ``*``.
+        names: the ROS name of each of the J columns (:func:`to_ros`).
+        tolerance: the largest difference that agrees, rad (m); ``*`` agrees with ``*`` only.
     """
-    table: Mapping[str, str] = dict(joint_map)
-    names = tuple(table.get(j, j) for j in joints)
-    _unique(names, joints, "ROS name")
-    return names
+    import numpy as np
+
+    first: dict[str, int] = {}
+    found: tuple[int, int, int] | None = None
+    for j, name in enumerate(names):
+        lead = first.setdefault(name, j)
+        if lead == j:
+            continue
+        a, b = values[:, lead], values[:, j]
+        with np.errstate(invalid="ignore"):
+            apart = (np.isnan(a) != np.isnan(b)) | (np.abs(a - b) > tolerance)
+        if apart.any():
+            pose = int(np.argmax(apart))
+            if found is None or (pose, j) < (found[0], found[2]):
+                found = (pose, lead, j)
+    return found
 
 
 def from_ros(names: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tuple[str, ...]:
@@ -110,7 +146,9 @@ def from_ros(names: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tupl
     Raises:
         MotionToolError: two ROS names would become one joint.
     """
-    table = {ros: joint for joint, ros in joint_map}
+    table: dict[str, str] = {}
+    for joint, ros in joint_map:
+        table.setdefault(ros, joint)
     joints = tuple(table.get(n, n) for n in names)
     _unique(joints, names, "joint")
     return joints

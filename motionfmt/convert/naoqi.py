@@ -39,6 +39,7 @@ from motiontool.motionfmt.convert.base import (
     WorstError,
 )
 from motiontool.motionfmt.convert.held import Corners, held_chunks
+from motiontool.motionfmt.convert.joint_map import NAO_HANDS
 from motiontool.motionfmt.convert.naoqi_curve import BEZIER_HANDLE, Key, curve_at
 from motiontool.motionfmt.convert.naoqi_script import SCRIPT_SUFFIX, script
 from motiontool.motionfmt.units import MS_PER_S
@@ -52,10 +53,7 @@ if TYPE_CHECKING:
 __all__ = ["NAOQI_NAMES", "write_naoqi"]
 
 #: Webots motor -> the NAOqi joint that moves it on the real robot (others keep their name).
-NAOQI_NAMES: dict[str, str] = {
-    **{f"{side}Phalanx{i}": f"{side}Hand" for side in "LR" for i in range(1, 9)},
-    "RHipYawPitch": "LHipYawPitch",
-}
+NAOQI_NAMES: dict[str, str] = {**NAO_HANDS, "RHipYawPitch": "LHipYawPitch"}
 
 
 def _keys(t_s: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> list[Key]:

@@ -100,17 +100,26 @@ def _every_joint_from_the_start(motors: tuple[str, ...], first: npt.NDArray[np.f
 
 def trajectory(motion: Motion, options: ExportOptions) -> Trajectory:
     """The points of ``motion`` at ``options.timestep_ms``, named through
-    ``options.joint_map``: the steps where any joint's held target has a corner, found with
-    the stream made a chunk of steps at a time, then their positions (a second pass).
+    ``options.joint_map`` (:func:`~.joint_map.to_ros`; of several motors with one ROS name, the
+    first gives its position: the caller checks that the others agree): the steps where any
+    joint's held target has a corner, found with the stream made a chunk of steps at a time,
+    then their positions (a second pass).
 
     Raises:
         MotionToolError: a joint without a target from the first step, a ``nan``/``inf``
-            command, two joints with one ROS name.
+            command.
     """
     import numpy as np
 
-    motors, chunks = held_chunks(motion, options.timestep_ms)
-    names = to_ros(motors, options.joint_map)
+    every, held = held_chunks(motion, options.timestep_ms)
+    named = to_ros(every, options.joint_map)
+    keep = [named.index(name) for name in dict.fromkeys(named)]
+    motors, names = tuple(every[k] for k in keep), tuple(named[k] for k in keep)
+
+    def chunks() -> Iterator[StreamChunk]:  # one column per ROS name: its first motor's
+        for elapsed, targets in held():
+            yield elapsed, targets[:, keep]
+
     corners = [Corners() for _ in motors]
     for elapsed, targets in chunks():
         if corners[0].count == 0:

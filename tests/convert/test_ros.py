@@ -319,11 +319,6 @@ def test_joint_map_names_both_ways(tmp_path: Path) -> None:
             "m.toml",
             "{d}/m.toml:2:1: HeadPitch: the ROS name must",
         ),
-        (
-            'HeadYaw = "a"\nHeadPitch = "a"\n',
-            "m.toml",
-            "{d}/m.toml:2:1: HeadPitch and HeadYaw both",
-        ),
         ("HeadYaw = \n", "m.toml", "{d}/m.toml:1:11: Invalid value"),
         ("HeadYaw: a\n  HeadPitch: [b\n", "m.yaml", "{d}/m.yaml:2:12: not YAML: "),
         ("- a\n", "m.yaml", "{d}/m.yaml:1:1: a joint map is a table"),
@@ -391,3 +386,74 @@ def test_library_round_trip_through_the_registry() -> None:
     back = fmt.read(data, "w.mcap", ImportOptions(max_error_rad=0.0))
     assert back.recording is not None and back.recording.messages == 221
     assert back.recording.deviation.max_rad < 1e-12
+
+
+# --------------------------------------------------------------------------- Nao hands, many-to-one
+
+HAND = [f"LPhalanx{i}" for i in range(1, 9)]
+
+
+def _hand_motion(path: Path, fingers: list[str] | None = None) -> Path:
+    """HeadYaw and the left hand's eight phalanges, all at one value unless ``fingers`` gives
+    each finger's cells of the second pose."""
+    second = fingers or ["0.8"] * 8
+    path.write_text(
+        "#WEBOTS_MOTION,V1.0,HeadYaw," + ",".join(HAND) + "\n"
+        "00:00:000,P1,0," + ",".join(["0.2"] * 8) + "\n"
+        "00:00:400,P2,0.3," + ",".join(second) + "\n"
+    )
+    return path
+
+
+@pytest.mark.parametrize("ending", [".trajectory.yaml", ".mcap"])
+def test_nao_fingers_become_naoqis_hand(tmp_path: Path, ending: str) -> None:
+    # The README: the Nao's names are NAOqi's, which naoqi_driver publishes: one LHand.
+    src = _hand_motion(tmp_path / "grip.motion")
+    out = tmp_path / f"grip{ending}"
+    code, err = _run(src, out, "--robot", "nao")
+    assert code == 0, err
+    if ending == ".mcap":
+        states = read_bag(out)["/joint_states sensor_msgs/msg/JointState"]
+        assert [tuple(msg.name) for _, msg in states] == [("HeadYaw", "LHand")] * len(states)
+        assert states[-1][1].position.tolist() == [0.3, 0.8]
+        return
+    goal = yaml.safe_load(out.read_text())["trajectory"]
+    assert goal["joint_names"] == ["HeadYaw", "LHand"]
+    assert [p["positions"] for p in goal["points"]] == [[0.0, 0.2], [0.3, 0.8]]
+
+
+def test_fingers_apart_are_refused_at_the_cell(tmp_path: Path) -> None:
+    src = _hand_motion(tmp_path / "grip.motion", ["0.8"] * 6 + ["0.1", "0.8"])
+    code, err = _run(src, tmp_path / "grip.trajectory.yaml", "--robot", "nao")
+    assert code == 2
+    column = len("00:00:400,P2,0.3,") + len("0.8,") * 6 + 1
+    assert err == (
+        f"motiontool: error: {src}:3:{column}: LPhalanx7 = 0.1 rad at 400 ms is not "
+        "LPhalanx1's 0.8 rad: both go to ROS joint 'LHand', which has one position; "
+        'keep them apart in --joint-map (LPhalanx7 = "LPhalanx7")\n'
+    )
+    assert not (tmp_path / "grip.trajectory.yaml").exists()
+    keep = tmp_path / "keep.toml"
+    keep.write_text('LPhalanx7 = "LPhalanx7"\n')
+    code, err = _run(src, tmp_path / "grip.trajectory.yaml", "--joint-map", keep)
+    assert code == 0, err
+    goal = yaml.safe_load((tmp_path / "grip.trajectory.yaml").read_text())["trajectory"]
+    assert goal["joint_names"] == ["HeadYaw", "LHand", "LPhalanx7"]
+
+
+def test_joint_map_takes_many_to_one_where_the_columns_agree(tmp_path: Path) -> None:
+    src = tmp_path / "m.csv"
+    src.write_text("time_ms,HeadYaw,HeadPitch\n0,0.1,0.1\n500,0.2,0.2\n1000,0.2,0.3\n")
+    table = tmp_path / "map.yaml"
+    table.write_text("HeadYaw: head\nHeadPitch: head\n")
+    code, err = _run(src, tmp_path / "m.trajectory.yaml", "--joint-map", table)
+    assert code == 2
+    assert err.startswith(
+        f"motiontool: error: {src}:4:10: HeadPitch = 0.3 rad at 1000 ms is not HeadYaw's 0.2 rad: "
+        "both go to ROS joint 'head'"
+    ), err
+    src.write_text("time_ms,HeadYaw,HeadPitch\n0,0.1,0.1\n500,0.2,0.2\n")
+    code, err = _run(src, tmp_path / "m.trajectory.yaml", "--joint-map", table)
+    assert code == 0, err
+    goal = yaml.safe_load((tmp_path / "m.trajectory.yaml").read_text())["trajectory"]
+    assert goal["joint_names"] == ["head"]
