@@ -11,7 +11,7 @@ from __future__ import annotations
 import functools
 from array import array
 
-from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Related, Severity
 from motiontool.motionfmt.read_result import ReadResult
 
 __all__ = ["ReadState"]
@@ -34,10 +34,6 @@ class ReadState:
         pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut;
             empty: 0 for every pose).
         cells: the poses' values as they are read line by line (``result.cells``).
-        names_line: the line after a header with no joint, when it holds the joint names
-            (MT103 says so there), else None.
-        muted, muted_count: a code whose findings follow from another one and are only
-            counted (``MT110`` "expected 0 values" after joint names on line 2), and how many.
     """
 
     def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
@@ -59,9 +55,6 @@ class ReadState:
         self.n_joints = 0
         self.star_seen = False
         self.header_end = (1, 1)
-        self.names_line: int | None = None
-        self.muted: str | None = None
-        self.muted_count = 0
 
     @functools.cached_property
     def lines(self) -> list[bytes]:
@@ -85,13 +78,13 @@ class ReadState:
         end_column: int | None = None,
         severity: Severity | None = None,
         rejects: bool | None = None,
+        related: tuple[Related, ...] = (),
+        stable: str | None = None,
     ) -> None:
         """Record a finding; ``severity`` and ``rejects`` default to the code's (see
         :class:`~motiontool.motionfmt.diagnostics.Code`), the first rejecting one is where
-        Webots stops."""
-        if code == self.muted:
-            self.muted_count += 1
-            return
+        Webots stops; ``related`` and ``stable`` where the message names other lines (see
+        :class:`~motiontool.motionfmt.diagnostics.Diagnostic`)."""
         spec = CODES[code]
         diag = Diagnostic(
             code=code,
@@ -104,6 +97,8 @@ class ReadState:
             joint=joint,
             time_ms=time_ms,
             end_column=end_column,
+            related=related,
+            stable=stable,
         )
         self.result.diagnostics.append(diag)
         if (spec.rejects if rejects is None else rejects) and self.result.rejected_at is None:

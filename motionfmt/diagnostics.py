@@ -17,7 +17,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
-__all__ = ["CODES", "Code", "Diagnostic", "PoseFinding", "Run", "Severity", "Worst"]
+__all__ = ["CODES", "Code", "Diagnostic", "PoseFinding", "Related", "Run", "Severity", "Worst"]
 
 
 class Severity(enum.IntEnum):
@@ -160,6 +160,22 @@ class Run:
     runs: int = 1
 
 
+@dataclass(frozen=True, slots=True)
+class Related:
+    """Another place a finding names (the previous pose of a time that does not increase):
+    SARIF's ``relatedLocations``.
+
+    Attributes:
+        line: 1-based line.
+        column: 1-based byte column.
+        message: what is there, without its line (the location gives it).
+    """
+
+    line: int
+    column: int
+    message: str
+
+
 @dataclass(frozen=True)
 class Diagnostic:
     """One finding in one file.
@@ -178,6 +194,9 @@ class Diagnostic:
         pose: what lets it be grouped with the same finding at the next poses (the robot
             checks' per-pose findings), or ``None``.
         run: for a grouped finding, the findings it stands for (``None``: one finding).
+        related: other places the message names ("(line 3)"), each also a location of its own.
+        stable: the message without the lines it names, which move when lines are added
+            above (``None``: the message names no line): what identifies the finding.
     """
 
     code: str
@@ -192,6 +211,8 @@ class Diagnostic:
     end_column: int | None = field(default=None, compare=False)
     pose: PoseFinding | None = field(default=None, compare=False, repr=False)
     run: Run | None = field(default=None, compare=False)
+    related: tuple[Related, ...] = field(default=(), compare=False, repr=False)
+    stable: str | None = field(default=None, compare=False, repr=False)
 
     @property
     def title(self) -> str:
@@ -205,9 +226,12 @@ class Diagnostic:
 
     @property
     def identity(self) -> str:
-        """What identifies the finding when lines are added above it: its message, or for a
-        grouped finding its subject and first pose time (its message names lines)."""
-        return self.message if self.run is None else self.run.identity
+        """What identifies the finding when lines are added above it: its message without the
+        lines it names (:attr:`stable`), or for a grouped finding its subject and first pose
+        time (its message names lines)."""
+        if self.run is not None:
+            return self.run.identity
+        return self.message if self.stable is None else self.stable
 
     def format(self) -> str:
         """``path:line:col: severity CODE: message`` — one line, compiler style."""

@@ -4,11 +4,11 @@
 
 from __future__ import annotations
 
-import re
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import INT_MAX, scan_time
-from motiontool.motionfmt.lines import PoseLine, separator_hint, show
+from motiontool.motionfmt.diagnostics import Related
+from motiontool.motionfmt.lines import PoseLine, show
 from motiontool.motionfmt.units import time_fields_ms
 
 if TYPE_CHECKING:
@@ -51,15 +51,17 @@ def pose_time(state: ReadState, pose: PoseLine, prev: tuple[int, int]) -> tuple[
         return None, False
     prev_time, prev_line = prev
     if time_ms <= prev_time:
+        stable = f"pose time {time_ms} ms is not after the previous pose's {prev_time} ms"
         state.report(
             "MT106",
             line,
             c0 + a0,
-            f"pose time {time_ms} ms is not after the previous pose's {prev_time} ms"
-            f" (line {prev_line})",
+            f"{stable} (line {prev_line})",
             "pose times must strictly increase",
             time_ms=time_ms,
             end_column=c0 + b0,
+            related=(Related(prev_line, 1, f"the previous pose, at {prev_time} ms"),),
+            stable=stable,
         )
         return time_ms, False
     return time_ms, True
@@ -75,9 +77,6 @@ def _exact_time(tok: bytes) -> int:
     return time_fields_ms([int(f) for f in tok.split(b":")])
 
 
-_TIME_CHARS = re.compile(rb"[0-9:]+")
-
-
 def _time_hint(tok: bytes) -> str:
     stripped = tok.strip(b" \t")
     if stripped.startswith(b"#"):
@@ -89,10 +88,6 @@ def _time_hint(tok: bytes) -> str:
         )
     if stripped != tok:
         return "remove the white space around the time"
-    time = _TIME_CHARS.match(tok)
-    separated = time and separator_hint(tok, time.end(), "'time,name,value,...'")
-    if separated:
-        return separated
     if tok.startswith((b"-", b"+")):
         return "pose times are unsigned milliseconds"
     if b"." in tok:

@@ -28,7 +28,7 @@ from motiontool.cli.reports.common import (
     with_hint,
 )
 from motiontool.cli.rules import RULES
-from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Related, Severity
 from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
@@ -110,6 +110,10 @@ def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[s
         **fixes,
         **_run(f, d, location),
     }
+    if d.related:  # the lines its message names: where they are now, out of the fingerprint
+        held = result.get("relatedLocations", [])
+        named = enumerate(d.related, len(held) + 1)
+        result["relatedLocations"] = [*held, *(_related(f, r, location, i) for i, r in named)]
     if left:  # a fix too large to carry: left to validate --fix, counted
         result.setdefault("properties", {})["fixEdits"] = left
     return result
@@ -137,6 +141,19 @@ def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, An
         properties["runs"] = d.run.runs
     properties["worst"] = worst
     return {"relatedLocations": [related], "properties": properties}
+
+
+def _related(f: FileReport, r: Related, location: dict[str, Any], i: int) -> dict[str, Any]:
+    """A place a finding's message names, as its ``i``-th related location."""
+    region = {
+        "startLine": r.line,
+        "startColumn": text_column(f.source_line(r.line), r.column, utf16=True),
+    }
+    return {
+        "id": i,
+        "message": {"text": r.message},
+        "physicalLocation": {"artifactLocation": location, "region": region},
+    }
 
 
 def _replacement(f: FileReport, fix: Fix) -> dict[str, Any]:

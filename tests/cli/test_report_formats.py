@@ -266,3 +266,69 @@ def test_a_sarif_fix_of_more_edits_than_it_carries_is_counted_not_written(
     counted = result(19)
     assert "fixes" not in counted and counted["properties"]["fixEdits"] == 20
     assert counted["properties"]["count"] == 20
+
+
+LINED = {  # findings whose message names another line (issue 36 item 11)
+    "MT106": b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:100,P1,0\n00:00:040,P2,0\n",
+    "MT201": b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,0\n\n00:00:040,P2,0\n",
+}
+
+
+@pytest.mark.parametrize("code", sorted(LINED))
+def test_a_finding_that_names_another_line_keeps_its_fingerprints_when_lines_come_above(
+    here: Path, code: str
+) -> None:
+    """Its message names a line ("(line 3)"), which moves with the lines added above: the
+    fingerprints hash the finding without it, and SARIF gives that line as a related
+    location; the text report still names it."""
+    path = here / "sub" / "lined.motion"
+
+    def prints() -> tuple[str, str, dict[str, Any]]:
+        args = ["--strict", str(path.relative_to(here))]  # MT201 is a warning: exit 1 too
+        run = sarif(args)["runs"][0]  # type: ignore[index]
+        (result,) = [r for r in run["results"] if r["ruleId"] == code]
+        (issue,) = [i for i in gitlab(args) if i["check_name"] == code]
+        return (
+            result["partialFingerprints"]["motiontoolFinding/v1"],
+            str(issue["fingerprint"]),
+            result,
+        )
+
+    path.write_bytes(LINED[code])
+    sarif_before, gitlab_before, result = prints()
+    lines = LINED[code].split(b"\n")
+    path.write_bytes(
+        b"\n".join([lines[0], b"00:00:000,P0,0", *lines[1:]]).replace(
+            b"00:00:000,P1", b"00:00:020,P1"
+        )
+    )
+    sarif_after, gitlab_after, moved = prints()
+    assert (sarif_after, gitlab_after) == (sarif_before, gitlab_before)
+    # The other line is a related location of the result, where it is now.
+    (related,) = result["relatedLocations"]
+    (related_moved,) = moved["relatedLocations"]
+    other = 2 if code == "MT106" else 4
+    assert related["physicalLocation"]["region"]["startLine"] == other
+    assert related_moved["physicalLocation"]["region"]["startLine"] == other + 1
+    assert related["message"]["text"]
+    text = runner.invoke(app, ["validate", "--robot", "none", str(path.relative_to(here))])
+    assert f"(line {other + 1})" in text.stdout
+
+
+def test_no_golden_finding_is_identified_by_a_line_number() -> None:
+    """What fingerprints hash (:attr:`Diagnostic.identity`) names no line, in every golden
+    invalid file: a line added above any of them leaves them the same findings."""
+    import re
+
+    from conftest import golden
+
+    from motiontool.motionfmt import read_bytes
+
+    names_a_line = re.compile(r"\blines? \d")
+    found = [
+        f"{path.name}: {d.code} {d.identity}"
+        for path in golden("invalid")
+        for d in read_bytes(path.read_bytes(), path.name).diagnostics
+        if names_a_line.search(d.identity)
+    ]
+    assert not found, "\n".join(found)
