@@ -34,6 +34,10 @@ class ReadState:
         pose_cols0: byte offset in its physical line of each pose's piece (0 unless cut;
             empty: 0 for every pose).
         cells: the poses' values as they are read line by line (``result.cells``).
+        names_line: the line after a header with no joint, when it holds the joint names
+            (MT103 says so there), else None.
+        muted, muted_count: a code whose findings follow from another one and are only
+            counted (``MT110`` "expected 0 values" after joint names on line 2), and how many.
     """
 
     def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
@@ -55,6 +59,9 @@ class ReadState:
         self.n_joints = 0
         self.star_seen = False
         self.header_end = (1, 1)
+        self.names_line: int | None = None
+        self.muted: str | None = None
+        self.muted_count = 0
 
     @functools.cached_property
     def lines(self) -> list[bytes]:
@@ -85,6 +92,9 @@ class ReadState:
         :class:`~motiontool.motionfmt.diagnostics.Code`), the first rejecting one is where
         Webots stops; ``related`` and ``stable`` where the message names other lines (see
         :class:`~motiontool.motionfmt.diagnostics.Diagnostic`)."""
+        if code == self.muted:
+            self.muted_count += 1
+            return
         spec = CODES[code]
         diag = Diagnostic(
             code=code,

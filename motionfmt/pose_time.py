@@ -4,11 +4,12 @@
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import INT_MAX, scan_time
 from motiontool.motionfmt.diagnostics import Related
-from motiontool.motionfmt.lines import PoseLine, show
+from motiontool.motionfmt.lines import PoseLine, separator_hint, show
 from motiontool.motionfmt.units import time_fields_ms
 
 if TYPE_CHECKING:
@@ -77,6 +78,9 @@ def _exact_time(tok: bytes) -> int:
     return time_fields_ms([int(f) for f in tok.split(b":")])
 
 
+_TIME_CHARS = re.compile(rb"[0-9:]+")
+
+
 def _time_hint(tok: bytes) -> str:
     stripped = tok.strip(b" \t")
     if stripped.startswith(b"#"):
@@ -88,6 +92,10 @@ def _time_hint(tok: bytes) -> str:
         )
     if stripped != tok:
         return "remove the white space around the time"
+    time = _TIME_CHARS.match(tok)
+    separated = time and separator_hint(tok, time.end(), "'time,name,value,...'")
+    if separated:
+        return separated
     if tok.startswith((b"-", b"+")):
         return "pose times are unsigned milliseconds"
     if b"." in tok:

@@ -37,6 +37,7 @@ from motiontool.motionfmt.lines import (
     Piece,
     check_utf8,
     fgets_pieces,
+    show,
     token_spans,
 )
 from motiontool.motionfmt.motion_checks import check_motion
@@ -101,7 +102,9 @@ class _Reader(ReadState):
         if bulk and header_piece.col0 == 0 and self.read_bulk():
             return res
         last_line, pose_lines_seen = self.read_poses(header_piece.line, pieces)
-        if not self.joint_tokens:  # Webots counts joints and poses after reading every line
+        if self.names_line is not None:
+            self.names_below_header(self.names_line)
+        elif not self.joint_tokens:  # Webots counts joints and poses after reading every line
             self.report(
                 "MT103",
                 *self.header_end,
@@ -123,7 +126,6 @@ class _Reader(ReadState):
     def read_poses(self, header_line: int, pieces: Iterator[Piece]) -> tuple[int, int]:
         """Read the pose lines up to the end or a blank line, each on the fast path if it can
         (unless ``exact``) and on the exact path if not; (the last line read, how many)."""
-        res = self.result
         prev = (-1, header_line)
         last_line = header_line
         pose_lines_seen = 0
@@ -135,16 +137,61 @@ class _Reader(ReadState):
                 if not spans:
                     self.blank_line(piece)
                     break
-                before = len(res.diagnostics)
-                t = read_pose_exact(self, piece, spans, prev)
+                if pose_lines_seen == 0 and self.n_joints == 0 and _names(piece, spans):
+                    # Webots stops here (not a time): MT103 says why, once, at the end.
+                    self.names_line, self.muted = piece.line, "MT110"
+                    pose_lines_seen, last_line = 1, piece.line
+                    continue
                 if piece.col0:
-                    # The rest of a cut line: MT111 said why; keep only where Webots stops.
-                    del res.diagnostics[before + 1 :]
+                    t = self.read_cut_rest(piece, spans, prev)
+                else:
+                    t = read_pose_exact(self, piece, spans, prev)
             pose_lines_seen += 1
             last_line = piece.line
             if t is not None:
                 prev = (t, piece.line)
         return last_line, pose_lines_seen
+
+    def read_cut_rest(
+        self, piece: Piece, spans: list[tuple[int, int]], prev: tuple[int, int]
+    ) -> int | None:
+        """Read the rest of a cut line (MT111 said why) as the pose line Webots reads it as, and
+        keep two of its findings: the first, and the one that makes Webots reject the file
+        there (MT109 after an MT203 in ``5,P2,2rad``) where it is another; its time or None."""
+        res = self.result
+        before, decided = len(res.diagnostics), res.rejected_at
+        res.rejected_at = None  # which finding of this line rejects, if any
+        t = read_pose_exact(self, piece, spans, prev)
+        found, rejects = res.diagnostics[before:], res.rejected_at
+        res.rejected_at = decided or rejects
+        del res.diagnostics[before:]
+        for d in found[:1] + [d for d in found[1:] if d is rejects]:
+            res.diagnostics.append(d)
+        return t
+
+    def names_below_header(self, line: int) -> None:
+        """MT103 at ``line``, which holds the joint names the header lacks: where Webots
+        stops, and the reason for the "expected 0 values" (MT110) on each later line, counted
+        instead of reported."""
+        res = self.result
+        decided = res.rejected_at
+        muted, self.muted = self.muted_count, None
+        raw = self.lines[line - 1]
+        spans = token_spans(raw)
+        names = raw[spans[0][0] : spans[-1][1]]
+        findings = "1 finding" if muted == 1 else f"{muted} findings"
+        later = f" ({findings} 'expected 0 values' on later lines not shown)" if muted else ""
+        self.report(
+            "MT103",
+            line,
+            spans[0][0] + 1,
+            f"the joint names are on line {line}, but Webots reads them only from the header"
+            f" line: the header names no joint{later}",
+            f"move them to the end of line 1: {show(HEADER + b',' + VERSION + b',' + names, 80)}",
+            end_column=spans[-1][1] + 1,
+        )
+        if decided is None or decided.line >= line:  # Webots stops at this line, not after it
+            res.rejected_at = res.diagnostics[len(res.diagnostics) - 1]
 
     def read_bulk(self) -> bool:
         """Read a large clean file in one go (see :mod:`._bulk`); False to take the exact path."""
@@ -194,6 +241,12 @@ class _Reader(ReadState):
             related=(Related(later[0], 1, f"{ignored} Webots ignores"),),
             stable=stable,
         )
+
+
+def _names(piece: Piece, spans: list[tuple[int, int]]) -> bool:
+    """Whether a line that starts with a letter (not a time) stands where the first pose line
+    should, after a header that names no joint: the joint names, put on a line of their own."""
+    return piece.col0 == 0 and piece.data[spans[0][0] : spans[0][0] + 1].isalpha()
 
 
 def read_bytes(
