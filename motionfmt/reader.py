@@ -181,14 +181,16 @@ class _Reader(ReadState):
         names = raw[spans[0][0] : spans[-1][1]]
         findings = "1 finding" if muted == 1 else f"{muted} findings"
         later = f" ({findings} 'expected 0 values' on later lines not shown)" if muted else ""
+        why = "but Webots reads them only from the header line: the header names no joint"
         self.report(
             "MT103",
             line,
             spans[0][0] + 1,
-            f"the joint names are on line {line}, but Webots reads them only from the header"
-            f" line: the header names no joint{later}",
+            f"the joint names are on line {line}, {why}{later}",
             f"move them to the end of line 1: {show(HEADER + b',' + VERSION + b',' + names, 80)}",
             end_column=spans[-1][1] + 1,
+            # What identifies it in fingerprints: neither its line nor the count below it.
+            stable=f"the joint names are below the header, {why}",
         )
         if decided is None or decided.line >= line:  # Webots stops at this line, not after it
             res.rejected_at = res.diagnostics[len(res.diagnostics) - 1]
