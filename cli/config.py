@@ -12,12 +12,18 @@ Keys (``cli/schemas/config.schema.json`` is their JSON Schema, shipped in the pa
 - ``robot``: the robot files are checked and played against (``auto``, ``nao``, ``ur5e``, ...);
 - ``[tool.motiontool.robots]``: ``"GLOB" = "ROBOT"``, the robot for the files a glob matches
   (the first match wins; ``robot`` for the others);
-- ``select``, ``ignore``, ``extend-ignore``: codes (or prefixes: ``MT2``) reported / left out;
+- ``select``, ``extend-select``, ``ignore``, ``extend-ignore``: codes (or prefixes: ``MT2``)
+  reported / left out, as ruff selects its rules (:class:`Selection`: the most specific
+  selector decides; ``--select`` on the command line replaces the file's selection);
 - ``per-file-ignores``: ``"GLOB" = ["MT206"]``;
 - ``strict``: warnings fail the run too;
 - ``checks``: the robot checks (``["limits", "velocity"]``);
 - ``timestep``: the controller time step in ms;
 - ``exclude``, ``extend-exclude``: files and folders left out when a folder is searched;
+- ``force-exclude``: ``exclude`` applies to files named on the command line too (what the
+  pre-commit hook turns on: pre-commit names every staged file);
+- ``respect-gitignore``: folder searches leave out what ``.gitignore`` files ignore, and
+  hidden folders (default true);
 - ``max-findings``: findings shown at most (the summary still counts every one);
 - ``group``: consecutive per-pose findings of one code and joint as one finding (default true).
 
@@ -47,7 +53,9 @@ __all__ = [
     "ConfigOption",
     "IsolatedOption",
     "Resolver",
+    "Selection",
     "Settings",
+    "check_selectors",
     "load_settings",
 ]
 
@@ -74,6 +82,51 @@ class ConfigError(MotionToolError):
 
 
 @dataclass(frozen=True)
+class Selection:
+    """One source's choice of codes (a configuration file, or the command line), as ruff
+    selects rules: codes or prefixes (``MT2``) to report (``select``: these and no others;
+    ``extend_select``: these too) and to leave out (``ignore``).
+
+    Within a source the most specific selector that matches a code decides (``select = MT2``
+    with ``ignore = MT203`` leaves MT203 out; ``select = MT203`` with ``ignore = MT2`` keeps
+    it), an ignore winning a tie; a later source's ``select`` replaces what the earlier ones
+    chose, its ``extend_select`` and ``ignore`` change only the codes they match.
+    """
+
+    select: tuple[str, ...] | None = None
+    extend_select: tuple[str, ...] = ()
+    ignore: tuple[str, ...] = ()
+
+    def decide(self, code: str, earlier: bool) -> bool:
+        """Whether ``code`` is reported after this source, given ``earlier``: what the
+        sources before it decided."""
+        best: tuple[int, bool] | None = None
+        for selector in (*(self.select or ()), *self.extend_select):
+            if code.startswith(selector) and (best is None or len(selector) > best[0]):
+                best = (len(selector), True)
+        for selector in self.ignore:
+            if code.startswith(selector) and (best is None or len(selector) >= best[0]):
+                best = (len(selector), False)
+        if best is not None:
+            return best[1]
+        return False if self.select is not None else earlier
+
+
+def check_selectors(codes: Iterable[str], option: str) -> tuple[str, ...]:
+    """``codes`` given to ``option`` (repeated or comma-separated), upper case: codes or
+    prefixes of codes (``MT2``).
+
+    Raises:
+        MotionToolError: ``OPTION: unknown code 'X'; did you mean ...``.
+    """
+    found = tuple(c.strip().upper() for item in codes for c in item.split(",") if c.strip())
+    bad = _unknown_value("ignore", list(found)) if found else None
+    if bad is not None:
+        raise MotionToolError(f"{option}: {bad}")
+    return found
+
+
+@dataclass(frozen=True)
 class Settings:
     """The settings a configuration file gives (defaults where it says nothing).
 
@@ -88,6 +141,7 @@ class Settings:
     robot: str = "auto"
     robots: tuple[tuple[str, str], ...] = ()
     select: tuple[str, ...] | None = None
+    extend_select: tuple[str, ...] = ()
     ignore: tuple[str, ...] = ()
     extend_ignore: tuple[str, ...] = ()
     per_file_ignores: tuple[tuple[str, tuple[str, ...]], ...] = ()
@@ -96,6 +150,8 @@ class Settings:
     timestep: int | None = None
     exclude: tuple[str, ...] = ()
     extend_exclude: tuple[str, ...] = ()
+    force_exclude: bool = False
+    respect_gitignore: bool = True
     max_findings: int | None = None
     group: bool = True
 
@@ -106,24 +162,34 @@ class Settings:
                 return robot
         return self.robot
 
-    def ignored_for(self, path: Path) -> frozenset[str]:
-        """The codes (and prefixes) left out for ``path``."""
-        codes = set(self.ignore) | set(self.extend_ignore)
-        for pattern, extra in self.per_file_ignores:
-            if self.matches(pattern, path):
-                codes.update(extra)
-        return frozenset(codes)
+    @property
+    def selection(self) -> Selection:
+        """The codes this file selects and ignores (``per-file-ignores`` aside)."""
+        return Selection(self.select, self.extend_select, (*self.ignore, *self.extend_ignore))
 
-    def reports(self, code: str, path: Path) -> bool:
-        """Whether a finding ``code`` in ``path`` is reported (``select``, then the ignores;
-        a prefix such as ``MT2`` stands for every code that starts with it)."""
-        if self.select is not None and not any(code.startswith(s) for s in self.select):
+    def reports(self, code: str, path: Path, cli: Selection | None = None) -> bool:
+        """Whether a finding ``code`` in ``path`` is reported: this file's
+        :attr:`selection`, then the command line's (``cli``), then ``per-file-ignores`` (a
+        prefix such as ``MT2`` stands for every code that starts with it)."""
+        enabled = self.selection.decide(code, True)
+        if cli is not None:
+            enabled = cli.decide(code, enabled)
+        if not enabled:
             return False
-        return not any(code.startswith(i) for i in self.ignored_for(path))
+        return not any(
+            code.startswith(c)
+            for pattern, codes in self.per_file_ignores
+            if self.matches(pattern, path)
+            for c in codes
+        )
 
     def excluded(self, path: Path) -> bool:
-        """Whether ``path`` (found by searching a folder) is left out."""
-        return any(self.matches(p, path) for p in (*self.exclude, *self.extend_exclude))
+        """Whether ``path`` (found by searching a folder, or named with ``force-exclude``)
+        is left out: a glob matches it or a folder it is in."""
+        globs = (*self.exclude, *self.extend_exclude)
+        if not globs:
+            return False
+        return any(self.matches(p, q) for q in (path, *_parents(path)) for p in globs)
 
     def matches(self, pattern: str, path: Path) -> bool:
         """``pattern`` against ``path`` relative to :attr:`root`: a pattern with a ``/``
@@ -153,6 +219,11 @@ class Settings:
         return out
 
 
+def _parents(path: Path) -> list[Path]:
+    """The folders ``path`` is in, as given (relative ones stop at the working directory)."""
+    return [p for p in path.parents if p != Path(".")]
+
+
 def _strings(value: Any) -> bool:
     return isinstance(value, list) and all(isinstance(v, str) for v in value)
 
@@ -173,6 +244,7 @@ KEYS: dict[str, tuple[Any, str]] = {
     "robot": (lambda v: isinstance(v, str), "a robot name (string)"),
     "robots": (_table_of("str"), 'a table of "GLOB" = "ROBOT"'),
     "select": (_strings, "a list of codes"),
+    "extend-select": (_strings, "a list of codes"),
     "ignore": (_strings, "a list of codes"),
     "extend-ignore": (_strings, "a list of codes"),
     "per-file-ignores": (_table_of("list"), 'a table of "GLOB" = ["CODE", ...]'),
@@ -184,6 +256,8 @@ KEYS: dict[str, tuple[Any, str]] = {
     ),
     "exclude": (_strings, "a list of globs"),
     "extend-exclude": (_strings, "a list of globs"),
+    "force-exclude": (lambda v: isinstance(v, bool), "true or false"),
+    "respect-gitignore": (lambda v: isinstance(v, bool), "true or false"),
     "max-findings": (
         lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= 1,
         "a whole number >= 1",
@@ -279,7 +353,7 @@ def _unknown_value(key: str, value: Any) -> str | None:
                 hint = _did_you_mean(name, CHECKS) or f"; checks: {', '.join(CHECKS)} or all"
                 return f"unknown check '{name}'{hint}"
     codes: list[str] = []
-    if key in ("select", "ignore", "extend-ignore"):
+    if key in ("select", "extend-select", "ignore", "extend-ignore"):
         codes = list(value)
     elif key == "per-file-ignores":
         codes = [c for listed in value.values() for c in listed]
@@ -304,6 +378,7 @@ def _settings(path: Path, values: dict[str, Any]) -> Settings:
         robot=values.get("robot", "auto"),
         robots=tuple(values.get("robots", {}).items()),
         select=None if select is None else _codes(select),
+        extend_select=_codes(values.get("extend_select", ())),
         ignore=_codes(values.get("ignore", ())),
         extend_ignore=_codes(values.get("extend_ignore", ())),
         per_file_ignores=tuple(
@@ -314,6 +389,8 @@ def _settings(path: Path, values: dict[str, Any]) -> Settings:
         timestep=values.get("timestep"),
         exclude=tuple(values.get("exclude", ())),
         extend_exclude=tuple(values.get("extend_exclude", ())),
+        force_exclude=values.get("force_exclude", False),
+        respect_gitignore=values.get("respect_gitignore", True),
         max_findings=values.get("max_findings"),
         group=values.get("group", True),
     )
@@ -324,6 +401,8 @@ class Resolver:
     file read once), one named file (``config``), or none (``isolated``)."""
 
     def __init__(self, *, config: Path | None = None, isolated: bool = False) -> None:
+        if isolated and config is not None:
+            raise MotionToolError("--isolated reads no configuration file: leave out --config")
         self.isolated = isolated
         self._fixed: Settings | None = None
         self._by_folder: dict[Path, Settings] = {}

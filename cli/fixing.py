@@ -11,8 +11,7 @@ from pathlib import Path
 
 from motiontool.cli.output import in_blocks
 from motiontool.cli.text import plural
-from motiontool.errors import MotionToolError
-from motiontool.motionfmt.fileio import atomic_write, is_stdin, read_file
+from motiontool.motionfmt.fileio import STDOUT, atomic_write, is_stdin, read_file
 from motiontool.motionfmt.fixes import RobotPlanner, fix_bytes
 
 __all__ = ["FixRun", "fix_files"]
@@ -21,10 +20,11 @@ __all__ = ["FixRun", "fix_files"]
 @dataclass
 class FixRun:
     """What ``--fix`` changed (or ``--diff`` would change): fixes applied by code, files
-    changed."""
+    changed, and with ``--fix`` standard input's text as fixed (None: no standard input)."""
 
     applied: Counter[str] = field(default_factory=Counter)
     files: list[str] = field(default_factory=list)
+    stdin: bytes | None = None
 
     def line(self) -> str:
         """``fixed 3 findings in 1 file (MT203 x2, MT204)``, or ``nothing to fix``."""
@@ -46,25 +46,26 @@ def fix_files(
     diff: Callable[[bytes], object] | None = None,
 ) -> FixRun:
     """Fix every file (``unsafe``: the unsafe fixes too, and those of ``robot(path, data)``'s
-    planner); write each changed file atomically with ``write``, else give its unified diff
-    to ``diff``, a block of about 64 KiB at a time as it is made (never the whole diff held).
+    planner); write each changed file atomically with ``write`` (standard input's text, fixed
+    or not, to stdout, as ruff does), else give its unified diff to ``diff``, a block of about
+    64 KiB at a time as it is made (never the whole diff held).
 
     Raises:
-        MotionToolError: standard input with ``write`` (a diff is fine), or a file that cannot
-            be read or written.
+        MotionToolError: a file that cannot be read or written.
     """
     run = FixRun()
     for path in files:
-        if is_stdin(path) and write:
-            raise MotionToolError("--fix writes files back: for standard input use --diff")
         data = read_file(path)
         planner = robot(path, data) if unsafe and robot is not None else None
         result = fix_bytes(data, str(path), unsafe=unsafe, robot=planner)
+        if is_stdin(path) and write:
+            run.stdin = result.data
+            atomic_write(STDOUT, result.data)
         if result.data == data:
             continue
         run.files.append(str(path))
         run.applied.update(f.code for f in result.applied)
-        if write:
+        if write and not is_stdin(path):
             atomic_write(path, result.data)
         elif diff is not None:
             for block in in_blocks(_unified(path, data, result.data)):

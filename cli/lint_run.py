@@ -13,7 +13,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from motiontool.cli.config import Resolver, Settings
+from motiontool.cli.config import Resolver, Selection, Settings
+from motiontool.cli.gitignore import git_ignored
 from motiontool.errors import MissingExtraError
 from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_checks
 from motiontool.kinematics.robot_fixes import planner
@@ -26,7 +27,6 @@ from motiontool.motionfmt.validate import (
     FileReport,
     FileReports,
     ValidationReport,
-    check_codes,
     checkable,
     validate_bytes,
 )
@@ -53,6 +53,21 @@ class Overrides:
     ignore: tuple[str, ...] = ()
     collision_tolerance_mm: float | None = None
     group: bool | None = None
+    select: tuple[str, ...] | None = None
+    extend_select: tuple[str, ...] = ()
+    force_exclude: bool | None = None
+    respect_gitignore: bool | None = None
+    stdin_name: str | None = None
+
+    def named(self, path: Path) -> Path:
+        """``path``, or for standard input the name ``--stdin-filename`` gives it (what its
+        settings are found by)."""
+        return Path(self.stdin_name) if self.stdin_name and is_stdin(path) else path
+
+    @property
+    def selection(self) -> Selection:
+        """The codes the command line selects and ignores (over the configuration's)."""
+        return Selection(self.select, self.extend_select, self.ignore)
 
 
 @dataclass
@@ -119,16 +134,39 @@ class LintRun:
         return any(d.severity >= Severity.ERROR for d in self.report.notes)
 
 
-def collect(paths: Sequence[Path], resolver: Resolver) -> list[Path]:
-    """The motion files of ``paths``: folders searched, less what their settings exclude
-    (a file named on the command line is never excluded)."""
+def collect(
+    paths: Sequence[Path], resolver: Resolver, overrides: Overrides | None = None
+) -> list[Path]:
+    """The motion files of ``paths``: folders searched, less what their settings exclude,
+    what ``.gitignore`` ignores and hidden folders (``respect-gitignore``); a file named on the
+    command line is kept, but for ``exclude`` with ``force-exclude`` (``overrides``: the
+    command line's, over the settings)."""
+    o = overrides or Overrides()
     files: list[Path] = []
     for p in paths:
-        named = is_stdin(p) or not p.is_dir()
+        if is_stdin(p) or not p.is_dir():
+            named = o.named(p)
+            s = resolver.for_file(named)
+            force = o.force_exclude if o.force_exclude is not None else s.force_exclude
+            if not (force and not is_stdin(named) and s.excluded(named)):
+                files.append(p)
+            continue
+        found = []
         for f in collect_motion_files([p]):
-            if named or not resolver.for_file(f).excluded(f):
-                files.append(f)
+            s = resolver.for_file(f)
+            respect = (
+                o.respect_gitignore if o.respect_gitignore is not None else s.respect_gitignore
+            )
+            if not s.excluded(f) and not (respect and _hidden(f, p)):
+                found.append((f, respect))
+        ignored = git_ignored(f for f, respect in found if respect)
+        files.extend(f for f, _respect in found if f not in ignored)
     return files
+
+
+def _hidden(path: Path, under: Path) -> bool:
+    """Whether ``path``, found by searching folder ``under``, is in a hidden folder below it."""
+    return any(part.startswith(".") for part in path.relative_to(under).parts[:-1])
 
 
 _Key = tuple[str, tuple[str, ...] | None, int | None, bool]
@@ -149,6 +187,7 @@ def lint(
     overrides: Overrides,
     make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
     on_step: Callable[[str], None] | None = None,
+    stdin_data: bytes | None = None,
 ) -> LintRun:
     """Validate ``files``, each with its settings and ``overrides`` over them, as the report
     reads them (:class:`~motiontool.motionfmt.validate.FileReports`: memory stays flat however
@@ -159,10 +198,10 @@ def lint(
     library is missing), a tuple means checks asked for by name. Every group's checks are
     built here, so that an unknown robot or check fails before any output. ``on_step`` is
     told what is being done, file by file and check by check (:mod:`motiontool.cli.progress`).
+    ``stdin_data``: the bytes to validate for standard input (``--fix -``: its fixed text).
     """
-    check_codes(overrides.ignore)  # an unknown code: an error before any file is read
-    sources = _Sources(files, resolver, overrides, make_checker, on_step)
-    names = sources.inputs.names
+    sources = _Sources(files, resolver, overrides, make_checker, on_step, stdin_data)
+    names = sources.names
     reports = FileReports(names, sources.make, sizes=sources.inputs.sizes, survey=sources.survey)
     strict = {
         name
@@ -171,11 +210,13 @@ def lint(
     }
     checkers = [c for c in sources.checkers.values() if c is not None]
     run = LintRun(ValidationReport(files=reports), checkers, strict)
-    ignored = {c.strip().upper() for c in overrides.ignore}
+    selection = overrides.selection
 
     def notes() -> list[Diagnostic]:
         checked = run.checked
-        return [] if checked is None else [n for n in checked.notes if n.code not in ignored]
+        return (
+            [] if checked is None else [n for n in checked.notes if selection.decide(n.code, True)]
+        )
 
     run.report.run_notes = notes
     return run
@@ -194,10 +235,15 @@ class _Sources:
         overrides: Overrides,
         make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
         on_step: Callable[[str], None] | None,
+        stdin_data: bytes | None = None,
     ) -> None:
         self.files, self.overrides, self.on_step = files, overrides, on_step
-        self.settings = [resolver.for_file(f) for f in files]
-        self.keys = [_group_key(f, s, overrides) for f, s in zip(files, self.settings, strict=True)]
+        self.named = [overrides.named(f) for f in files]
+        self.settings = [resolver.for_file(f) for f in self.named]
+        self.keys = [
+            _group_key(f, s, overrides) for f, s in zip(self.named, self.settings, strict=True)
+        ]
+        self.stdin_data = stdin_data
         self.checkers: dict[_Key, RobotChecks | None] = {}
         for key in self.keys:
             if key not in self.checkers:
@@ -207,18 +253,27 @@ class _Sources:
                     checker.on_check = on_step
                 self.checkers[key] = checker
         self.inputs = Inputs(files)
+        self.names = [
+            str(n) if is_stdin(f) and n != f else name
+            for f, n, name in zip(files, self.named, self.inputs.names, strict=True)
+        ]
+
+    def read(self, i: int) -> bytes:
+        """The bytes of the ``i``-th file (standard input's: ``stdin_data`` where given)."""
+        if self.stdin_data is not None and is_stdin(self.files[i]):
+            return self.stdin_data
+        return self.inputs.read(i)
 
     def make(self, i: int) -> FileReport:
         """The ``i``-th file validated with its settings and its group's robot checks."""
-        f, key = self.files[i], self.keys[i]
+        f, key = self.named[i], self.keys[i]
         _robot, checks, timestep, grouped = key
         checker = self.checkers[key]
         report = validate_bytes(
-            self.inputs.read(i),
-            self.inputs.names[i],
+            self.read(i),
+            self.names[i],
             timestep_ms=timestep,
             checks=[checker] if checker is not None else [],
-            ignore=self.overrides.ignore,
             group=grouped,
             on_step=self.on_step,
         )
@@ -229,8 +284,8 @@ class _Sources:
         """Record the robot that checks the ``i``-th file, reading it without checking it."""
         checker = self.checkers[self.keys[i]]
         if checker is not None:
-            name, timestep = self.inputs.names[i], self.keys[i][2]
-            result = read_bytes(self.inputs.read(i), name, timestep_ms=timestep)
+            name, timestep = self.names[i], self.keys[i][2]
+            result = read_bytes(self.read(i), name, timestep_ms=timestep)
             if checkable(result):
                 checker.note(result)
 
@@ -253,7 +308,6 @@ def lint_document(
         str(path),
         timestep_ms=timestep,
         checks=[checker] if checker is not None else [],
-        ignore=overrides.ignore,
         group=grouped,
     )
     return report, _settle(report, path, settings, checker, checks, overrides)
@@ -269,7 +323,8 @@ def _settle(
 ) -> RobotSpec | None:
     """What the settings do to one file's report: leave out the findings they do not report,
     plan the robot's fixes against the robot it was checked with (returned; None: none)."""
-    report.diagnostics = report.diagnostics.where(lambda d: settings.reports(d.code, path))
+    cli = overrides.selection
+    report.diagnostics = report.diagnostics.where(lambda d: settings.reports(d.code, path, cli))
     spec = None if checker is None else checker.used.get(report.path)
     report.robot_fixes = _planner(spec, path, settings, checks, overrides)
     return spec
@@ -291,11 +346,11 @@ def _planner(
     if spec is None:
         return None
     ran = DEFAULT_CHECKS if checks is None else parse_checks(checks)
-    ignored = {c.strip().upper() for c in overrides.ignore}
+    cli = overrides.selection
     codes = {
         code
         for code, check in _FIXED_BY_CHECK.items()
-        if check in ran and code not in ignored and settings.reports(code, path)
+        if check in ran and settings.reports(code, path, cli)
     }
     if not codes:
         return None
@@ -307,6 +362,7 @@ def robot_planner(
 ) -> RobotPlanner | None:
     """The robot fixes ``validate --fix --unsafe-fixes`` applies to ``path`` (whose bytes are
     ``data``): against the robot its settings name or the one its joints fit."""
+    path = overrides.named(path)
     settings = resolver.for_file(path)
     robot, checks, _timestep, _grouped = _group_key(path, settings, overrides)
     if robot == NONE:

@@ -2,21 +2,23 @@
 
 from __future__ import annotations
 
-import sys
+import dataclasses
 from functools import partial
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated
 
 import typer
 
 from motiontool import exit_codes
-from motiontool.cli.color import color_enabled
-from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
+from motiontool.cli.config import (
+    ConfigOption,
+    IsolatedOption,
+    Resolver,
+    check_selectors,
+)
 from motiontool.cli.fixing import fix_files
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.lint_run import (
-    Checked,
-    LintRun,
     Overrides,
     collect,
     lint,
@@ -30,21 +32,12 @@ from motiontool.cli.options import (
     robot_option,
     timestep_option,
 )
-from motiontool.cli.output import emit_pieces, refuse_overwrite, say_wrote
-from motiontool.cli.progress import Step, progress
-from motiontool.cli.reports import (
-    DEFAULT_FORMAT,
-    REPORTS,
-    Context,
-    FormatName,
-    Order,
-    render_pieces,
-    summary,
-)
-from motiontool.cli.reports.statistics import render_statistics
+from motiontool.cli.output import refuse_overwrite, say_wrote
+from motiontool.cli.progress import progress
+from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, FormatName, Order
 from motiontool.cli.text import plural
+from motiontool.cli.validate_report import Shown, print_report
 from motiontool.errors import MotionToolError
-from motiontool.extras import install_hint
 from motiontool.kinematics.checks import (
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
@@ -53,113 +46,11 @@ from motiontool.kinematics.checks import (
     parse_checks,
 )
 from motiontool.kinematics.checks.findings_cache import FindingsCache
-from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.fileio import STDOUT, open_output
-from motiontool.motionfmt.validate import ValidationReport
-from motiontool.stamps import stamps
+from motiontool.motionfmt.fileio import STDOUT, is_stdin, open_output
 
 __all__ = ["validate_command"]
 
 _CHECKS_OPTION = "--checks"
-
-
-def _robots_used(checker: Checked) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
-    """{robot name: (spec, files checked against it)}, and the files no robot was found for."""
-    used: dict[str, tuple[RobotSpec, list[str]]] = {}
-    skipped = []
-    for path, spec in checker.used.items():
-        if spec is None:
-            skipped.append(path)
-        else:
-            used.setdefault(spec.name, (spec, []))[1].append(path)
-    return used, skipped
-
-
-def _unchecked(report: ValidationReport, checker: Checked) -> tuple[list[str], list[str]]:
-    """The files checked at syntax level only, in report order: all of them (Webots rejects
-    them, or no robot was found: MT901), and those Webots rejects (no robot check reached them)."""
-    skipped = {p for p, spec in checker.used.items() if spec is None}
-    paths = report.files.paths
-    rejected = [p for p in paths if p not in checker.used]
-    every = [p for p in paths if p not in checker.used or p in skipped]
-    return every, rejected
-
-
-def _robot_line(checker: Checked | None, report: ValidationReport) -> str:
-    """One line for people: which robot checked what, and how many files Webots rejects (they
-    are not checked against a robot)."""
-    if checker is None:
-        return "robot: none (--robot none): Webots syntax checks only\n"
-    rejected = _unchecked(report, checker)[1]
-    unchecked = (
-        f"not checked against a robot: {plural(len(rejected), 'file')} Webots rejects"
-        if rejected
-        else ""
-    )
-    used, skipped = _robots_used(checker)
-    parts = []
-    for name, (spec, files) in used.items():
-        step = checker.timestep_ms or spec.default_timestep_ms
-        count = f"{plural(len(files), 'file')}, " if len(used) + bool(skipped) > 1 else ""
-        parts.append(
-            f"{name} ({count}{step} ms controller step, model sha256 {spec.model_hash[:12]})"
-        )
-    if skipped:
-        parts.append(f"none for {plural(len(skipped), 'file')} (MT901)")
-    if not parts:  # no file reached the robot checks (Webots rejects them all)
-        return f"robot: {unchecked}\n" if unchecked else ""
-    named = []
-    for name in checker.checks:
-        if name in checker.skipped:
-            missing = checker.skipped[name]
-            named.append(f"{name} (skipped: {missing.library} is not installed)")
-        elif name == "collision":
-            named.append(f"{name} (overlaps under {checker.penetration_tolerance_mm:g} mm ignored)")
-        else:
-            named.append(name)
-    checks = ", ".join(named)
-    if unchecked:
-        checks += f"; {unchecked}"
-    return f"robot: {'; '.join(parts)}; checks: {checks}\n"
-
-
-def _robot_json(
-    checker: Checked | None, requested: str, report: ValidationReport
-) -> dict[str, Any]:
-    """The JSON report's ``robot`` section and the stamps with the model hash."""
-    if checker is None:
-        return {"stamps": stamps(), "robot": {"requested": requested, "checks": []}}
-    used, _skipped = _robots_used(checker)
-    robots = [
-        {
-            "name": name,
-            "model_sha256": spec.model_hash,
-            "model_file": spec.model_path.name,
-            "timestep_ms": checker.timestep_ms or spec.default_timestep_ms,
-            "files": files,
-        }
-        for name, (spec, files) in used.items()
-    ]
-    only = next(iter(used.values()))[0].model_hash if len(used) == 1 else None
-    return {
-        "stamps": stamps(only),
-        "robot": {
-            "requested": requested,
-            "checks": list(checker.checks),
-            "collision_tolerance_mm": checker.penetration_tolerance_mm,
-            "robots": robots,
-            "unchecked_files": _unchecked(report, checker)[0],
-            "skipped_checks": [
-                {
-                    "check": name,
-                    "library": exc.library,
-                    "extra": exc.extra,
-                    "install": install_hint(exc.extra),
-                }
-                for name, exc in checker.skipped.items()
-            ],
-        },
-    }
 
 
 _Paths = Annotated[
@@ -242,7 +133,67 @@ _Ignore = Annotated[
     list[str] | None,
     typer.Option(
         CLI_WORDING.ignore_option or "--ignore",
-        help="Diagnostic code to leave out (repeat, or comma-separate).",
+        help="Code, or prefix of codes (MT2), to leave out (repeat, or comma-separate).",
+    ),
+]
+_Select = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--select",
+        help="Report these codes or prefixes (MT2) only, instead of the configuration's "
+        "selection; the most specific of --select, --extend-select and --ignore decides, as "
+        "in ruff (repeat, or comma-separate).",
+        show_default=False,
+    ),
+]
+_ExtendSelect = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--extend-select",
+        help="Report these codes or prefixes too, over the configuration's selection.",
+        show_default=False,
+    ),
+]
+_ForceExclude = Annotated[
+    bool | None,
+    typer.Option(
+        "--force-exclude/--no-force-exclude",
+        help="Leave out files named here that the configuration's exclude matches too (as the "
+        "pre-commit hooks do; default: the configuration's force-exclude, else off).",
+        show_default=False,
+    ),
+]
+_RespectGitignore = Annotated[
+    bool | None,
+    typer.Option(
+        "--respect-gitignore/--no-respect-gitignore",
+        help="Folder searches leave out what .gitignore files ignore (in a git repository) "
+        "and hidden folders (default: the configuration's respect-gitignore, else on).",
+        show_default=False,
+    ),
+]
+_ExitZero = Annotated[
+    bool,
+    typer.Option(
+        "--exit-zero",
+        help="Exit 0 even when findings fail the run (usage and I/O errors still exit 2).",
+    ),
+]
+_Quiet = Annotated[
+    bool,
+    typer.Option(
+        "--quiet",
+        "-q",
+        help="Print the findings only: no robot line, no summary, no 'fixed' line.",
+    ),
+]
+_StdinFilename = Annotated[
+    str | None,
+    typer.Option(
+        "--stdin-filename",
+        help="The name to report standard input ('-') under, and to find its configuration "
+        "by (robot per glob, per-file-ignores, exclude with --force-exclude).",
+        show_default=False,
     ),
 ]
 _Statistics = Annotated[
@@ -250,7 +201,7 @@ _Statistics = Annotated[
     typer.Option(
         "--statistics",
         help="Print how many findings of each code (most frequent first) instead of each "
-        "finding (text only).",
+        "finding (--format text or json).",
     ),
 ]
 _Fix = Annotated[
@@ -304,6 +255,13 @@ def validate_command(
     unsafe_fixes: _UnsafeFixes = False,
     diff: _Diff = False,
     no_cache: NoCacheOption = False,
+    select: _Select = None,
+    extend_select: _ExtendSelect = None,
+    force_exclude: _ForceExclude = None,
+    respect_gitignore: _RespectGitignore = None,
+    exit_zero: _ExitZero = False,
+    quiet: _Quiet = False,
+    stdin_filename: _StdinFilename = None,
 ) -> None:
     """Check motion files as Webots reads them, then against the robot; every problem, with
     file:line:col. Settings come from the closest pyproject.toml [tool.motiontool] or
@@ -312,34 +270,37 @@ def validate_command(
     Exit code 0 when no error is found (warnings allowed unless --strict), 1 on findings,
     2 on a usage or I/O error.
     """
-    if statistics and format.value != "text":
-        raise MotionToolError("--statistics is a text report: leave out --format")
+    _refuse(paths, format, statistics=statistics, stdin_filename=stdin_filename)
     resolver = Resolver(config=config, isolated=isolated)
     if show_settings:
         typer.echo(_settings_text(paths, resolver), nl=False)
         return
-    overrides = _overrides(robot, checks, timestep, strict, ignore, group)
-    files = collect(paths, resolver)
+    overrides = _overrides(robot, checks, timestep, strict, group, stdin_filename)
+    overrides = dataclasses.replace(overrides, force_exclude=force_exclude)
+    overrides = _selecting(overrides, ignore, select, extend_select, respect_gitignore)
+    files = collect(paths, resolver, overrides)
     refuse_overwrite(output, files, "-o")
-    if diff or fix:
-        _apply_fixes(files, resolver, overrides, unsafe=unsafe_fixes, write=not diff, output=output)
+    fixes = _Fixes(fix=fix, diff=diff, unsafe=unsafe_fixes, quiet=quiet, exit_zero=exit_zero)
+    stdin_fixed = _apply_fixes(files, resolver, overrides, fixes, output=output)
     cache = None if no_cache else FindingsCache()
     checker = partial(robot_checks, tolerance=collision_tolerance, cache=cache)
+    to_stderr = stdin_fixed is not None and output is None  # stdout: the fixed text
+    shown = Shown(format, sort, statistics, quiet, output, strict, robot, to_stderr)
     with progress("validate") as step:  # the files are validated as the report is written
-        run = lint(files, resolver, overrides, checker, on_step=step)
-        _print_report(
-            run,
-            resolver.for_file(Path("-")),
-            format,
-            sort,
-            strict=strict,
-            statistics=statistics,
-            robot=robot,
-            output=output,
-            step=step,
-        )
-    if run.failed():
+        run = lint(files, resolver, overrides, checker, on_step=step, stdin_data=stdin_fixed)
+        print_report(run, resolver.for_file(Path(stdin_filename or "-")), shown, step)
+    if run.failed() and not exit_zero:
         raise typer.Exit(exit_codes.FINDINGS)
+
+
+def _refuse(
+    paths: list[Path], format: FormatName, *, statistics: bool, stdin_filename: str | None
+) -> None:
+    """Refuse options that cannot go together, before anything is read."""
+    if statistics and format.value not in ("text", "json"):
+        raise MotionToolError("--statistics: --format text or json")
+    if stdin_filename is not None and not any(is_stdin(p) for p in paths):
+        raise MotionToolError("--stdin-filename names standard input: give '-' as the path")
 
 
 def _overrides(
@@ -347,86 +308,79 @@ def _overrides(
     checks: str | None,
     timestep: int | None,
     strict: bool | None,
-    ignore: list[str] | None,
     group: bool | None,
+    stdin_name: str | None,
 ) -> Overrides:
-    """What the command line says over the configuration (``--ignore`` repeated or
-    comma-separated)."""
+    """What the command line says over the configuration."""
     return Overrides(
         robot=robot,
         checks=None if checks is None else parse_checks(checks),
         timestep=timestep,
         strict=strict,
-        ignore=tuple(c for item in ignore or [] for c in item.split(",")),
         group=group,
+        stdin_name=stdin_name,
     )
+
+
+def _selecting(
+    overrides: Overrides,
+    ignore: list[str] | None,
+    select: list[str] | None,
+    extend_select: list[str] | None,
+    respect_gitignore: bool | None,
+) -> Overrides:
+    """``overrides`` with the codes the command line selects and ignores (codes or prefixes,
+    each option repeated or comma-separated; an unknown one is an error before any file is
+    read) and its choice of ``.gitignore``."""
+    return dataclasses.replace(
+        overrides,
+        ignore=check_selectors(ignore or [], "--ignore"),
+        select=None if select is None else check_selectors(select, "--select"),
+        extend_select=check_selectors(extend_select or [], "--extend-select"),
+        respect_gitignore=respect_gitignore,
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class _Fixes:
+    """``--fix``, ``--diff``, ``--unsafe-fixes``, and ``--quiet`` and ``--exit-zero`` for
+    what they print and how they exit."""
+
+    fix: bool
+    diff: bool
+    unsafe: bool
+    quiet: bool
+    exit_zero: bool
 
 
 def _apply_fixes(
     files: list[Path],
     resolver: Resolver,
     overrides: Overrides,
+    fixes: _Fixes,
     *,
-    unsafe: bool,
-    write: bool,
     output: Path | None,
-) -> None:
-    """``--fix`` (``write``): fix the files, say what was fixed on stderr. ``--diff`` (not
-    ``write``): print the fixes as a unified diff, then exit (1 if there is one)."""
+) -> bytes | None:
+    """``--fix``: fix the files, say what was fixed on stderr (not ``quiet``); standard
+    input's fixed text goes to stdout, as ruff prints it, and is returned (None: no standard
+    input, or no ``--fix``). ``--diff``: print the fixes as a unified diff, then exit (1 if
+    there is one, but with ``exit_zero``)."""
+    if not (fixes.fix or fixes.diff):
+        return None
+    unsafe, quiet, exit_zero = fixes.unsafe, fixes.quiet, fixes.exit_zero
     robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
-    if not write:
+    if fixes.diff:
         with open_output(STDOUT if output is None else output) as sink:
             changes = fix_files(
                 files, unsafe=unsafe, write=False, robot=robot_fixes, diff=sink.write
             )
         say_wrote(output, f"unified diff, the fixes of {plural(len(changes.files), 'file')}")
-        raise typer.Exit(exit_codes.FINDINGS if changes.files else exit_codes.CLEAN)
+        failed = changes.files and not exit_zero
+        raise typer.Exit(exit_codes.FINDINGS if failed else exit_codes.CLEAN)
     fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
-    typer.echo(f"motiontool: {fixed.line()}", err=True)
-
-
-def _print_report(
-    run: LintRun,
-    project: Settings,
-    format: FormatName,
-    sort: Order,
-    *,
-    strict: bool | None,
-    statistics: bool,
-    robot: str | None,
-    output: Path | None,
-    step: Step,
-) -> None:
-    """The report of ``run`` in ``format`` (or ``--statistics``), in color where the format
-    has colors and the terminal takes them, to ``output`` (None or '-': stdout); ``strict``
-    and ``robot`` as given, else the ``project``'s settings; the progress display (``step``)
-    ends before the first byte written to a terminal."""
-    run.report.limit = project.max_findings  # the others are counted, not shown
-    to_stdout = output is None or str(output) == "-"
-    color = REPORTS[format.value].colors and color_enabled(sys.stdout, to_file=not to_stdout)
-    requested = robot if robot is not None else project.robot
-    context = Context(
-        color=color,
-        order=sort,
-        strict=strict if strict is not None else project.strict,
-        robot_line=lambda: _robot_line(run.surveyed(), run.report),
-        robot_json=lambda: _robot_json(run.surveyed(), requested, run.report),
-    )
-    report = run.report
-    pieces = (
-        iter((render_statistics(report, context),))
-        if statistics
-        else render_pieces(report, format.value, context)
-    )
-    before_writing = step.stop if _to_terminal(output) else None
-    emit_pieces(pieces, output, color=color, before_writing=before_writing)
-    label = "statistics" if statistics else REPORTS[format.value].label
-    say_wrote(output, f"{label} report of {summary(report).removeprefix('checked ')}")
-
-
-def _to_terminal(output: Path | None) -> bool:
-    """Whether the report goes to a terminal (where a progress display must end first)."""
-    return (output is None or str(output) == "-") and sys.stdout.isatty()
+    if not quiet:
+        typer.echo(f"motiontool: {fixed.line()}", err=True)
+    return fixed.stdin
 
 
 def _settings_text(paths: list[Path], resolver: Resolver) -> str:

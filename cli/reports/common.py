@@ -181,6 +181,7 @@ class Context:
             the formats that show it.
         robot_json: the JSON report's ``robot`` section and ``stamps`` (with the model hash),
             built only by the formats that ask for it.
+        quiet: the findings only (``--quiet``): no robot line or summary in the text report.
     """
 
     color: bool = False
@@ -188,6 +189,7 @@ class Context:
     strict: bool = False
     robot_line: Callable[[], str] = field(default=lambda: "")
     robot_json: Callable[[], dict[str, Any]] = field(default=lambda: {})
+    quiet: bool = False
 
 
 def text_column(raw: bytes, column: int, *, utf16: bool) -> int:

@@ -73,7 +73,7 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     at a time as they are made; ANSI colours only with ``context.color`` (never for a file or
     a pipe, see :mod:`motiontool.cli.color`)."""
     color, order = context.color, context.order
-    robot_line = context.robot_line()
+    robot_line = "" if context.quiet else context.robot_line()
     if robot_line:
         yield robot_line.rstrip("\n") + "\n"
     fixable = FixCounts()
@@ -94,5 +94,7 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
         out.append(f"{sev} {d.code}: {d.message}")
         if d.hint:
             out.append(f"   = hint: {d.hint}")
-    out.append(summary(report) + fix_summary(fixable))
-    yield "\n".join(out) + "\n"
+    if not context.quiet:
+        out.append(summary(report) + fix_summary(fixable))
+    if out:
+        yield "\n".join(out) + "\n"

@@ -40,6 +40,7 @@ NAMES = (
     "scale",
     "trim",
     "rule",
+    "statistics",
 )
 """The reports that have a schema (``motiontool.<name>``)."""
 

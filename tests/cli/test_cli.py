@@ -141,7 +141,7 @@ def test_github_annotations(files: Path) -> None:
         (["validate", "emptydir"], "motiontool: error: no .motion file under 'emptydir'\n"),
         (
             ["validate", "--ignore", "MT999", "x"],
-            "motiontool: error: unknown diagnostic code MT999; codes are listed by 'motiontool codes'\n",
+            "motiontool: error: --ignore: unknown code 'MT999'; did you mean 'MT902'?\n",
         ),
         (
             ["info", "missing.motion"],

@@ -104,10 +104,9 @@ def test_the_diff_is_written_file_by_file_as_it_is_made(motion: Path) -> None:
     assert run.files == ["m.motion", "n.motion"]
 
 
-def test_fix_refuses_standard_input(motion: Path) -> None:
+def test_fix_of_standard_input_prints_it_fixed(motion: Path) -> None:
     result = runner.invoke(app, ["validate", "-", "--fix"], input=FIXABLE)
-    assert result.exit_code == 2
-    assert "for standard input use --diff" in result.stderr
+    assert result.exit_code == 0 and result.stdout_bytes == SAFE  # as ruff: the fixed text
 
 
 def test_text_report_offers_the_fix_under_the_finding(motion: Path) -> None:

@@ -189,8 +189,8 @@ def test_statistics_count_each_code_most_frequent_first(here: Path) -> None:
         "       2         2  MT113  error     value is nan or infinite",
         "checked 2 files: 2 errors, 3 warnings, 0 notes",
     ]
-    refused = runner.invoke(app, ["validate", "--statistics", "-f", "json", "more.motion"])
-    assert refused.exit_code == 2 and "--statistics is a text report" in refused.stderr
+    refused = runner.invoke(app, ["validate", "--statistics", "-f", "sarif", "more.motion"])
+    assert refused.exit_code == 2 and "--statistics: --format text or json" in refused.stderr
 
 
 def test_ranks_counted_on_disk_past_a_files_held_keys_give_the_same_fingerprints(
