@@ -40,9 +40,7 @@ def _case(suite: ET.Element, i: int, f: FileReport, shown: Findings, worst: Seve
     """The file's test case (its ``i``-th), with the findings ``shown`` of it: their lines are
     written later, where its placeholders are; True when it fails (a finding at ``worst`` or
     above)."""
-    case = ET.SubElement(
-        suite, "testcase", classname="motiontool.validate", name=f.path, file=f.path
-    )
+    case = ET.SubElement(suite, "testcase", classname="motiontool.validate", name=f.path)
     failing: Counter[Severity] = Counter()
     first, others = None, False
     for d in shown:
@@ -73,9 +71,10 @@ def _lines(findings: Iterable[Diagnostic]) -> Iterator[str]:
 
 
 def render_junit(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
-    """One ``testcase`` per file (``name`` and ``file``: its path); a file with an error (a
-    warning too with ``--strict``) fails, the failure's ``message`` counting them and its body
-    listing each as ``file:line:col: severity CODE: message``. Other findings go to the case's
+    """One ``testcase`` per file (``name``: its path; no ``file`` attribute, which Jenkins
+    xunit's ``junit-10.xsd`` refuses); a file with an error (a warning too with ``--strict``)
+    fails, the failure's ``message`` counting them and its body listing each as
+    ``file:line:col: severity CODE: message``. Other findings go to the case's
     ``system-out``, the run's notes and summary to the suite's; the stamps are properties.
 
     The document is laid out by ElementTree with a placeholder for each case's lines, then

@@ -12,6 +12,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+import xmlschema
+from conftest import DATA
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -28,6 +30,7 @@ from motiontool.sim.batch import (
     run_batch,
 )
 
+JUNIT_SCHEMA = xmlschema.XMLSchema(str(DATA / "junit" / "junit-10.xsd"))
 CALLS: list[str] = []
 
 
@@ -216,6 +219,7 @@ def test_reports(motions: list[Path], tmp_path: Path) -> None:
     assert "| motion | robot | runs | clean | worst case |" in md and "0 (0 %)" in md
     junit = tmp_path / "r.xml"
     write_junit(batch, junit)
+    JUNIT_SCHEMA.validate(str(junit))  # Jenkins xunit's junit-10.xsd (tests/data/junit)
     suite = ET.parse(junit).getroot().find("testsuite")
     assert suite is not None and suite.get("tests") == "2" and suite.get("failures") == "1"
     failure = suite.find("testcase/failure")
@@ -403,6 +407,7 @@ def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
     )
     for r in doc["runs"]:  # the diagnostic only: no exception class, no source path
         assert "Error:" not in r["reason"] and ".py" not in r["reason"]
+    JUNIT_SCHEMA.validate(str(junit))
     suite = ET.parse(junit).getroot().find("testsuite")
     assert suite is not None and suite.get("tests") == "3" and suite.get("errors") == "2"
 
