@@ -36,12 +36,13 @@ from motiontool.cli.output import (
 from motiontool.cli.text import num, plural
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
-from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot, resolve_robot
+from motiontool.kinematics.robots import AUTO, NONE, RobotSpec, pick_robot, resolve_robot
 from motiontool.motionfmt.convert import FORMATS, Format, format_named, format_of
 from motiontool.motionfmt.convert.base import (
     DEFAULT_JOINT_STATE_TOPIC,
     DEFAULT_LEAD_IN_MS,
     DEFAULT_MAX_ERROR_RAD,
+    UNCHECKED,
     Exported,
     ExportOptions,
     Imported,
@@ -103,6 +104,16 @@ def _target_name(target: Path, send_script: Path | None) -> str | None:
 
 
 def _robot(requested: str | None, out: Format, joints: tuple[str, ...]) -> RobotSpec | None:
+    """The robot the export is checked against; None: no checks (``--robot none``, for every
+    format, or no robot detected for a data format)."""
+    if requested == NONE:
+        if "joint_order" in out.uses:
+            example = f"{ROBOT_OPTION} {out.default_robot}, or a model file"
+            raise MotionToolError(
+                f"{ROBOT_OPTION} {NONE}: {out.name} sends the robot's joints in the robot's "
+                f"order; name the robot ({example})"
+            )
+        return None
     if requested is None and out.default_robot is not None:
         return resolve_robot(out.default_robot)
     if out.for_robot:
@@ -133,14 +144,20 @@ def _recording(r: Recording, poses: int) -> list[str]:
 
 
 def _report(
-    exported: Exported, spec: RobotSpec | None, notes: list[str], imported: Imported
+    exported: Exported,
+    spec: RobotSpec | None,
+    notes: list[str],
+    imported: Imported,
+    robot: str | None,
 ) -> str:
     """What follows the ``wrote`` lines: what a recording held, the robot check, and a robot
     format's deviation."""
     lines = []
     if imported.recording is not None:
         lines += _recording(imported.recording, imported.motion.n_poses)
-    if spec is None:
+    if spec is None and robot == NONE:
+        lines.append(f"not checked against a robot: {ROBOT_OPTION} {NONE} ({UNCHECKED})")
+    elif spec is None:
         lines.append(f"not checked against a robot: none named or detected ({ROBOT_OPTION})")
     elif notes:
         lines += [f"checked against robot {spec.name}: {plural(len(notes), 'finding')}", *notes]
@@ -179,7 +196,7 @@ _Robot = Annotated[
     robot_option(
         "Robot the export is checked against (default: the format's own: nao-v5 for naoqi, "
         "ur5e for urscript; else auto)",
-        none="no checks (data formats only)",
+        none="no checks, for any format: what is written says 'unchecked'",
     ),
 ]
 _Timestep = Annotated[int | None, timestep_option(use="the command stream reproduced and checked")]
@@ -360,4 +377,4 @@ def convert_command(
         if bad:
             _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
     _write(exported, source, target, send_script)
-    emit_stderr(_report(exported, spec, notes, imported))
+    emit_stderr(_report(exported, spec, notes, imported, robot))

@@ -72,6 +72,7 @@ FORMATS: tuple[Format, ...] = (
         write=write_urscript,
         for_robot=True,
         default_robot="ur5e",
+        uses=frozenset({"joint_order"}),
     ),
     Format(
         "ros-trajectory",

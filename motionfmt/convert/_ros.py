@@ -126,6 +126,10 @@ class BagWriter:
         self._sequence[topic] = k + 1
         self._writer.write_message(topic, schema, message, log_time=ns, publish_time=ns, sequence=k)
 
+    def metadata(self, name: str, fields: dict[str, str]) -> None:
+        """Write an MCAP metadata record ``name`` (string -> string)."""
+        self._writer.add_metadata(name, fields)
+
     def finish(self) -> None:
         """Write the bag's summary: the file is complete."""
         self._writer.finish()
@@ -149,14 +153,19 @@ class _Counted(Sink):
         return self._written
 
 
-def write_bag(topics: Sequence[BagTopic], what: str) -> bytes:
-    """The MCAP file holding ``topics``, one after another (:class:`BagWriter`).
+def write_bag(
+    topics: Sequence[BagTopic], what: str, metadata: dict[str, dict[str, str]] | None = None
+) -> bytes:
+    """The MCAP file holding ``topics``, one after another (:class:`BagWriter`), and the
+    ``metadata`` records (name -> fields).
 
     Args:
         what: what needs the libraries, for the missing-extra message (``a ROS 2 bag``).
     """
     out = io.BytesIO()
     writer = BagWriter(out, {t.name: t.msgtype for t in topics}, what)
+    for name, fields in (metadata or {}).items():
+        writer.metadata(name, fields)
     for topic in topics:
         for ns, message in topic.messages:
             writer.write(topic.name, ns, message)

@@ -23,6 +23,7 @@ __all__ = [
     "DEFAULT_JOINT_STATE_TOPIC",
     "DEFAULT_LEAD_IN_MS",
     "DEFAULT_MAX_ERROR_RAD",
+    "UNCHECKED",
     "Deviation",
     "ExportOptions",
     "Exported",
@@ -33,11 +34,16 @@ __all__ = [
     "RobotStream",
     "StreamChunk",
     "WorstError",
+    "robot_check",
 ]
 
 DEFAULT_LEAD_IN_MS = 1000
 """Milliseconds a real robot gets to reach the first pose from wherever it stands, before the
 motion starts (NAOqi's first time must be > 0; Webots jumps to the first pose at 0 ms)."""
+
+UNCHECKED = "unchecked"
+"""What a written file says of its robot check where none ran (``--robot none``, or no robot
+detected for a data format)."""
 
 DEFAULT_JOINT_STATE_TOPIC = "/joint_states"
 """The ``sensor_msgs/JointState`` topic a ROS 2 bag is read from and written to by default (a
@@ -57,7 +63,9 @@ class ExportOptions:
         timestep_ms: the controller time step, ms: the command stream that is reproduced is
             Webots' at this step.
         source: the input, as the user named it (for comments and metadata).
-        robot: the robot the export is for (for comments), or None.
+        robot: the robot the export was checked against (its name, for comments and
+            metadata), or None: unchecked, which a format with a place for it says
+            (:func:`robot_check`).
         joint_order: the robot's motors in its own order (a UR arm's six joints), or None.
         lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
         keyframes: one move per keyframe instead of the stream at every step (URScript).
@@ -81,6 +89,13 @@ class ExportOptions:
     script_name: str | None = None
     joint_map: tuple[tuple[str, str], ...] = ()
     topic: str = DEFAULT_JOINT_STATE_TOPIC
+
+
+def robot_check(options: ExportOptions) -> str:
+    """What a file says of its robot check, in a field or comment of its own (NAOqi's
+    ``robot_check``, a YAML or URScript comment, an NPZ array, a bag's metadata): the robot's
+    name, or :data:`UNCHECKED`. CSV and ``.motion`` have no place their readers skip."""
+    return options.robot or UNCHECKED
 
 
 @dataclass(frozen=True)

@@ -37,6 +37,7 @@ from motiontool.motionfmt.convert.base import (
     RobotStream,
     StreamChunk,
     WorstError,
+    robot_check,
 )
 from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.joint_map import NAO_HANDS
@@ -194,6 +195,7 @@ def _document(
         "format_version": 1,
         "source": options.source,
         "robot": options.robot,
+        "robot_check": robot_check(options),
         "call": "ALMotion.angleInterpolationBezier",
         "units": {"times": "s", "angles": "rad (LHand, RHand: 0 closed to 1 open)"},
         "timestep_ms": options.timestep_ms,

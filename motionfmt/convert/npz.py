@@ -2,7 +2,8 @@
 
 Arrays: ``times_ms`` int64 (P,), ms; ``names`` str (J,); ``positions`` float64 (P, J), rad (m
 for linear joints), NaN where the cell is ``*``; ``commanded`` bool (P, J), False for ``*``;
-``pose_names`` str (P,), optional on reading. Saved without pickles and read without them
+``pose_names`` str (P,), optional on reading; ``robot_check`` str (0-D), written: the robot
+the export was checked against, or ``unchecked``. Saved without pickles and read without them
 (``allow_pickle=False``): a file cannot run code. ``motion -> npz -> motion`` keeps Webots'
 command stream bit-identical (the doubles are stored as they are).
 """
@@ -14,7 +15,13 @@ import zipfile
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.convert.base import Exported, ExportOptions, Imported, ImportOptions
+from motiontool.motionfmt.convert.base import (
+    Exported,
+    ExportOptions,
+    Imported,
+    ImportOptions,
+    robot_check,
+)
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.writer import check_name, pose_name
@@ -42,8 +49,9 @@ def write_npz(motion: Motion, options: ExportOptions) -> Exported:
         positions=motion.values,
         commanded=motion.commanded,
         pose_names=np.array(list(motion.pose_names), dtype=np.str_),
+        robot_check=np.array(robot_check(options), dtype=np.str_),
     )
-    detail = f"{motion.n_joints} joints, arrays {', '.join(ARRAYS)}, pose_names"
+    detail = f"{motion.n_joints} joints, arrays {', '.join(ARRAYS)}, pose_names, robot_check"
     return Exported(out.getvalue(), motion.n_poses, detail)
 
 

@@ -37,6 +37,7 @@ from motiontool.motionfmt.convert.base import (
     RobotStream,
     StreamChunk,
     WorstError,
+    robot_check,
 )
 from motiontool.motionfmt.convert.held import Corners, held_chunks
 from motiontool.motionfmt.convert.joint_map import to_ros
@@ -186,6 +187,7 @@ def _yaml(traj: Trajectory, options: ExportOptions) -> bytes:
         f"{traj.elapsed_ms.shape[0]} points",
         "# (joint_trajectory_controller draws straight lines between points given as positions),",
         f"# the first at {traj.lead_in_ms} ms: the robot reaches it from where it stands.",
+        f"# robot check: {robot_check(options)}",
         "# ros2 action send_goal /joint_trajectory_controller/follow_joint_trajectory \\",
         f'#   {ACTION} "$(cat {options.target_name or "THIS_FILE"})"',
         "trajectory:",

@@ -5,7 +5,8 @@ asked for (``/joint_states`` by default): one message per step, ``position`` the
 motor holds (:mod:`.held`; the doubles as they are), ``header.stamp`` Webots' playback time from
 0 s; and on ``/joint_trajectory`` one ``trajectory_msgs/JointTrajectory`` at 0 s, the points
 :mod:`.ros_trajectory` sends to a robot (``time_from_start`` with the lead-in). Names go to ROS
-through the joint map.
+through the joint map. A metadata record ``motiontool`` holds ``source`` and ``robot_check``
+(the robot the export was checked against, or ``unchecked``).
 
 Read: the ``sensor_msgs/JointState`` messages of one topic (a real robot's ``/joint_states``,
 at 125 to 500 Hz) become a motion: times from the first stamp, in whole ms (a sample whose ms
@@ -38,6 +39,7 @@ from motiontool.motionfmt.convert.base import (
     ImportOptions,
     Recording,
     RobotStream,
+    robot_check,
 )
 from motiontool.motionfmt.convert.joint_map import from_ros
 from motiontool.motionfmt.convert.ros_trajectory import (
@@ -86,6 +88,7 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
             BagTopic(TRAJECTORY_TOPIC, JOINT_TRAJECTORY, [(0, trajectory_message(traj))]),
         ],
         "a ROS 2 bag",
+        {"motiontool": {"source": options.source, "robot_check": robot_check(options)}},
     )
     worst = deviation(traj)
     n_states = traj.steps

@@ -31,6 +31,7 @@ from motiontool.motionfmt.convert.base import (
     RobotStream,
     StreamChunk,
     WorstError,
+    robot_check,
 )
 from motiontool.motionfmt.convert.held import held_chunks
 from motiontool.motionfmt.nonfinite import refuse_non_finite
@@ -126,6 +127,7 @@ def _program(
         f"# motiontool convert: {options.source} for {options.robot or 'a UR arm'}",
         f"# {mode}",
         f"# joint targets in rad, in the order {', '.join(order)}",
+        f"# robot check: {robot_check(options)}",
         "def motiontool_motion():",
         f"  # to the first pose, slowly ({HOME_SPEED_RAD_S} rad/s, {HOME_ACCEL_RAD_S2} rad/s^2)",
         f"  movej({first}, a={HOME_ACCEL_RAD_S2}, v={HOME_SPEED_RAD_S})",

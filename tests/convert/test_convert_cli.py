@@ -112,3 +112,56 @@ def test_an_empty_target_is_a_usage_error(fmt: str, tmp_path: Path) -> None:
         "give a file name, or '-' for stdout; see 'motiontool convert --help'\n"
     )
     assert [p.name for p in tmp_path.iterdir()] == ["wave.motion"]
+
+
+def _robot_check(path: Path) -> object:
+    """What the written file says of its robot check, read with each format's own reader
+    (json, PyYAML's comments as text, numpy, mcap); None where the format has no place."""
+    import json
+
+    name = path.name
+    if name.endswith(".naoqi.json"):
+        return json.loads(path.read_text())["robot_check"]
+    if name.endswith(".trajectory.yaml"):
+        lines = [line for line in path.read_text().splitlines() if "robot check" in line]
+        return lines[0].split("robot check: ", 1)[1] if lines else None
+    if name.endswith(".npz"):
+        with np.load(path, allow_pickle=False) as npz:
+            return str(npz["robot_check"])
+    if name.endswith(".mcap"):
+        from mcap.reader import make_reader
+
+        with path.open("rb") as f:
+            found = {m.name: m.metadata for m in make_reader(f).iter_metadata()}
+        return found["motiontool"]["robot_check"]
+    return None
+
+
+ENDINGS = {"motion": ".motion", "csv": ".csv", "npz": ".npz", "naoqi": ".naoqi.json"}
+ENDINGS |= {"ros-trajectory": ".trajectory.yaml", "rosbag": ".mcap"}
+
+
+@pytest.mark.parametrize("fmt", sorted(ENDINGS))
+def test_robot_none_is_one_rule_and_the_file_says_unchecked(tmp_path: Path, fmt: str) -> None:
+    # --robot none: no robot checks, for every format; what has a place for it says so.
+    out = tmp_path / f"wave{ENDINGS[fmt]}"
+    code, _, err = _run(WAVE, out, "--robot", "none")
+    assert code == 0, err
+    assert "not checked against a robot: --robot none" in err
+    assert _robot_check(out) in (None, "unchecked")
+    if fmt in ("motion", "csv"):  # no place a reader skips: stderr alone says it
+        return
+    assert _robot_check(out) == "unchecked"
+    code, _, err = _run(WAVE, out, "--robot", "nao-v5")
+    assert code == 0, err
+    assert _robot_check(out) == "nao-v5"
+
+
+def test_urscript_needs_its_arm_even_unchecked(tmp_path: Path) -> None:
+    arm = ROOT / "motions" / "ur5e" / "sorting.motion"
+    code, _, err = _run(arm, tmp_path / "s.script", "--robot", "none")
+    assert code == 2
+    assert err == (
+        "motiontool: error: --robot none: urscript sends the robot's joints in the robot's "
+        "order; name the robot (--robot ur5e, or a model file)\n"
+    )
