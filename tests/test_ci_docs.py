@@ -45,8 +45,19 @@ def yaml_blocks() -> list[str]:
 
 
 def block(key: str) -> str:
-    (found,) = [b for b in yaml_blocks() if key in load_yaml(b)]
+    (found,) = blocks(key)
     return found
+
+
+def blocks(key: str) -> list[str]:
+    return [b for b in yaml_blocks() if key in load_yaml(b)]
+
+
+def pre_commit_blocks() -> tuple[str, str]:
+    """The pre-commit examples: (the hooks from the repository at its release tag, the local
+    hook on PATH)."""
+    remote, local = blocks("repos")
+    return remote, local
 
 
 def workflow() -> dict[str, Any]:
@@ -122,26 +133,26 @@ def test_the_workflow_installs_the_extras_its_commands_need() -> None:
     assert names & {"sim", "all"}, installs
 
 
-def _tags() -> set[str]:
-    out = subprocess.run(
-        ["git", "tag", "--list"], cwd=ROOT, capture_output=True, text=True, check=False
-    ).stdout
-    return set(out.split())
+def _release_tag() -> str:
+    """The tag dev/release.sh gives a release: v + pyproject.toml's version."""
+    return "v" + tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["version"]
 
 
-def test_the_pre_commit_config_example_is_valid(tmp_path: Path) -> None:
+def test_the_pre_commit_config_examples_are_valid(tmp_path: Path) -> None:
+    remote_text, local_text = pre_commit_blocks()
+    manifest = {h["id"]: h for h in load_manifest(str(ROOT / ".pre-commit-hooks.yaml"))}
     config = tmp_path / ".pre-commit-config.yaml"
-    config.write_text(block("repos"))
-    loaded = load_config(str(config))
-    (repo,) = loaded["repos"]
-    # It works today: a local hook, or a remote one at a tag this repository really has.
-    assert repo["repo"] == "local" or repo["rev"] in _tags(), repo
-    (hook,) = repo["hooks"]
-    (manifest,) = [
-        h for h in load_manifest(str(ROOT / ".pre-commit-hooks.yaml")) if h["id"] == hook["id"]
-    ]
+    config.write_text(remote_text)
+    (remote,) = load_config(str(config))["repos"]
+    # The rev is the tag the documented release step makes (the slow test below runs it).
+    assert remote["rev"] == _release_tag() and "dev/release.sh" in CI_DOC.read_text()
+    assert [h["id"] for h in remote["hooks"]] == ["motiontool-validate"]
+    config.write_text(local_text)
+    (local,) = load_config(str(config))["repos"]
+    (hook,) = local["hooks"]
+    assert local["repo"] == "local"
     for key in ("entry", "files", "require_serial"):
-        assert hook[key] == manifest[key], key
+        assert hook[key] == manifest[hook["id"]][key], key
     for hook_id in ("motiontool-validate", "motiontool-validate-strict"):
         assert hook_id in CI_DOC.read_text()
 
@@ -189,7 +200,7 @@ def test_the_local_hook_example_runs_under_pre_commit(tmp_path: Path) -> None:
     repo = tmp_path / "assets"
     repo.mkdir()
     env = pre_commit_env(tmp_path / "cache")
-    (repo / ".pre-commit-config.yaml").write_text(block("repos"))
+    (repo / ".pre-commit-config.yaml").write_text(pre_commit_blocks()[1])
     (repo / "ok.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n400,B,0.1\n")
     (repo / "bad.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n40,B,abc\n")
     subprocess.run(["git", "init", "-q"], cwd=repo, env=env, check=True)
@@ -211,8 +222,63 @@ def test_the_hooks_manifest_is_valid_for_pre_commit() -> None:
     hooks = load_manifest(str(ROOT / ".pre-commit-hooks.yaml"))
     assert [h["id"] for h in hooks] == ["motiontool-validate", "motiontool-validate-strict"]
     for hook in hooks:
-        assert hook["entry"].startswith("motiontool validate")
+        # pre-commit names the staged files: --force-exclude applies the configuration's exclude.
+        assert hook["entry"].startswith("motiontool validate --force-exclude")
         assert hook["language"] == "python" and re.search(hook["files"], "a/walk.motion")
+
+
+OK_MOTION = b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n400,B,0.1\n"
+BAD_MOTION = b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n40,B,abc\n"
+
+
+def _pre_commit(repo: Path, env: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    subprocess.run(["git", "add", "."], cwd=repo, env=env, check=True)
+    return subprocess.run(
+        [sys.executable, "-m", "pre_commit", "run", "--all-files", "--color", "never"],
+        cwd=repo,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+
+
+@pytest.mark.slow  # pre-commit installs the hook's environment with pip (numpy, typer): ~30 s
+def test_the_documented_hook_runs_from_a_clone_at_its_release_tag(tmp_path: Path) -> None:
+    """Issue 36 item 13: the ``rev:`` docs/ci.md gives is the tag the documented release step
+    makes; in a clone of this repository so tagged, pre-commit installs the hook from it and
+    runs it: a bad file fails, an excluded one is not checked, a good one passes."""
+    env = pre_commit_env(tmp_path / "cache")
+    clone = tmp_path / "motiontool"
+    subprocess.run(["git", "clone", "-q", str(ROOT), str(clone)], env=env, check=True)
+    release_env = {**env, "PYTHON": sys.executable}
+    release = subprocess.run(
+        ["bash", "dev/release.sh"], cwd=clone, env=release_env, capture_output=True, text=True
+    )
+    assert release.returncode == 0, release.stderr
+    assert f" as {_release_tag()};" in release.stdout, release.stdout
+    again = subprocess.run(
+        ["bash", "dev/release.sh"], cwd=clone, env=release_env, capture_output=True, text=True
+    )
+    assert again.returncode == 2 and f"{_release_tag()} exists already" in again.stderr
+
+    assets = tmp_path / "assets"
+    (assets / "generated").mkdir(parents=True)
+    config = load_yaml(pre_commit_blocks()[0])
+    config["repos"][0]["repo"] = str(clone)  # the documented "/path/to/motiontool"
+    (assets / ".pre-commit-config.yaml").write_text(yaml.safe_dump(config))
+    (assets / "motiontool.toml").write_text('exclude = ["generated"]\n')
+    (assets / "ok.motion").write_bytes(OK_MOTION)
+    (assets / "bad.motion").write_bytes(BAD_MOTION)
+    (assets / "generated" / "made.motion").write_bytes(BAD_MOTION)
+    subprocess.run(["git", "init", "-q"], cwd=assets, env=env, check=True)
+    proc = _pre_commit(assets, env)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "bad.motion:3:6: error MT108" in proc.stdout, proc.stdout
+    assert "made.motion" not in proc.stdout and "checked 2 files" in proc.stdout, proc.stdout
+    (assets / "bad.motion").write_bytes(OK_MOTION)
+    proc = _pre_commit(assets, env)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
 def test_pre_commits_validator_rejects_a_broken_manifest(tmp_path: Path) -> None:
