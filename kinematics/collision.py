@@ -65,6 +65,7 @@ if TYPE_CHECKING:
 __all__ = [
     "Contact",
     "Known",
+    "body_joints",
     "forward_kinematics",
     "geometry_centers",
     "geometry_poses",
@@ -393,6 +394,25 @@ def scan_self_collisions(
     ):
         contacts.extend(Contact(config, a, b, d) for a, b, d in at_row[row])
     return contacts
+
+
+def body_joints(spec: RobotSpec, *, fingers_in_hand: bool = True) -> dict[str, str | None]:
+    """The motor (a name of ``spec.joints``) that carries each body a :class:`Contact` can
+    name: of the motors its geometries hang from, the one nearest the root (a hand's wrist, not
+    its fingers); None for a body no motor moves (the root, e.g. the Nao's torso). Bodies are
+    named as :func:`scan_self_collisions` names them with ``fingers_in_hand``."""
+    tables = stored_tables(spec)
+    bodies = tables.geom_limb if fingers_in_hand else tables.geom_body
+    carrier: dict[str, int] = {}
+    for g, body in enumerate(bodies):
+        j = int(tables.geom_joint[g])
+        while j > 0 and tables.joint_motor[j] < 0:  # up through fixed joints to a motor
+            j = int(tables.joint_parent[j])
+        carrier[body] = min(carrier.get(body, j), j)  # a parent comes before its children
+    return {
+        body: spec.joints[int(tables.joint_motor[j])].name if j > 0 else None
+        for body, j in carrier.items()
+    }
 
 
 def _scan_unique(

@@ -66,7 +66,7 @@ class Collision(GroupingCheck):
     def _check(self, result: ReadResult, *, group: bool) -> Findings:
         import numpy as np
 
-        from motiontool.kinematics.collision import Known, scan_self_collisions
+        from motiontool.kinematics.collision import Known, body_joints, scan_self_collisions
 
         # Pinocchio is imported only for the pairs numpy cannot clear (kinematics.collision).
         what = "the collision check"
@@ -103,16 +103,18 @@ class Collision(GroupingCheck):
             else:
                 found.extend((pair, depths, run, 1) for run in each)
         at = [(max(run, key=depths.__getitem__) + 1) // 2 for _pair, depths, run, _n in found]
+        joints = body_joints(self.spec, fingers_in_hand=True) if found else {}
         return in_order(
             np.array(at, dtype=np.intp),
             np.full(len(at), -1),
-            lambda i: self._overlap(table, times, *found[i]),
+            lambda i: self._overlap(table, times, joints, *found[i]),
         )
 
     def _overlap(
         self,
         table: Table,
         times: npt.NDArray[np.float64],
+        joints: dict[str, str | None],
         pair: tuple[str, str],
         depths: dict[int, float],
         run: list[int],
@@ -120,7 +122,8 @@ class Collision(GroupingCheck):
     ) -> Diagnostic:
         """MT307 for the bodies ``pair`` overlapping over the checked instants ``run`` (indices
         in ``times``, ms; consecutive, or ``n_runs`` runs of them), by ``depths`` (m) at
-        each."""
+        each; each body named with the motor that carries it (``joints``), the joint a user
+        edits."""
         deepest = max(run, key=lambda i: depths[i])
         depth_mm = depths[deepest] * MM_PER_M
         at = self._instant(table, times, deepest)
@@ -130,7 +133,7 @@ class Collision(GroupingCheck):
             span = (
                 f"; they overlap at {len(run):,} instants in {n_runs:,} runs, from {start} to {end}"
             )
-        a, b = pair
+        a, b = (_body(joints.get(body), body) for body in pair)
         return cell(
             table,
             "MT307",
@@ -153,3 +156,8 @@ class Collision(GroupingCheck):
             f"{fmt_ms(times[index])}, halfway from {int(table.times[p])} ms to "
             f"{int(table.times[p + 1])} ms"
         )
+
+
+def _body(joint: str | None, body: str) -> str:
+    """A body as MT307 names it: ``RWristYaw body 'r_hand'``, ``root body 'torso'``."""
+    return f"{joint or 'root'} body '{body}'"

@@ -49,7 +49,8 @@ def test_fixed_salute_passes_on_the_webots_nao() -> None:
     assert [line for line in lines if f"{FIXED}:" in line] == [
         f"{FIXED}:2:1: warning MT206: first pose is at 1000 ms: Webots commands it at once"
         " (t = 0), so the robot jumps to it instead of moving there in 1000 ms",
-        f"{FIXED}:2:1: warning MT307: head and r_hand overlap by 25.0 mm at 1000 ms (pose 'Pose1')",
+        f"{FIXED}:2:1: warning MT307: HeadPitch body 'head' and RWristYaw body 'r_hand' overlap"
+        " by 25.0 mm at 1000 ms (pose 'Pose1')",
     ]
     assert lines[-1] == "checked 1 file: 0 errors, 2 warnings, 0 notes"
 
@@ -320,7 +321,11 @@ def test_self_collision_hint_names_the_robot_in_use(tmp_path: Path) -> None:
     fold = tmp_path / "fold.motion"
     fold.write_bytes(b"#WEBOTS_MOTION,V1.0,elbow_joint\n0,A,0\n1000,B,3.0\n")
     code, out, _ = invoke("validate", "--robot", "ur5e", "--checks", "collision", str(fold))
-    assert code == 0 and "warning MT307: forearm_link and shoulder_link overlap" in out
+    assert (
+        code == 0
+        and "warning MT307: elbow_joint body 'forearm_link' and shoulder_pan_joint body 'shoulder_link' overlap"
+        in out
+    )
     hints = {line for line in out.splitlines() if "hint:" in line}
     assert len(hints) == 1  # the same hint under each of the overlapping pairs
     (hint,) = hints

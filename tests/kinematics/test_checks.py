@@ -409,7 +409,10 @@ def test_a_cycle_met_again_is_not_scanned_again(monkeypatch: pytest.MonkeyPatch)
     assert scanned[0] > 0 and scanned[1:] == [0] * 5
     hits = [d for d in report.diagnostics if d.code == "MT307"]
     assert [d.line for d in hits] == [2 + 4 * k for k in range(6)]  # a run of 2 poses each
-    assert all("r_hand and r_hip overlap by 28.7 mm" in d.message for d in hits)
+    assert all(
+        "RWristYaw body 'r_hand' and RHipRoll body 'r_hip' overlap by 28.7 mm" in d.message
+        for d in hits
+    )
 
 
 @settings(max_examples=150, deadline=None)
@@ -509,13 +512,13 @@ ARM_IN_TORSO = (
 def test_self_collision_names_bodies_time_and_depth_once_per_run() -> None:
     # The right forearm and hand folded across the belly sink into the torso's capsule.
     assert robot_findings(ARM_IN_TORSO) == [
-        "3:1: warning MT307: r_forearm and torso overlap by 32.7 mm at 1000 ms (pose 'P2'); they"
+        "3:1: warning MT307: RElbowRoll body 'r_forearm' and root body 'torso' overlap by 32.7 mm at 1000 ms (pose 'P2'); they"
         " overlap from 1000 ms to 2000 ms",
-        "3:1: warning MT307: r_hand and torso overlap by 49.0 mm at 1000 ms (pose 'P2'); they"
+        "3:1: warning MT307: RWristYaw body 'r_hand' and root body 'torso' overlap by 49.0 mm at 1000 ms (pose 'P2'); they"
         " overlap from 1000 ms to 2000 ms",
     ]
     assert robot_findings(ARM_IN_TORSO, penetration_tolerance_mm=40) == [
-        "3:1: warning MT307: r_hand and torso overlap by 49.0 mm at 1000 ms (pose 'P2'); they"
+        "3:1: warning MT307: RWristYaw body 'r_hand' and root body 'torso' overlap by 49.0 mm at 1000 ms (pose 'P2'); they"
         " overlap from 1000 ms to 2000 ms",
     ]
 
@@ -531,7 +534,7 @@ def test_a_pair_that_collides_in_many_runs_is_one_finding_when_grouped() -> None
     checks = robot_checks(load_robot("nao"), ("collision",), penetration_tolerance_mm=40)
     grouped = validate_bytes(data + b"\n", "t.motion", checks=checks, group=True)
     assert [d.format().removeprefix("t.motion:") for d in grouped.diagnostics] == [
-        "3:1: warning MT307: r_hand and torso overlap by 49.0 mm at 1000 ms (pose 'P1'); they"
+        "3:1: warning MT307: RWristYaw body 'r_hand' and root body 'torso' overlap by 49.0 mm at 1000 ms (pose 'P1'); they"
         " overlap at 12 instants in 12 runs, from 1000 ms to 23000 ms"
     ]
     assert MAX_RUNS < 12
@@ -546,9 +549,9 @@ def test_collision_at_a_segment_midpoint_only() -> None:
         b"0,P1,2,0.3,-1,1.1\n1000,P2,1.3,0.1,1.7,1.2\n"
     )
     assert robot_findings(data) == [
-        "3:1: warning MT307: r_forearm and torso overlap by 17.1 mm at 500 ms, halfway from 0 ms"
+        "3:1: warning MT307: RElbowRoll body 'r_forearm' and root body 'torso' overlap by 17.1 mm at 500 ms, halfway from 0 ms"
         " to 1000 ms",
-        "3:1: warning MT307: r_hand and torso overlap by 37.0 mm at 500 ms, halfway from 0 ms to"
+        "3:1: warning MT307: RWristYaw body 'r_hand' and root body 'torso' overlap by 37.0 mm at 500 ms, halfway from 0 ms to"
         " 1000 ms",
     ]
 
@@ -564,13 +567,13 @@ def test_out_of_range_values_are_clamped_before_the_collision_check() -> None:
     # Every overlap, as deep as with the arm at its limit (unclamped, l_elbow would be 25 mm
     # into the head).
     assert robot_findings(data, penetration_tolerance_mm=0)[:2] == [
-        "2:1: warning MT307: head and l_elbow overlap by 5.6 mm at 0 ms (pose 'P1')",
-        "2:1: warning MT307: head and l_upper_arm overlap by 7.2 mm at 0 ms (pose 'P1')",
+        "2:1: warning MT307: HeadPitch body 'head' and LElbowYaw body 'l_elbow' overlap by 5.6 mm at 0 ms (pose 'P1')",
+        "2:1: warning MT307: HeadPitch body 'head' and LShoulderRoll body 'l_upper_arm' overlap by 7.2 mm at 0 ms (pose 'P1')",
     ]
     at_limit = b"#WEBOTS_MOTION,V1.0,LShoulderPitch,LShoulderRoll\n0,P1,-1.5,-0.314159\n"
     assert robot_findings(at_limit, penetration_tolerance_mm=0) == [
-        "2:1: warning MT307: head and l_elbow overlap by 5.6 mm at 0 ms (pose 'P1')",
-        "2:1: warning MT307: head and l_upper_arm overlap by 7.2 mm at 0 ms (pose 'P1')",
+        "2:1: warning MT307: HeadPitch body 'head' and LElbowYaw body 'l_elbow' overlap by 5.6 mm at 0 ms (pose 'P1')",
+        "2:1: warning MT307: HeadPitch body 'head' and LShoulderRoll body 'l_upper_arm' overlap by 7.2 mm at 0 ms (pose 'P1')",
     ]
 
 
@@ -615,7 +618,7 @@ def test_fixed_salute_passes_nao_and_breaks_the_real_robots_elbow_limit() -> Non
     # The salute itself: with the elbow bent to 1.5 rad the hand sits 25 mm inside the head's
     # capsule, deeper than the shapes' coarseness explains; 1.2 rad clears it.
     assert v5.diagnostics[1].message == (
-        "head and r_hand overlap by 25.0 mm at 1000 ms (pose 'Pose1')"
+        "HeadPitch body 'head' and RWristYaw body 'r_hand' overlap by 25.0 mm at 1000 ms (pose 'Pose1')"
     )
 
 
