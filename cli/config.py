@@ -189,7 +189,15 @@ class Settings:
         globs = (*self.exclude, *self.extend_exclude)
         if not globs:
             return False
-        return any(self.matches(p, q) for q in (path, *_parents(path)) for p in globs)
+        return any(self.matches(g, q) for q in (path, *self._folders_of(path)) for g in globs)
+
+    def _folders_of(self, path: Path) -> list[Path]:
+        """The folders ``path`` is in below :attr:`root` (none outside it)."""
+        try:
+            rel = path.resolve().relative_to(self.root.resolve())
+        except ValueError:
+            return []
+        return [self.root / p for p in rel.parents if p != Path(".")]
 
     def matches(self, pattern: str, path: Path) -> bool:
         """``pattern`` against ``path`` relative to :attr:`root`: a pattern with a ``/``
@@ -217,11 +225,6 @@ class Settings:
                 value = list(value)
             out[f.name.replace("_", "-")] = value
         return out
-
-
-def _parents(path: Path) -> list[Path]:
-    """The folders ``path`` is in, as given (relative ones stop at the working directory)."""
-    return [p for p in path.parents if p != Path(".")]
 
 
 def _strings(value: Any) -> bool:

@@ -83,6 +83,20 @@ def test_exclude_names_a_folder_by_its_path_too(repo: Path) -> None:
     assert "motions/generated/g.motion" not in paths(invoke("validate", "-f", "json", ".")[1])
 
 
+def test_exclude_matches_only_below_the_configurations_folder(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    project = tmp_path / "generated" / "project"  # a folder above it named as the glob
+    (project / "motions").mkdir(parents=True)
+    (project / "motions" / "a.motion").write_bytes(NAO)
+    (project / "motiontool.toml").write_text('exclude = ["generated"]\nforce-exclude = true\n')
+    monkeypatch.chdir(tmp_path)
+    found = paths(invoke("validate", "-f", "json", "generated/project/motions")[1])
+    assert found == ["generated/project/motions/a.motion"]
+    named = "generated/project/motions/a.motion"
+    assert paths(invoke("validate", "-f", "json", named)[1]) == [named]
+
+
 def test_folder_walks_respect_gitignore_nested_and_negated(repo: Path) -> None:
     git_repo(repo)
     _code, out, _ = invoke("validate", "-f", "json", "--robot", "none", "motions")
