@@ -148,7 +148,7 @@ def collect(
             named = o.named(p)
             s = resolver.for_file(named)
             force = o.force_exclude if o.force_exclude is not None else s.force_exclude
-            if not (force and not is_stdin(named) and s.excluded(named)):
+            if is_stdin(p) or not (force and s.excluded(named)):  # stdin: never left out
                 files.append(p)
             continue
         found = []

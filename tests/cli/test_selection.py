@@ -209,6 +209,10 @@ def test_stdin_filename_names_standard_input_and_finds_its_settings(repo: Path) 
     assert out.splitlines()[1].startswith("motions/x.motion:2:19: warning MT203: [*] ")
     code, _, err = invoke("validate", "--stdin-filename", "x.motion", "a.motion")
     assert code == 2 and "--stdin-filename names standard input: give '-'" in err
+    # Standard input is never left out (an editor replaces its text with what --fix prints).
+    (repo / "motions" / "motiontool.toml").write_text('exclude = ["x.motion"]\n')
+    args = ("--force-exclude", "--stdin-filename", "motions/x.motion", "-")
+    assert paths(invoke("validate", "-f", "json", *args, input=NAO)[1]) == ["motions/x.motion"]
 
 
 def test_fix_of_standard_input_prints_the_fixed_text(repo: Path) -> None:
