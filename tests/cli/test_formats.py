@@ -233,6 +233,63 @@ def test_github_columns_are_characters(tmp_path: Path, monkeypatch: pytest.Monke
     assert line.startswith("::error file=wide.motion,line=2,col=15,endColumn=18,title=MT108 ")
 
 
+def test_github_paths_are_relative_to_the_workspace(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """GitHub places an annotation by its path from the checkout (``GITHUB_WORKSPACE``, else
+    the working directory), whatever path the file was named by (issue 36 item 12)."""
+    workspace = tmp_path / "ws"
+    (workspace / "sub").mkdir(parents=True)
+    (workspace / "sub" / "wide.motion").write_bytes(WIDE)
+    (tmp_path / "outside.motion").write_bytes(WIDE)
+
+    def files(*paths: str) -> list[str]:
+        result = invoke("validate", "--robot", "none", "-f", "github", *paths)
+        assert result.exit_code == 1, result.output
+        return re.findall(r"^::error file=([^,]*),", result.stdout, re.MULTILINE)
+
+    monkeypatch.chdir(workspace / "sub")
+    monkeypatch.setenv("GITHUB_WORKSPACE", str(workspace))
+    outside = str(tmp_path / "outside.motion")
+    assert files("wide.motion", "../sub/wide.motion", outside) == [
+        "sub/wide.motion",
+        "sub/wide.motion",
+        outside,  # outside the checkout: as given (GitHub shows it on no file)
+    ]
+    monkeypatch.delenv("GITHUB_WORKSPACE")
+    monkeypatch.chdir(workspace)
+    assert files(str(workspace / "sub" / "wide.motion")) == ["sub/wide.motion"]
+
+
+def _warnings(n: int) -> bytes:
+    """A file Webots accepts with ``n`` MT203 warnings, one a pose, and one MT113 error."""
+    poses = b"".join(b"%d,P%d,1rad\n" % (40 * i, i) for i in range(n))
+    return b"#WEBOTS_MOTION,V1.0,HeadYaw\n" + poses + b"%d,Q,nan\n" % (40 * n)
+
+
+@pytest.mark.parametrize(("n", "hidden"), [(10, None), (13, 3)])
+def test_github_says_how_many_annotations_it_cannot_show(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, n: int, hidden: int | None
+) -> None:
+    """GitHub shows 10 annotations of each kind (error, warning, notice) per step: past that,
+    a final notice says how many it does not show, and where they all are."""
+    monkeypatch.chdir(tmp_path)
+    Path("many.motion").write_bytes(_warnings(n))
+    result = invoke("validate", "--robot", "none", "-f", "github", "many.motion")
+    assert result.exit_code == 1, result.output
+    lines = result.stdout.splitlines()
+    assert sum(x.startswith("::warning file=") for x in lines) == n  # all of them, in the log
+    notices = [x for x in lines if x.startswith("::notice")]
+    if hidden is None:
+        assert not notices
+        return
+    (notice,) = notices
+    assert notice.startswith("::notice title=")
+    assert f"not shown: {hidden} warnings." in notice
+    assert "--format sarif" in notice and "job summary" in notice
+    assert lines.index(notice) == len(lines) - 2  # after every annotation, before the summary
+
+
 # ---------------------------------------------------------------------------------- --sort
 
 
