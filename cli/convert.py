@@ -13,7 +13,9 @@ import typer
 
 from motiontool import exit_codes
 from motiontool.cli.convert_checks import (
+    file_findings,
     motion_findings,
+    refuse_short_lead_in,
     refuse_split_joints,
     refuse_unknown_joints,
     stream_findings,
@@ -156,9 +158,9 @@ def _report(
     if imported.recording is not None:
         lines += _recording(imported.recording, imported.motion.n_poses)
     if spec is None and robot == NONE:
-        lines.append(f"not checked against a robot: {ROBOT_OPTION} {NONE} ({UNCHECKED})")
+        lines += [f"not checked against a robot: {ROBOT_OPTION} {NONE} ({UNCHECKED})", *notes]
     elif spec is None:
-        lines.append(f"not checked against a robot: none named or detected ({ROBOT_OPTION})")
+        lines += [f"not checked against a robot: none named or detected ({ROBOT_OPTION})", *notes]
     elif notes:
         lines += [f"checked against robot {spec.name}: {plural(len(notes), 'finding')}", *notes]
     else:
@@ -207,7 +209,8 @@ _LeadIn = Annotated[
         min=1,
         max=MAX_MS,
         help="ms the real robot gets to reach the first pose before the motion starts "
-        "(naoqi, ros-trajectory: every time is the Webots time plus this).",
+        "(naoqi, ros-trajectory, rosbag's trajectory: every time is the Webots time plus "
+        "this); refused where the robot's maxVelocity cannot get there from 0 in it.",
     ),
 ]
 _Keyframes = Annotated[
@@ -356,9 +359,11 @@ def convert_command(
     imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
     spec = _robot(robot, fmt_out, imported.motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
-    notes = _checked(imported, spec, fmt_out, step, robot)
+    notes = file_findings(imported) + _checked(imported, spec, fmt_out, step, robot)
     if "joint_map" in fmt_out.uses:  # a ROS export: one position per ROS name
         refuse_split_joints(imported, pairs)
+    if spec is not None and "lead_in_ms" in fmt_out.uses:
+        refuse_short_lead_in(imported.motion, spec, lead_in, "--lead-in")
     options = ExportOptions(
         timestep_ms=step,
         source=source_name(source),
@@ -373,6 +378,7 @@ def convert_command(
     )
     exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]
     if spec is not None and exported.stream is not None:
+        refuse_unknown_joints(imported, spec)  # what a robot is sent: its motors only (exit 2)
         bad = stream_findings(exported.stream, spec, f"{fmt_out.name} export")
         if bad:
             _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")

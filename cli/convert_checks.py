@@ -35,7 +35,14 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["motion_findings", "refuse_split_joints", "refuse_unknown_joints", "stream_findings"]
+__all__ = [
+    "file_findings",
+    "motion_findings",
+    "refuse_short_lead_in",
+    "refuse_split_joints",
+    "refuse_unknown_joints",
+    "stream_findings",
+]
 
 
 def _where(d: Diagnostic, imported: Imported, motion: Motion) -> str:
@@ -108,6 +115,49 @@ def refuse_split_joints(imported: Imported, joint_map: tuple[tuple[str, str], ..
         f"{a} = {value(j)} at {int(motion.times_ms[pose])} ms is not {b}'s {value(lead)}: "
         f"both go to ROS joint {fmt_name(names[j])!r}, which has one position; keep them apart "
         f'in --joint-map ({a} = "{a}")',
+    )
+
+
+def file_findings(imported: Imported) -> list[str]:
+    """What ``validate`` finds in a ``.motion`` input as it reads it (a joint named twice,
+    MT205, ...), one ``where: severity CODE: message`` line each, in file order; none for the
+    other formats (their readers refuse what they cannot hold). Never blocking: Webots plays
+    the file, and the export sends what it plays."""
+    if imported.read is None:
+        return []
+    return [
+        f"{d.path}:{d.line}:{d.column}: {d.severity} {d.code}: {d.message}"
+        for d in imported.read.diagnostics
+    ]
+
+
+def refuse_short_lead_in(motion: Motion, spec: RobotSpec, lead_in_ms: int, option: str) -> None:
+    """Raise where the real robot cannot reach the first pose in ``lead_in_ms`` (ms) plus the
+    first pose's time at its joints' maxVelocity, from where the checks take a motor to start
+    (0, as every motor of the Webots models starts), as the motion itself is checked; the
+    message gives the shortest lead-in that can (whole ms)."""
+    worst: tuple[float, str, float, str] | None = None  # (ms needed, joint, maxVelocity, unit)
+    first = motion.values[0]
+    for j, name in enumerate(motion.joints):
+        q = float(first[j])
+        if name not in spec or math.isnan(q):
+            continue
+        joint = spec.joint(name)
+        if not math.isfinite(joint.max_velocity) or joint.max_velocity <= 0:
+            continue
+        needed = abs(q) / joint.max_velocity * MS_PER_S
+        if worst is None or needed > worst[0]:
+            worst = (needed, name, joint.max_velocity, joint.unit)
+    start_ms = int(motion.times_ms[0])  # the export's first time: this plus the lead-in
+    if worst is None or (lead_in_ms + start_ms) * (1 + EPS) >= worst[0]:
+        return
+    needed, name, velocity, unit = worst
+    shortest = math.ceil(needed / (1 + EPS)) - start_ms
+    raise MotionToolError(
+        f"{option} {lead_in_ms} ms: robot {spec.name} cannot reach the first pose in it from "
+        f"where its motors start (0 {unit}): {fmt_name(name)} needs {needed:.3g} ms at its "
+        f"maxVelocity {velocity:.6g} {unit}/s; give {option} {shortest} "
+        "or more"
     )
 
 

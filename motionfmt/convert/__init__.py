@@ -63,7 +63,7 @@ FORMATS: tuple[Format, ...] = (
         write=write_naoqi,
         for_robot=True,
         default_robot="nao-v5",
-        uses=frozenset({"script_name"}),
+        uses=frozenset({"script_name", "lead_in_ms"}),
     ),
     Format(
         "urscript",
@@ -80,7 +80,7 @@ FORMATS: tuple[Format, ...] = (
         "a robot under ros2_control: a FollowJointTrajectory goal (YAML) for ros2 action send_goal",
         write=write_ros_trajectory,
         for_robot=True,
-        uses=frozenset({"joint_map"}),
+        uses=frozenset({"joint_map", "lead_in_ms"}),
     ),
     Format(
         "rosbag",
@@ -89,7 +89,7 @@ FORMATS: tuple[Format, ...] = (
         "back, a recorded JointState topic",
         read=read_rosbag,
         write=write_rosbag,
-        uses=frozenset({"joint_map", "topic", "max_error_rad"}),
+        uses=frozenset({"joint_map", "topic", "max_error_rad", "lead_in_ms"}),
     ),
 )
 """Every format, in the order the help lists them."""

@@ -55,9 +55,23 @@ def write_npz(motion: Motion, options: ExportOptions) -> Exported:
     return Exported(out.getvalue(), motion.n_poses, detail)
 
 
+_ZIP = b"PK\x03\x04"
+"""How a zip archive, and so an ``.npz``, begins (an empty archive: ``PK\x05\x06``)."""
+_NPY = b"\x93NUMPY"
+"""How one ``.npy`` array begins."""
+
+
 def _load(data: bytes, path: str) -> dict[str, Any]:
+    """The arrays of ``data``; what is not a zip is said so before numpy reads it (numpy takes
+    anything else for a pickle, and says it holds pickled data)."""
     import numpy as np
 
+    if data.startswith(_NPY):
+        reason = "one .npy array, not an .npz (a zip of .npy arrays)"
+        raise MotionToolError(f"cannot read '{path}' as a .npz file: {reason}")
+    if not data.startswith((_ZIP, b"PK\x05\x06")):
+        reason = "not a zip archive (an .npz is a zip of .npy arrays)"
+        raise MotionToolError(f"cannot read '{path}' as a .npz file: {reason}")
     try:
         with np.load(io.BytesIO(data), allow_pickle=False) as npz:
             return {name: npz[name] for name in npz.files}

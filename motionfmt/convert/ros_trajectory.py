@@ -49,10 +49,34 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["Trajectory", "trajectory", "trajectory_message", "write_ros_trajectory"]
+__all__ = [
+    "CONTROLLER",
+    "CONTROLLERS",
+    "Trajectory",
+    "controller",
+    "trajectory",
+    "trajectory_message",
+    "write_ros_trajectory",
+]
 
 ACTION = "control_msgs/action/FollowJointTrajectory"
 """The action whose goal the YAML is."""
+
+CONTROLLER = "joint_trajectory_controller"
+"""The controller whose action the goal is sent to, unless the robot's driver starts another
+(:data:`CONTROLLERS`)."""
+
+CONTROLLERS: dict[str, str] = {"ur5e": "scaled_joint_trajectory_controller"}
+"""Robot -> the trajectory controller its ROS 2 driver starts: Universal Robots' driver
+(ur_robot_driver's ``ur_control.launch.py``) starts ``scaled_joint_trajectory_controller``,
+which scales the trajectory with the speed slider, and leaves ``joint_trajectory_controller``
+inactive."""
+
+
+def controller(robot: str | None) -> str:
+    """The trajectory controller of ``robot``'s ROS 2 driver (:data:`CONTROLLERS`)."""
+    return CONTROLLERS.get(robot or "", CONTROLLER)
+
 
 _ROWS = 1 << 16
 """Steps compared at once: the comparison's arrays are of this size, whatever the length."""
@@ -188,7 +212,7 @@ def _yaml(traj: Trajectory, options: ExportOptions) -> bytes:
         "# (joint_trajectory_controller draws straight lines between points given as positions),",
         f"# the first at {traj.lead_in_ms} ms: the robot reaches it from where it stands.",
         f"# robot check: {robot_check(options)}",
-        "# ros2 action send_goal /joint_trajectory_controller/follow_joint_trajectory \\",
+        f"# ros2 action send_goal /{controller(options.robot)}/follow_joint_trajectory \\",
         f'#   {ACTION} "$(cat {options.target_name or "THIS_FILE"})"',
         "trajectory:",
         f"  joint_names: [{names}]",

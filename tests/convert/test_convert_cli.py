@@ -165,3 +165,89 @@ def test_urscript_needs_its_arm_even_unchecked(tmp_path: Path) -> None:
         "motiontool: error: --robot none: urscript sends the robot's joints in the robot's "
         "order; name the robot (--robot ur5e, or a model file)\n"
     )
+
+
+def test_convert_shows_validates_findings_of_the_file(tmp_path: Path) -> None:
+    # validate warns MT205 on a joint named twice; convert said "clean".
+    src = tmp_path / "dup.motion"
+    src.write_text(
+        "#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n00:00:000,P1,0.1,0.1\n00:00:400,P2,0.2,0.2\n"
+    )
+    code, _, err = _run(src, tmp_path / "dup.csv", "--robot", "nao")
+    assert code == 0, err
+    line = (
+        f"{src}:1:29: warning MT205: joint 'HeadYaw' is named twice (columns 1 and 2); both "
+        "drive the same motor and the later column wins"
+    )
+    assert err.splitlines()[1:] == ["checked against robot nao: 1 finding", line]
+    validated = runner.invoke(app, ["validate", "--robot", "nao", str(src)]).stdout
+    assert line.replace("MT205: ", "MT205: [*] ") in validated
+
+
+@pytest.mark.parametrize("ending", [".mcap", ".trajectory.yaml", ".naoqi.json", ".npz"])
+def test_an_unknown_joint_is_one_input_error_for_every_robot_export(
+    tmp_path: Path, ending: str
+) -> None:
+    # A bag exited 1 ("not a motor" of its stream), a YAML 2: one exit code, the input's error.
+    src = tmp_path / "unk.motion"
+    src.write_text(
+        "#WEBOTS_MOTION,V1.0,HeadYaw,HeadYw\n00:00:000,P1,0.1,0.1\n00:00:400,P2,0.2,0.2\n"
+    )
+    robot = [] if ending != ".npz" else ["--robot", "nao"]
+    code, _, err = _run(src, tmp_path / f"unk{ending}", *robot)
+    assert code == 2
+    assert err.startswith(f"motiontool: error: {src}:1:29: unknown joint 'HeadYw' for robot nao")
+    assert err.count("\n") == 1
+    assert [p.name for p in tmp_path.iterdir()] == ["unk.motion"]
+
+
+@pytest.mark.parametrize(
+    ("data", "reason"),
+    [
+        (b"time_ms,HeadYaw\n0,0.1\n", "not a zip archive (an .npz is a zip of .npy arrays)"),
+        (b"", "not a zip archive (an .npz is a zip of .npy arrays)"),
+        (b"\x93NUMPY\x01\x00", "one .npy array, not an .npz (a zip of .npy arrays)"),
+    ],
+)
+def test_a_file_that_is_no_npz_says_so(tmp_path: Path, data: bytes, reason: str) -> None:
+    src = tmp_path / "m.npz"
+    src.write_bytes(data)
+    code, _, err = _run(src, tmp_path / "m.motion")
+    assert code == 2
+    assert err == f"motiontool: error: cannot read '{src}' as a .npz file: {reason}\n"
+    assert "pickle" not in err
+
+
+def test_a_lead_in_too_short_for_the_robot_is_refused_with_the_minimum(tmp_path: Path) -> None:
+    # wave_right's first pose has RElbowRoll at 0.04 rad: from 0 rad (where the checks take a
+    # motor to start) at nao-v5's maxVelocity of 7.19407 rad/s that takes 5.56 ms: 6 ms.
+    out = tmp_path / "w.naoqi.json"
+    for fmt, target in (("naoqi", out), ("ros-trajectory", tmp_path / "w.trajectory.yaml")):
+        code, _, err = _run(WAVE, target, "--to", fmt, "--lead-in", "1", "--robot", "nao-v5")
+        assert code == 2
+        assert err == (
+            "motiontool: error: --lead-in 1 ms: robot nao-v5 cannot reach the first pose in it "
+            "from where its motors start (0 rad): RElbowRoll needs 5.56 ms at its maxVelocity "
+            "7.19407 rad/s; give --lead-in 6 or more\n"
+        )
+    assert list(tmp_path.iterdir()) == []
+    assert _run(WAVE, out, "--lead-in", "6")[0] == 0
+
+
+def test_the_goal_names_the_controller_the_robots_driver_starts(tmp_path: Path) -> None:
+    # UR's ROS 2 driver starts scaled_joint_trajectory_controller, not joint_trajectory_controller.
+    arm = ROOT / "motions" / "ur5e" / "sorting.motion"
+    assert _run(arm, tmp_path / "s.trajectory.yaml")[0] == 0
+    text = (tmp_path / "s.trajectory.yaml").read_text()
+    assert (
+        "# ros2 action send_goal /scaled_joint_trajectory_controller/follow_joint_trajectory"
+        in text
+    )
+    assert _run(WAVE, tmp_path / "w.trajectory.yaml")[0] == 0
+    text = (tmp_path / "w.trajectory.yaml").read_text()
+    assert "# ros2 action send_goal /joint_trajectory_controller/follow_joint_trajectory" in text
+    readme = (ROOT / "README.md").read_text()
+    assert (
+        "ros2 action send_goal /scaled_joint_trajectory_controller/follow_joint_trajectory"
+        in readme
+    )
