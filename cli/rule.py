@@ -14,7 +14,7 @@ from motiontool.cli.options import TextOrJson, TextOrJsonOption
 from motiontool.cli.rules import RULES, Example, Rule, rule
 from motiontool.motionfmt.diagnostics import CODES
 
-__all__ = ["rule_command"]
+__all__ = ["rule_command", "rules_markdown"]
 
 _WIDTH = 100
 _SHOWN = 60
@@ -76,6 +76,20 @@ def _text(entry: Rule) -> str:
         out += _file_text(entry.fixed)
     out.append(f"validate --fix: {_AUTOFIX[entry.autofix]}")
     return "\n".join(out) + "\n"
+
+
+def rules_markdown() -> str:
+    """docs/rules.md: every code's explanation as ``motiontool rule CODE`` prints it, each
+    under a heading of its own (``## MT106``, GitHub's anchor ``#mt106``: where SARIF's
+    ``helpUri`` points); written by ``python dev/rules_doc.py``."""
+    head = (
+        "# Diagnostic codes\n\n"
+        "Every code `motiontool validate` reports, as `motiontool rule CODE` prints it: what"
+        " Webots does,\nan example that triggers it, its fix, and whether `validate --fix`"
+        " applies it. Made from the\nrule records (`cli/rules_syntax.py`, `cli/rules_traps.py`,"
+        " `cli/rules_robot.py`) by\n`python dev/rules_doc.py`: edit those, not this file.\n"
+    )
+    return head + "".join(f"\n## {e.code}\n\n```text\n{_text(e)}```\n" for e in RULES.values())
 
 
 def _show(data: bytes) -> str:

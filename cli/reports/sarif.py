@@ -33,13 +33,41 @@ from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
-__all__ = ["FINGERPRINT_KEY", "SARIF_SRCROOT", "render_sarif"]
+__all__ = [
+    "FINGERPRINT_KEY",
+    "HOME_LABEL",
+    "RULES_LABEL",
+    "SARIF_SRCROOT",
+    "project_urls",
+    "render_sarif",
+]
 
 SARIF_SRCROOT = "%SRCROOT%"
 FINGERPRINT_KEY = "motiontoolFinding/v1"
 """The key of a result's ``partialFingerprints``: code, path and message, not the line."""
 
 _SARIF_LEVEL = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "note"}
+
+HOME_LABEL = "Homepage"
+"""The project URL (pyproject.toml's ``[project.urls]``) that is the driver's
+``informationUri``."""
+RULES_LABEL = "Rules"
+"""The project URL of docs/rules.md as published: a rule's ``helpUri`` is its section there
+(``#mt106``)."""
+
+
+def project_urls() -> dict[str, str]:
+    """The installed package's project URLs by label (pyproject.toml's ``[project.urls]``, read
+    from its metadata as the version stamps are), or none where it is not installed. The
+    repository is not published yet: while pyproject.toml names no URL, SARIF has no link
+    rather than one that goes nowhere."""
+    from importlib import metadata
+
+    try:
+        entries = metadata.metadata("motiontool").get_all("Project-URL") or []
+    except metadata.PackageNotFoundError:
+        return {}
+    return dict(entry.split(", ", 1) for entry in entries if ", " in entry)
 
 
 def _uri(path: str) -> tuple[str, str | None]:
@@ -58,7 +86,7 @@ def _uri_from(cwd: str, path: str) -> tuple[str, str | None]:
     return Path(path).resolve().as_uri(), None
 
 
-def _rule(code: str) -> dict[str, Any]:
+def _rule(code: str, rules_url: str | None) -> dict[str, Any]:
     info = CODES.get(code)
     title = info.title if info else code
     level = _SARIF_LEVEL[info.severity] if info else "warning"
@@ -75,7 +103,7 @@ def _rule(code: str) -> dict[str, Any]:
         f"Default severity: `{level}`. `motiontool rule {code}` shows an example and its fix.\n\n"
         f"Leave this one out with `motiontool validate --ignore {code}`."
     )
-    return {
+    rule: dict[str, Any] = {
         "id": code,
         "name": code,
         "shortDescription": {"text": title},
@@ -83,6 +111,9 @@ def _rule(code: str) -> dict[str, Any]:
         "help": {"text": help_text, "markdown": help_markdown},
         "defaultConfiguration": {"level": level},
     }
+    if rules_url is not None:  # its section of docs/rules.md (a heading "## MT106")
+        rule["helpUri"] = f"{rules_url}#{code.lower()}"
+    return rule
 
 
 def _result(f: FileReport, d: Diagnostic, rule: int, fingerprint: str) -> dict[str, Any]:
@@ -204,14 +235,13 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator
     """
     used = sorted(CODES)  # every code a finding may have: no pass over the findings for it
     index = {code: i for i, code in enumerate(used)}
+    urls = project_urls()
+    driver: dict[str, Any] = {"name": "motiontool", "version": stamps()["motiontool"]}
+    if HOME_LABEL in urls:
+        driver["informationUri"] = urls[HOME_LABEL]
+    driver["rules"] = [_rule(code, urls.get(RULES_LABEL)) for code in used]
     run: dict[str, Any] = {
-        "tool": {
-            "driver": {
-                "name": "motiontool",
-                "version": stamps()["motiontool"],
-                "rules": [_rule(code) for code in used],
-            }
-        },
+        "tool": {"driver": driver},
         "originalUriBaseIds": {SARIF_SRCROOT: {"uri": project_root().as_uri().rstrip("/") + "/"}},
         "columnKind": "utf16CodeUnits",
         "results": HOLE,

@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+import jsonschema
 import numpy as np
 import pytest
 import xmlschema
@@ -145,10 +146,9 @@ def test_identical_findings_get_the_same_fingerprints_in_either_order(here: Path
     assert {i["fingerprint"] for i in issues} == {i["fingerprint"] for i in gitlab(files)}
 
 
-def test_every_sarif_rule_has_markdown_help_and_no_dead_link(here: Path) -> None:
+def test_every_sarif_rule_has_markdown_help(here: Path) -> None:
     run = sarif(["sub/bad.motion"])["runs"][0]  # type: ignore[index]
     driver = run["tool"]["driver"]
-    assert "informationUri" not in driver and "helpUri" not in json.dumps(run)
     for rule in driver["rules"]:
         assert rule["help"]["markdown"].startswith(f"**{rule['id']}**: ")
 
@@ -335,3 +335,46 @@ def test_no_golden_finding_is_identified_by_a_line_number() -> None:
         if names_a_line.search(d.identity)
     ]
     assert not found, "\n".join(found)
+
+
+@pytest.mark.parametrize(
+    "urls",
+    [
+        [],
+        ["Homepage, https://example.org/motiontool", "Rules, https://example.org/m/rules.md"],
+    ],
+)
+def test_sarif_links_the_project_urls_of_the_installed_package(
+    here: Path, monkeypatch: pytest.MonkeyPatch, urls: list[str]
+) -> None:
+    """The driver's ``informationUri`` is the package's ``Homepage`` project URL and each
+    rule's ``helpUri`` its section of the ``Rules`` one (docs/rules.md): the one home of the
+    addresses is pyproject.toml's ``[project.urls]``; without them, no link that goes nowhere
+    (issue 36 item 12)."""
+    from motiontool.cli.reports import sarif as sarif_module
+
+    monkeypatch.setattr(sarif_module, "project_urls", lambda: dict(u.split(", ") for u in urls))
+    doc = sarif(["sub/bad.motion"])
+    jsonschema.validate(doc, json.loads((DATA / "sarif" / "sarif-schema-2.1.0.json").read_text()))
+    run = doc["runs"][0]  # type: ignore[index]
+    driver = run["tool"]["driver"]
+    if not urls:
+        assert "informationUri" not in driver and "helpUri" not in json.dumps(run)
+        return
+    assert driver["informationUri"] == "https://example.org/motiontool"
+    for rule in driver["rules"]:
+        assert rule["helpUri"] == f"https://example.org/m/rules.md#{rule['id'].lower()}"
+
+
+def test_the_installed_project_urls_are_pyprojects() -> None:
+    """What SARIF links (:func:`~motiontool.cli.reports.sarif.project_urls`, read from the
+    installed package) is what pyproject.toml says: reinstall (pip install -e .) after
+    changing ``[project.urls]``."""
+    import tomllib
+
+    from conftest import ROOT
+
+    from motiontool.cli.reports.sarif import project_urls
+
+    declared = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"].get("urls", {})
+    assert project_urls() == declared

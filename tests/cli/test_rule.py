@@ -134,3 +134,17 @@ def test_sarif_rules_carry_the_same_explanations(
         explained = RULES[r["id"]]
         assert explained.webots in r["help"]["text"] and explained.fix in r["help"]["markdown"]
         assert f"motiontool rule {r['id']}" in r["help"]["text"]
+
+
+def test_docs_rules_md_is_what_the_records_say() -> None:
+    """docs/rules.md, where SARIF's ``helpUri`` points (a section a code: ``#mt106``), is made
+    from the same records as ``motiontool rule CODE`` (issue 36 item 12)."""
+    from conftest import ROOT
+
+    from motiontool.cli.rule import rules_markdown
+
+    doc = (ROOT / "docs" / "rules.md").read_text(encoding="utf-8")
+    assert doc == rules_markdown(), "docs/rules.md is stale: run python dev/rules_doc.py"
+    for code in CODES:
+        assert f"\n## {code}\n" in doc  # GitHub's anchor of that heading: #mt106
+        assert runner.invoke(app, ["rule", code]).stdout in doc
