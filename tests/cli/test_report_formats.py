@@ -377,4 +377,4 @@ def test_the_installed_project_urls_are_pyprojects() -> None:
     from motiontool.cli.reports.sarif import project_urls
 
     declared = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"].get("urls", {})
-    assert project_urls() == declared
+    assert project_urls() == declared, "reinstall the package: pip install -e ."
