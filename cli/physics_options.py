@@ -1,16 +1,25 @@
-"""``--physics-step``, ``--friction`` and ``--profile``: the physics options of ``play`` and
-``batch`` (one spelling and help text each; :mod:`motiontool.sim.physics` says what they do)."""
+"""``--physics-step``, ``--friction``, ``--profile``, ``--world`` and ``--robot-node``: the physics
+options of ``play`` and ``batch`` (one spelling and help text each; :mod:`motiontool.sim.physics`
+and :mod:`motiontool.sim.world_run` say what they do)."""
 
 from __future__ import annotations
 
 import enum
+from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from motiontool.cli.options import finite
 
-__all__ = ["FrictionOption", "PhysicsStepOption", "Profile", "ProfileOption"]
+__all__ = [
+    "FrictionOption",
+    "PhysicsStepOption",
+    "Profile",
+    "ProfileOption",
+    "RobotNodeOption",
+    "WorldOption",
+]
 
 
 class Profile(enum.StrEnum):
@@ -47,5 +56,26 @@ ProfileOption = Annotated[
         help="default (friction 1, 2 ms) or webots (Webots' friction 7 and physics step = the"
         " control step; not what makes walks match: see README, Fidelity). --friction and"
         " --physics-step override it.",
+    ),
+]
+WorldOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--world",
+        help="A Webots world (.wbt) to play in: its basicTimeStep (the control step, unless"
+        " --timestep), gravity, the feet-floor contactProperties (unless --friction), the"
+        " robot's start position and heading and what it stands on; the report says what was"
+        " applied and what was not.",
+        show_default=False,
+    ),
+]
+RobotNodeOption = Annotated[
+    str | None,
+    typer.Option(
+        "--robot-node",
+        metavar="NAME|DEF",
+        help="The robot node of --world that plays the motion, by its name or DEF (needed"
+        " when the world has several robots of the motion's kind).",
+        show_default=False,
     ),
 ]

@@ -23,6 +23,8 @@ from motiontool.cli.physics_options import (
     PhysicsStepOption,
     Profile,
     ProfileOption,
+    RobotNodeOption,
+    WorldOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
 from motiontool.cli.progress import progress
@@ -34,8 +36,9 @@ from motiontool.motionfmt.fileio import is_stdout
 from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
+    from motiontool.sim.play import PlayOptions
     from motiontool.sim.report import ContactSummary, PlayReport
-    from motiontool.sim.session import PlayResult
+    from motiontool.sim.session import PlayPlan, PlayResult
 
 __all__ = ["play_command"]
 
@@ -112,6 +115,38 @@ def _joint_table(report: PlayReport) -> list[str]:
     return lines
 
 
+def _world(report: PlayReport) -> list[str]:
+    """What ``--world`` applied and what it did not, one line each."""
+    world = report.world
+    if world is None:
+        return []
+    node = world["robot_node"]
+    lines = [
+        f"world: {world['path']}, robot node {node['name']!r}"
+        + (f" (DEF {node['def']})" if node["def"] else "")
+    ]
+    for entry in world["applied"]:
+        unit = f" {entry['unit']}" if entry["unit"] else ""
+        lines.append(f"  applied: {entry['field']} {_value(entry['value'])}{unit}: "
+                     f"{entry['applied_as']}")  # fmt: skip
+    for entry in world["not_applied"]:
+        unit = f" {entry['unit']}" if entry["unit"] else ""
+        lines.append(f"  not applied: {entry['field']} {_value(entry['value'])}{unit}: "
+                     f"{entry['reason']}")  # fmt: skip
+    lines += [f"  skipped: {line}" for line in world["skipped_nodes"]]
+    return lines
+
+
+def _value(value: object) -> str:
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
+    if isinstance(value, list):
+        return " ".join(f"{v:g}" for v in value)
+    if isinstance(value, float):
+        return f"{value:g}"
+    return str(value)
+
+
 def render_text(report: PlayReport) -> str:
     """The summary for people: the outcome, the robot, the feet, contacts, then one row per
     commanded joint."""
@@ -124,6 +159,7 @@ def render_text(report: PlayReport) -> str:
         + (f", floor friction {report.physics['friction']:g}" if report.physics else "")
         + ")",
         *([f"note: {report.physics['profile_note']}"] if "profile_note" in report.physics else []),
+        *_world(report),
         "result: " + ("clean" if report.clean else "; ".join(report.problems)),
     ]
     if report.expectations:
@@ -223,6 +259,8 @@ def play_command(
     physics_step: PhysicsStepOption = None,
     friction: FrictionOption = None,
     profile: ProfileOption = Profile.default,
+    world: WorldOption = None,
+    robot_node: RobotNodeOption = None,
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
@@ -234,12 +272,19 @@ def play_command(
     MuJoCo raised a warning or an expectation (--expect, motions.toml) is not met, 2 on error.
     --json and --rrd are written in every case.
     """
-    _check_outputs(files, headless=headless, json_path=json_path, rrd=rrd)
-    check_bag(bag, files, {"--json": json_path, "--rrd": rrd})
+    inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
+    check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play
 
-    planned = plan_play(files, expect=expect or [], start=start, sidecar=not no_sidecar)
+    planned = plan_play(
+        files,
+        expect=expect or [],
+        start=start,
+        sidecar=not no_sidecar,
+        world=world,
+        robot_node=robot_node,
+    )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
     options = PlayOptions(
         timestep_ms=timestep if timestep is not None else settings.timestep,
@@ -252,24 +297,42 @@ def play_command(
         profile=profile.value,
     )
     robot = robot if robot is not None else settings.robot_for(files[0])
+    result = _run(planned, robot, options, rrd=rrd, bag=bag)
+    say_bag(result, bag)
+    _render(result, json_path, rrd)
+
+
+def _run(
+    planned: PlayPlan, robot: str, options: PlayOptions, *, rrd: Path | None, bag: Path | None
+) -> PlayResult:
+    """The run of ``planned``, its progress shown as it goes."""
     with progress("play") as step:
-        names = ", ".join(file_name(f) for f in files)
-        label = f"{names}, {plural(loop, 'cycle')} in MuJoCo"
+        names = ", ".join(file_name(f) for f in planned.files)
+        label = f"{names}, {plural(options.loops, 'cycle')} in MuJoCo"
         step(label)
 
         def simulated(done_s: float, total_s: float) -> None:
             step(f"{label}: {done_s:,.0f} of {total_s:,.0f} s simulated")
 
-        result = planned.run(robot=robot, options=options, rrd=rrd, bag=bag, progress=simulated)
-    say_bag(result, bag)
-    _render(result, json_path, rrd)
+        return planned.run(robot=robot, options=options, rrd=rrd, bag=bag, progress=simulated)
 
 
 def _check_outputs(
-    files: list[Path], *, headless: bool, json_path: Path | None, rrd: Path | None
-) -> None:
-    """Only headless, no output over an input or over another, the extras installed: exit 2
-    before anything runs."""
+    files: list[Path],
+    world: Path | None,
+    robot_node: str | None,
+    *,
+    headless: bool,
+    json: Path | None,
+    rrd: Path | None,
+) -> list[Path]:
+    """Only headless, --robot-node only with --world, no output over an input (the motions,
+    the world) or over another, the extras installed: exit 2 before anything runs. Returns the
+    input files."""
+    if robot_node is not None and world is None:
+        raise MotionToolError("--robot-node names a robot node of --world: pass --world FILE.wbt")
+    json_path = json
+    files = files if world is None else [*files, world]
     if not headless:
         raise MotionToolError(
             "only headless playback exists (there is no viewer); pass --headless, and --rrd "
@@ -281,6 +344,7 @@ def _check_outputs(
     require("mujoco", "sim", "motiontool play")
     if rrd is not None:
         require("rerun", "rerun", "motiontool play --rrd")
+    return files
 
 
 def _render(result: PlayResult, json_path: Path | None, rrd: Path | None) -> None:

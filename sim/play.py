@@ -43,6 +43,7 @@ if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
     from motiontool.sim.physics import Physics
     from motiontool.sim.recording import RunRecorder
+    from motiontool.sim.world_run import WorldRun
 
 __all__ = [
     "LIMIT_TOLERANCE",
@@ -98,6 +99,7 @@ def play(
     stamps: Mapping[str, Any] | None = None,
     bag: str | Path | None = None,
     progress: Progress | None = None,
+    world: WorldRun | None = None,
 ) -> PlayReport:
     """Play ``motions`` one after another on ``robot`` and measure the run.
 
@@ -115,6 +117,7 @@ def play(
             hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
         progress: called after each chunk of the run with the simulated seconds done and in
             all (for a progress display).
+        world: what the run takes of a Webots world (:mod:`motiontool.sim.world_run`).
 
     Raises:
         MotionToolError: a file Webots would reject, a bad option, or no robot
@@ -130,9 +133,7 @@ def play(
     loaded = [m if isinstance(m, Motion) else read_playable(m) for m in motions]
     labels = _names(motions, names)
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
-    timestep = opts.timestep_ms or spec.default_timestep_ms
-    physics = _physics(timestep, opts)
-    scene = _scene(spec, timestep, physics, opts, loaded[0])
+    timestep, physics, scene = _setup(spec, opts, loaded[0], world)
     stream = _commands(loaded, scene, timestep, opts)
     files = _file_runs(labels, stream.lengths, scene.control_step_s)
     meter = RunMeter(scene, opts)
@@ -143,19 +144,46 @@ def play(
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
         _simulate(scene, stream, takers, record=recorder is not None)
         report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
+        report.world = None if world is None else _world_doc(world, opts, timestep, physics)
         report.end_effector = None if tool is None else tool.stats()
         if recorder is not None and events is not None:
             recorder.finish(events.markers(files), report.end_effector)
     return report
 
 
-def _physics(timestep_ms: int, opts: PlayOptions) -> Physics:
-    """The physics settings of a run at control step ``timestep_ms`` with ``opts``."""
+def _setup(
+    spec: RobotSpec, opts: PlayOptions, first: Motion, world: WorldRun | None
+) -> tuple[int, Physics, Scene]:
+    """The control step (ms: the options', the world's, the robot's), the physics and the
+    scene of a run."""
+    timestep = opts.timestep_ms or (world and world.control_step_ms) or spec.default_timestep_ms
+    physics = _physics(timestep, opts, world)
+    return timestep, physics, _scene(spec, timestep, physics, opts, first, world)
+
+
+def _world_doc(
+    placed: WorldRun, opts: PlayOptions, timestep_ms: int, physics: Physics
+) -> dict[str, Any]:
+    """The report's ``world``: what the run took from the world, and what it did not."""
+    return placed.report(
+        control_step_ms=timestep_ms,
+        timestep_given=opts.timestep_ms is not None,
+        physics_step_ms=physics.timestep_ms,
+        friction_given=opts.floor_friction is not None,
+    )
+
+
+def _physics(timestep_ms: int, opts: PlayOptions, placed: WorldRun | None) -> Physics:
+    """The physics settings of a run at control step ``timestep_ms`` with ``opts`` (the
+    friction: ``--friction``, else the world's, else the profile's)."""
+    friction = opts.floor_friction
+    if friction is None and placed is not None:
+        friction = placed.friction(None)
     return resolve_physics(
         timestep_ms,
         profile=opts.profile,
         physics_step_ms=opts.physics_step_ms,
-        friction=opts.floor_friction,
+        friction=friction,
         friction_scale=opts.friction_scale,
     )
 
@@ -321,10 +349,26 @@ def _start_joints(
 
 
 def _scene(
-    spec: RobotSpec, timestep_ms: int, physics: Physics, opts: PlayOptions, first: Motion
+    spec: RobotSpec,
+    timestep_ms: int,
+    physics: Physics,
+    opts: PlayOptions,
+    first: Motion,
+    placed: WorldRun | None,
 ) -> Scene:
-    """The scene at its start state (:func:`motiontool.sim._mujoco.build_scene`)."""
+    """The scene at its start state (:func:`motiontool.sim._mujoco.build_scene`), in the
+    world ``placed`` (None: a floor plane)."""
     from motiontool.sim import _mujoco
+
+    if placed is not None and spec.floating_base:
+        world_scene: dict[str, Any] = {
+            "ground": placed.ground_for(opts.floor_friction, opts.friction_scale),
+            "gravity": placed.gravity,
+            "start_xy": placed.start_xy,
+        }
+        yaw = opts.start_yaw_deg + placed.start_yaw_deg
+    else:
+        world_scene, yaw = {}, opts.start_yaw_deg
 
     return _mujoco.build_scene(
         spec,
@@ -335,8 +379,9 @@ def _scene(
         floor_friction=physics.friction,
         mass_scale=opts.mass_scale,
         torque_scale=opts.torque_scale,
-        start_yaw_deg=opts.start_yaw_deg,
+        start_yaw_deg=yaw,
         p_gain=opts.p_gain,
+        **world_scene,
     )
 
 

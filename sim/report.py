@@ -17,6 +17,11 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
                                                                  #   walks match (README); with
                                                                  #   --friction / --physics-step:
                                                                  #   what ran instead
+      "world": null | {"path", "version",                        # play --world FILE.wbt
+                "robot_node": {"name", "def", "type"},           # the node that played
+                "applied": [{"field", "value", "unit", "applied_as"}],
+                "not_applied": [{"field", "value", "unit", "reason"}],
+                "skipped_nodes": ["why: nodes"]},                # nodes not simulated
       "simulated_s": 7.78, "control_steps": 389,
       "clean": true, "exit_code": 0, "reason": "",               # reason: '; '-joined, '' if clean
       "error": null,                                             # why the run stopped early
@@ -298,6 +303,7 @@ class PlayReport:
     expectations: list[ExpectationResult] = field(default_factory=list)
     end_effector: EndEffectorStats | None = None
     physics: dict[str, Any] = field(default_factory=dict)
+    world: dict[str, Any] | None = None
 
     @property
     def problems(self) -> list[str]:
@@ -350,6 +356,7 @@ class PlayReport:
             "files": [asdict(f) for f in self.files],
             "options": dict(self.options),
             "physics": dict(self.physics),
+            "world": self.world,
             "simulated_s": self.simulated_s,
             "control_steps": self.control_steps,
             "clean": self.clean,
@@ -382,6 +389,7 @@ class PlayReport:
             files=[_make(FileRun, f) for f in doc["files"]],
             options=dict(doc.get("options") or {}),
             physics=dict(doc.get("physics") or {}),
+            world=doc.get("world"),
             stamps=dict(doc.get("stamps") or {}),
             simulated_s=doc["simulated_s"],
             control_steps=doc["control_steps"],

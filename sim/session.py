@@ -33,6 +33,8 @@ from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
 from motiontool.sim.sidecar import Sidecar, expectations_for
 from motiontool.sim.start import StartState
+from motiontool.sim.world import read_world
+from motiontool.sim.world_run import world_run
 from motiontool.stamps import stamps
 
 __all__ = ["MotionPlan", "PlayPlan", "PlayResult", "plan_motion", "plan_play"]
@@ -130,11 +132,20 @@ class PlayResult:
 
 @dataclass(frozen=True)
 class PlayPlan:
-    """A planned ``play``: its files, what the run must do and how it starts
-    (:func:`plan_play`)."""
+    """A planned ``play``: its files, what the run must do and how it starts, and the Webots
+    world it plays in, if any (:func:`plan_play`).
+
+    Attributes:
+        world: a Webots world file the run takes its settings from
+            (:func:`motiontool.sim.world.read_world`), read when the robot is known; None: none.
+        robot_node: the name or DEF of the world's robot node that plays (None: the world's
+            one robot of the motion's kind).
+    """
 
     files: tuple[Path, ...]
     motion: MotionPlan
+    world: Path | None = None
+    robot_node: str | None = None
 
     @property
     def start(self) -> StartState:
@@ -171,6 +182,9 @@ class PlayPlan:
             motions = [read_playable(f) for f in self.files]  # read once: play() takes them
             spec = resolve_robot(robot, (j for m in motions for j in m.joints))
             result.stamps = dict(stamps(spec.model_hash))
+            in_world = None
+            if self.world is not None:
+                in_world = world_run(read_world(self.world, self.robot_node, spec.name))
             names = [str(f) for f in self.files]
             report = play(
                 motions,
@@ -181,6 +195,7 @@ class PlayPlan:
                 stamps=result.stamps,
                 bag=bag,
                 progress=progress,
+                world=in_world,
             )
             report.expectations = evaluate(self.motion.expectations, report)
         except MotionToolError as exc:
@@ -205,10 +220,13 @@ def plan_play(
     expect: Sequence[str] = (),
     start: StartState | str | None = None,
     sidecar: bool = True,
+    world: Path | None = None,
+    robot_node: str | None = None,
 ) -> PlayPlan:
     """Plan playing ``files`` one after another with the expectations ``expect`` and the start
-    state ``start`` (None: the sidecar's, else standing). A sidecar describes one motion: it is
-    read (``sidecar``) only when one file, not standard input, is played.
+    state ``start`` (None: the sidecar's, else standing), in the Webots ``world`` (its robot
+    node ``robot_node``; see :class:`PlayPlan`). A sidecar describes one motion: it is read
+    (``sidecar``) only when one file, not standard input, is played.
 
     Raises:
         MotionToolError: no file; a sidecar, an expectation or a start that cannot be used
@@ -218,4 +236,4 @@ def plan_play(
         raise MotionToolError("no motion file to play")
     one_file = len(files) == 1 and not is_stdin(files[0])
     motion = plan_motion(files[0], expect, start=start, sidecar=sidecar and one_file)
-    return PlayPlan(tuple(files), motion)
+    return PlayPlan(tuple(files), motion, world, robot_node)

@@ -246,12 +246,14 @@ class MjsBody(Protocol):
         size: Sequence[float],
         rgba: Sequence[float],
         pos: Sequence[float] = ...,
+        quat: Sequence[float] = ...,
     ) -> MjsGeom: ...
     def add_light(self, *, name: str, pos: Sequence[float], dir: Sequence[float]) -> object: ...
 
 
 class _SpecOption(Protocol):
     timestep: float  # s
+    gravity: Sequence[float]  # m/s², z up
     jacobian: EnumValue  # mjtJacobian
     cone: EnumValue  # mjtCone
     tolerance: float

@@ -26,6 +26,7 @@ if TYPE_CHECKING:
 
     from motiontool.kinematics.robots import RobotSpec
     from motiontool.sim._mujoco.api import MjModel, MjsBody, MjSpec
+    from motiontool.sim.world_run import Ground
 
 
 FALLBACK_MAX_VELOCITY = 10.0
@@ -105,6 +106,9 @@ def build_scene(
     torque_scale: float = 1.0,
     start_yaw_deg: float = 0.0,
     p_gain: float = DEFAULT_P_GAIN,
+    ground: Sequence[Ground] = (),
+    gravity: tuple[float, float, float] | None = None,
+    start_xy: tuple[float, float] = (0.0, 0.0),
 ) -> Scene:
     """Compile the scene of ``robot`` at its start state.
 
@@ -121,20 +125,31 @@ def build_scene(
         torque_scale: factor on every motor's maxTorque.
         start_yaw_deg: heading of the robot at start, degrees about +z.
         p_gain: P gain of the position controller, 1/s.
+        ground: what the robot stands on, from a Webots world
+            (:func:`motiontool.sim.world_run.world_run`); empty: a floor plane at z = 0 with
+            ``floor_friction``. Each keeps its own friction and bounce.
+        gravity: m/s², z up (None: MuJoCo's default, -9.81 m/s² on z).
+        start_xy: where a free-flying robot starts, m.
     """
     substeps = substeps_at_most(control_step_ms, physics_step_ms)
     dt = control_step_ms / MS_PER_S / substeps
     spec = _load_spec(robot, dt)
     roots, floating = _robot_roots(spec, robot)
     _scale_masses(spec, mass_scale)
-    _add_floor(spec, floor_friction)
+    if gravity is not None:
+        spec.option.gravity = list(gravity)
+    if not any(g.kind == "plane" for g in ground):
+        _add_floor(spec, floor_friction)  # and the light
+    else:
+        spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, LIGHT_HEIGHT_M], dir=[0.0, 0.0, -1.0])
+    _add_ground(spec, ground)
     if not floating:
         _add_box(spec, roots)
     limits = _motor_limits(robot, torque_scale, p_gain)
     _add_motors(spec, robot.joint_names, limits.max_torque, dt)
     model = _compile_as_designed(spec, robot)
     scene = _scene(model, robot, limits, substeps, roots, floating)
-    set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg)
+    set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg, start_xy)
     scene.probe = self_collision_probe(spec, model, scene)
     scene.tool = None if floating else tool_frame(model, scene.root_body, scene.robot_bodies)
     return scene
@@ -207,6 +222,31 @@ def _add_floor(spec: MjSpec, friction: float) -> None:
     floor.contype = 1
     floor.conaffinity = 1
     spec.worldbody.add_light(name="sun", pos=[0.0, 0.0, LIGHT_HEIGHT_M], dir=[0.0, 0.0, -1.0])
+
+
+def _add_ground(spec: MjSpec, ground: Sequence[Ground]) -> None:
+    """The supports of a world: planes and boxes whose friction and bounce win over the robot's
+    (the first plane is the ``floor`` geom)."""
+    mujoco = mj()
+    kinds = {"plane": mujoco.mjtGeom.mjGEOM_PLANE, "box": mujoco.mjtGeom.mjGEOM_BOX}
+    for g in ground:
+        if g.kind == "plane":  # MuJoCo's planes are unbounded where a size is 0
+            size = [g.size[0] / 2, g.size[1] / 2, FLOOR_GRID_M]
+        else:
+            size = [g.size[0] / 2, g.size[1] / 2, g.size[2] / 2]
+        geom = spec.worldbody.add_geom(
+            name=g.name,
+            type=kinds[g.kind],
+            size=size,
+            pos=list(g.center),
+            quat=[math.cos(g.yaw_rad / 2), 0.0, 0.0, math.sin(g.yaw_rad / 2)],
+            rgba=[0.6, 0.6, 0.6, 1.0] if g.kind == "plane" else [0.8, 0.75, 0.65, 1.0],
+        )
+        geom.friction = [g.friction, *FLOOR_SPIN_ROLL_FRICTION]
+        geom.priority = 1
+        geom.solref = [FLOOR_TIMECONST_S, _damping_ratio(g.bounce)]
+        geom.contype = 1
+        geom.conaffinity = 1
 
 
 def _add_box(spec: MjSpec, roots: Sequence[MjsBody]) -> None:
@@ -342,7 +382,10 @@ def _geom_classes(
     for g in range(model.ngeom):
         if model.geom_bodyid[g] in robot_bodies:
             classes[g] = GeomClass.ROBOT
-    classes[model.geom("floor").id] = GeomClass.FLOOR
+    for g in range(model.ngeom):  # the floor, and a world's other supports (floor:NAME)
+        name = str(model.geom(g).name)
+        if name == "floor" or name.startswith("floor:"):
+            classes[g] = GeomClass.FLOOR
     classes[feet] = GeomClass.FOOT
     return classes
 
@@ -370,7 +413,10 @@ def _resolve_package_meshes(spec: MjSpec, model_path: Path) -> None:
 
 def _damping_ratio(restitution: float) -> float:
     """Damping ratio of a spring-damper contact whose coefficient of restitution is the given
-    one: ``e = exp(-pi z / sqrt(1 - z^2))``, so ``z = -ln e / sqrt(pi^2 + ln^2 e)``."""
+    one: ``e = exp(-pi z / sqrt(1 - z^2))``, so ``z = -ln e / sqrt(pi^2 + ln^2 e)`` (1, critical
+    damping, for no bounce)."""
+    if restitution <= 0:
+        return 1.0
     log_e = math.log(restitution)
     return -log_e / math.sqrt(math.pi**2 + log_e**2)
 

@@ -22,28 +22,36 @@ spawns its torso at 0.334 m, its FSR soles being 0.3339 m below the torso origin
 
 
 def set_start_state(
-    scene: Scene, start: StartState, start_joints: dict[str, float], start_yaw_deg: float
+    scene: Scene,
+    start: StartState,
+    start_joints: dict[str, float],
+    start_yaw_deg: float,
+    start_xy: tuple[float, float] = (0.0, 0.0),
 ) -> None:
     """Put ``scene.data`` at the start state: the motors at ``start_joints``; a free-flying
-    robot turned by the yaw, laid down if asked, its lowest point :data:`SPAWN_CLEARANCE_M`
-    above the floor."""
+    robot at ``start_xy`` (m), turned by the yaw, laid down if asked, its lowest point
+    :data:`SPAWN_CLEARANCE_M` above the floor."""
     mujoco = mj()
     model, data = scene.model, scene.data
     for name, value in start_joints.items():
         if name in scene.joints:
             data.qpos[scene.qpos_adr[scene.joints.index(name)]] = value
     if scene.floating:
-        _place_free_robot(scene, start, start_yaw_deg)
+        _place_free_robot(scene, start, start_yaw_deg, start_xy)
     elif start.lying:
         raise MotionToolError(
             f"start {start} needs a free-flying robot; {scene.robot.name} is fixed"
         )
     elif start_yaw_deg:
         raise MotionToolError("a start yaw needs a free-flying robot")
+    elif start_xy != (0.0, 0.0):
+        raise MotionToolError("a start position needs a free-flying robot")
     mujoco.mj_forward(model, data)
 
 
-def _place_free_robot(scene: Scene, start: StartState, start_yaw_deg: float) -> None:
+def _place_free_robot(
+    scene: Scene, start: StartState, start_yaw_deg: float, start_xy: tuple[float, float]
+) -> None:
     """Orient the free joint (yaw, then lying face down or up) and lower the robot onto the
     floor."""
     mujoco = mj()
@@ -54,6 +62,7 @@ def _place_free_robot(scene: Scene, start: StartState, start_yaw_deg: float) -> 
         quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, math.sin(math.pi / 4), 0.0))
     elif start is StartState.LYING_BACK:  # face up: the torso's x axis points to the sky
         quat = _quat_mul(quat, (math.cos(math.pi / 4), 0.0, -math.sin(math.pi / 4), 0.0))
+    data.qpos[free_adr : free_adr + 2] = start_xy
     data.qpos[free_adr + 3 : free_adr + 7] = quat
     mujoco.mj_kinematics(model, data)
     in_robot = set(scene.robot_bodies.tolist())
