@@ -140,6 +140,7 @@ _Select = Annotated[
     list[str] | None,
     typer.Option(
         "--select",
+        metavar="CODES",
         help="Report these codes or prefixes (MT2) only, instead of the configuration's "
         "selection; the most specific of --select, --extend-select and --ignore decides, as "
         "in ruff (repeat, or comma-separate).",
@@ -150,6 +151,7 @@ _ExtendSelect = Annotated[
     list[str] | None,
     typer.Option(
         "--extend-select",
+        metavar="CODES",
         help="Report these codes or prefixes too, over the configuration's selection.",
         show_default=False,
     ),
@@ -191,8 +193,9 @@ _StdinFilename = Annotated[
     str | None,
     typer.Option(
         "--stdin-filename",
+        metavar="NAME",
         help="The name to report standard input ('-') under, and to find its configuration "
-        "by (robot per glob, per-file-ignores, exclude with --force-exclude).",
+        "by (robot per glob, per-file-ignores; it is never left out).",
         show_default=False,
     ),
 ]
