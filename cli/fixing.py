@@ -44,11 +44,13 @@ def fix_files(
     write: bool,
     robot: Callable[[Path, bytes], RobotPlanner | None] | None = None,
     diff: Callable[[bytes], object] | None = None,
+    named: Callable[[Path], Path] | None = None,
 ) -> FixRun:
     """Fix every file (``unsafe``: the unsafe fixes too, and those of ``robot(path, data)``'s
     planner); write each changed file atomically with ``write`` (standard input's text, fixed
     or not, to stdout, as ruff does), else give its unified diff to ``diff``, a block of about
-    64 KiB at a time as it is made (never the whole diff held).
+    64 KiB at a time as it is made (never the whole diff held), each file under the name
+    ``named(path)`` gives it (standard input's, ``--stdin-filename``).
 
     Raises:
         MotionToolError: a file that cannot be read or written.
@@ -68,7 +70,8 @@ def fix_files(
         if write and not is_stdin(path):
             atomic_write(path, result.data)
         elif diff is not None:
-            for block in in_blocks(_unified(path, data, result.data)):
+            name = path if named is None else named(path)
+            for block in in_blocks(_unified(name, data, result.data)):
                 diff(block)
     return run
 

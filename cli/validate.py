@@ -375,7 +375,12 @@ def _apply_fixes(
     if fixes.diff:
         with open_output(STDOUT if output is None else output) as sink:
             changes = fix_files(
-                files, unsafe=unsafe, write=False, robot=robot_fixes, diff=sink.write
+                files,
+                unsafe=unsafe,
+                write=False,
+                robot=robot_fixes,
+                diff=sink.write,
+                named=overrides.named,
             )
         say_wrote(output, f"unified diff, the fixes of {plural(len(changes.files), 'file')}")
         failed = changes.files and not exit_zero

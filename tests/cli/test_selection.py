@@ -215,6 +215,14 @@ def test_stdin_filename_names_standard_input_and_finds_its_settings(repo: Path) 
     assert paths(invoke("validate", "-f", "json", *args, input=NAO)[1]) == ["motions/x.motion"]
 
 
+def test_diff_of_standard_input_names_it_as_stdin_filename_says(repo: Path) -> None:
+    result = runner.invoke(
+        app, ["validate", "--diff", "--stdin-filename", "motions/x.motion", "-"], input=WARN
+    )
+    assert result.exit_code == 1
+    assert result.stdout.startswith("--- a/motions/x.motion\n+++ b/motions/x.motion\n")
+
+
 def test_fix_of_standard_input_prints_the_fixed_text(repo: Path) -> None:
     result = runner.invoke(
         app, ["validate", "--fix", "--stdin-filename", "x.motion", "-"], input=WARN
