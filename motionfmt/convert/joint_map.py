@@ -17,7 +17,7 @@ hand joint (``LPhalanx1..8`` -> ``LHand``).
 Several joints may go to one ROS name (the phalanges of a hand, or a map's many-to-one): a ROS
 joint has one position, so the first of them in the motion's order gives it, and the caller
 checks that the others agree with it (:func:`disagreement`). Read back, a ROS name becomes the
-first joint the map gives it.
+first joint the map gives it, and a NAO's ``LHand`` the eight phalanges (:func:`spread_hands`).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-__all__ = ["NAO_HANDS", "disagreement", "from_ros", "parse_joint_map", "to_ros"]
+__all__ = ["NAO_HANDS", "disagreement", "from_ros", "parse_joint_map", "spread_hands", "to_ros"]
 
 NAO_HANDS: dict[str, str] = {
     f"{side}Phalanx{i}": f"{side}Hand" for side in "LR" for i in range(1, 9)
@@ -152,6 +152,24 @@ def from_ros(names: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tupl
     joints = tuple(table.get(n, n) for n in names)
     _unique(joints, names, "joint")
     return joints
+
+
+def spread_hands(joints: Sequence[str]) -> tuple[tuple[str, ...], list[int]]:
+    """A real NAO's hands as the Webots Nao's phalanges (:data:`NAO_HANDS` read backwards):
+    ``LHand`` becomes ``LPhalanx1..8`` in its place, unless the joints already have one of
+    them. Returns (the joints, the index in ``joints`` of each one's column)."""
+    fingers: dict[str, list[str]] = {}
+    for finger, hand in NAO_HANDS.items():
+        fingers.setdefault(hand, []).append(finger)
+    out: list[str] = []
+    columns: list[int] = []
+    for j, name in enumerate(joints):
+        spread = fingers.get(name, [])
+        if not spread or any(f in joints for f in spread):
+            spread = [name]
+        out += spread
+        columns += [j] * len(spread)
+    return tuple(out), columns
 
 
 def _unique(mapped: Sequence[str], given: Sequence[str], what: str) -> None:

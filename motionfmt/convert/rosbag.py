@@ -5,15 +5,16 @@ asked for (``/joint_states`` by default): one message per step, ``position`` the
 motor holds (:mod:`.held`; the doubles as they are), ``header.stamp`` Webots' playback time from
 0 s; and on ``/joint_trajectory`` one ``trajectory_msgs/JointTrajectory`` at 0 s, the points
 :mod:`.ros_trajectory` sends to a robot (``time_from_start`` with the lead-in). Names go to ROS
-through the joint map. A metadata record ``motiontool`` holds ``source`` and ``robot_check``
-(the robot the export was checked against, or ``unchecked``).
+through the joint map (a Nao's phalanges as NAOqi's ``LHand``, ``RHand``). A metadata record
+``motiontool`` holds ``source`` and ``robot_check`` (the robot the export was checked against,
+or ``unchecked``).
 
 Read: the ``sensor_msgs/JointState`` messages of one topic (a real robot's ``/joint_states``,
 at 125 to 500 Hz) become a motion: times from the first stamp, in whole ms (a sample whose ms
-an earlier one already has is left out), ROS names mapped back, then the keyframes reduced
-within ``max_error_rad`` by the same reduction as ``resample --max-error``
-(:func:`~motiontool.motionfmt.resample.resample`). What is reported is the motion against every
-recorded sample at its own stamp (:class:`~.base.Recording`).
+an earlier one already has is left out), ROS names mapped back (a NAO's ``LHand``:
+``LPhalanx1..8``), then the keyframes reduced within ``max_error_rad`` by the same reduction as
+``resample --max-error`` (:func:`~motiontool.motionfmt.resample.resample`). What is reported is
+the motion against every recorded sample at its own stamp (:class:`~.base.Recording`).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ from motiontool.motionfmt.convert.base import (
     RobotStream,
     robot_check,
 )
-from motiontool.motionfmt.convert.joint_map import from_ros
+from motiontool.motionfmt.convert.joint_map import from_ros, spread_hands
 from motiontool.motionfmt.convert.ros_trajectory import (
     deviation,
     trajectory,
@@ -171,10 +172,11 @@ def read_rosbag(data: bytes, path: str, options: ImportOptions | None = None) ->
     opts = options or ImportOptions()
     states = read_joint_states(data, path, opts.topic)
     order = _checked(states, path, opts.topic)
-    joints = from_ros(order, opts.joint_map)
+    joints, columns = spread_hands(from_ros(order, opts.joint_map))
     for joint in joints:
         check_name(joint, "joint")
     t_ms, q = _samples(states, order, path)
+    q = q[:, columns]
     motion, merged = _reduced(joints, t_ms, q, opts.max_error_rad, path)
     worst = _deviation(motion, t_ms, q)
     recording = Recording(

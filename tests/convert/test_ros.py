@@ -457,3 +457,14 @@ def test_joint_map_takes_many_to_one_where_the_columns_agree(tmp_path: Path) -> 
     assert code == 0, err
     goal = yaml.safe_load((tmp_path / "m.trajectory.yaml").read_text())["trajectory"]
     assert goal["joint_names"] == ["head"]
+
+
+def test_a_real_naos_hand_reads_back_as_the_eight_phalanges(tmp_path: Path) -> None:
+    # Both ways: naoqi_driver's one LHand is the Webots Nao's LPhalanx1..8, all at its value.
+    bag, _, _ = _recording(tmp_path / "nao", names=("HeadYaw", "LHand"), seconds=0.5)
+    code, err = _run(bag, tmp_path / "nao.motion", "--max-error", "0")
+    assert code == 0, err
+    motion = read_motion(str(tmp_path / "nao.motion"))
+    assert motion.joints == ("LPhalanx1", *HAND[1:], "HeadYaw")  # the recording's order
+    assert (motion.values[:, :8] == motion.values[:, :1]).all()
+    assert "unknown joint" not in err
