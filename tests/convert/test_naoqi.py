@@ -278,3 +278,16 @@ def test_send_script_is_for_naoqi_only(tmp_path: Path) -> None:
     assert result.exit_code == 2
     assert "--send-script applies to naoqi, not to motion -> csv" in result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_full_disk_under_the_script_leaves_no_json(tmp_path: Path) -> None:
+    # The script goes to a full device (1, 7: /dev/full): the JSON is not left alone.
+    full = tmp_path / "full"
+    try:
+        os.mknod(full, stat.S_IFCHR | 0o666, os.makedev(1, 7))
+    except PermissionError:
+        pytest.skip("mknod needs root (CI runs as root)")
+    result = _convert(WAVE, tmp_path / "wave.naoqi.json", "--send-script", full)
+    assert result.exit_code == 2
+    assert result.stderr == f"motiontool: error: cannot write '{full}': No space left on device\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["full"]
