@@ -22,19 +22,22 @@ from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
 from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.grouping import group_findings, run_finding
-from motiontool.motionfmt.player import Held, hold_targets
-from motiontool.motionfmt.reader import ReadResult
+from motiontool.motionfmt.player import Held, commands_at, hold_targets
+from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.motionfmt.motion import Motion
+
 __all__ = ["Velocity"]
 
 _STREAM_CHUNK = 1 << 13
 """Controller steps of the command stream the velocity check reads at a time (a few MB of arrays
-for a Nao, whatever the motion's duration)."""
+for a Nao, whatever the motion's duration; it reads the steps around each pose,
+:func:`_steps_read`)."""
 
 _SEGMENTS = 1 << 14
 """Keyframe segments whose values are compared at a time: what the check keeps of the whole
@@ -202,7 +205,9 @@ class Velocity(GroupingCheck):
         speed = deltas["worst"] / ((t1 - t0) / MS_PER_S)
         w = Worst(speed, f"{joint.unit}/s", line, column, t1)
         last_line = span(last + 1, cols["last"])[0]
-        return run_finding(d, int(run.size), last_line, w, runs=int(run.runs))
+        _speed, _need_ms, over, need = cls._move(joint, deltas["worst"], t1 - t0)
+        amount = _amount(joint.unit, over, need, t1 - t0)
+        return run_finding(d, int(run.size), last_line, w, runs=int(run.runs), amount=amount)
 
     @staticmethod
     def _segment(table: Table, joint: JointSpec, seg: int, col: int, delta: float) -> Diagnostic:
@@ -210,8 +215,7 @@ class Velocity(GroupingCheck):
         u = joint.unit
         vmax = joint.max_velocity
         t0, t1 = int(table.times[seg]), int(table.times[seg + 1])
-        speed = float(delta) / ((t1 - t0) / MS_PER_S)
-        need_ms = float(delta) / vmax * MS_PER_S
+        speed, need_ms, over, need = Velocity._move(joint, delta, t1 - t0)
         return cell(
             table,
             "MT303",
@@ -220,8 +224,8 @@ class Velocity(GroupingCheck):
             col,
             f"{fmt_name(joint.name)} moves {fmt_num(delta)} {u} in {t1 - t0} ms "
             f"({t0} ms to {t1} ms): {fmt_num(speed)} {u}/s, above its maximum velocity "
-            f"{fmt_num(vmax)} {u}/s by {fmt_num(speed - vmax)} {u}/s; the motor needs "
-            f"{fmt_ms(round(need_ms, 1))} and falls {fmt_ms(round(need_ms - (t1 - t0), 1))} behind",
+            f"{fmt_num(vmax)} {u}/s by {over} {u}/s; the motor needs "
+            f"{need} and falls {fmt_ms(round(need_ms - (t1 - t0), 1))} behind",
             "Webots caps the motor's speed at maxVelocity, so the joint arrives late; "
             f"give this move at least {math.ceil(need_ms)} ms",
             grouping=PoseFinding(
@@ -232,10 +236,20 @@ class Velocity(GroupingCheck):
                 speed - vmax,
                 noun="segment",
                 hint="Webots caps the motor's speed at maxVelocity, so the joint arrives "
-                "late; give each of these moves more time (one finding per segment says how "
-                "much)",
+                "late; give each of these moves more time (--no-group: a finding per segment, "
+                "with the time each needs)",
+                amount=_amount(u, over, need, t1 - t0),
             ),
         )
+
+    @staticmethod
+    def _move(joint: JointSpec, delta: float, dt_ms: int) -> tuple[float, float, str, str]:
+        """A move of ``delta`` (rad or m) in ``dt_ms``: its speed (rad/s or m/s), the time it
+        needs at the maximum velocity (ms), and how both read in MT303's messages: how far
+        above the maximum velocity, and the time needed."""
+        speed = float(delta) / (dt_ms / MS_PER_S)
+        need_ms = float(delta) / joint.max_velocity * MS_PER_S
+        return speed, need_ms, fmt_num(speed - joint.max_velocity), fmt_ms(round(need_ms, 1))
 
     def _stream(
         self,
@@ -248,32 +262,32 @@ class Velocity(GroupingCheck):
         controller steps at a time (memory stays flat whatever the motion's duration)."""
         import numpy as np
 
-        from motiontool.motionfmt.clock import clock_overflow
-        from motiontool.motionfmt.player import iter_commands
+        from motiontool.motionfmt.clock import clock_overflow, end_step
 
         motion = table.result.motion
+        step = self.timestep_ms
         # Where Webots' playback time wraps (MT115), the steps up to the wrap: it may never end.
-        overflow = clock_overflow(motion.duration_ms, self.timestep_ms)
-        chunks = iter_commands(
-            motion,
-            self.timestep_ms,
-            chunk_steps=_STREAM_CHUNK,
-            max_steps=None if overflow is None else overflow.step + 1,
-        )
+        overflow = clock_overflow(motion.duration_ms, step)
+        last = end_step(motion.duration_ms, step) if overflow is None else overflow.step
+        assert last is not None, "a motion that never ends wraps"
+        lo, hi = _merged(*_steps_read(motion, step, last + 1))
+        gaps = (hi[:-1] - 1) * step  # a step read, then steps not read: no pair across them
         names = [table.result.joints[group[-1]] for group in table.groups]
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
         fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int32)
         np.cumsum(fast, axis=0, out=fast_before[1:])
         defined = table.defined
         worst: dict[tuple[int, int], _Step] = {}
-        last: dict[int, _Sent] = {}
-        for stream in chunks:
-            motors = hold_targets(stream.targets, stream.commanded, table.result.joints, names)
-            for i, k, now in _sent_steps(table.times, stream.elapsed_ms, motors, limited, last):
+        carried: dict[int, _Sent] = {}
+        for elapsed in _chunks(lo, hi, step, _STREAM_CHUNK):
+            targets, commanded = commands_at(motion, elapsed)
+            motors = hold_targets(targets, commanded, table.result.joints, names)
+            for i, k, now in _sent_steps(table.times, elapsed, motors, limited, carried):
                 fast_steps = self._fast_steps(
                     table.times,
                     now,
                     (joints[k].max_velocity, defined[:, k], fast_before[:, i]),
+                    gaps,
                 )
                 for pose, found in fast_steps:
                     if (i, pose) not in worst or found[0] > worst[(i, pose)][0]:
@@ -288,15 +302,19 @@ class Velocity(GroupingCheck):
         times: npt.NDArray[np.int64],
         sent: _Sent,
         motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int32]],
+        gaps: npt.NDArray[np.int64],
     ) -> list[tuple[int, _Step]]:
         """The steps of one motor whose target moves faster than its maximum velocity, each
         with the pose to report it on.
 
         Args:
             times: (P,) the pose times, ms.
-            sent: the steps that send the motor a target.
+            sent: the steps read that send the motor a target.
             motor: its maximum velocity (unit/s), (P,) which poses command it, and (P,) how
                 many of its segments before each pose are MT303 segments.
+            gaps: (G,) sorted, the times (ms) of the steps read after which steps are not read
+                (:func:`_steps_read`): a motor sent a target there is sent one at every step
+                up to the next step read, so the two are not consecutive commands.
         """
         import numpy as np
 
@@ -305,7 +323,10 @@ class Velocity(GroupingCheck):
         elapsed, targets, after, at_or_after = sent
         with np.errstate(invalid="ignore"):  # 'inf' targets: left to MT302
             per_step = np.abs(np.diff(targets)) / (step / MS_PER_S)
-            n = np.flatnonzero(np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS)))
+            fast = np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS))
+        if gaps.size and fast.any():
+            fast[_member(elapsed[:-1], gaps)] = False
+        n = np.flatnonzero(fast)
         if n.size == 0:
             return []
         at0, at1 = elapsed[n], elapsed[n + 1]
@@ -382,6 +403,115 @@ class Velocity(GroupingCheck):
                 speed - vmax,
             ),
         )
+
+
+def _steps_read(
+    motion: Motion, step: int, n_steps: int
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """The steps of the command stream the check reads, as ranges ``[lo, hi)`` of step
+    indices (step ``s`` at ``s * step`` ms; ``n_steps`` steps, none wrapped), possibly
+    overlapping: the two steps on either side of each pose time, the first and last two, and
+    those around a target exactly equal to Webots' no-value marker inside a segment.
+
+    Between two such steps nothing changes but the targets: the same columns send, each a
+    target on one straight segment (Webots' player interpolates every step of a segment with
+    one expression, correctly rounded, so monotone), so a target moves at its segment's speed
+    at every step. A step faster than the maximum velocity there is on a segment MT303 reports,
+    whose steps MT304 leaves to it: the findings are those of every step, whatever the
+    duration (a 3-line file ending at 2147483647 ms has 107 million 20 ms steps).
+    """
+    import numpy as np
+
+    times = np.unique(motion.times_ms)
+    around = times // step
+    lo = np.concatenate([around - 1, [0, n_steps - 2], *_marker_steps(motion, step, n_steps)])
+    return np.clip(lo, 0, n_steps), np.clip(lo + 4, 0, n_steps)
+
+
+def _marker_steps(motion: Motion, step: int, n_steps: int) -> list[npt.NDArray[np.int64]]:
+    """Where a target inside a segment (a column's number at both ends) comes out exactly
+    equal to Webots' no-value marker, so that it is not sent: the first step of each such
+    stretch of steps and the first after it, less two (``lo`` of :func:`_steps_read`'s ranges
+    around them). A target is monotone along its segment, so the stretch is one, found by
+    bisection (O(log steps)), every segment at once."""
+    import numpy as np
+
+    t, v, c = motion.times_ms, motion.values, motion.commanded
+    if t.shape[0] < 2:
+        return []
+    a, b = v[:-1], v[1:]
+    marker = NO_VALUE_MARKER
+    with np.errstate(invalid="ignore"):
+        through = (np.fmin(a, b) <= marker) & (marker <= np.fmax(a, b)) & ((a != b) | (a != marker))
+    segs, cols = np.nonzero(c[:-1] & c[1:] & through)
+    first = np.maximum(t[segs] // step + 1, 1)  # the steps inside (t[seg], t[seg + 1]]
+    end = np.minimum(t[segs + 1] // step, n_steps - 1) + 1
+    v0, v1, t0 = a[segs, cols], b[segs, cols], t[segs]
+    dt = (t[segs + 1] - t0).astype(np.float64)
+    rising = v1 > v0
+
+    def bisect(
+        past: Callable[[npt.NDArray[np.float64]], npt.NDArray[np.bool_]],
+    ) -> npt.NDArray[np.int64]:
+        """The first step of each segment whose target is ``past`` the marker, else ``end``."""
+        lo, hi = first.copy(), end.copy()
+        while (open_ := lo < hi).any():
+            mid = (lo + hi) // 2
+            with np.errstate(all="ignore"):  # commands_at's expression: inf - inf is NaN
+                target = (v1 - v0) * (mid * step - t0).astype(np.float64) / dt + v0
+            now = past(target)
+            hi = np.where(open_ & now, mid, hi)
+            lo = np.where(open_ & ~now, mid + 1, lo)
+        return lo
+
+    at = bisect(lambda q: np.where(rising, q >= marker, q <= marker))
+    beyond = bisect(lambda q: np.where(rising, q > marker, q < marker))
+    return [at - 2, beyond - 2]
+
+
+def _merged(
+    lo: npt.NDArray[np.int64], hi: npt.NDArray[np.int64]
+) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
+    """The ranges ``[lo, hi)`` merged where they overlap or touch: sorted, disjoint, apart."""
+    import numpy as np
+
+    keep = hi > lo
+    lo, hi = lo[keep], hi[keep]
+    order = np.argsort(lo, kind="stable")
+    lo, hi = lo[order], np.maximum.accumulate(hi[order])
+    start = np.flatnonzero(np.concatenate([[True], lo[1:] > hi[:-1]]))
+    return lo[start], hi[np.append(start[1:], lo.shape[0]) - 1]
+
+
+def _chunks(
+    lo: npt.NDArray[np.int64], hi: npt.NDArray[np.int64], step: int, size: int
+) -> Iterator[npt.NDArray[np.int64]]:
+    """The times (ms) of the steps of the ranges ``[lo, hi)`` (:func:`_merged`), in order, at
+    most ``size`` at a time."""
+    import numpy as np
+
+    ends = np.cumsum(hi - lo)
+    total = int(ends[-1]) if ends.shape[0] else 0
+    for first in range(0, total, size):
+        k = np.arange(first, min(first + size, total), dtype=np.int64)
+        r = np.searchsorted(ends, k, side="right")  # the range of the k-th step read
+        yield (lo[r] + k - (ends[r] - (hi[r] - lo[r]))) * step
+
+
+def _member(
+    x: npt.NDArray[np.int64], sorted_values: npt.NDArray[np.int64]
+) -> npt.NDArray[np.bool_]:
+    """Whether each of ``x`` is one of ``sorted_values`` (sorted, not empty)."""
+    import numpy as np
+
+    at = np.minimum(np.searchsorted(sorted_values, x), sorted_values.shape[0] - 1)
+    found: npt.NDArray[np.bool_] = sorted_values[at] == x
+    return found
+
+
+def _amount(unit: str, over: str, need: str, dt_ms: int) -> str:
+    """What a grouped MT303 says of its worst segment (:meth:`Velocity._move`'s texts)."""
+    return f"{over} {unit}/s above it: that move needs {need}, not {dt_ms} ms"
 
 
 def _sent_steps(

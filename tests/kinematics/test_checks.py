@@ -311,6 +311,81 @@ def test_the_command_stream_read_in_chunks_finds_what_the_whole_stream_finds(
         velocity._STREAM_CHUNK = saved
 
 
+@st.composite
+def long_nao_motions(draw: st.DrawFn) -> bytes:
+    """Motions of few poses over many controller steps: gaps up to 5 s (up to 5 000 steps),
+    '*', 'nan' and 'inf' cells, Webots' no-value marker -9999999.9 (a target equal to it is not
+    sent) and values whose segments pass through it."""
+    names = draw(
+        st.lists(st.sampled_from(["HeadYaw", "HeadPitch", "RElbowRoll"]), min_size=1, max_size=4)
+    )
+    n_poses = draw(st.integers(1, 6))
+    gaps = draw(st.lists(st.integers(0, 5000), min_size=n_poses, max_size=n_poses))
+    times = [sum(gaps[1 : i + 1]) for i in range(n_poses)]
+    cell = st.one_of(
+        st.just("*"),
+        st.sampled_from(["nan", "inf", "-9999999.9", "-19999999.8", "1e7", "-9999999.8"]),
+        st.floats(-2.5, 2.5, allow_nan=False).map(lambda x: repr(round(x, 3))),
+    )
+    lines = ["#WEBOTS_MOTION,V1.0," + ",".join(names)]
+    lines += [
+        ",".join([str(t), f"P{p}", *(draw(cell) for _ in names)]) for p, t in enumerate(times)
+    ]
+    return ("\n".join(lines) + "\n").encode()
+
+
+@settings(max_examples=150, deadline=None)
+@given(long_nao_motions(), st.sampled_from([1, 3, 8, 20, 40]), st.integers(1, 9))
+def test_the_velocity_check_reads_the_steps_around_each_pose_and_finds_what_every_step_finds(
+    data: bytes, step: int, chunk: int
+) -> None:
+    """Between two poses each target moves at its segment's speed, step after step (MT303's to
+    judge): the check reads the steps around each pose time (and around a target equal to
+    Webots' no-value marker), not every step, and finds what reading every step finds, in
+    chunks of any size."""
+    import numpy as np
+
+    from motiontool.kinematics.checks import velocity
+
+    def found() -> list[str]:
+        checks = robot_checks(_NAO, ["velocity"], timestep_ms=step)
+        return [str(d) for d in validate_bytes(data, "t.motion", checks=checks).diagnostics]
+
+    read = found()
+    saved = velocity._steps_read, velocity._STREAM_CHUNK
+    velocity._steps_read = lambda motion, step, n: (np.array([0]), np.array([n]))
+    try:
+        every = found()
+        velocity._STREAM_CHUNK = chunk
+        assert found() == every
+    finally:
+        velocity._steps_read, velocity._STREAM_CHUNK = saved
+    assert read == every
+
+
+def test_the_velocity_check_of_a_motion_ending_at_2_31_ms_reads_a_few_steps(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A 3-line file whose last pose is past 2^31 ms took 10 s to validate: the check read
+    all 107 million 20 ms steps. It reads the steps around each pose: a few dozen."""
+    from motiontool.kinematics.checks import velocity
+
+    read: list[int] = []
+    original = velocity.commands_at
+
+    def counting(motion: Any, elapsed: Any) -> Any:
+        read.append(len(elapsed))
+        return original(motion, elapsed)
+
+    monkeypatch.setattr(velocity, "commands_at", counting)
+    rows = b"0,P1,0,0\n40,P2,1.5,*\n2147483000,P3,0,1\n2147483640,P4,0,1\n"
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n" + rows
+    found = findings(data, checks=("velocity",), timestep_ms=20)
+    assert [f.split(": ")[1] for f in found] == ["warning MT303", "warning MT207", "warning MT304"]
+    assert "target jumps by 1 rad at 2147483020 ms" in found[2]
+    assert 0 < sum(read) <= 32  # of 107 374 183 steps
+
+
 @settings(max_examples=80, deadline=None)
 @given(
     nao_motions(),
