@@ -118,6 +118,9 @@ class PoseFinding:
             subject): the group's worst finding is the one with the largest.
         noun: what one finding is about, for the count (``pose``, ``segment``).
         hint: the group's hint; None: the first finding's.
+        amount: how much this finding asks to change, which a group says of its worst one
+            (MT303: ``2.8 rad/s above it: that move needs 27.8 ms, not 20 ms``); None:
+            the worst value says it.
     """
 
     pose: int
@@ -127,6 +130,7 @@ class PoseFinding:
     excess: float
     noun: str = "pose"
     hint: str | None = None
+    amount: str | None = None
 
 
 @dataclass(frozen=True, slots=True)

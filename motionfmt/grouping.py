@@ -36,15 +36,22 @@ MAX_RUNS = 10
 
 
 def grouped_message(
-    pose: PoseFinding, count: int, lines: tuple[int, int], worst: Worst, runs: int = 1
+    pose: PoseFinding,
+    count: int,
+    lines: tuple[int, int],
+    worst: Worst,
+    runs: int = 1,
+    amount: str | None = None,
 ) -> str:
     """``SUBJECT on 3,412 poses, lines 5–3416, worst 2 rad at line 17`` (``on 3,412 poses in
-    12 runs`` for ``runs`` of them)."""
+    12 runs`` for ``runs`` of them), then the worst finding's ``amount`` in brackets (see
+    :attr:`~motiontool.motionfmt.diagnostics.PoseFinding.amount`)."""
     first, last = lines
     within = f" in {runs:,} runs" if runs > 1 else ""
+    said = f" ({amount})" if amount else ""
     return (
         f"{pose.subject} on {count:,} {pose.noun}s{within}, lines {first}\u2013{last}, "
-        f"worst {worst.value:.6g} {worst.unit} at line {worst.line}"
+        f"worst {worst.value:.6g} {worst.unit} at line {worst.line}{said}"
     )
 
 
@@ -91,7 +98,15 @@ class _Open:
         w = Worst(
             self.worst_pose.value, self.worst_pose.unit, worst.line, worst.column, worst.time_ms
         )
-        return run_finding(self.first, self.count, self.last.line, w, self.severity, runs)
+        return run_finding(
+            self.first,
+            self.count,
+            self.last.line,
+            w,
+            self.severity,
+            runs,
+            amount=self.worst_pose.amount,
+        )
 
 
 def run_finding(
@@ -101,11 +116,13 @@ def run_finding(
     worst: Worst,
     severity: Severity | None = None,
     runs: int = 1,
+    amount: str | None = None,
 ) -> Diagnostic:
     """The finding that :func:`group_findings` makes of ``count`` consecutive findings of
     ``first``'s code and subject (in ``runs`` runs: see :data:`MAX_RUNS`), from ``first``
     (which has :attr:`~Diagnostic.pose`) to one on ``last_line``, the worst of them ``worst``;
-    ``severity``: the worst of their severities (None: ``first``'s). ``first`` itself when
+    ``severity``: the worst of their severities (None: ``first``'s); ``amount``: the worst's
+    :attr:`~motiontool.motionfmt.diagnostics.PoseFinding.amount`. ``first`` itself when
     ``count`` is 1.
 
     A check that finds its problems as arrays builds its groups with this, without a
@@ -120,7 +137,7 @@ def run_finding(
     return dataclasses.replace(
         first,
         severity=first.severity if severity is None else severity,
-        message=grouped_message(pose, count, (first.line, last_line), worst, runs),
+        message=grouped_message(pose, count, (first.line, last_line), worst, runs, amount),
         hint=pose.hint if pose.hint is not None else first.hint,
         pose=None,
         run=run,

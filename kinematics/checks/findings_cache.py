@@ -63,7 +63,7 @@ MAX_RESULTS = 20_000
 a few versions of each file of a large motion library."""
 _T = TypeVar("_T")
 
-_LAYOUT = "motiontool-findings-3"
+_LAYOUT = "motiontool-findings-4"
 """The layout of a stored entry: a change to :func:`_encode` is a new layout."""
 _PRUNE_PREFIX = "00"
 """Storing a key that starts with this prunes the store: one store in 256, whatever the
@@ -208,7 +208,7 @@ def _decode(item: object, path: str) -> Diagnostic:
 
 
 def _pose(item: object) -> PoseFinding:
-    pose, subject, value, unit, excess, noun, hint = _list(item, 7)
+    pose, subject, value, unit, excess, noun, hint, amount = _list(item, 8)
     return PoseFinding(
         _of(pose, int),
         _of(subject, str),
@@ -217,6 +217,7 @@ def _pose(item: object) -> PoseFinding:
         _number(excess),
         _of(noun, str),
         _or_none(hint, str),
+        _or_none(amount, str),
     )
 
 
