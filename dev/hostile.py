@@ -193,6 +193,9 @@ def case_device(line: list[str], minor: int, tally: Tally) -> None:
             return
         done = _run(here, [a if a != "OUT" else "dev" for a in line])
         problem = _traceback(done.stderr) or _same_special(node, stat.S_ISCHR, os.makedev(1, minor))
+        beside = sorted(p.name for p in here.iterdir() if p.name.startswith("dev") and p != node)
+        if not problem and beside:  # a companion (naoqi's _send.py) goes beside files only
+            problem = f"wrote {beside} beside the device"
         if not problem and minor == 7 and done.returncode != 2:
             problem = f"a full disk exited {done.returncode}, not 2"
         if not problem and minor == 3 and done.returncode not in (0, 1):
@@ -250,6 +253,23 @@ def case_refused(line: list[str], tally: Tally, memory: int | None = None) -> No
         if not problem and (here / "X").exists():
             problem = "an output was written"
         tally.record(" ".join(line), problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_empty_path(line: list[str], tally: Tally) -> None:
+    """OUT = '' (pathlib's '.'): one line, exit 2, nothing written."""
+    here = _scratch()
+    try:
+        done = _run(here, [a if a != "OUT" else "" for a in line])
+        err = done.stderr.decode(errors="replace")
+        problem = _traceback(done.stderr)
+        if not problem and (done.returncode != 2 or err.count("\n") != 1):
+            problem = f"exit {done.returncode}, stderr {err[-200:]!r}"
+        left = sorted(p.name for p in here.iterdir()) if not problem else []
+        if not problem and set(left) - {"cache", "in.motion", "other.motion"}:
+            problem = f"wrote {left}"
+        tally.record(f"{' '.join(line)} (OUT '')", problem)
     finally:
         shutil.rmtree(here, ignore_errors=True)
 
@@ -350,6 +370,7 @@ def main() -> int:
         cases += [
             lambda line=line: case_fifo(line, tally),
             lambda line=line: case_symlink(line, tally),
+            lambda line=line: case_empty_path(line, tally),
         ]
         if rooted:
             cases += [
