@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
 from motiontool.cli.output import (
@@ -287,7 +287,7 @@ def play_command(
     )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
     options = PlayOptions(
-        timestep_ms=timestep if timestep is not None else settings.timestep,
+        timestep_ms=timestep if timestep is not None else _config_step(settings, world),
         loops=loop,
         reverse=reverse,
         hold_s=hold,
@@ -300,6 +300,12 @@ def play_command(
     result = _run(planned, robot, options, rrd=rrd, bag=bag)
     say_bag(result, bag)
     _render(result, json_path, rrd)
+
+
+def _config_step(settings: Settings, world: Path | None) -> int | None:
+    """The configuration's control step, ms; None with --world, whose basicTimeStep wins (the
+    configuration's stands for the robot's usual world; -t wins over both)."""
+    return settings.timestep if world is None else None
 
 
 def _run(

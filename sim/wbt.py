@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import bisect
 import re
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import NamedTuple, TypeAlias
 
@@ -127,12 +128,12 @@ class _Tok(NamedTuple):
     text: str
     line: int
     column: int
+    offset: int  # in the text
 
 
-def _tokens(text: str, path: str) -> list[_Tok]:
-    """The tokens of ``text`` (comments and white space dropped)."""
+def _tokens(text: str, path: str) -> Iterator[_Tok]:
+    """The tokens of ``text`` (comments and white space dropped), read as they are asked for."""
     newlines = [i for i, c in enumerate(text) if c == "\n"]
-    out: list[_Tok] = []
     for match in _TOKEN.finditer(text):
         kind = match.lastgroup or "bad"
         start = match.start(kind) if match.lastgroup else match.end()
@@ -143,8 +144,8 @@ def _tokens(text: str, path: str) -> list[_Tok]:
         if kind == "bad":
             what = text[start : start + 2]
             if start >= len(text):
-                out.append(_Tok("eof", "", line, column))
-                return out
+                yield _Tok("eof", "", line, column, start)
+                return
             if what[:1] == '"':
                 raise MotionSyntaxError("string not closed on its line", path, line, column)
             if what in ("%<", "%{"):
@@ -157,7 +158,7 @@ def _tokens(text: str, path: str) -> list[_Tok]:
                     column,
                 )
             raise MotionSyntaxError(f"unexpected character {what[:1]!r}", path, line, column)
-        out.append(_Tok(kind, match.group(kind), line, column))
+        yield _Tok(kind, match.group(kind), line, column, start)
     raise AssertionError("the token pattern ends at the end of the text")  # pragma: no cover
 
 
@@ -167,16 +168,21 @@ class _Parser:
     def __init__(self, text: str, path: str) -> None:
         self.path = path
         self.header = text.split("\n", 1)[0].lstrip("\ufeff")
-        self.toks = _tokens(text, path)
+        self.text = text
+        self.stream = _tokens(text, path)
+        self.toks: list[_Tok] = []
         self.pos = 0
+        self.done = False  # a PROTO body with template code ends what is read
         self.defs: dict[str, Node] = {}
         self.open: list[_Tok] = []  # the brackets open, for the message at a truncated end
 
     def peek(self) -> _Tok:
+        while self.pos >= len(self.toks):
+            self.toks.append(next(self.stream))
         return self.toks[self.pos]
 
     def take(self) -> _Tok:
-        tok = self.toks[self.pos]
+        tok = self.peek()
         if tok.kind == "eof":
             raise self.truncated()
         self.pos += 1
@@ -210,7 +216,7 @@ class _Parser:
 
     def file(self) -> WbtFile:
         out = WbtFile(self.path, self.version())
-        while self.peek().kind != "eof":
+        while not self.done and self.peek().kind != "eof":
             tok = self.peek()
             if tok.kind == "word" and tok.text == "IMPORTABLE":
                 self.take()
@@ -261,12 +267,17 @@ class _Parser:
         self.open.pop()
         opener = self.expect("{", f"after the interface of PROTO {name.text}")
         self.open.append(opener)
+        rest = self.text[opener.offset + 1 :]
+        if "%<" in rest or "%{" in rest:  # template code: the body is not read (nor tokenized)
+            self.done = True
+            while self.peek().kind == "template":
+                self.take()
+            base = self.peek().text if self.peek().kind == "word" else None
+            return Proto(name.text, defaults, None, base, start.line, start.column)
         body_start = self.pos
-        templated = False
         depth = 1
         while depth:
             tok = self.take()
-            templated |= tok.kind == "template"
             if tok.kind == "punct" and tok.text in "{[":
                 depth += 1
             elif tok.kind == "punct" and tok.text in "}]":
@@ -278,11 +289,12 @@ class _Parser:
             None,
         )
         body = None
-        if not templated and body_start < body_end:
+        if body_start < body_end:
             inner = _Parser.__new__(_Parser)
             inner.path, inner.header, inner.defs, inner.open = self.path, "", {}, [opener]
-            inner.toks = [*self.toks[body_start:body_end], self.toks[-1]]
-            inner.pos = 0
+            close = self.toks[body_end]  # the body's '}': the end of what the inner parser reads
+            inner.toks = [*self.toks[body_start:body_end], close._replace(kind="eof", text="")]
+            inner.pos, inner.done, inner.stream = 0, False, iter(())
             found = inner.node()
             body = found if isinstance(found, Node) else None
         return Proto(name.text, defaults, body, base, start.line, start.column)

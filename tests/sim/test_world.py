@@ -266,3 +266,19 @@ def test_a_bad_world_on_the_command_line_is_one_line_exit_2(wrestling: Path) -> 
     result = runner.invoke(app, ["play", "--headless", "--robot-node", "x", str(motion)])
     assert result.exit_code == 2
     assert "--robot-node names a robot node of --world" in result.stderr
+
+
+def test_the_world_step_wins_over_the_configuration_and_timestep_over_both(
+    wrestling: Path,
+) -> None:
+    """--world is asked for on the command line: its basicTimeStep beats the configuration's
+    ``timestep`` (which stands for the robot's usual world); -t beats both."""
+    config = wrestling / "motiontool.toml"
+    config.write_text("timestep = 40\n", encoding="utf-8")
+    world = str(wrestling / "worlds" / "wrestling.wbt")
+    doc, _text = _play(
+        wrestling, "--config", str(config), "--world", world, "--robot-node", "participant"
+    )
+    assert doc["stamps"]["control_step_ms"] == 10
+    doc, _text = _play(wrestling, "--config", str(config))
+    assert doc["stamps"]["control_step_ms"] == 40 and doc["world"] is None
