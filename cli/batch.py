@@ -26,6 +26,8 @@ from motiontool.cli.physics_options import (
     PhysicsStepOption,
     Profile,
     ProfileOption,
+    RobotNodeOption,
+    WorldOption,
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import plural
@@ -142,6 +144,8 @@ def batch_command(
     physics_step: PhysicsStepOption = None,
     friction: FrictionOption = None,
     profile: ProfileOption = Profile.default,
+    world: WorldOption = None,
+    robot_node: RobotNodeOption = None,
     junit: _Junit = None,
     json_out: _Json = None,
     markdown: _Markdown = None,
@@ -169,6 +173,7 @@ def batch_command(
         robot=robot,
         timestep=timestep,
         physics=(profile, physics_step, friction),
+        world=(world, robot_node),
         sampling=(perturb or [], samples, seed),
         expect=expect or [],
         start=start,
@@ -272,6 +277,7 @@ def _plan(
     robot: list[str] | None,
     timestep: int | None,
     physics: tuple[Profile, float | None, float | None],
+    world: tuple[Path | None, str | None],
     sampling: tuple[list[str], int, int],
     expect: list[str],
     start: Start | None,
@@ -280,9 +286,10 @@ def _plan(
 ) -> list[RunSpec]:
     """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
     each file's robots and time step from the configuration unless given; ``physics`` is the
-    profile, physics step (ms) and friction, ``sampling`` the perturbations, the samples and the
-    seed. A bad option,
-    robot, expectation, sidecar or physics step: exit 2 before anything runs."""
+    profile, physics step (ms) and friction, ``world`` the Webots world and its robot node
+    (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
+    configuration's), ``sampling`` the perturbations, the samples and the seed. A bad option,
+    robot, expectation, sidecar, world or physics step: exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
     from motiontool.sim.physics import physics_run_options
 
@@ -300,7 +307,7 @@ def _plan(
         files,
         robots,
         options=options,
-        timesteps={f: timestep or settings[f].timestep for f in files},
+        timesteps={f: timestep or (None if world[0] else settings[f].timestep) for f in files},
         expect=expect,
         start=start,
         sidecar=sidecar,
@@ -311,7 +318,21 @@ def _plan(
         seed=seed,
     )
     _check_physics(specs, profile, physics_step, friction)
-    return specs
+    return _in_world(specs, *world)
+
+
+def _in_world(specs: list[RunSpec], world: Path | None, robot_node: str | None) -> list[RunSpec]:
+    """``specs`` with the world options (in their cache key); a world without a robot node for
+    one of their robots: exit 2 before anything runs."""
+    from dataclasses import replace
+
+    from motiontool.kinematics.robots import AUTO
+    from motiontool.sim.world_run import world_run_options
+
+    extra = world_run_options(world, robot_node, {s.robot for s in specs if s.robot != AUTO})
+    if not extra:
+        return specs
+    return [replace(s, options=tuple(sorted({**dict(s.options), **extra}.items()))) for s in specs]
 
 
 def _check_physics(

@@ -81,6 +81,7 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
     """Play ``spec`` headless and return the play report as JSON (``clean``, ``reason``, ...)."""
     from motiontool.kinematics.robots import resolve_robot
     from motiontool.sim.play import play, read_playable
+    from motiontool.sim.world_run import world_of
     from motiontool.stamps import stamps
 
     params = dict(spec.params)
@@ -97,6 +98,7 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
         options=_play_options(spec),
         rrd=recording_path(spec, robot),
         stamps=stamps(robot.model_hash),
+        world=world_of(dict(spec.options), robot.name),
     )
     doc = report.to_json()
     doc["perturbation"] = params

@@ -146,6 +146,7 @@ class World:
         robot: the robot that plays the motion.
         supports: what it can stand on.
         skipped: one line per kind of node not read, naming the nodes.
+        files: the files read: the world, then each local PROTO file.
     """
 
     path: str
@@ -160,6 +161,7 @@ class World:
     robot: RobotNode
     supports: tuple[Support, ...]
     skipped: tuple[str, ...] = ()
+    files: tuple[Path, ...] = ()
 
     def contact(self, material: str) -> ContactProps:
         """The contact properties between the robot's feet and ``material``: the first
@@ -213,6 +215,7 @@ class _Reader:
             self.urls[stem] = url
         self.up = 2
         self.skipped: dict[str, list[str]] = {}
+        self.read: list[Path] = []  # the local PROTO files read
 
     def error(self, node: Node | None, message: str) -> MotionSyntaxError:
         line, col = (node.line, node.column) if node is not None else (1, 1)
@@ -259,6 +262,7 @@ class _Reader:
             robot=chosen,
             supports=tuple(supports),
             skipped=tuple(f"{why}: {', '.join(names)}" for why, names in self.skipped.items()),
+            files=(self.path, *self.read),
         )
 
     def modern(self) -> bool:
@@ -344,6 +348,7 @@ class _Reader:
         found = None
         for candidate in self.proto_files(kind):
             if candidate.is_file():
+                self.read.append(candidate)
                 text = _text(candidate)
                 parsed = parse_wbt(text, str(candidate))
                 found = next((p for p in parsed.protos if p.name == kind), None)

@@ -21,14 +21,17 @@ Pure Python: the MuJoCo side takes :class:`Ground` and the start position.
 
 from __future__ import annotations
 
+import hashlib
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from motiontool.errors import MotionToolError
-from motiontool.sim.world import ContactProps, Support, World
+from motiontool.sim.world import ContactProps, Support, World, read_world
 
-__all__ = ["Ground", "WorldRun", "world_run"]
+__all__ = ["Ground", "WorldRun", "world_of", "world_run", "world_run_options"]
 
 MAX_RESTITUTION = 0.99
 """The largest ``bounce`` applied: a restitution of 1 is an undamped contact spring."""
@@ -296,3 +299,34 @@ def _surface(supports: tuple[Support, ...], x: float, y: float) -> Support | Non
         if z is not None and z > top:
             best, top = s, z
     return best
+
+
+def world_run_options(
+    world: Path | None, robot_node: str | None, robots: Iterable[str]
+) -> dict[str, Any]:
+    """The world options of a batch run (:class:`~motiontool.sim.batch.RunSpec` options, and so
+    its cache key): the world file, the sha256 of the files it reads (the world and its local
+    PROTOs: a changed world is played again) and the robot node; none without a world.
+
+    Raises:
+        MotionToolError: a world that cannot be read, or has no robot node for one of
+            ``robots`` (:func:`motiontool.sim.world.read_world`): before any run.
+    """
+    if world is None:
+        if robot_node is not None:
+            raise MotionToolError(f"robot node {robot_node!r} given without a world to find it in")
+        return {}
+    digest = hashlib.sha256()
+    for robot in sorted(set(robots)):
+        read = read_world(world, robot_node, robot)
+        world_run(read)
+        for path in read.files:
+            digest.update(path.read_bytes())
+    return {"world": str(world), "world_sha256": digest.hexdigest(), "robot_node": robot_node}
+
+
+def world_of(options: dict[str, Any], robot: str) -> WorldRun | None:
+    """The world a batch run plays in (its options from :func:`world_run_options`), or None."""
+    if not options.get("world"):
+        return None
+    return world_run(read_world(options["world"], options.get("robot_node"), robot))

@@ -282,3 +282,46 @@ def test_the_world_step_wins_over_the_configuration_and_timestep_over_both(
     assert doc["stamps"]["control_step_ms"] == 10
     doc, _text = _play(wrestling, "--config", str(config))
     assert doc["stamps"]["control_step_ms"] == 40 and doc["world"] is None
+
+
+# -- batch in a world
+
+
+def test_batch_plays_every_run_in_the_world_and_caches_by_its_content(
+    wrestling: Path, tmp_path: Path
+) -> None:
+    """batch --world: each run's report carries the world's settings; the cache key holds the
+    world's content (a changed world is played again, not answered from the cache)."""
+    world = wrestling / "worlds" / "wrestling.wbt"
+    motion = wrestling / "controllers" / "motions" / "HandWave.motion"
+    cache = tmp_path / "cache"
+    args = [
+        "batch",
+        str(motion),
+        "-j",
+        "1",
+        "--cache-dir",
+        str(cache),
+        "--json",
+        str(tmp_path / "b.json"),
+    ]
+    world_args = ["--world", str(world), "--robot-node", "participant"]
+    result = runner.invoke(app, [*args, *world_args])
+    assert result.exit_code == 0, result.output
+    (run,) = json.loads((tmp_path / "b.json").read_text(encoding="utf-8"))["runs"]
+    assert run["report"]["stamps"]["control_step_ms"] == 10
+    assert run["report"]["world"]["robot_node"]["def"] == "WRESTLER_RED"
+    world.write_text(
+        world.read_text(encoding="utf-8").replace("basicTimeStep 10", "basicTimeStep 20"),
+        encoding="utf-8",
+    )
+    result = runner.invoke(app, [*args, *world_args])
+    assert result.exit_code == 0, result.output
+    (run,) = json.loads((tmp_path / "b.json").read_text(encoding="utf-8"))["runs"]
+    assert run["report"]["stamps"]["control_step_ms"] == 20  # played again, not cached
+    result = runner.invoke(app, [*args, "--world", str(world)])  # two Nao, none chosen
+    assert result.exit_code == 2
+    assert "2 robot nodes could play it" in result.stderr and "Traceback" not in result.output
+    result = runner.invoke(app, [*args, "--robot-node", "participant"])
+    assert result.exit_code == 2
+    assert "robot node 'participant' given without a world" in result.stderr
