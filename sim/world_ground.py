@@ -146,7 +146,7 @@ def _supports_of(
         if not math.isclose(abs(axis[2]), math.hypot(*axis), rel_tol=1e-6):
             reader.skip("not simulated (tilted solids)", f"{node.type} line {node.line}")
             return []
-        yaw = math.copysign(r[3], axis[2])
+        yaw = r[3] if axis[2] > 0 else -r[3]
     name = values.get("name")
     label = name if isinstance(name, str) else node.type
     material = values.get("contactMaterial", "default")

@@ -238,7 +238,7 @@ def _yaw_deg(world: World) -> float | None:
     norm = math.sqrt(ax * ax + ay * ay + az * az)
     if norm == 0 or not math.isclose(abs(az), norm, rel_tol=1e-6):
         return None
-    return math.degrees(math.copysign(angle, az))
+    return math.degrees(angle if az > 0 else -angle)
 
 
 def world_run(world: World) -> WorldRun:

@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli import schemas
 from motiontool.cli.app import app
-from motiontool.errors import MotionSyntaxError
+from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.sim.wbt import parse_wbt
 from motiontool.sim.world import read_world
 from motiontool.sim.world_run import world_run
@@ -325,3 +325,71 @@ def test_batch_plays_every_run_in_the_world_and_caches_by_its_content(
     result = runner.invoke(app, [*args, "--robot-node", "participant"])
     assert result.exit_code == 2
     assert "robot node 'participant' given without a world" in result.stderr
+
+
+# -- worlds written for the tests
+
+
+def test_static_solids_are_supports_and_others_are_named(tmp_path: Path) -> None:
+    world = tmp_path / "box.wbt"
+    world.write_text(
+        """#VRML_SIM R2023b utf8
+WorldInfo { gravity 3.7 }
+Solid {
+  translation 0.5 0 0.1
+  rotation 0 0 1 1.5708
+  name "step"
+  contactMaterial "wood"
+  boundingObject Pose { translation 0 0 0 children [ Box { size 2 1 0.2 } ] }
+}
+Solid { translation 3 0 0 boundingObject Cylinder { radius 0.1 height 1 } }
+DEF BOT Nao { translation 0.5 0.8 0.534 rotation 0 0 1 -1.5708 }
+""",
+        encoding="utf-8",
+    )
+    read = read_world(world, None, "nao")
+    assert read.gravity == (0.0, 0.0, -3.7) and read.basic_time_step_ms == 32  # Webots' default
+    (step,) = read.supports
+    assert (step.name, step.material, step.top_z) == ("step", "wood", pytest.approx(0.2))
+    assert step.top_at(0.5, 0.8) == pytest.approx(0.2)  # turned 90 degrees: 1 m wide along x
+    assert step.top_at(1.2, 0.0) is None
+    assert read.skipped == (
+        "not simulated (bounding objects other than Box and Plane): Solid line 10",
+    )
+    run = world_run(read)
+    assert run.surface == ("step", pytest.approx(0.2)) and run.start_yaw_deg == pytest.approx(
+        -90, abs=1e-3
+    )
+    assert run.control_step_ms == 32 and run.friction(None) == 1.0  # no ContactProperties
+
+
+def test_a_nue_world_is_turned_z_up(tmp_path: Path) -> None:
+    world = tmp_path / "nue.wbt"
+    world.write_text(
+        """#VRML_SIM R2021c utf8
+WorldInfo { coordinateSystem "NUE" basicTimeStep 16 }
+Nao { translation 1 0.334 2 rotation 0 1 0 0.5 }
+""",
+        encoding="utf-8",
+    )
+    run = world_run(read_world(world, None, "nao"))
+    assert run.start_xy == (2.0, 1.0)  # NUE: x north, y up, z east; z up: (east, north)
+    assert run.start_yaw_deg == pytest.approx(28.6479, abs=1e-3)
+    assert run.control_step_ms == 16
+    world.write_text(world.read_text().replace("basicTimeStep 16", "basicTimeStep 7.5"))
+    with pytest.raises(MotionToolError, match=r"basicTimeStep 7\.5 ms is not a whole number"):
+        world_run(read_world(world, None, "nao"))
+
+
+def test_a_solid_turned_by_a_negative_angle_turns_clockwise(tmp_path: Path) -> None:
+    world = tmp_path / "turned.wbt"
+    world.write_text(
+        """#VRML_SIM R2023b utf8
+Solid { rotation 0 0 1 -0.5 boundingObject Box { size 2 1 0.1 } }
+Solid { translation 5 0 0 rotation 0 0 -1 0.5 boundingObject Box { size 2 1 0.1 } }
+Nao { }
+""",
+        encoding="utf-8",
+    )
+    first, second = read_world(world, None, "nao").supports
+    assert first.yaw_rad == -0.5 and second.yaw_rad == -0.5  # axis down: the same turn
