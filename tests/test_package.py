@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, missing_data
 
 from motiontool.extras import EXTRAS
 
@@ -496,3 +496,77 @@ def test_sizes_are_counted_from_def_to_last_line(tmp_path: Path) -> None:
     assert _oversized(source, "m.py") == ["m.py::over (61 lines)"]
     source.write_text("x = 1\n" * (MAX_MODULE_LINES + 1))
     assert _oversized(source, "m.py") == [f"m.py ({MAX_MODULE_LINES + 1} lines)"]
+
+
+#: The Python versions the package's classifiers name (``3.11`` ...): each one is tested.
+CLASSIFIED_PYTHONS = sorted(
+    int(c.rsplit(".", 1)[1])
+    for c in tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["classifiers"]
+    if re.fullmatch(r"Programming Language :: Python :: 3\.\d+", c)
+)
+
+
+def _python(minor: int) -> str | None:
+    """A working interpreter of Python 3.``minor`` on this machine: on PATH, else pyenv's."""
+    found = [shutil.which(f"python3.{minor}")]
+    found += sorted(
+        str(p) for p in Path.home().glob(f".pyenv/versions/3.{minor}.*/bin/python3.{minor}")
+    )
+    for python in found:
+        if python and subprocess.run([python, "-c", "pass"], capture_output=True).returncode == 0:
+            return python
+    return None
+
+
+def test_the_classifiers_start_at_requires_python() -> None:
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert project["requires-python"] == f">=3.{CLASSIFIED_PYTHONS[0]}"
+    assert list(range(CLASSIFIED_PYTHONS[0], CLASSIFIED_PYTHONS[-1] + 1)) == CLASSIFIED_PYTHONS
+    assert [a["name"] for a in project["authors"]] == ["The motiontool maintainers"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("minor", CLASSIFIED_PYTHONS, ids=lambda m: f"3.{m}")
+def test_the_core_installs_and_runs_on_every_python_the_classifiers_name(
+    built: dict[str, Any], minor: int, tmp_path: Path
+) -> None:
+    """Issue 36 item 24: a classifier is a promise. The whole suite runs on the Python of this
+    venv; on each other version named, the built wheel installs in a fresh venv (the core:
+    numpy, typer and their dependencies from the package index) and lints, transforms and
+    reads back the project's motions."""
+    if minor == sys.version_info.minor:
+        pytest.skip("this interpreter: the whole suite runs on it")
+    python = _python(minor)
+    if python is None:
+        missing_data(f"no python3.{minor} on this machine")
+    assert python is not None
+    venv = tmp_path / "venv"
+    subprocess.run([python, "-m", "venv", str(venv)], check=True, capture_output=True)
+    install = subprocess.run(
+        [
+            str(venv / "bin/pip"),
+            "install",
+            "-q",
+            "--disable-pip-version-check",
+            str(built["wheel"]),
+        ],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert install.returncode == 0, install.stderr[-2000:]
+    tool = str(venv / "bin/motiontool")
+
+    def run(*args: str) -> subprocess.CompletedProcess[str]:
+        return subprocess.run(
+            [tool, *args], cwd=ROOT, capture_output=True, text=True, check=False, timeout=300
+        )
+
+    lint = run("validate", "motions/", "--strict", "--checks", "limits,velocity")
+    assert lint.returncode == 0, lint.stdout + lint.stderr
+    assert re.search(r"^checked \d+ files: 0 errors, 0 warnings", lint.stdout, re.MULTILINE)
+    out = tmp_path / "walk20.motion"
+    resampled = run("resample", "motions/nao/wave_right.motion", "--step", "20", "-o", str(out))
+    assert resampled.returncode == 0, resampled.stderr
+    back = run("diff", "motions/nao/wave_right.motion", str(out))
+    assert back.returncode == 0, back.stdout + back.stderr
