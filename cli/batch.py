@@ -322,17 +322,29 @@ def _plan(
 
 
 def _in_world(specs: list[RunSpec], world: Path | None, robot_node: str | None) -> list[RunSpec]:
-    """``specs`` with the world options (in their cache key); a world without a robot node for
-    one of their robots: exit 2 before anything runs."""
+    """``specs`` with their world's options (in their cache key): --world, else the sidecar's
+    world; a world without a robot node for a run's robot: exit 2 before anything runs."""
     from dataclasses import replace
 
     from motiontool.kinematics.robots import AUTO
     from motiontool.sim.world_run import world_run_options
 
-    extra = world_run_options(world, robot_node, {s.robot for s in specs if s.robot != AUTO})
-    if not extra:
-        return specs
-    return [replace(s, options=tuple(sorted({**dict(s.options), **extra}.items()))) for s in specs]
+    world_run_options(world, robot_node, ())  # --robot-node without --world: exit 2
+    found: dict[tuple[str, str | None, str], dict[str, object]] = {}
+    out = []
+    for spec in specs:
+        options = dict(spec.options)
+        path, node = (
+            (world, robot_node) if world else (options.get("world"), options.get("robot_node"))
+        )
+        if path is None or spec.robot == AUTO:
+            out.append(spec)
+            continue
+        key = (str(path), node, spec.robot)
+        if key not in found:
+            found[key] = world_run_options(Path(path), node, [spec.robot])
+        out.append(replace(spec, options=tuple(sorted({**options, **found[key]}.items()))))
+    return out
 
 
 def _check_physics(

@@ -287,7 +287,7 @@ def play_command(
     )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
     options = PlayOptions(
-        timestep_ms=timestep if timestep is not None else _config_step(settings, world),
+        timestep_ms=timestep if timestep is not None else _config_step(settings, planned),
         loops=loop,
         reverse=reverse,
         hold_s=hold,
@@ -302,10 +302,12 @@ def play_command(
     _render(result, json_path, rrd)
 
 
-def _config_step(settings: Settings, world: Path | None) -> int | None:
-    """The configuration's control step, ms; None with --world, whose basicTimeStep wins (the
-    configuration's stands for the robot's usual world; -t wins over both)."""
-    return settings.timestep if world is None else None
+def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
+    """The configuration's control step, ms; None in a world (--world, the sidecar's), whose
+    basicTimeStep wins (the configuration's stands for the robot's usual world; -t wins over
+    both)."""
+    in_world = planned.world is not None or planned.motion.world is not None
+    return None if in_world else settings.timestep
 
 
 def _run(

@@ -283,6 +283,8 @@ def plan_batch(
         file_options = {**options, "timestep_ms": timesteps[f]}
         if motion.start is not None and motion.start.lying:
             file_options["start"] = str(motion.start)
+        if motion.world is not None:  # the sidecar's world (cli.batch adds its hash)
+            file_options.update(world=str(motion.world), robot_node=motion.robot_node)
         if rrd_dir is not None:
             file_options["rrd_dir"] = str(rrd_dir)
             file_options["rrd_name"] = rrd_names[str(f)]

@@ -31,10 +31,10 @@ from motiontool.motionfmt.fileio import is_stdin, source_name
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
 from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
-from motiontool.sim.sidecar import Sidecar, expectations_for
+from motiontool.sim.sidecar import Sidecar, lookup
 from motiontool.sim.start import StartState
 from motiontool.sim.world import read_world
-from motiontool.sim.world_run import world_run
+from motiontool.sim.world_run import WorldRun, world_run
 from motiontool.stamps import stamps
 
 __all__ = ["MotionPlan", "PlayPlan", "PlayResult", "plan_motion", "plan_play"]
@@ -51,11 +51,14 @@ class MotionPlan:
         expect: the expectations as written: the sidecar's (in file order), then the given ones.
         expectations: the same, parsed.
         start: the given start state, else the sidecar's, else None (not set: standing).
+        world, robot_node: the sidecar's Webots world and its robot node (None: not set).
     """
 
     expect: tuple[str, ...]
     expectations: tuple[Expectation, ...]
     start: StartState | None
+    world: Path | None = None
+    robot_node: str | None = None
 
 
 def plan_motion(
@@ -78,14 +81,15 @@ def plan_motion(
         SidecarError: the sidecar cannot be used. ExpectationError: an expectation does not
             parse. MotionToolError: ``start`` is no start state.
     """
-    expected, sidecar_start = expectations_for(
-        motion, tuple(expect), sidecar=sidecar, roots=tuple(roots), cache=cache
-    )
-    chosen = start if start is not None else sidecar_start
+    entry = lookup(motion, tuple(roots), cache) if sidecar else None
+    expected = (entry.expect if entry else ()) + tuple(expect)
+    chosen = start if start is not None else (entry.start if entry else None)
     return MotionPlan(
         expected,
         tuple(parse_expectations(expected)),
         None if chosen is None else StartState.parse(chosen),
+        entry.world if entry else None,
+        entry.robot_node if entry else None,
     )
 
 
@@ -182,9 +186,7 @@ class PlayPlan:
             motions = [read_playable(f) for f in self.files]  # read once: play() takes them
             spec = resolve_robot(robot, (j for m in motions for j in m.joints))
             result.stamps = dict(stamps(spec.model_hash))
-            in_world = None
-            if self.world is not None:
-                in_world = world_run(read_world(self.world, self.robot_node, spec.name))
+            in_world = self._world(spec.name)
             names = [str(f) for f in self.files]
             report = play(
                 motions,
@@ -205,6 +207,14 @@ class PlayPlan:
             return result
         result.report = report
         return result
+
+    def _world(self, robot: str) -> WorldRun | None:
+        """The world the run plays in: the one given, else the sidecar's (each with its robot
+        node), else None."""
+        world, node = self.world, self.robot_node
+        if world is None:
+            world, node = self.motion.world, self.motion.robot_node
+        return None if world is None else world_run(read_world(world, node, robot))
 
     def _write_failure(self, rrd: Path, error: MotionToolError, doc_stamps: dict[str, Any]) -> None:
         """The recording of a run that could not start: the stamps and the error."""

@@ -16,8 +16,13 @@ motion's folder, or in a folder above it, says what each motion must do::
     ["nao/*"]                     # a key with '/' matches the path below the sidecar's folder
     expect = ["feet-planted"]     #   (without .motion; '*' matches '/' too: all below nao/)
 
+    ["wrestling/*"]
+    world = "../worlds/wrestling.wbt"   # the Webots world it plays in (from this folder)
+    robot-node = "participant"          # the world's robot node that plays it (name or DEF)
+
 Every section that matches a motion applies, in file order (expectations add up); for
-``start``, a section that names the motion beats a glob, and of two globs the first wins. The
+``start`` and ``world`` (with its ``robot-node``), a section that names the motion beats a
+glob, and of two globs the first wins. The
 sidecar of a motion is the nearest ``motions.toml`` from the motion's folder up to the search
 boundary (:func:`search_boundary`); sidecars do not merge. Read with the standard ``tomllib``.
 """
@@ -53,7 +58,7 @@ __all__ = [
 SIDECAR_NAME = "motions.toml"
 """The file name of a sidecar."""
 
-_KEYS = ("expect", "start")
+_KEYS = ("expect", "start", "world", "robot-node")
 
 
 class SidecarError(MotionToolError):
@@ -62,12 +67,15 @@ class SidecarError(MotionToolError):
 
 @dataclass(frozen=True)
 class Section:
-    """One ``[name]`` table: its key (a name or a glob), line, expectations and start."""
+    """One ``[name]`` table: its key (a name or a glob), line, expectations and start, and the
+    world (a path from the current directory) and its robot node."""
 
     key: str
     line: int
     expect: tuple[str, ...]
     start: str | None
+    world: Path | None = None
+    robot_node: str | None = None
 
     @property
     def is_glob(self) -> bool:
@@ -86,12 +94,15 @@ class Section:
 @dataclass(frozen=True)
 class SidecarEntry:
     """What a sidecar says about one motion: where from, the sections that matched, the
-    expectations (texts, in file order) and the start state (None: not set)."""
+    expectations (texts, in file order), the start state and the world with its robot node
+    (None: not set)."""
 
     path: Path
     sections: tuple[str, ...]
     expect: tuple[str, ...]
     start: str | None
+    world: Path | None = None
+    robot_node: str | None = None
 
 
 @dataclass(frozen=True)
@@ -110,11 +121,14 @@ class Sidecar:
         expect = tuple(e for s in matched for e in s.expect)
         starts = [s for s in matched if s.start is not None]
         starts.sort(key=lambda s: s.is_glob)  # stable: exact names first, then file order
+        worlds = sorted((s for s in matched if s.world is not None), key=lambda s: s.is_glob)
         return SidecarEntry(
             self.path,
             tuple(s.key for s in matched),
             expect,
             starts[0].start if starts else None,
+            worlds[0].world if worlds else None,
+            worlds[0].robot_node if worlds else None,
         )
 
 
@@ -222,7 +236,30 @@ def _section(path: Path, lines: list[str], key: str, line: int, table: dict[str,
         raise SidecarError(
             f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(StartState)}"
         )
-    return Section(key, line, tuple(expect), start)
+    world, robot_node = _world(path, lines, key, line, table)
+    return Section(key, line, tuple(expect), start, world, robot_node)
+
+
+def _world(
+    path: Path, lines: list[str], key: str, line: int, table: dict[str, Any]
+) -> tuple[Path | None, str | None]:
+    """The ``world`` of the ``[key]`` table (a file, from the sidecar's folder) and its
+    ``robot-node``, checked: strings, a world file that exists, no robot node without one."""
+    world, node = table.get("world"), table.get("robot-node")
+    for name, value in (("world", world), ("robot-node", node)):
+        if value is not None and not isinstance(value, str):
+            where = _line_of(lines, line, name)
+            raise SidecarError(f"{path}:{where}: {name} in [{key}] must be a string")
+    if world is None:
+        if node is not None:
+            where = _line_of(lines, line, "robot-node")
+            raise SidecarError(f"{path}:{where}: robot-node in [{key}] without a world")
+        return None, None
+    found = path.parent / world
+    if not found.is_file():
+        where = _line_of(lines, line, "world")
+        raise SidecarError(f"{path}:{where}: world {world!r} in [{key}]: no such file ({found})")
+    return found, node
 
 
 def search_boundary(motion: str | Path, roots: tuple[Path, ...] | list[Path] = ()) -> Path:

@@ -105,7 +105,7 @@ def test_the_nearest_sidecar_up_to_the_boundary_wins(
         ),
         (
             '[wave]\nexpects = ["upright"]\n',
-            r"motions.toml:2: unknown key 'expects' in \[wave\]; did you mean 'expect'\? \(keys: expect, start\)",
+            r"motions.toml:2: unknown key 'expects' in \[wave\]; did you mean 'expect'\? \(keys: expect, start, world, robot-node\)",
         ),
         (
             '[wave]\nexpect = [\n  "upright",\n  "dxx>0",\n]\n',

@@ -253,9 +253,12 @@ def test_another_world_changes_what_is_applied(wrestling: Path) -> None:
     assert not_applied["ContactProperties.coulombFriction"]["value"] == 0.5
 
 
-def test_a_bad_world_on_the_command_line_is_one_line_exit_2(wrestling: Path) -> None:
-    world = wrestling / "worlds" / "wrestling.wbt"
-    motion = wrestling / "controllers" / "motions" / "HandWave.motion"
+def test_a_bad_world_on_the_command_line_is_one_line_exit_2(
+    wrestling: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(wrestling)
+    world = Path("worlds", "wrestling.wbt")
+    motion = Path("controllers", "motions", "HandWave.motion")
     result = runner.invoke(app, ["play", "--headless", "--world", str(world), str(motion)])
     assert result.exit_code == 2
     assert result.stderr.strip().splitlines() == [
@@ -393,3 +396,44 @@ Nao { }
     )
     first, second = read_world(world, None, "nao").supports
     assert first.yaw_rad == -0.5 and second.yaw_rad == -0.5  # axis down: the same turn
+
+
+# -- the world of a motion, in its motions.toml
+
+
+def test_a_sidecar_names_the_world_of_its_motions(wrestling: Path, tmp_path: Path) -> None:
+    """``world`` and ``robot-node`` in motions.toml (the world's path from the sidecar's
+    folder): play and batch use them; --world on the command line wins."""
+    sidecar = wrestling / "controllers" / "motions" / "motions.toml"
+    sidecar.write_text(
+        '["Hand*"]\nworld = "../../worlds/wrestling.wbt"\nrobot-node = "opponent"\n',
+        encoding="utf-8",
+    )
+    doc, _text = _play(wrestling)
+    assert doc["world"]["robot_node"]["name"] == "opponent"
+    assert doc["stamps"]["control_step_ms"] == 10
+    motion = wrestling / "controllers" / "motions" / "HandWave.motion"
+    out = tmp_path / "b.json"
+    result = runner.invoke(app, ["batch", str(motion), "-j", "1", "--no-cache", "--json", str(out)])
+    assert result.exit_code == 0, result.output
+    (run,) = json.loads(out.read_text(encoding="utf-8"))["runs"]
+    assert run["report"]["world"]["robot_node"]["name"] == "opponent"
+    world = wrestling / "worlds" / "wrestling.wbt"
+    doc, _text = _play(wrestling, "--world", str(world), "--robot-node", "participant")
+    assert doc["world"]["robot_node"]["name"] == "participant"  # the command line wins
+
+
+def test_a_sidecar_world_that_is_not_there_is_its_line(
+    wrestling: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(wrestling / "controllers")
+    sidecar = Path("motions", "motions.toml")
+    sidecar.write_text(
+        '[HandWave]\nexpect = ["upright"]\nworld = "nowhere.wbt"\n', encoding="utf-8"
+    )
+    result = runner.invoke(app, ["play", "--headless", "motions/HandWave.motion"])
+    assert result.exit_code == 2
+    assert result.stderr.strip().splitlines() == [
+        f"motiontool: error: {sidecar}:3: world 'nowhere.wbt' in [HandWave]: no such file"
+        f" ({sidecar.parent / 'nowhere.wbt'})"
+    ]
