@@ -4,17 +4,25 @@ the end (MT115), and joints that ``*`` leaves uncommanded (MT207, MT211)."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+import functools
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.clock import clock_overflow
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.diagnostics import Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.lines import FGETS_PIECE, token_spans
 
 if TYPE_CHECKING:
     from motiontool.motionfmt._read_state import ReadState
+    from motiontool.motionfmt.read_result import ReadResult
 
-__all__ = ["check_motion"]
+__all__ = ["check_motion", "step_findings"]
+
+_Where = Callable[[int], tuple[int, int]]
+"""A pose's time token: its column and end column, 1-based."""
+_Report = Callable[..., None]
+"""Records a finding: :meth:`~motiontool.motionfmt._read_state.ReadState.report`'s arguments."""
 
 
 def check_motion(state: ReadState) -> None:
@@ -26,10 +34,41 @@ def check_motion(state: ReadState) -> None:
         _late_first_pose(state)
     step = state.timestep_ms
     if step:
-        _off_time_step(state, step)
-        _clock_wraps(state, step)
+        where = functools.partial(_cell_column, state, cell=0)
+        _off_time_step(state.result, step, where, state.report)
+        _clock_wraps(state.result, step, where, state.report)
     if state.star_seen:
         _uncommanded(state)
+
+
+def step_findings(result: ReadResult, step: int) -> list[Diagnostic]:
+    """The findings of the pose times of ``result`` (a file read without a time step) at the
+    controller time step ``step`` (ms): MT209 on each pose off it, MT115 where the playback
+    clock wraps before the end, as the reader makes them when given the step."""
+    found: list[Diagnostic] = []
+
+    def report(code: str, line: int, column: int, message: str, hint: str, **kw: Any) -> None:
+        severity = CODES[code].severity
+        found.append(
+            Diagnostic(
+                code=code,
+                severity=severity,
+                path=result.path,
+                line=line,
+                column=column,
+                message=message,
+                hint=hint,
+                **kw,
+            )
+        )
+
+    def where(pose: int) -> tuple[int, int]:
+        _line, column, end = result.cell_span(pose, None)
+        return column, end
+
+    _off_time_step(result, step, where, report)
+    _clock_wraps(result, step, where, report)
+    return found
 
 
 def _cell_column(state: ReadState, pose: int, cell: int) -> tuple[int, int]:
@@ -58,16 +97,16 @@ def _late_first_pose(state: ReadState) -> None:
     )
 
 
-def _off_time_step(state: ReadState, step: int) -> None:
-    """MT209: a pose time the controller, stepping ``step`` ms at a time, never hits."""
-    res = state.result
+def _off_time_step(res: ReadResult, step: int, where: _Where, report: _Report) -> None:
+    """MT209: a pose time the controller, stepping ``step`` ms at a time, never hits (``where``:
+    a pose's time token's column and end column; ``report``: :meth:`ReadState.report`)."""
     for p, t in enumerate(res.times_ms):
         if t % step:
-            col, end = _cell_column(state, p, 0)
+            col, end = where(p)
             lo = t - t % step
             fits = lo + step <= INT_MAX  # the step after may be past a C int (MT115)
             steps = f"steps at {lo} and {lo + step} ms" if fits else f"step at {lo} ms"
-            state.report(
+            report(
                 "MT209",
                 res.pose_lines[p],
                 col,
@@ -79,14 +118,13 @@ def _off_time_step(state: ReadState, step: int) -> None:
             )
 
 
-def _clock_wraps(state: ReadState, step: int) -> None:
+def _clock_wraps(res: ReadResult, step: int, where: _Where, report: _Report) -> None:
     """MT115: Webots' int playback time wraps before the motion ends (see :mod:`.clock`)."""
-    res = state.result
     overflow = clock_overflow(int(res.times_ms[-1]), step) if step <= INT_MAX else None
     if overflow is None:
         return
-    col, end = _cell_column(state, len(res.times_ms) - 1, 0)
-    state.report(
+    col, end = where(len(res.times_ms) - 1)
+    report(
         "MT115",
         res.pose_lines[-1],
         col,

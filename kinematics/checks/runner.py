@@ -37,6 +37,7 @@ from motiontool.kinematics.robots import (
 )
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
+from motiontool.motionfmt.motion_checks import step_findings
 from motiontool.motionfmt.reader import ReadResult
 from motiontool.motionfmt.validate import run_check
 
@@ -172,6 +173,11 @@ class RobotChecks(Groupable):
     With a ``cache`` (:class:`~motiontool.kinematics.checks.findings_cache.FindingsCache`), a
     small file checked before with the same robot, checks and code gets its findings from it.
 
+    Without ``timestep_ms``, each file is checked at its robot's controller step (the Nao's
+    20 ms): the velocity check's command stream, and the pose times the reader checks at a step
+    it is given (MT209 off the step, MT115 a clock that wraps:
+    :func:`~motiontool.motionfmt.motion_checks.step_findings`), so read the files without one.
+
     Attributes:
         used: for every file checked, the robot it was checked against (None: skipped).
         skipped: the checks skipped for a missing library, by name, with the error that says
@@ -244,6 +250,8 @@ class RobotChecks(Groupable):
             return Findings.of([_skipped(result, self.wording)])
         checks = self._checks_for(spec)
         parts = [self._run(c, result, group=group) for c in checks if isinstance(c, _LIVE)]
+        if self.timestep_ms is None:  # the robot's step, as the reader checks one given
+            parts.append(step_findings(result, spec.default_timestep_ms))
         own = [c for c in checks if not isinstance(c, _LIVE)]
         parts.append(self._of_the_file(spec, own, result, group=group))
         settle_tables()

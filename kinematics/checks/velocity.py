@@ -422,8 +422,7 @@ def _steps_read(
     """
     import numpy as np
 
-    times = np.unique(motion.times_ms)
-    around = times // step
+    around = motion.times_ms // step  # (np.unique would import numpy.ma)
     lo = np.concatenate([around - 1, [0, n_steps - 2], *_marker_steps(motion, step, n_steps)])
     return np.clip(lo, 0, n_steps), np.clip(lo + 4, 0, n_steps)
 

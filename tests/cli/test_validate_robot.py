@@ -186,6 +186,31 @@ def test_timestep_sets_the_command_stream_step(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
+    ("robot", "step"),
+    [("nao", "20"), ("auto", "20"), ("ur5e", "8")],
+)
+def test_without_timestep_the_robot_s_step_is_the_step_checked(
+    tmp_path: Path, robot: str, step: str
+) -> None:
+    """-t's help says the default is the robot's step (Nao: 20 ms), yet a file ending at
+    2147483647 ms passed with exit 0, no MT115 and no MT209, while ``sample -t 20`` refused
+    it: the pose times are checked at the robot's step, as with -t given."""
+    joints = "HeadYaw" if robot != "ur5e" else "shoulder_pan_joint"
+    path = tmp_path / "long.motion"
+    path.write_bytes(f"#WEBOTS_MOTION,V1.0,{joints}\n0,P1,0\n2147483647,P2,0.5\n".encode())
+    given = invoke("validate", "--no-cache", "--robot", robot, "-t", step, str(path))
+    default = invoke("validate", "--no-cache", "--robot", robot, str(path))
+    assert default == given
+    code, out, _ = default
+    assert code == 1
+    assert f"error MT115: at a {step} ms time step the playback time passes" in out
+    assert f"warning MT209: pose at 2147483647 ms is not a multiple of the {step} ms" in out
+    assert out.endswith("checked 1 file: 1 error, 1 warning, 0 notes\n")
+    code, out, _ = invoke("validate", "--no-cache", "--robot", "none", str(path))
+    assert code == 0 and "MT115" not in out  # no robot: no step to check against
+
+
+@pytest.mark.parametrize(
     ("args", "message"),
     [
         (
