@@ -39,7 +39,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from motiontool.errors import MotionToolError
+from motiontool.errors import OutputError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write, open_output
 from motiontool.sim.recording_paths import Thinned, thin
@@ -180,7 +180,7 @@ class RunRecorder:
         try:
             self._folder = tempfile.TemporaryDirectory(prefix="motiontool-rrd-")
         except OSError as exc:
-            raise MotionToolError(
+            raise OutputError(
                 f"cannot write the recording '{path}': no temporary folder: {exc.strerror or exc}"
             ) from exc
         self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
@@ -248,7 +248,7 @@ class RunRecorder:
         try:
             rec.flush()
         except RuntimeError as exc:  # the file sink stopped: a full or unwritable disk
-            raise MotionToolError(
+            raise OutputError(
                 f"cannot write the recording '{self.path}': its temporary file under "
                 f"{tempfile.gettempdir()} could not be written ({exc}); is that disk full?"
             ) from exc
