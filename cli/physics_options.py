@@ -1,4 +1,5 @@
-"""``--physics-step``, ``--friction``, ``--profile``, ``--world`` and ``--robot-node``: the physics
+"""``--physics-step``, ``--friction``, ``--profile``, ``--world``, ``--robot-node`` and
+``--[no-]self-collision``: the physics
 options of ``play`` and ``batch`` (one spelling and help text each; :mod:`motiontool.sim.physics`
 and :mod:`motiontool.sim.world_run` say what they do)."""
 
@@ -18,6 +19,7 @@ __all__ = [
     "Profile",
     "ProfileOption",
     "RobotNodeOption",
+    "SelfCollisionOption",
     "WorldOption",
 ]
 
@@ -76,6 +78,16 @@ RobotNodeOption = Annotated[
         metavar="NAME|DEF",
         help="The robot node of --world that plays the motion, by its name or DEF (needed"
         " when the world has several robots of the motion's kind).",
+        show_default=False,
+    ),
+]
+SelfCollisionOption = Annotated[
+    bool | None,
+    typer.Option(
+        "--self-collision/--no-self-collision",
+        help="Self-collision physics: the robot's parts collide with each other, but solids"
+        " joined by a joint (Webots' selfCollision rule). Default: --world's selfCollision,"
+        " else as the robot's Webots PROTO has it (Nao: off; UR5e: on).",
         show_default=False,
     ),
 ]

@@ -24,6 +24,7 @@ from motiontool.cli.physics_options import (
     Profile,
     ProfileOption,
     RobotNodeOption,
+    SelfCollisionOption,
     WorldOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
@@ -137,6 +138,20 @@ def _world(report: PlayReport) -> list[str]:
     return lines
 
 
+def _self_collision(report: PlayReport) -> list[str]:
+    """Whether the robot's parts collided with each other, why, how many pairs touched (not
+    said of a run as the robot's model has it, without self-collision physics)."""
+    doc = report.self_collision
+    if doc is None or (doc["source"] == "robot model" and not doc["physics"]):
+        return []
+    if not doc["physics"]:
+        return [f"self-collision physics: off ({doc['why']})"]
+    return [
+        f"self-collision physics: on ({doc['why']}); {doc['touching_pairs']} pairs of bodies "
+        f"touched, {doc['touching_s']:.2f} s in all"
+    ]
+
+
 def _value(value: object) -> str:
     if isinstance(value, bool):
         return "TRUE" if value else "FALSE"
@@ -160,6 +175,7 @@ def render_text(report: PlayReport) -> str:
         + ")",
         *([f"note: {report.physics['profile_note']}"] if "profile_note" in report.physics else []),
         *_world(report),
+        *_self_collision(report),
         "result: " + ("clean" if report.clean else "; ".join(report.problems)),
     ]
     if report.expectations:
@@ -261,6 +277,7 @@ def play_command(
     profile: ProfileOption = Profile.default,
     world: WorldOption = None,
     robot_node: RobotNodeOption = None,
+    self_collision: SelfCollisionOption = None,
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
@@ -295,6 +312,7 @@ def play_command(
         physics_step_ms=physics_step,
         floor_friction=friction,
         profile=profile.value,
+        self_collision=self_collision,
     )
     robot = robot if robot is not None else settings.robot_for(files[0])
     result = _run(planned, robot, options, rrd=rrd, bag=bag)

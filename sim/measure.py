@@ -277,7 +277,9 @@ class _ContactMeter:
 
     def __init__(self, opts: PlayOptions) -> None:
         self.opts = opts
-        self.pairs: dict[str, dict[tuple[str, str], list[Any]]] = {k: {} for k in CONTACT_KINDS}
+        self.pairs: dict[str, dict[tuple[str, str], list[Any]]] = {
+            k: {} for k in (*CONTACT_KINDS, "touch")
+        }
 
     def add(self, trace: Trace) -> None:
         for kind, pairs in self.pairs.items():
@@ -328,6 +330,12 @@ class RunMeter:
         self._feet.add(chunk, new)
         self._contacts.add(chunk)
         self._last = chunk
+
+    def self_contacts(self) -> list[ContactSummary]:
+        """The pairs of robot bodies that touched in the simulation itself (self-collision
+        physics), as far as measured."""
+        last = self._last
+        return [] if last is None else self._contacts.summaries("touch", last.control_step_s)
 
     @property
     def control_steps(self) -> int:

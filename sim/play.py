@@ -145,6 +145,7 @@ def play(
         _simulate(scene, stream, takers, record=recorder is not None)
         report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
         report.world = None if world is None else _world_doc(world, opts, timestep, physics)
+        report.self_collision = _self_collision_doc(scene, opts, world, meter)
         report.end_effector = None if tool is None else tool.stats()
         if recorder is not None and events is not None:
             recorder.finish(events.markers(files), report.end_effector)
@@ -170,7 +171,41 @@ def _world_doc(
         timestep_given=opts.timestep_ms is not None,
         physics_step_ms=physics.timestep_ms,
         friction_given=opts.floor_friction is not None,
+        self_collision_given=opts.self_collision is not None,
     )
+
+
+def _self_collision(opts: PlayOptions, placed: WorldRun | None) -> bool | None:
+    """Self-collision physics: the option's, else the world's ``selfCollision``, else None
+    (as the robot's model has it)."""
+    if opts.self_collision is not None:
+        return opts.self_collision
+    return None if placed is None else placed.world.robot.self_collision
+
+
+def _self_collision_doc(
+    scene: Scene, opts: PlayOptions, placed: WorldRun | None, meter: RunMeter
+) -> dict[str, Any]:
+    """The report's ``self_collision``: whether the robot's parts collided with each other in
+    the simulation, why, and how many pairs of bodies touched."""
+    if opts.self_collision is not None:
+        source, why = "option", "--self-collision" if opts.self_collision else "--no-self-collision"
+    elif placed is not None:
+        robot = placed.world.robot
+        value = "TRUE" if robot.self_collision else "FALSE"
+        source = "world"
+        why = f"{robot.type} {robot.name!r}.selfCollision {value}, line {robot.line}"
+    else:
+        source = "robot model"
+        why = f"{scene.robot.name}'s model: as the robot's Webots PROTO has selfCollision"
+    touched = meter.self_contacts()
+    return {
+        "physics": scene.self_collision,
+        "source": source,
+        "why": why,
+        "touching_pairs": len(touched),
+        "touching_s": round(sum(c.duration_s for c in touched), 9),
+    }
 
 
 def _physics(timestep_ms: int, opts: PlayOptions, placed: WorldRun | None) -> Physics:
@@ -381,6 +416,7 @@ def _scene(
         torque_scale=opts.torque_scale,
         start_yaw_deg=yaw,
         p_gain=opts.p_gain,
+        self_collision=_self_collision(opts, placed),
         **world_scene,
     )
 

@@ -49,6 +49,9 @@ class PlayOptions:
             :data:`motiontool.kinematics.checks.DEFAULT_PENETRATION_TOLERANCE_MM`).
         reach_tolerance_mm: an arm's tool has reached a keyframe once it is this close (mm)
             to the keyframe's commanded position (the report's ``end_effector`` lags).
+        self_collision: self-collision physics: the robot's parts collide with each other
+            (Webots' ``selfCollision``); None: the world's ``selfCollision`` with a world,
+            else as the robot's model has it (the Nao: off, Webots' default; the UR5e: on).
     """
 
     timestep_ms: int | None = None
@@ -70,6 +73,7 @@ class PlayOptions:
     fall_tilt_deg: float = 50.0
     collision_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
     reach_tolerance_mm: float = 1.0
+    self_collision: bool | None = None
 
     def check(self) -> None:
         """Raise :class:`MotionToolError` for an out-of-range option."""

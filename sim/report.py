@@ -22,6 +22,10 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
                 "applied": [{"field", "value", "unit", "applied_as"}],
                 "not_applied": [{"field", "value", "unit", "reason"}],
                 "skipped_nodes": ["why: nodes"]},                # nodes not simulated
+      "self_collision": null | {"physics",                       # robot parts collide (bool)
+                "source" ("option"|"world"|"robot model"), "why",
+                "touching_pairs", "touching_s"},   # pairs of robot bodies that touched in the
+                                                   #   simulation, their summed contact time
       "simulated_s": 7.78, "control_steps": 389,
       "clean": true, "exit_code": 0, "reason": "",               # reason: '; '-joined, '' if clean
       "error": null,                                             # why the run stopped early
@@ -304,6 +308,7 @@ class PlayReport:
     end_effector: EndEffectorStats | None = None
     physics: dict[str, Any] = field(default_factory=dict)
     world: dict[str, Any] | None = None
+    self_collision: dict[str, Any] | None = None
 
     @property
     def problems(self) -> list[str]:
@@ -357,6 +362,7 @@ class PlayReport:
             "options": dict(self.options),
             "physics": dict(self.physics),
             "world": self.world,
+            "self_collision": self.self_collision,
             "simulated_s": self.simulated_s,
             "control_steps": self.control_steps,
             "clean": self.clean,
@@ -390,6 +396,7 @@ class PlayReport:
             options=dict(doc.get("options") or {}),
             physics=dict(doc.get("physics") or {}),
             world=doc.get("world"),
+            self_collision=doc.get("self_collision"),
             stamps=dict(doc.get("stamps") or {}),
             simulated_s=doc["simulated_s"],
             control_steps=doc["control_steps"],

@@ -11,10 +11,12 @@ on the surface below it) and ``rotation`` (about the vertical: the start yaw). T
 is lowered so that the surface the robot starts on is at z = 0: heights in the report are
 measured from it.
 
+The robot's ``selfCollision`` turns self-collision physics on or off (unless
+``--[no-]self-collision``; :func:`motiontool.sim._mujoco.probe.collide_self`).
+
 Not applied, and said: ``ERP``, ``CFM``, ``softCFM``, ``softERP`` and ``bounceVelocity`` (MuJoCo's
-contacts and constraints are set by solref / solimp, not ODE's numbers), ``selfCollision``
-(self-collision physics is not simulated yet; self-collisions are still detected), a rotation
-that is not about the vertical, and the nodes the reader skipped.
+contacts and constraints are set by solref / solimp, not ODE's numbers), a rotation that is not
+about the vertical, and the nodes the reader skipped.
 
 Pure Python: the MuJoCo side takes :class:`Ground` and the start position.
 """
@@ -108,6 +110,7 @@ class WorldRun:
         timestep_given: bool,
         physics_step_ms: float,
         friction_given: bool,
+        self_collision_given: bool = False,
     ) -> dict[str, Any]:
         """The report's ``world`` object: the file, the robot node, each field applied (with
         its value and unit) and each field or node not applied (with why)."""
@@ -133,7 +136,7 @@ class WorldRun:
                 f"WorldInfo.{name}", value, None, "MuJoCo has no global ERP/CFM: solref/solimp"
             )
         self._contact(said, friction_given)
-        self._robot(said)
+        self._robot(said, self_collision_given)
         for support, g in zip(world.supports, self.ground, strict=True):
             said.applied(
                 f"{support.node} {support.name!r}.boundingObject",
@@ -186,7 +189,7 @@ class WorldRun:
                 "MuJoCo's contacts are set by solref/solimp (docs/simulation.md), not ODE's",
             )
 
-    def _robot(self, said: _Said) -> None:
+    def _robot(self, said: _Said, self_collision_given: bool) -> None:
         """What the robot node gave."""
         robot = self.world.robot
         node = f"{robot.type} {robot.name!r}"
@@ -205,14 +208,17 @@ class WorldRun:
                 )
             else:
                 said.applied(f"{node}.rotation", list(robot.rotation), "rad", "start yaw")
-        if robot.self_collision:
-            said.not_applied(
-                f"{node}.selfCollision",
-                True,
-                None,
-                "self-collision physics is not simulated yet: robot parts pass through each "
-                "other; self-collisions are detected and reported",
+        collide = f"{node}.selfCollision", robot.self_collision, None
+        if self_collision_given:
+            said.not_applied(*collide, "a self-collision option was given: it wins")
+        elif robot.self_collision:
+            said.applied(
+                *collide,
+                "self-collision physics: the robot's parts collide with each other, but solids"
+                " joined by a joint (Webots' rule)",
             )
+        else:
+            said.applied(*collide, "no self-collision physics: the robot's parts pass through")
 
 
 class _Said:

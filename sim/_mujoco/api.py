@@ -99,6 +99,14 @@ class MjModel(Protocol):
     @property
     def geom_type(self) -> IntArray: ...
     @property
+    def geom_contype(self) -> IntArray: ...
+    @property
+    def geom_conaffinity(self) -> IntArray: ...
+    @property
+    def pair_geom1(self) -> IntArray: ...
+    @property
+    def pair_geom2(self) -> IntArray: ...
+    @property
     def geom_size(self) -> Array: ...  # (ngeom, 3), m
     @property
     def geom_aabb(self) -> Array: ...  # (ngeom, 6): centre, half sizes, m, in the geom frame
@@ -257,6 +265,7 @@ class _SpecOption(Protocol):
     jacobian: EnumValue  # mjtJacobian
     cone: EnumValue  # mjtCone
     tolerance: float
+    disableflags: int  # mjtDisableBit
 
 
 class _Compiler(Protocol):
@@ -326,6 +335,10 @@ class _Cones(Protocol):
     mjCONE_PYRAMIDAL: EnumValue
 
 
+class _DisableBits(Protocol):
+    mjDSBL_FILTERPARENT: EnumValue
+
+
 #: The classes again, under a name that :class:`MuJoCo`'s constructor ``MjData`` does not hide.
 _MjData = MjData
 
@@ -342,6 +355,7 @@ class MuJoCo(Protocol):
     mjtLimited: _Limited
     mjtJacobian: _Jacobians
     mjtCone: _Cones
+    mjtDisableBit: _DisableBits
 
     def MjData(self, model: MjModel) -> _MjData: ...
     def mj_step(self, m: MjModel, d: _MjData, nstep: int = 1) -> None: ...

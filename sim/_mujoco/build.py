@@ -12,7 +12,12 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim._mujoco.api import mj
-from motiontool.sim._mujoco.probe import self_collision_probe
+from motiontool.sim._mujoco.probe import (
+    collide_self,
+    self_collides,
+    self_collision_pairs,
+    self_collision_probe,
+)
 from motiontool.sim._mujoco.scene import GeomClass, Scene
 from motiontool.sim._mujoco.start import set_start_state
 from motiontool.sim._mujoco.topology import in_subtree, limbs, tool_frame
@@ -109,6 +114,7 @@ def build_scene(
     ground: Sequence[Ground] = (),
     gravity: tuple[float, float, float] | None = None,
     start_xy: tuple[float, float] = (0.0, 0.0),
+    self_collision: bool | None = None,
 ) -> Scene:
     """Compile the scene of ``robot`` at its start state.
 
@@ -130,6 +136,10 @@ def build_scene(
             ``floor_friction``. Each keeps its own friction and bounce.
         gravity: m/s², z up (None: MuJoCo's default, -9.81 m/s² on z).
         start_xy: where a free-flying robot starts, m.
+        self_collision: whether the robot's parts collide with each other (Webots'
+            ``selfCollision``, by its rule: :func:`~motiontool.sim._mujoco.probe.
+            self_collision_pairs`); None: as the robot's model has it (the Nao's: no, the
+            UR5e's: yes). :attr:`Scene.self_collision` says which.
     """
     substeps = substeps_at_most(control_step_ms, physics_step_ms)
     dt = control_step_ms / MS_PER_S / substeps
@@ -149,8 +159,15 @@ def build_scene(
     _add_motors(spec, robot.joint_names, limits.max_torque, dt)
     model = _compile_as_designed(spec, robot)
     scene = _scene(model, robot, limits, substeps, roots, floating)
+    pairs = self_collision_pairs(spec, model, scene)
+    probe = self_collision_probe(spec, model, pairs)
+    if self_collision is not None:
+        collide_self(spec, model, scene, pairs, self_collision)
+        model = _compile(spec, robot)
+        scene = _scene(model, robot, limits, substeps, roots, floating)
+    scene.self_collision = self_collides(model, scene)
     set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg, start_xy)
-    scene.probe = self_collision_probe(spec, model, scene)
+    scene.probe = probe
     scene.tool = None if floating else tool_frame(model, scene.root_body, scene.robot_bodies)
     return scene
 

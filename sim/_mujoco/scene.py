@@ -62,6 +62,8 @@ class Scene:
             (a free-flying robot): a site of the robot named like :data:`TOOL_SITE_PATTERN`
             (the deepest one), else the last body of the chain (going down from the root
             while a body has exactly one child).
+        self_collision: whether the robot's parts collide with each other in the simulation
+            (self-collision physics).
     """
 
     model: MjModel
@@ -81,6 +83,7 @@ class Scene:
     foot_geoms: npt.NDArray[np.intp]
     probe: tuple[MjModel, MjData] | None = None
     tool: tuple[str, str, int] | None = None
+    self_collision: bool = False
     _names: dict[int, str] = field(default_factory=dict)
 
     @property

@@ -209,8 +209,8 @@ def test_play_in_the_wrestling_world_applies_it_and_says_so(wrestling: Path) -> 
     assert "Webots' default" in applied["ContactProperties.coulombFriction"]["applied_as"]
     assert applied["Nao 'participant'.translation"]["value"] == [-0.88, 0.0, 0.384]
     assert applied["WrestlingRing 'wrestling ring'.boundingObject"]["value"] == [2, 2, 0.05]
-    assert not_applied["Nao 'participant'.selfCollision"]["value"] is True
-    assert "not simulated yet" in not_applied["Nao 'participant'.selfCollision"]["reason"]
+    assert applied["Nao 'participant'.selfCollision"]["value"] is True
+    assert "collide" in applied["Nao 'participant'.selfCollision"]["applied_as"]
     assert {"WorldInfo.ERP", "WorldInfo.CFM", "ContactProperties.softCFM"} <= set(not_applied)
     assert (
         "5 steps per control step"
@@ -221,7 +221,7 @@ def test_play_in_the_wrestling_world_applies_it_and_says_so(wrestling: Path) -> 
     assert doc["base"]["final_height_m"] == pytest.approx(0.334, abs=0.002)
     assert doc["scene_contacts"] == [] and not doc["base"]["fell"]
     assert "world: " in text and "robot node 'participant' (DEF WRESTLER_RED)" in text
-    assert "not applied: Nao 'participant'.selfCollision TRUE" in text
+    assert "applied: Nao 'participant'.selfCollision TRUE" in text
 
 
 def test_another_world_changes_what_is_applied(wrestling: Path) -> None:
