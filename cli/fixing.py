@@ -4,6 +4,7 @@ files (atomically, each file whole or not at all), or show them as a unified dif
 from __future__ import annotations
 
 import difflib
+import functools
 from collections import Counter
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -45,12 +46,15 @@ def fix_files(
     robot: Callable[[Path, bytes], RobotPlanner | None] | None = None,
     diff: Callable[[bytes], object] | None = None,
     named: Callable[[Path], Path] | None = None,
+    select: Callable[[Path, str], bool] | None = None,
 ) -> FixRun:
     """Fix every file (``unsafe``: the unsafe fixes too, and those of ``robot(path, data)``'s
     planner); write each changed file atomically with ``write`` (standard input's text, fixed
     or not, to stdout, as ruff does), else give its unified diff to ``diff``, a block of about
     64 KiB at a time as it is made (never the whole diff held), each file under the name
-    ``named(path)`` gives it (standard input's, ``--stdin-filename``).
+    ``named(path)`` gives it (standard input's, ``--stdin-filename``); ``select(path, code)``:
+    whether the fixes of ``code`` apply to ``path`` (those of a code left out do not, as ruff
+    fixes only the rules it selects).
 
     Raises:
         MotionToolError: a file that cannot be read or written.
@@ -59,7 +63,8 @@ def fix_files(
     for path in files:
         data = read_file(path)
         planner = robot(path, data) if unsafe and robot is not None else None
-        result = fix_bytes(data, str(path), unsafe=unsafe, robot=planner)
+        keep = None if select is None else functools.partial(select, path)
+        result = fix_bytes(data, str(path), unsafe=unsafe, robot=planner, select=keep)
         if is_stdin(path) and write:
             run.stdin = result.data
             atomic_write(STDOUT, result.data)

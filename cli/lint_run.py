@@ -38,6 +38,7 @@ __all__ = [
     "collect",
     "lint",
     "lint_document",
+    "reported",
     "robot_planner",
 ]
 
@@ -355,6 +356,13 @@ def _planner(
     if not codes:
         return None
     return planner(spec, str(path), codes)
+
+
+def reported(path: Path, code: str, resolver: Resolver, overrides: Overrides) -> bool:
+    """Whether findings ``code`` in ``path`` are reported: its settings' selection, the
+    command line's over it, its ``per-file-ignores`` (what ``--fix`` fixes, too)."""
+    path = overrides.named(path)
+    return resolver.for_file(path).reports(code, path, overrides.selection)
 
 
 def robot_planner(

@@ -22,6 +22,7 @@ from motiontool.cli.lint_run import (
     Overrides,
     collect,
     lint,
+    reported,
     robot_planner,
 )
 from motiontool.cli.options import (
@@ -372,6 +373,7 @@ def _apply_fixes(
         return None
     unsafe, quiet, exit_zero = fixes.unsafe, fixes.quiet, fixes.exit_zero
     robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
+    select = partial(reported, resolver=resolver, overrides=overrides)
     if fixes.diff:
         with open_output(STDOUT if output is None else output) as sink:
             changes = fix_files(
@@ -381,11 +383,12 @@ def _apply_fixes(
                 robot=robot_fixes,
                 diff=sink.write,
                 named=overrides.named,
+                select=select,
             )
         say_wrote(output, f"unified diff, the fixes of {plural(len(changes.files), 'file')}")
         failed = changes.files and not exit_zero
         raise typer.Exit(exit_codes.FINDINGS if failed else exit_codes.CLEAN)
-    fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes)
+    fixed = fix_files(files, unsafe=unsafe, write=True, robot=robot_fixes, select=select)
     if not quiet:
         typer.echo(f"motiontool: {fixed.line()}", err=True)
     return fixed.stdin

@@ -27,7 +27,7 @@ columns, end exclusive), so a fix never touches a byte outside its span.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -303,11 +303,13 @@ def fix_bytes(
     *,
     unsafe: bool = False,
     robot: RobotPlanner | None = None,
+    select: Callable[[str], bool] | None = None,
 ) -> FixResult:
     """``data`` with every fix applied (the unsafe ones too with ``unsafe``, and with a
-    ``robot`` planner those of :data:`ROBOT_CODES`), round after round until none is left;
-    each round of safe fixes is proved to play exactly as before (:func:`same_stream`) and
-    refused otherwise; unsafe ones must leave a file Webots loads."""
+    ``robot`` planner those of :data:`ROBOT_CODES`; only those of the codes ``select`` keeps,
+    where given), round after round until none is left; each round of safe fixes is proved
+    to play exactly as before (:func:`same_stream`) and refused otherwise; unsafe ones must
+    leave a file Webots loads."""
     current = data
     applied: list[Fix] = []
     refused: list[Fix] = []
@@ -320,7 +322,7 @@ def fix_bytes(
                 if robot is not None and codes[0] in ROBOT_CODES
                 else plan_fixes(current, path, unsafe=unsafe)
             )
-            fixes = [f for f in planned if f.code in codes]
+            fixes = [f for f in planned if f.code in codes and (select is None or select(f.code))]
             fixes = [f for f in _disjoint(fixes) if (f.code, f.line) not in _keys(refused)]
             if not fixes:
                 continue

@@ -250,3 +250,17 @@ def test_statistics_as_json_conform_to_their_schema(repo: Path) -> None:
     assert doc["summary"] == {"files": 1, "errors": 1, "warnings": 1, "notes": 0}
     code, _, err = invoke("validate", "--statistics", "-f", "sarif", "motions/a.motion")
     assert code == 2 and "--statistics: --format text or json" in err
+
+
+def test_fix_leaves_the_codes_left_out_alone_as_ruff_fixes_only_selected_rules(
+    repo: Path,
+) -> None:
+    (repo / "w.motion").write_bytes(WARN)
+    code, _out, err = invoke("validate", "--fix", "--ignore", "MT2", "w.motion")
+    assert (code, err) == (0, "motiontool: nothing to fix\n")
+    assert (repo / "w.motion").read_bytes() == WARN
+    (repo / "motiontool.toml").write_text('[per-file-ignores]\n"w.motion" = ["MT203"]\n')
+    assert invoke("validate", "--fix", "w.motion")[2] == "motiontool: nothing to fix\n"
+    assert invoke("validate", "--fix", "--isolated", "w.motion")[2] == (
+        "motiontool: fixed 1 finding in 1 file (MT203)\n"
+    )
