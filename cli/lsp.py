@@ -168,7 +168,8 @@ def _code_actions(
                 edit=lsp.WorkspaceEdit(changes={uri: _edits(report, codec, fixes)}),
             )
         )
-    fixed = fix_bytes(report.data, report.path, unsafe=False)
+    shown = {d.code for d in report.diagnostics}  # as validate --fix: the codes reported only
+    fixed = fix_bytes(report.data, report.path, unsafe=False, select=shown.__contains__)
     if fixed.data != report.data:
         whole = _range(report, codec, 1, 1, None)
         last = len(report.data.split(b"\n"))

@@ -195,6 +195,36 @@ def test_changes_are_linted_as_typed_and_fixes_are_code_actions(project: Path) -
     run_session(project, body)
 
 
+def test_fix_all_leaves_the_codes_the_configuration_leaves_out(project: Path) -> None:
+    """Issue 36 item 9: "fix all" makes the edit ``validate --fix`` makes, which fixes only the
+    codes reported (here MT204 is ignored for the file, MT203 is not)."""
+    (project / "nao" / "motiontool.toml").write_text('robot = "none"\nignore = ["MT204"]\n')
+    text = MOTION.replace("00:00:000,Pose1,0,0", "00:00:000,Pose1,0,-9999999.9")
+
+    async def body(session: Session) -> None:
+        uri = open_doc(session, project / "nao" / "look.motion", text)
+        shown = await session.diagnostics(uri)
+        assert "MT203" in {d.code for d in shown} and "MT204" not in {d.code for d in shown}
+        everything = lsp.Range(start=lsp.Position(0, 0), end=lsp.Position(4, 0))
+        actions = await session.client.text_document_code_action_async(
+            lsp.CodeActionParams(
+                text_document=lsp.TextDocumentIdentifier(uri=uri),
+                range=everything,
+                context=lsp.CodeActionContext(diagnostics=[]),
+            )
+        )
+        fix_all = [
+            a
+            for a in actions or []
+            if isinstance(a, lsp.CodeAction) and a.kind == lsp.CodeActionKind.SourceFixAll
+        ]
+        assert len(fix_all) == 1 and fix_all[0].edit is not None and fix_all[0].edit.changes
+        (whole,) = fix_all[0].edit.changes[uri]
+        assert whole.new_text == text.replace("2rad", "2")  # the ignored MT204 cell stays
+
+    run_session(project, body)
+
+
 def test_hover_names_the_joint_time_value_and_limits(project: Path) -> None:
     async def body(session: Session) -> None:
         uri = open_doc(session, project / "nao" / "look.motion", MOTION)
