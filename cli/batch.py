@@ -27,6 +27,7 @@ from motiontool.cli.physics_options import (
     Profile,
     ProfileOption,
     RobotNodeOption,
+    SelfCollisionOption,
     WorldOption,
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
@@ -146,6 +147,7 @@ def batch_command(
     profile: ProfileOption = Profile.default,
     world: WorldOption = None,
     robot_node: RobotNodeOption = None,
+    self_collision: SelfCollisionOption = None,
     junit: _Junit = None,
     json_out: _Json = None,
     markdown: _Markdown = None,
@@ -172,7 +174,7 @@ def batch_command(
         roots=[p for p in paths if p.is_dir()],
         robot=robot,
         timestep=timestep,
-        physics=(profile, physics_step, friction),
+        physics=(profile, physics_step, friction, self_collision),
         world=(world, robot_node),
         sampling=(perturb or [], samples, seed),
         expect=expect or [],
@@ -276,7 +278,7 @@ def _plan(
     roots: list[Path],
     robot: list[str] | None,
     timestep: int | None,
-    physics: tuple[Profile, float | None, float | None],
+    physics: tuple[Profile, float | None, float | None, bool | None],
     world: tuple[Path | None, str | None],
     sampling: tuple[list[str], int, int],
     expect: list[str],
@@ -286,8 +288,8 @@ def _plan(
 ) -> list[RunSpec]:
     """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
     each file's robots and time step from the configuration unless given; ``physics`` is the
-    profile, physics step (ms) and friction, ``world`` the Webots world and its robot node
-    (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
+    profile, physics step (ms), friction and self-collision, ``world`` the Webots world and its
+    robot node (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
     configuration's), ``sampling`` the perturbations, the samples and the seed. A bad option,
     robot, expectation, sidecar, world or physics step: exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
@@ -295,10 +297,10 @@ def _plan(
 
     perturb, samples, seed = sampling
     perturbations = [parse_perturbation(p) for p in perturb]
-    profile, physics_step, friction = physics
+    profile, physics_step, friction, self_collision = physics
     options = {
         "timestep_ms": timestep,
-        **physics_run_options(profile.value, physics_step, friction),
+        **physics_run_options(profile.value, physics_step, friction, self_collision),
     }
     settings = {f: resolver.for_file(f) for f in files}
     robots = {f: robot or [settings[f].robot_for(f)] for f in files}

@@ -268,9 +268,11 @@ def physics_run_options(
     profile: str = "default",
     physics_step_ms: float | None = None,
     friction: float | None = None,
+    self_collision: bool | None = None,
 ) -> dict[str, Any]:
     """The physics options of a batch run (:class:`~motiontool.sim.batch.RunSpec` options, and
-    so its cache key): only those that are given (the defaults leave the key as it was).
+    so its cache key): only those that are given (the defaults leave the key as it was);
+    ``self_collision``: ``--[no-]self-collision``.
 
     Raises:
         MotionToolError: a value :func:`check_physics` refuses.
@@ -283,4 +285,6 @@ def physics_run_options(
         out["physics_step_ms"] = float(physics_step_ms)
     if friction is not None:
         out["floor_friction"] = float(friction)
+    if self_collision is not None:
+        out["self_collision"] = bool(self_collision)
     return out

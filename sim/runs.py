@@ -71,7 +71,8 @@ def _play_options(spec: RunSpec) -> Any:
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
         kwargs["start"] = str(options["start"])
-    for name in ("physics_step_ms", "floor_friction", "profile"):  # sim.physics.physics_run_options
+    for name in ("physics_step_ms", "floor_friction", "profile", "self_collision"):
+        # sim.physics.physics_run_options
         if options.get(name) is not None:
             kwargs[name] = options[name]
     return PlayOptions(**kwargs, seed=spec.sample)

@@ -188,3 +188,22 @@ def test_the_wrestling_worlds_self_collision_turns_it_on(wrestling: Path, tmp_pa
     assert doc["self_collision"]["physics"] is False and _roll_error(doc) < 0.15
     not_applied = {e["field"]: e for e in doc["world"]["not_applied"]}
     assert "option was given" in not_applied["Nao 'participant'.selfCollision"]["reason"]
+
+
+def test_batch_self_collision_option_reaches_every_run_and_its_cache_key(tmp_path: Path) -> None:
+    motion = tmp_path / "hug.motion"
+    motion.write_bytes(HUG)
+    args = ["batch", str(motion), "--robot", "nao", "--cache-dir", str(tmp_path / "cache")]
+    docs = {}
+    for flag in ("--self-collision", "--no-self-collision"):
+        out = tmp_path / f"batch{flag}.json"
+        result = runner.invoke(app, [*args, flag, "--json", str(out)])
+        assert result.exit_code in (0, 1), result.output
+        (run,) = json.loads(out.read_text(encoding="utf-8"))["runs"]
+        docs[flag] = run["report"]
+    assert docs["--self-collision"]["self_collision"]["physics"] is True
+    assert docs["--self-collision"]["self_collision"]["source"] == "option"
+    assert _roll_error(docs["--self-collision"]) > 0.4
+    # Not answered from the first run's cache entry: the option is in the key.
+    assert docs["--no-self-collision"]["self_collision"]["physics"] is False
+    assert _roll_error(docs["--no-self-collision"]) < 0.15
