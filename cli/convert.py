@@ -280,17 +280,39 @@ def _refuse_unused(given: Mapping[str, object], fmt_in: Format, fmt_out: Format)
 
 
 def _checked(
-    imported: Imported, spec: RobotSpec | None, fmt_out: Format, step: int, robot: str | None
+    imported: Imported,
+    spec: RobotSpec | None,
+    fmt_out: Format,
+    robot: str | None,
+    ask: ExportOptions,
 ) -> list[str]:
-    """The robot checks of the motion: stop (exit 1) on a blocking finding, else the others."""
+    """Every check before the export: what validate finds in the file, one position per ROS
+    name, the robot checks of the motion (stop, exit 1, on a blocking finding) and the
+    lead-in; the findings that do not stop it."""
+    notes = file_findings(imported)
+    if "joint_map" in fmt_out.uses:  # a ROS export: one position per ROS name
+        refuse_split_joints(imported, ask.joint_map)
     if spec is None:
-        return []
+        return notes
     if robot is not None or fmt_out.for_robot:
         refuse_unknown_joints(imported, spec)
-    blocking, notes = motion_findings(imported, spec, step, for_robot=fmt_out.for_robot)
+    blocking, more = motion_findings(imported, spec, ask.timestep_ms, for_robot=fmt_out.for_robot)
     if blocking:
         _refuse(blocking, f"not written: the motion fails the checks of robot {spec.name}:")
-    return notes
+    if "lead_in_ms" in fmt_out.uses:
+        refuse_short_lead_in(imported.motion, spec, ask.lead_in_ms, "--lead-in")
+    return notes + more
+
+
+def _check_stream(exported: Exported, imported: Imported, spec: RobotSpec, what: str) -> None:
+    """What the export sends to the robot: its motors only (exit 2), within their limits and
+    maxVelocity (exit 1)."""
+    if exported.stream is None:
+        return
+    refuse_unknown_joints(imported, spec)
+    bad = stream_findings(exported.stream, spec, f"{what} export")
+    if bad:
+        _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
 
 
 def _write(exported: Exported, source: Path, target: Path, send_script: Path | None) -> None:
@@ -359,11 +381,6 @@ def convert_command(
     imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
     spec = _robot(robot, fmt_out, imported.motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
-    notes = file_findings(imported) + _checked(imported, spec, fmt_out, step, robot)
-    if "joint_map" in fmt_out.uses:  # a ROS export: one position per ROS name
-        refuse_split_joints(imported, pairs)
-    if spec is not None and "lead_in_ms" in fmt_out.uses:
-        refuse_short_lead_in(imported.motion, spec, lead_in, "--lead-in")
     options = ExportOptions(
         timestep_ms=step,
         source=source_name(source),
@@ -376,11 +393,9 @@ def convert_command(
         joint_map=pairs,
         topic=topic,
     )
+    notes = _checked(imported, spec, fmt_out, robot, options)
     exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]
-    if spec is not None and exported.stream is not None:
-        refuse_unknown_joints(imported, spec)  # what a robot is sent: its motors only (exit 2)
-        bad = stream_findings(exported.stream, spec, f"{fmt_out.name} export")
-        if bad:
-            _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
+    if spec is not None:
+        _check_stream(exported, imported, spec, fmt_out.name)
     _write(exported, source, target, send_script)
     emit_stderr(_report(exported, spec, notes, imported, robot))

@@ -39,6 +39,18 @@ def _robot(path: Path) -> RobotSpec | None:
     return pick_robot(AUTO, result.joints)
 
 
+_Output = Annotated[
+    Path | None,
+    typer.Option(
+        "--output",
+        "-o",
+        parser=output_path,
+        metavar="PATH",
+        help="Write the motions.toml here (default: stdout).",
+    ),
+]
+
+
 def expect_command(
     names: Annotated[
         list[str],
@@ -51,16 +63,7 @@ def expect_command(
         bool,
         typer.Option("--infer", help="Propose expectations from the names (the only mode)."),
     ] = False,
-    output: Annotated[
-        Path | None,
-        typer.Option(
-            "--output",
-            "-o",
-            parser=output_path,
-            metavar="PATH",
-            help="Write the motions.toml here (default: stdout).",
-        ),
-    ] = None,
+    output: _Output = None,
 ) -> None:
     """Propose expectations (a motions.toml sidecar) from motion names, for people to review:
     Forwards -> dx>0, TurnLeft60 -> yaw=60±9, SideStepRight -> dy<0, StandUpFromFront ->

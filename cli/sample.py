@@ -84,6 +84,18 @@ def _chunks(
     yield from json_document(name, timestep, motion.joints, elapsed, stream)
 
 
+_Output = Annotated[
+    Path | None,
+    typer.Option(
+        "--output",
+        "-o",
+        parser=output_path,
+        metavar="PATH",
+        help="Write to this file instead of stdout (never over the input).",
+    ),
+]
+
+
 def sample_command(
     path: MotionFile,
     timestep: Annotated[
@@ -99,16 +111,7 @@ def sample_command(
             " for a non-finite command.",
         ),
     ] = SampleFormat.csv,
-    output: Annotated[
-        Path | None,
-        typer.Option(
-            "--output",
-            "-o",
-            parser=output_path,
-            metavar="PATH",
-            help="Write to this file instead of stdout (never over the input).",
-        ),
-    ] = None,
+    output: _Output = None,
     reverse: Annotated[bool, typer.Option("--reverse", help="Play backwards.")] = False,
     loop: Annotated[
         int, typer.Option("--loop", min=1, max=MAX_COUNT, help="Play this many cycles.")

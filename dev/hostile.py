@@ -58,6 +58,7 @@ WRITERS = [
     ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
     ["robots", "export", "ur5e", "--mjcf", "OUT"],
     ["robots", "export", "ur5e", "--urdf", "OUT"],
+    ["convert", "in.motion", "in.naoqi.json", "--send-script", "OUT"],
     ["convert", "in.motion", "OUT", "--to", "csv"],
     ["convert", "in.motion", "OUT", "--to", "npz"],
     ["convert", "in.motion", "OUT", "--to", "naoqi"],

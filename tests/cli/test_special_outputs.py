@@ -48,6 +48,7 @@ WRITERS = [
     ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
     ["robots", "export", "model.xml", "--mjcf", "OUT"],
     ["robots", "export", "model.xml", "--urdf", "OUT"],
+    ["convert", "in.motion", "in.naoqi.json", "--send-script", "OUT"],
 ]
 IDS = [f"{c[0]} {c[-2]}" if c[0] != "robots" else f"robots {c[-2]}" for c in WRITERS]
 
@@ -87,7 +88,7 @@ def test_writers_cover_every_output_option() -> None:
 
     group = typer.main.get_command(app)
     written = {"--output", "--json", "--rrd", "--junit", "--markdown", "--plot", "--mjcf"}
-    written |= {"--urdf", "--bag"}
+    written |= {"--urdf", "--bag", "--send-script"}
     folders = {"--rrd-dir", "--cache-dir"}
     found = set()
     stack = [group]
@@ -99,7 +100,7 @@ def test_writers_cover_every_output_option() -> None:
                 found.add(p.opts[0])
             elif p.opts[0] in ("--config", "--joint-map"):  # files read, never written
                 continue
-            elif "path" in str(p.type).lower() and p.opts[0].startswith("--"):
+            elif "path" in f"{p.type} {p.type.name}".lower() and p.opts[0].startswith("--"):
                 pytest.fail(f"{cmd.name} {p.opts[0]}: a path option this test does not know")
     assert found == written | folders
     assert {c[-2] if c[-2] != "-o" else "--output" for c in WRITERS} == written
