@@ -234,7 +234,8 @@ _JointMap = Annotated[
     typer.Option(
         "--joint-map",
         help="rosbag, ros-trajectory: a TOML or YAML table, motion joint = ROS name, for the "
-        "joints whose ROS names differ (the UR5e and the Nao need none).",
+        "joints whose ROS names differ (the UR5e and the Nao need none); joints given one ROS "
+        "name must agree, as a Nao's phalanges do as LHand.",
     ),
 ]
 _MaxError = Annotated[
