@@ -103,7 +103,8 @@ def render_json(batch: BatchResult) -> Iterator[str]:
     doc: dict[str, Any] = {
         "schema": "motiontool.batch",
         "schema_version": 1,
-        "stamps": stamps(),
+        "stamps": stamps(batch.model_sha256),
+        "models": batch.models,
         "executor": batch.executor,
         "jobs": batch.jobs,
         "wall_s": round(batch.wall_s, 3),

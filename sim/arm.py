@@ -46,8 +46,8 @@ past them, every other one is let go, as often as needed (samples every 100 ms, 
 
 def _keyframe_steps(
     motions: Sequence[Motion], lengths: Sequence[int], timestep_ms: int, reverse: bool, loops: int
-) -> Iterator[tuple[int, int, float, int]]:
-    """(file index, pose index, time s, first control step at or after it) of every keyframe,
+) -> Iterator[tuple[int, int, int, int]]:
+    """(file index, pose index, time ms, first control step at or after it) of every keyframe,
     in the order played (:func:`motiontool.motionfmt.player.elapsed_steps`: each cycle of a
     motion has ceil(D / T) + 1 steps, its playback time ``k T`` at its step ``k``)."""
     start = 0
@@ -62,7 +62,7 @@ def _keyframe_steps(
                 k = -(-played_ms // timestep_ms)
                 step = start + loop * cycle + k
                 time_ms = (start + loop * cycle) * timestep_ms + played_ms
-                yield f, p, time_ms / MS_PER_S, step
+                yield f, p, time_ms, step
         start += length
 
 
@@ -77,10 +77,10 @@ def _angle_deg(a: npt.NDArray[np.float64], b: npt.NDArray[np.float64]) -> float:
 class _Visit:
     """A visit of a keyframe whose lag is not known yet (see :meth:`ToolMeter.add`)."""
 
-    __slots__ = ("end", "entry", "next_frame", "position", "step", "time_s")
+    __slots__ = ("end", "entry", "next_frame", "position", "step", "time_ms")
 
-    def __init__(self, entry: _Entry, step: int, time_s: float, position: Any) -> None:
-        self.entry, self.step, self.time_s, self.position = entry, step, time_s, position
+    def __init__(self, entry: _Entry, step: int, time_ms: int, position: Any) -> None:
+        self.entry, self.step, self.time_ms, self.position = entry, step, time_ms, position
         self.next_frame = step  # the next frame to look at for its lag
         self.end: int | None = None  # the last frame to look at: None while not known
 
@@ -144,6 +144,7 @@ class ToolMeter:
         self.scene, self.motions = scene, motions
         self.reach_tolerance_mm = reach_tolerance_mm
         self._tolerance_m = reach_tolerance_mm / MM_PER_M
+        self._step_ms = timestep_ms
         self._coming = _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
         self._next = next(self._coming, None)
         self._entries: dict[tuple[int, int], _Entry] = {}  # (file, pose): in the order first met
@@ -176,7 +177,7 @@ class ToolMeter:
         self._sample_trail(chunk)
         self._last = chunk
 
-    def _reached(self, steps: int) -> list[tuple[int, int, float, int]]:
+    def _reached(self, steps: int) -> list[tuple[int, int, int, int]]:
         """The keyframes not met yet whose step is before ``steps`` (the steps simulated)."""
         out = []
         while self._next is not None and self._next[3] < steps:
@@ -186,7 +187,7 @@ class ToolMeter:
 
     def _keyframe_targets(
         self,
-        reached: Sequence[tuple[int, int, float, int]],
+        reached: Sequence[tuple[int, int, int, int]],
         targets: npt.NDArray[np.float64],
         first: int,
     ) -> npt.NDArray[np.float64]:
@@ -210,7 +211,7 @@ class ToolMeter:
     def _new_keyframes(
         self,
         chunk: Trace,
-        reached: Sequence[tuple[int, int, float, int]],
+        reached: Sequence[tuple[int, int, int, int]],
         kf_pos: npt.NDArray[np.float64],
         kf_quat: npt.NDArray[np.float64],
     ) -> None:
@@ -219,7 +220,7 @@ class ToolMeter:
         import numpy as np
 
         assert chunk.tool_pos is not None and chunk.tool_quat is not None
-        for (f, p, time_s, step), pos, quat in zip(reached, kf_pos, kf_quat, strict=True):
+        for (f, p, time_ms, step), pos, quat in zip(reached, kf_pos, kf_quat, strict=True):
             for earlier in self._open:
                 if (
                     earlier.end is None
@@ -233,7 +234,7 @@ class ToolMeter:
             pose = KeyframePose(
                 file_index=f,
                 name=self.motions[f].pose_names[p],
-                time_s=time_s,
+                time_s=time_ms / MS_PER_S,
                 commanded_position_m=_vec3(pos),
                 commanded_quat_wxyz=_vec4(quat),
                 measured_position_m=_vec3(measured_pos),
@@ -247,7 +248,7 @@ class ToolMeter:
                 entry = self._entries[f, p] = _Entry(pose)
             else:
                 entry.visit(pose)
-            self._open.append(_Visit(entry, step, time_s, pos))
+            self._open.append(_Visit(entry, step, time_ms, pos))
 
     def _lags(self, chunk: Trace) -> None:
         """Look for each open keyframe's lag in the frames of ``chunk``; a keyframe whose lag
@@ -266,7 +267,8 @@ class ToolMeter:
             within = np.flatnonzero(dist <= self._tolerance_m)
             if len(within):
                 frame = kf.next_frame + int(within[0]) - chunk.first_frame
-                kf.entry.reached((float(chunk.time_s[frame]) - kf.time_s) * MS_PER_S)
+                lag_ms = (chunk.first_frame + frame) * self._step_ms - kf.time_ms  # whole ms
+                kf.entry.reached(float(lag_ms))
                 continue
             kf.next_frame = stop + 1
             if kf.end is None or kf.next_frame <= kf.end:

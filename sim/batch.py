@@ -445,7 +445,9 @@ def run_batch(
             outcomes.close()
     if cache is not None:
         cache.prune()
-    return BatchResult(results.in_plan_order(), time.monotonic() - t0, executor, jobs)
+    models = {s.robot: model_hash(s.robot) for s in specs}
+    models = {robot: sha for robot, sha in sorted(models.items()) if sha}  # auto: none fits
+    return BatchResult(results.in_plan_order(), time.monotonic() - t0, executor, jobs, models)
 
 
 class _Results:

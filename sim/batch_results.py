@@ -73,6 +73,14 @@ class BatchResult:
     wall_s: float = 0.0
     executor: str = "local"
     jobs: int = 1
+    models: dict[str, str] = field(default_factory=dict)
+    """The sha256 of each robot model the batch ran on, by robot (as the runs name it)."""
+
+    @property
+    def model_sha256(self) -> str | None:
+        """The model every run ran on, or None: several models (see :attr:`models`), or none."""
+        hashes = set(self.models.values())
+        return hashes.pop() if len(hashes) == 1 else None
 
     @property
     def failures(self) -> list[RunResult]:

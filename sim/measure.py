@@ -9,7 +9,7 @@ import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from motiontool.motionfmt.units import MM_PER_M
+from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
 from motiontool.sim.report import (
     BaseStats,
     ContactSummary,
@@ -176,11 +176,11 @@ class _FeetMeter:
         self.max_away = _fold(np.maximum, self.max_away, away[new:].max(axis=0))
         self.final_away = away[-1]
 
-    def stats(self, feet: Sequence[str], dt: float) -> list[FootStats]:
+    def stats(self, feet: Sequence[str], step_ms: int) -> list[FootStats]:
         return [
             FootStats(
                 name=name,
-                contact_s=float(self.contact[f] * dt),
+                contact_s=_seconds(self.contact[f], step_ms),
                 slip_m=float(self.slip[f]),
                 max_displacement_m=float(self.max_away[f]),
                 final_displacement_m=float(self.final_away[f]),
@@ -235,7 +235,7 @@ class _JointMeter:
                     _fold(np.maximum, worst, np.abs(e).max()),
                 )
 
-    def stats(self, dt: float) -> list[JointStats]:
+    def stats(self, step_ms: int) -> list[JointStats]:
         import numpy as np
 
         out = []
@@ -251,10 +251,10 @@ class _JointMeter:
                     commanded=bool(self.ever[j]),
                     rms_error=float(np.sqrt(total / steps)) if steps else 0.0,
                     max_error=float(worst) if steps else 0.0,
-                    velocity_cap_s=float(velocity * dt),
-                    torque_cap_s=float(torque * dt),
-                    target_clipped_s=float(clipped * dt),
-                    beyond_limits_s=float(beyond * dt),
+                    velocity_cap_s=_seconds(velocity, step_ms),
+                    torque_cap_s=_seconds(torque, step_ms),
+                    target_clipped_s=_seconds(clipped, step_ms),
+                    beyond_limits_s=_seconds(beyond, step_ms),
                 )
             )
         return out
@@ -293,11 +293,15 @@ class _ContactMeter:
                     seen[2] += 1
                 seen[3] = max(seen[3], e.depth_m)
 
-    def summaries(self, kind: str, dt: float) -> list[ContactSummary]:
+    def summaries(self, kind: str, step_ms: int) -> list[ContactSummary]:
         pairs = self.pairs[kind]
         return [
             ContactSummary(
-                key[0], key[1], float(pairs[key][0] * dt), pairs[key][2] * dt, pairs[key][3]
+                key[0],
+                key[1],
+                _seconds(pairs[key][0], step_ms),
+                _seconds(pairs[key][2], step_ms),
+                pairs[key][3],
             )
             for key in sorted(pairs, key=lambda k: (pairs[k][0], k))
         ]
@@ -335,7 +339,7 @@ class RunMeter:
         """The pairs of robot bodies that touched in the simulation itself (self-collision
         physics), as far as measured."""
         last = self._last
-        return [] if last is None else self._contacts.summaries("touch", last.control_step_s)
+        return [] if last is None else self._contacts.summaries("touch", last.control_step_ms)
 
     @property
     def control_steps(self) -> int:
@@ -355,7 +359,7 @@ class RunMeter:
         robot), the simulator's warnings and error."""
         last = self._last
         assert last is not None, "a run has at least one chunk"
-        dt = last.control_step_s
+        step_ms = last.control_step_ms
         return PlayReport(
             robot=self.scene.robot.name,
             files=files,
@@ -363,13 +367,19 @@ class RunMeter:
             stamps=stamps,
             simulated_s=float(last.time_s[-1]),
             control_steps=self.control_steps,
-            joints=self._joints.stats(dt),
+            joints=self._joints.stats(step_ms),
             base=None if self._base is None else self._base.stats(),
-            feet=self._feet.stats(last.feet, dt),
-            self_collisions=self._contacts.summaries("self", dt),
-            scene_contacts=self._contacts.summaries("scene", dt),
-            ground_contacts=self._contacts.summaries("ground", dt),
+            feet=self._feet.stats(last.feet, step_ms),
+            self_collisions=self._contacts.summaries("self", step_ms),
+            scene_contacts=self._contacts.summaries("scene", step_ms),
+            ground_contacts=self._contacts.summaries("ground", step_ms),
             warnings=dict(last.warnings),
             ignored_joints=ignored,
             error=last.error,
         )
+
+
+def _seconds(steps: Any, step_ms: int) -> float:
+    """``steps`` control steps (or a frame index) of ``step_ms`` ms, in s: whole ms, then s,
+    rounded once (201 steps of 20 ms are 4.02 s; 201 * 0.02 is 4.0200000000000005)."""
+    return int(steps) * step_ms / MS_PER_S

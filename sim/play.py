@@ -135,7 +135,7 @@ def play(
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep, physics, scene = _setup(spec, opts, loaded[0], world)
     stream = _commands(loaded, scene, timestep, opts)
-    files = _file_runs(labels, stream.lengths, scene.control_step_s)
+    files = _file_runs(labels, stream.lengths, timestep)
     meter = RunMeter(scene, opts)
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
@@ -421,12 +421,14 @@ def _scene(
     )
 
 
-def _file_runs(names: Sequence[str], lengths: Sequence[int], step_s: float) -> list[FileRun]:
-    """Where each motion starts and how long it plays, its ``lengths`` in control steps."""
+def _file_runs(names: Sequence[str], lengths: Sequence[int], step_ms: int) -> list[FileRun]:
+    """Where each motion starts and how long it plays (s, from whole ms: 201 steps of 20 ms
+    are 4.02 s, where 201 * 0.02 is 4.0200000000000005), its ``lengths`` in control steps of
+    ``step_ms`` ms."""
     files = []
     step = 0
     for name, n in zip(names, lengths, strict=True):
-        files.append(FileRun(name, step * step_s, n * step_s, n))
+        files.append(FileRun(name, step * step_ms / MS_PER_S, n * step_ms / MS_PER_S, n))
         step += n
     return files
 

@@ -4,8 +4,9 @@
 report and :mod:`motiontool.sim.recording` into a Rerun recording, neither touching MuJoCo.
 
 Frames: frame 0 is the state before the first control step; frame ``k >= 1`` the state after
-control step ``k - 1``, at ``time_s[k] = k * control_step_s``. Step ``k`` sends ``targets[k]``
-at ``time_s[k]`` (from the state of frame ``k``) and runs the physics to frame ``k + 1``.
+control step ``k - 1``, at ``time_s[k] = k * control_step_ms / 1000``. Step ``k`` sends
+``targets[k]`` at ``time_s[k]`` (from the state of frame ``k``) and runs the physics to frame
+``k + 1``.
 
 A run is simulated a chunk of control steps at a time, so that memory stays flat whatever its
 duration (:func:`motiontool.sim._mujoco.run_chunks`): each chunk is a :class:`Trace` of its own
@@ -19,6 +20,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
+
+from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
     import numpy as np
@@ -99,7 +102,8 @@ class Trace:
         joints: the J motors, in model order.
         control_step_s: control period T, s.
         physics_step_s: MuJoCo step, s.
-        time_s: (S + 1,) frame times, s (from ``first_frame * control_step_s``).
+        time_s: (S + 1,) frame times, s (frame ``k`` at ``k * control_step_ms / 1000``: whole
+            ms, rounded once).
         commanded: (S, J) bool, whether the motion file commanded the joint at that step (as
             opposed to keeping the previous target).
         targets: (S, J) target in force at each step before clipping, rad (m).
@@ -151,6 +155,26 @@ class Trace:
     steps_done: int = 0
     error: str | None = None
     first_frame: int = 0
+
+    @property
+    def control_step_ms(self) -> int:
+        """The control period in whole ms (Webots' basicTimeStep is an int): what a report's
+        times and durations are counted in, ``steps * control_step_ms / 1000`` s rounded once
+        (201 steps of 20 ms are 4.02 s, where 201 * 0.02 is 4.0200000000000005)."""
+        return round(self.control_step_s * MS_PER_S)
+
+    @staticmethod
+    def frame_times(
+        first_frame: int, n_frames: int, control_step_s: float
+    ) -> npt.NDArray[np.float64]:
+        """``time_s`` of ``n_frames`` frames from ``first_frame``: each frame's whole ms
+        (``control_step_s`` is whole ms), then s, rounded once."""
+        import numpy as np
+
+        step_ms = round(control_step_s * MS_PER_S)
+        frames = np.arange(first_frame, first_frame + n_frames, dtype=np.int64)
+        times: npt.NDArray[np.float64] = frames * step_ms / MS_PER_S
+        return times
 
     @property
     def last_frame(self) -> int:

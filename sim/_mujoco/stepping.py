@@ -120,8 +120,7 @@ def _new_trace(
         joints=scene.joints,
         control_step_s=scene.control_step_s,
         physics_step_s=scene.physics_step_s,
-        time_s=np.arange(first_frame, first_frame + n_frames, dtype=np.int64).astype(np.float64)
-        * scene.control_step_s,
+        time_s=Trace.frame_times(first_frame, n_frames, scene.control_step_s),
         commanded=commanded,
         targets=targets,
         velocity_cmd=np.zeros((steps, n_joints)),

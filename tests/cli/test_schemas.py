@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 
 from motiontool.cli import schemas
 from motiontool.cli.app import app
-from motiontool.kinematics.robots import builtin_robots
+from motiontool.kinematics.robots import builtin_robots, load_robot
 
 runner = CliRunner()
 
@@ -235,6 +235,54 @@ def test_batch_json_conforms(files: Path) -> None:
     assert any("control_steps" in e or "'many'" in e for e in errors(broken, "batch"))
     broken["runs"][0]["report"] = None  # a run that did not play
     assert errors(broken, "batch") == []
+
+
+def _times(doc: Any, path: str = "") -> list[tuple[str, float]]:
+    """Every number under a key ending ``_s`` (times and durations, s) in ``doc``."""
+    if isinstance(doc, dict):
+        out = []
+        for k, v in doc.items():
+            if k.endswith("_s") and isinstance(v, float | int) and not isinstance(v, bool):
+                out.append((f"{path}.{k}", float(v)))
+            elif k.endswith("_s") and isinstance(v, list):
+                out += [(f"{path}.{k}[{i}]", float(x)) for i, x in enumerate(v)]
+            else:
+                out += _times(v, f"{path}.{k}")
+        return out
+    if isinstance(doc, list):
+        return [t for i, v in enumerate(doc) for t in _times(v, f"{path}[{i}]")]
+    return []
+
+
+def test_play_and_batch_times_are_whole_ms_without_float_noise(files: Path) -> None:
+    """201 control steps of 20 ms were written ``4.0200000000000005`` s (201 * 0.02): every
+    time and duration of a play or batch report is its whole ms / 1000, so it reads as written
+    (``4.02``). The batch's own stamps name the robot model it ran (null) now too: the model's
+    hash where one model ran every run, ``models`` each robot's."""
+    four_s = b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n2000,B,0.3\n4000,C,0\n"
+    Path("four.motion").write_bytes(four_s)
+    result = runner.invoke(
+        app, ["play", "--headless", "--json", "run.json", "four.motion", "nod.motion"]
+    )
+    assert result.exit_code == 0, result.output
+    text = Path("run.json").read_text()
+    doc = json.loads(text)
+    assert [f["start_s"] for f in doc["files"]] == [0.0, 4.02]  # 201 steps of 20 ms
+    assert '"start_s": 4.02,' in text and doc["simulated_s"] == 5.08  # 201 + 3 + 50 steps
+    noisy = [(k, v) for k, v in _times(doc) if repr(v) != repr(round(v * 1000) / 1000)]
+    assert noisy == [] and len(_times(doc)) > 20
+    args = ["batch", "four.motion", "--jobs", "1", "--no-cache", "--json", "batch.json"]
+    result = runner.invoke(app, [*args, "--robot", "nao"])
+    assert result.exit_code == 0, result.output
+    doc = json.loads(Path("batch.json").read_text())
+    nao, ur5e = (load_robot(r).model_hash for r in ("nao", "ur5e"))
+    assert doc["stamps"]["model_sha256"] == nao and doc["models"] == {"nao": nao}
+    assert doc["runs"][0]["report"]["simulated_s"] == 5.02 and errors(doc, "batch") == []
+    assert [(k, v) for k, v in _times(doc) if repr(v) != repr(round(v * 1000) / 1000)] == []
+    result = runner.invoke(app, [*args, "--robot", "nao", "--robot", "ur5e"])
+    doc = json.loads(Path("batch.json").read_text())
+    assert doc["stamps"]["model_sha256"] is None and doc["models"] == {"nao": nao, "ur5e": ur5e}
+    assert errors(doc, "batch") == []
 
 
 def test_the_docs_point_at_every_schema() -> None:
