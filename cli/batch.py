@@ -32,7 +32,7 @@ from motiontool.cli.physics_options import (
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import plural
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionToolError, OutputError
 from motiontool.extras import EXTRAS, require
 from motiontool.motionfmt.fileio import is_stdin, output_kind
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
@@ -183,6 +183,11 @@ def batch_command(
         rrd_dir=rrd_dir,
     )
     _refuse_reports_over_recordings(specs, outputs)
+    if rrd_dir is not None:
+        try:
+            rrd_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"cannot write in '{rrd_dir}': {exc.strerror or exc}") from exc
     with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
         batch = _run(
             specs,

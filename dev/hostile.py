@@ -16,6 +16,7 @@ Device nodes need root (``mknod``); without it those cases are left out, and sai
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import resource
 import shutil
@@ -78,6 +79,15 @@ HUGE = [
     ["diff", "in.motion", "other.motion", "--tolerance", "nan"],
     ["retime", "in.motion", "--speed", "inf", "-o", "r.motion"],
     ["validate", "in.motion", "-t", "2147483648"],
+    ["resample", "in.motion", "--step", "99999999999999999999", "-o", "X"],
+    ["batch", "in.motion", "--samples", "99999999999999999999", "--perturb", "mass=1:2"],
+    ["batch", "in.motion", "--jobs", "99999999999999999999"],
+    ["concat", "in.motion", "other.motion", "--transition", "99999999999999999999", "-o", "X"],
+    ["convert", "in.motion", "X", "--to", "naoqi", "--lead-in", "99999999999999999999"],
+    # A perturbation out of its range: refused where parsed, not an error in every run.
+    ["batch", "in.motion", "--no-cache", "--perturb", "mass=-1:0"],
+    ["batch", "in.motion", "--no-cache", "--perturb", "speed=0:0"],
+    ["batch", "in.motion", "--no-cache", "--perturb", "start-noise=-1:1"],
 ]
 
 # A motion that plays for 23 days (100 million controller steps): what holds its stream whole,
@@ -91,12 +101,18 @@ LONG_REFUSED = [
     ["convert", "days.motion", "X", "--to", "rosbag"],  # (naoqi: its robot check stops first)
 ]
 LONG_FINISHED = [
-    ["validate", "days.motion", "--robot", "nao"],
+    ["validate", "days.motion", "--robot", "nao"],  # MT115 and MT209 at the Nao's 20 ms
+    ["validate", "days.motion"],  # at the steps next to its pose times: as fast as 3 lines
     ["diff", "days.motion", "days.motion"],  # at the steps next to its pose times
     ["diff", "days.motion", "days.motion", "--plot", "X"],  # the steps that shape the lines
     ["plot", "days.motion", "-o", "X"],  # a chunk of steps at a time: 10 s, 80 MiB
 ]
 _LONG_LIMIT = 3 << 30
+
+# Joint names matplotlib cannot draw as they are: bytes that are not UTF-8 (kept as surrogates),
+# '$' signs (mathtext). Drawn escaped, as typed.
+ODD_NAMES = [b"Bad\xff\xfeName", b"a$\\frac$", b"x$y"]
+DRAWN = [["plot", "odd.motion", "-o", "X"], ["diff", "odd.motion", "odd2.motion", "--plot", "X"]]
 
 # Two outputs on one path: refused before anything runs.
 SHARED = [
@@ -104,6 +120,7 @@ SHARED = [
     ["play", "in.motion", "--headless", "--rrd", "X", "--bag", "./X"],
     ["batch", "in.motion", "--json", "X", "--markdown", "X"],
     ["batch", "in.motion", "--json", "-", "--junit", "-"],
+    ["batch", "in.motion", "--no-cache", "--rrd-dir", "X", "--json", "X/in.nao.0.rrd"],
     ["robots", "export", "ur5e", "--mjcf", "X", "--urdf", "./X"],
 ]
 
@@ -275,6 +292,56 @@ def case_empty_path(line: list[str], tally: Tally) -> None:
         shutil.rmtree(here, ignore_errors=True)
 
 
+def case_drawn(line: list[str], name: bytes, tally: Tally) -> None:
+    here = _scratch()
+    try:
+        for file, end in (("odd.motion", b"0.3"), ("odd2.motion", b"0.4")):
+            (here / file).write_bytes(
+                b"#WEBOTS_MOTION,V1.0,HeadYaw,%s\n0,P1,0,0\n1000,P2,0.5,%s\n" % (name, end)
+            )
+        done = _run(here, line)
+        problem = _traceback(done.stderr)
+        if not problem and (done.returncode not in (0, 1) or not (here / "X").is_file()):
+            problem = f"exit {done.returncode}: {done.stderr.decode(errors='replace')[-200:]!r}"
+        tally.record(f"{' '.join(line)} of joint {name!r}", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_full_folder(tally: Tally) -> None:
+    """``batch --rrd-dir`` on a full disk (a 64 KiB tmpfs, filled): exit 2, one line, no
+    report, no temporary file left. Needs root (mount); left out otherwise."""
+    here = _scratch()
+    full = here / "full"
+    full.mkdir()
+    mounted = subprocess.run(
+        ["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(full)],
+        capture_output=True,
+        check=False,
+    )
+    if mounted.returncode != 0:
+        shutil.rmtree(here, ignore_errors=True)
+        return
+    try:
+        with contextlib.suppress(OSError):  # ENOSPC once the 64 KiB are taken
+            (full / "filler").write_bytes(b"\0" * (1 << 20))
+        line = ["batch", "in.motion", "--no-cache", "--rrd-dir", "full/rrd", "--json", "r.json"]
+        done = _run(here, line)
+        err = done.stderr.decode(errors="replace")
+        problem = _traceback(done.stderr)
+        if not problem and (done.returncode != 2 or err.count("\n") != 1):
+            problem = f"exit {done.returncode}, stderr {err[-200:]!r}"
+        if not problem and (here / "r.json").exists():
+            problem = "the report was written"
+        left = sorted(p.name for p in full.rglob("*") if p.name not in ("filler", "rrd"))
+        if not problem and left:
+            problem = f"left {left} on the full disk"
+        tally.record(" ".join(line) + " on a full disk", problem)
+    finally:
+        subprocess.run(["umount", str(full)], check=False)
+        shutil.rmtree(here, ignore_errors=True)
+
+
 def case_long_finished(line: list[str], tally: Tally) -> None:
     here = _scratch()
     try:
@@ -381,8 +448,14 @@ def main() -> int:
     cases += [lambda line=line: case_refused(line, tally) for line in HUGE + SHARED]
     cases += [lambda line=line: case_refused(line, tally, _LONG_LIMIT) for line in LONG_REFUSED]
     cases += [lambda line=line: case_long_finished(line, tally) for line in LONG_FINISHED]
+    cases += [
+        lambda line=line, name=name: case_drawn(line, name, tally)
+        for line in DRAWN
+        for name in ODD_NAMES
+    ]
     if rooted:
         cases += [lambda line=line: case_stdout_full(line, tally) for line in STDOUT]
+        cases.append(lambda: case_full_folder(tally))
     cases += [lambda: case_broken_pipe(tally), lambda: case_ctrl_c(tally)]
     t0 = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:

@@ -262,8 +262,9 @@ def plan_batch(
         options: play options of every run (:func:`plan`); a lying start is added per file.
         sidecar: read each motion's sidecar; roots: the batch's folders, where the search for
             a sidecar stops (:func:`motiontool.sim.sidecar.search_boundary`).
-        rrd_dir: the folder of the runs' recordings (None: no recording), made here once the
-            given expectations parse.
+        rrd_dir: the folder of the runs' recordings (None: no recording); not made here (the
+            caller makes it once it has checked the plan: ``batch`` refuses a report where a
+            recording goes before anything is written).
 
     Raises:
         ExpectationError: an expectation of ``expect`` does not parse (before any sidecar is
@@ -274,8 +275,6 @@ def plan_batch(
 
     parse_expectations(expect)
     rrd_names = recording_stems(files)
-    if rrd_dir is not None:
-        rrd_dir.mkdir(parents=True, exist_ok=True)
     sidecars: dict[Path, Sidecar] = {}
     specs = []
     for f in files:

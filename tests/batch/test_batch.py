@@ -295,7 +295,7 @@ def test_a_report_where_a_recording_goes_is_refused_before_any_run(
         f"motiontool: error: {option} and --rrd-dir both write 'rrd/in.nao.0.rrd' (the "
         "recording of in.motion on nao, sample 0); give each its own file\n"
     )
-    assert not (tmp_path / "rrd" / "in.nao.0.rrd").exists()
+    assert not (tmp_path / "rrd").exists()  # nothing written, not even the folder
     first = CliRunner().invoke(app, base)
     assert first.exit_code == 0, first.output
     recording = tmp_path / "rrd" / "in.nao.0.rrd"
