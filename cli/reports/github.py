@@ -10,7 +10,7 @@ from pathlib import Path
 
 from motiontool.cli.jsontext import escape_undecodable
 from motiontool.cli.reports.common import PLAIN, Context, findings, summary, text_column, with_hint
-from motiontool.cli.text import plural
+from motiontool.cli.text import plural, shown
 from motiontool.motionfmt.diagnostics import CODES, Severity
 from motiontool.motionfmt.validate import ValidationReport
 
@@ -94,12 +94,13 @@ def render_github(report: ValidationReport, context: Context = PLAIN) -> Iterato
         title = f"{d.code} {CODES[d.code].title}" if d.code in CODES else d.code
         props.append(f"title={_gh_escape(title, prop=True)}")
         counts[_GH_COMMAND[d.severity]] += 1
-        yield _utf8(f"::{_GH_COMMAND[d.severity]} {','.join(props)}::{_gh_escape(with_hint(d))}\n")
+        message = _gh_escape(shown(with_hint(d)))
+        yield _utf8(f"::{_GH_COMMAND[d.severity]} {','.join(props)}::{message}\n")
     out = []
     for d in report.notes:  # about the run: an annotation without a file
         title = _gh_escape(f"{d.code} {CODES[d.code].title}", prop=True)
         counts[_GH_COMMAND[d.severity]] += 1
-        out.append(f"::{_GH_COMMAND[d.severity]} title={title}::{_gh_escape(with_hint(d))}")
+        out.append(f"::{_GH_COMMAND[d.severity]} title={title}::{_gh_escape(shown(with_hint(d)))}")
     closing = _not_shown(counts)
     if closing is not None:
         out.append(closing)

@@ -15,6 +15,7 @@ from motiontool.cli.reports.common import (
     fix_summary,
     summary,
 )
+from motiontool.cli.text import escaped, shown
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 
@@ -44,7 +45,11 @@ def _source_excerpt(report: FileReport, d: Diagnostic, color: bool) -> list[str]
         text = text[lo : lo + _WINDOW]
         col -= lo
         prefix = "..." if lo else ""
-        col += len(prefix)
+    # control characters shown escaped (an ESC in a name would act on the terminal); the caret
+    # moves with the text before it, and widens with the text under it
+    width = len(escaped(text[col : col + width])) if width > 1 else width
+    col = len(prefix) + len(escaped(text[:col]))
+    text = escaped(text)
     gutter = str(d.line)
     pad = " " * len(gutter)
     caret = " " * col + "^" + "~" * max(0, min(width, _WINDOW) - 1)
@@ -80,10 +85,10 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     for f, d in findings(report, order):
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
         fix = f.fix_summary(d)
-        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {_mark(fix)}{d.message}"]
+        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {_mark(fix)}{shown(d.message)}"]
         out.extend(_source_excerpt(f, d, color))
         if d.hint:
-            out.append(f"   = hint: {d.hint}")
+            out.append(f"   = hint: {shown(d.hint)}")
         fixable.add(fix)
         out.extend(_fix_line(fix))
         out.append("")
@@ -91,9 +96,9 @@ def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[
     out = []
     for d in report.notes:  # about the run, not about a place in a file
         sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
-        out.append(f"{sev} {d.code}: {d.message}")
+        out.append(f"{sev} {d.code}: {shown(d.message)}")
         if d.hint:
-            out.append(f"   = hint: {d.hint}")
+            out.append(f"   = hint: {shown(d.hint)}")
     if not context.quiet:
         out.append(summary(report) + fix_summary(fixable))
     if out:
