@@ -5,7 +5,17 @@ from __future__ import annotations
 
 import signal
 
-__all__ = ["BROKEN_PIPE", "CLEAN", "ERROR", "FINDINGS", "INTERRUPTED", "SUMMARY"]
+__all__ = [
+    "BROKEN_PIPE",
+    "BY_SIGNAL",
+    "CLEAN",
+    "ERROR",
+    "FINDINGS",
+    "HANGUP",
+    "INTERRUPTED",
+    "SUMMARY",
+    "TERMINATED",
+]
 
 CLEAN = 0
 """Nothing found, the run clean."""
@@ -23,7 +33,23 @@ INTERRUPTED = 128 + signal.SIGINT
 BROKEN_PIPE = 128 + signal.SIGPIPE
 """The reader of standard output went away (141, ``| head``), as a shell reports SIGPIPE."""
 
+TERMINATED = 128 + signal.SIGTERM
+"""SIGTERM (143: ``kill``, ``docker stop``, a CI job's timeout), its temporary files removed."""
+
+HANGUP = 128 + signal.SIGHUP
+"""SIGHUP (129: the terminal went away), its temporary files removed."""
+
+BY_SIGNAL: dict[int, int] = {
+    signal.SIGINT: INTERRUPTED,
+    signal.SIGPIPE: BROKEN_PIPE,
+    signal.SIGTERM: TERMINATED,
+    signal.SIGHUP: HANGUP,
+}
+"""The exit status of a process that ``signal`` ended, as a shell reports it."""
+
 SUMMARY = (
-    f"Exit codes: {CLEAN} clean, {FINDINGS} findings (or a failed run), {ERROR} usage or I/O error."
+    f"Exit codes: {CLEAN} clean, {FINDINGS} findings (or a failed run), {ERROR} usage or I/O "
+    f"error; ended early: {INTERRUPTED} Ctrl-C, {TERMINATED} SIGTERM, {HANGUP} SIGHUP "
+    f"(temporary files removed), {BROKEN_PIPE} a closed pipe."
 )
 """The line ``motiontool --help`` ends its description with."""

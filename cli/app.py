@@ -9,6 +9,7 @@ import functools
 import importlib
 import io
 import os
+import signal
 import sys
 import traceback
 from collections.abc import Callable, Iterator, MutableMapping, Sequence
@@ -89,10 +90,10 @@ class _Group(TyperGroup):
             what = exc.format_message().rstrip(".")
             what = what[:1].lower() + what[1:]
             sep = " " if what.endswith("?") else "; "
-            typer.echo(f"motiontool: error: {what}{sep}see '{where} --help'", err=True)
+            _say(f"{what}{sep}see '{where} --help'")
             code = exc.exit_code
         except ClickException as exc:
-            typer.echo(f"motiontool: error: {exc.format_message()}", err=True)
+            _say(exc.format_message())
             code = exc.exit_code
         except typer.Abort:  # end of input at a prompt (there is none) or Ctrl-C outside a command
             typer.echo("motiontool: error: interrupted", err=True)
@@ -127,7 +128,7 @@ def _guard(func: F) -> F:
         except MotionToolError as exc:
             if _debug.get():
                 traceback.print_exc(file=sys.stderr)
-            typer.echo(f"motiontool: error: {_error_line(exc)}", err=True)
+            _say(_error_line(exc))
             raise typer.Exit(exit_codes.ERROR) from None
         except BrokenPipeError:  # the reader went away (| head): quiet, as a SIGPIPE ends it
             _quiet_stdout()
@@ -147,6 +148,15 @@ def _guard(func: F) -> F:
             raise typer.Exit(exit_codes.INTERRUPTED) from None
 
     return wrapper  # type: ignore[return-value]
+
+
+def _say(line: str) -> None:
+    """``motiontool: error: LINE`` on stderr, with what it echoes of the input shown safely
+    (:func:`motiontool.cli.text.shown`: control characters escaped, a long name or value cut;
+    imported here, only when there is an error to say)."""
+    from motiontool.cli.text import shown
+
+    typer.echo(f"motiontool: error: {shown(line)}", err=True)
 
 
 def _error_line(exc: MotionToolError) -> str:
@@ -371,7 +381,7 @@ def _report(exc: BaseException, line: str, code: int) -> NoReturn:
         traceback.print_exception(exc, file=sys.stderr)
     if line:
         with contextlib.suppress(OSError):
-            typer.echo(f"motiontool: error: {line}", err=True)
+            _say(line)
     sys.exit(code)
 
 
@@ -415,6 +425,71 @@ def _hold_standard_streams() -> None:
                 sys.stderr = open(fd, "w", encoding="utf-8", closefd=False)  # noqa: SIM115
 
 
+_ENDINGS: dict[int, str] = {signal.SIGTERM: "terminated", signal.SIGHUP: "hangup"}
+"""The signals that end a command the way Ctrl-C does, and the word its one line says."""
+
+
+class _Ended(BaseException):
+    """SIGTERM or SIGHUP, raised where the command is: every ``with`` and ``finally`` on the way
+    out runs (temporary files removed, worker processes stopped), then :func:`main` says so in
+    one line and exits 128 + N. Not an :class:`Exception`: nothing on the way mistakes it for
+    a failed step and goes on."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+_signalled: list[int] = []
+"""The signal that is ending the command, once one came."""
+
+_caught: list[int] = []
+"""The same, once :func:`main` has caught its :class:`_Ended`."""
+
+_AGAIN_S = 0.2
+"""How often, seconds, a signal's :class:`_Ended` is raised again until :func:`main` catches
+it: code that swallows every exception (a bare ``except:`` in a library, a finalizer) would
+otherwise let the command run on as if the signal had never come."""
+
+
+def _end(signum: int, frame: object) -> None:
+    for ending in _ENDINGS:  # a second one does not cut the way out short
+        signal.signal(ending, signal.SIG_IGN)
+    _signalled.append(signum)
+    signal.signal(signal.SIGALRM, _again)
+    signal.setitimer(signal.ITIMER_REAL, _AGAIN_S, _AGAIN_S)
+    raise _Ended(signum)
+
+
+def _again(signum: int, frame: object) -> None:
+    """Raise the signal's :class:`_Ended` again, unless it is on its way out (the code that
+    runs now is a ``finally``, an ``except`` or an ``__exit__`` it passes through) or caught."""
+    exc = sys.exc_info()[1]
+    while exc is not None:
+        if isinstance(exc, _Ended):
+            return
+        exc = exc.__context__
+    if not _caught:
+        raise _Ended(_signalled[0])
+
+
+def _catch_endings() -> None:
+    """Turn SIGTERM and SIGHUP into :class:`_Ended`, unless the process was started with them
+    ignored (``nohup`` ignores SIGHUP): they stay ignored."""
+    for ending in _ENDINGS:
+        if signal.getsignal(ending) is signal.SIG_DFL:
+            signal.signal(ending, _end)
+    sys.unraisablehook = functools.partial(_unraisable, sys.unraisablehook)
+
+
+def _unraisable(previous: Callable[[Any], object], unraisable: Any) -> None:
+    """Once a signal came, what a finalizer (``__del__``, a weak reference's callback) raises
+    is not shown (``--debug`` shows it): an :class:`_Ended` it swallowed is raised again
+    (:func:`_again`), and objects the signal cut short in the middle fail as they go."""
+    if not _signalled or _debug.get():
+        previous(unraisable)
+
+
 def _flush_stdout() -> None:
     """Flush standard output, so that a failed write surfaces in :func:`main`, not in the
     interpreter's exit; nothing for a stream already closed (the LSP server closes it when
@@ -430,9 +505,11 @@ def main() -> None:
     - :class:`MotionToolError` raised outside a command (commands go through ``_guard``): 2;
     - standard output that cannot be written (``> /dev/full``, ``>&-``): 2, naming the reason;
     - a reader that went away (``| head -1``): quiet, 141 as for a process that SIGPIPE ends;
-    - Ctrl-C: ``interrupted``, 130.
+    - Ctrl-C: ``interrupted``, 130; SIGTERM: ``terminated``, 143; SIGHUP: ``hangup``, 129
+      (temporary files removed first).
     """
     _hold_standard_streams()
+    _catch_endings()
     try:
         try:
             app(prog_name="motiontool")
@@ -445,6 +522,10 @@ def main() -> None:
         _report(exc, "", exit_codes.BROKEN_PIPE)
     except KeyboardInterrupt as exc:
         _report(exc, "interrupted", exit_codes.INTERRUPTED)
+    except _Ended as exc:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        _caught.append(exc.signum)
+        _report(exc, _ENDINGS[exc.signum], exit_codes.BY_SIGNAL[exc.signum])
     except OSError as exc:  # a stream write: standard output or error
         _quiet_stdout()
         where = f"'{exc.filename}'" if exc.filename else "to standard output"

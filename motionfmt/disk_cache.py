@@ -81,6 +81,10 @@ class ResultCache:
             with contextlib.suppress(OSError):
                 os.unlink(tmp)
             return False
+        except BaseException:  # SIGTERM, Ctrl-C: no temporary file left in the cache
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
+            raise
         return True
 
     def _entries(self) -> list[tuple[float, int, Path]]:

@@ -20,15 +20,34 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
+from motiontool import exit_codes
 from motiontool.sim.executor import Outcome, call_runner
 
 __all__ = ["run_pool"]
+
+
+_ENDINGS = (signal.SIGTERM, signal.SIGHUP)
+"""The signals that end a worker (the parent's, or ``timeout``'s to the whole group)."""
+
+_GRACE_S = 2.0
+"""How long a worker sent SIGTERM has to unwind (its temporary files removed) before it is
+killed, seconds."""
+
+
+def _stop_worker(signum: int, frame: object) -> None:
+    raise SystemExit(exit_codes.BY_SIGNAL[signum])
 
 
 def _worker(runner: Callable[[Any], Any], conn: Connection) -> None:
     # Ctrl-C reaches the whole process group: the parent stops the pool (and kills its
     # workers); a worker that took it too would print a KeyboardInterrupt traceback.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # SIGTERM or SIGHUP (from the parent stopping the pool, or to the whole group): the run
+    # unwinds through its ``with`` and ``finally`` (no temporary file left) and the worker
+    # exits quietly, whatever handler it inherited from the parent.
+    for ending in _ENDINGS:
+        if signal.getsignal(ending) is not signal.SIG_IGN:
+            signal.signal(ending, _stop_worker)
     while True:
         try:
             message = conn.recv()
@@ -118,11 +137,15 @@ class _Pool:
             yield outcome
 
     def close(self) -> None:
+        """Stop every worker: an idle one ends when told, one still running a task (the batch
+        was stopped) is terminated and unwinds (:func:`_retire`)."""
         for slot in self.slots:
-            if slot.process.is_alive():
+            if slot.process.is_alive() and slot.task is None:
                 with contextlib.suppress(OSError):
                     slot.conn.send(None)
-            slot.process.join(timeout=1.0)
+        for slot in self.slots:
+            if slot.task is None:
+                slot.process.join(timeout=1.0)
             _retire(slot)
 
     def _spawn(self) -> _Slot:
@@ -172,7 +195,12 @@ class _Pool:
 
 
 def _retire(slot: _Slot) -> None:
+    """End the slot's worker: SIGTERM, so that it removes its temporary files, then SIGKILL
+    if it has not ended after :data:`_GRACE_S` (a worker stuck in native code)."""
     slot.conn.close()
+    if slot.process.is_alive():
+        slot.process.terminate()
+        slot.process.join(timeout=_GRACE_S)
     if slot.process.is_alive():
         slot.process.kill()
     slot.process.join()

@@ -183,12 +183,16 @@ class RunRecorder:
             raise OutputError(
                 f"cannot write the recording '{path}': no temporary folder: {exc.strerror or exc}"
             ) from exc
-        self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
-        self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
-        self._entities = _joint_entities(joints, joint_limbs)
-        colors = _limb_color(shapes)
-        for body in shapes:
-            log_shapes(self.rec, _body_entity(body), body, colors.get(body.limb, _SCENE))
+        try:  # stopped here (an error, SIGTERM): no temporary folder left behind
+            self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
+            self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+            self._entities = _joint_entities(joints, joint_limbs)
+            colors = _limb_color(shapes)
+            for body in shapes:
+                log_shapes(self.rec, _body_entity(body), body, colors.get(body.limb, _SCENE))
+        except BaseException:
+            self.close()
+            raise
         self._trail = Thinned(BASE_TRAIL_POINTS)
         self._start_s: float | None = None  # the run's first frame's time
         self._last: Trace | None = None
@@ -202,8 +206,9 @@ class RunRecorder:
     def close(self) -> None:
         """Stop logging and remove the temporary file (the recording is lost unless
         :meth:`finish` wrote it)."""
-        with contextlib.suppress(RuntimeError):  # a sink that failed: finish said so
-            self.rec.disconnect()
+        if hasattr(self, "rec"):
+            with contextlib.suppress(RuntimeError):  # a sink that failed: finish said so
+                self.rec.disconnect()
         self._folder.cleanup()
 
     def add(self, chunk: Trace) -> None:

@@ -4,9 +4,14 @@ terminal). Every case runs the installed console script as a subprocess."""
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
+import signal
 import subprocess
 import sys
+import time
+from collections.abc import Callable
 from pathlib import Path
 
 import pytest
@@ -20,6 +25,8 @@ def here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     (tmp_path / "in.motion").write_bytes(HEAD)
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    (tmp_path / "tmp").mkdir()  # the tool's temporary folders (batch spool, recordings, bags)
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
     return tmp_path
 
 
@@ -109,3 +116,167 @@ def test_the_server_exits_0_after_shutdown_and_exit(here: Path) -> None:
     )
     assert (done.returncode, done.stderr) == (0, b"")
     assert b'"id": 2' in done.stdout or b'"id":2' in done.stdout
+
+
+def _big_motion(path: Path) -> None:
+    """A 10-minute motion of 15,000 poses: resampled every 1 ms, 21 MB to write."""
+    rows = "".join(f"{t},P,{t % 1000 / 1000},{t % 700 / 1000}\n" for t in range(0, 600000, 40))
+    path.write_text(f"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n{rows}")
+
+
+def _wait_for(found: Callable[[], object], proc: subprocess.Popen[bytes]) -> None:
+    """Wait until ``found()`` (at most 2 minutes); the process must still run."""
+    deadline = time.monotonic() + 120
+    while not found():
+        if proc.poll() is not None or time.monotonic() > deadline:
+            proc.kill()
+            _, err = proc.communicate()
+            pytest.fail(f"it ended (or never got there) before the signal: {err[-300:]!r}")
+        time.sleep(0.01)
+
+
+def _debris(folder: Path) -> list[str]:
+    return sorted(str(p) for p in folder.rglob("*") if p.name.endswith(".tmp"))
+
+
+@pytest.mark.parametrize(
+    ("signum", "code", "word"),
+    [(signal.SIGTERM, 143, "terminated"), (signal.SIGHUP, 129, "hangup")],
+    ids=["SIGTERM", "SIGHUP"],
+)
+def test_a_signal_mid_write_removes_the_temporary_file(
+    here: Path, signum: int, code: int, word: str
+) -> None:
+    """``docker stop`` or a CI timeout while ``resample -o`` writes its 21 MB: the temporary file
+    beside the output goes, the output is not created, one line says why, exit 128 + N."""
+    _big_motion(here / "big.motion")
+    proc = subprocess.Popen(
+        [SCRIPT, "resample", "big.motion", "--step", "1", "-o", "out.motion"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    _wait_for(lambda: _debris(here), proc)
+    proc.send_signal(signum)
+    _, err = proc.communicate(timeout=60)
+    assert (proc.returncode, err.decode()) == (code, f"motiontool: error: {word}\n")
+    assert _debris(here) == [] and not (here / "out.motion").exists()
+    assert list((here / "tmp").iterdir()) == []
+
+
+def test_a_terminated_play_removes_its_temporary_recording(here: Path) -> None:
+    """A recording is gathered in a temporary folder while the motion plays: SIGTERM then
+    removes it."""
+    pytest.importorskip("mujoco")
+    rows = "".join(f"{t},P,{t % 1000 / 2000},{t % 700 / 2000}\n" for t in range(0, 120000, 400))
+    (here / "long.motion").write_text(f"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n{rows}")
+    proc = subprocess.Popen(
+        [SCRIPT, "play", "long.motion", "--headless", "--rrd", "out"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    _wait_for(lambda: list((here / "tmp").glob("motiontool-*")), proc)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert (proc.returncode, err.decode()) == (143, "motiontool: error: terminated\n")
+    assert [str(p) for p in (here / "tmp").rglob("*")] == [] and _debris(here) == []
+    assert not (here / "out").exists()
+
+
+def _children(pid: int) -> list[int]:
+    text = Path(f"/proc/{pid}/task/{pid}/children").read_text()
+    return [int(p) for p in text.split()]
+
+
+def _running(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("group", [False, True], ids=["parent", "group"])
+def test_a_terminated_batch_stops_its_workers_and_leaves_no_debris(here: Path, group: bool) -> None:
+    """SIGTERM to the batch alone (``docker stop``, ``kill PID``) or to its process group
+    (``timeout``): exit 143 with one line, no worker left running, no temporary file left in
+    the cache or beside the report, and the runs done so far stay in the cache."""
+    cache = here / "cache-dir"
+    line = ["batch", "in.motion", "--samples", "400", "--perturb", "friction=0.8:1.2"]
+    proc = subprocess.Popen(
+        [SCRIPT, *line, "--jobs", "2", "--cache-dir", str(cache), "--json", "report.json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        start_new_session=True,
+    )
+    try:
+        _wait_for(lambda: len(list(cache.rglob("*.json"))) >= 2, proc)
+        workers = _children(proc.pid)
+        assert workers
+        if group:
+            os.killpg(proc.pid, signal.SIGTERM)
+        else:
+            proc.send_signal(signal.SIGTERM)
+        code = proc.wait(timeout=60)
+        deadline = time.monotonic() + 10
+        while any(_running(w) for w in workers) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        left = [w for w in workers if _running(w)]
+    finally:  # a worker left running holds stderr open: communicate() would wait for it
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        _, err = proc.communicate()
+    assert (code, err.decode()) == (143, "motiontool: error: terminated\n")
+    assert left == []
+    assert _debris(here) == [] and not (here / "report.json").exists()
+    assert list((here / "tmp").iterdir()) == []
+    assert len(list(cache.rglob("*.json"))) >= 2
+
+
+# Text from a file or an option, echoed in a message -------------------------------------------
+
+HOSTILE = (
+    b"#WEBOTS_MOTION,V1.0,Head\x1b[31mYaw,HeadPitch\n"
+    b"0,P\x1b]0;pwned\x07,0,0x\x1b[2J\n"
+    b"40,P2,abc\x1b[0m,0\n"
+)
+
+
+@pytest.mark.parametrize("form", ["text", "github"])
+def test_control_characters_from_a_file_are_shown_escaped(here: Path, form: str) -> None:
+    (here / "esc.motion").write_bytes(HOSTILE)
+    done = subprocess.run(
+        [SCRIPT, "validate", "esc.motion", "-f", form], capture_output=True, check=False
+    )
+    assert done.returncode == 1, done.stderr
+    out = done.stdout + done.stderr
+    assert not [c for c in out if c < 0x20 and c != 0x0A], out
+    assert b"Head\\x1b[31mYaw" in out and b"abc\\x1b[0m" in out
+
+
+def test_json_keeps_the_exact_text(here: Path) -> None:
+    (here / "esc.motion").write_bytes(HOSTILE)
+    done = subprocess.run(
+        [SCRIPT, "validate", "esc.motion", "-f", "json"], capture_output=True, check=False
+    )
+    messages = [d["message"] for f in json.loads(done.stdout)["files"] for d in f["diagnostics"]]
+    assert any("Head\x1b[31mYaw" in m for m in messages), messages
+
+
+def test_a_long_name_is_capped_in_every_message(here: Path) -> None:
+    (here / "long.motion").write_bytes(b"#WEBOTS_MOTION,V1.0," + b"H" * 4000 + b"\n0,P,0\n")
+    done = subprocess.run(
+        [SCRIPT, "validate", "long.motion", "--robot", "nao"], capture_output=True, check=False
+    )
+    lines = done.stdout.decode().splitlines()
+    assert any("unknown joint 'HHH" in line for line in lines), lines
+    assert max(len(line) for line in lines if "hint" not in line) < 200, lines
+
+
+def test_a_long_option_value_is_capped_in_the_error_line(here: Path) -> None:
+    done = subprocess.run(
+        [SCRIPT, "batch", "in.motion", "--expect", "a" * 5000], capture_output=True, check=False
+    )
+    err = done.stderr.decode()
+    assert done.returncode == 2 and err.startswith("motiontool: error: expectation 'aaa")
+    assert err.count("\n") == 1 and "a" * 81 not in err and len(err) < 600, err
