@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
@@ -34,7 +35,7 @@ from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_o
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.extras import EXTRAS, require
-from motiontool.motionfmt.fileio import is_stdin, output_kind
+from motiontool.motionfmt.fileio import is_folder, is_stdin, output_kind
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 
 if TYPE_CHECKING:
@@ -171,7 +172,7 @@ def batch_command(
     specs = _plan(
         files,
         resolver,
-        roots=[p for p in paths if p.is_dir()],
+        roots=[p for p in paths if is_folder(p)],
         robot=robot,
         timestep=timestep,
         physics=(profile, physics_step, friction, self_collision),
@@ -215,6 +216,11 @@ def _inputs(
     if any(is_stdin(p) for p in paths):
         raise MotionToolError("batch reads motion files, not standard input ('-'): name files")
     files = collect(paths, resolver)  # folders searched, less the configuration's exclude
+    for f in files:  # one that cannot be read (a folder nobody may search): exit 2 now
+        try:
+            os.close(os.open(f, os.O_RDONLY | os.O_NONBLOCK))
+        except OSError as exc:
+            raise MotionToolError(f"cannot read '{f}': {exc.strerror or exc}") from exc
     if ray_address is not None and not executor_info(executor).takes_address:
         takes = " or ".join(e.name for e in REGISTRY if e.takes_address)
         raise MotionToolError(

@@ -20,7 +20,7 @@ from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_chec
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_stdin
+from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
 from motiontool.motionfmt.fixes import RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
@@ -145,7 +145,7 @@ def collect(
     o = overrides or Overrides()
     files: list[Path] = []
     for p in paths:
-        if is_stdin(p) or not p.is_dir():
+        if is_stdin(p) or not is_folder(p):  # one that cannot be told: read, it says why
             named = o.named(p)
             s = resolver.for_file(named)
             force = o.force_exclude if o.force_exclude is not None else s.force_exclude

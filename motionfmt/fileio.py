@@ -26,6 +26,7 @@ __all__ = [
     "atomic_write",
     "cache_root",
     "collect_motion_files",
+    "is_folder",
     "is_stdin",
     "is_stdout",
     "open_output",
@@ -331,12 +332,58 @@ def atomic_write(path: str | Path, data: bytes) -> None:
         stream.write(data)
 
 
+def is_folder(path: str | Path) -> bool:
+    """Whether ``path`` is a folder (through symlinks); False where it cannot be told (a
+    parent that may not be searched): reading it then says why."""
+    try:
+        return stat.S_ISDIR(os.stat(path).st_mode)
+    except (OSError, ValueError):
+        return False
+
+
+_SHOWN_PROBLEMS = 5
+"""At most this many entries a folder search could not read are named in its error line."""
+
+
+def _search(folder: Path, found: list[Path], problems: list[str]) -> None:
+    """Add the ``*.motion`` files below ``folder`` to ``found`` (regular files, through symlinks;
+    symlinked folders are not entered), and to ``problems`` each entry that cannot be read: a
+    folder that may not be listed, a ``.motion`` link to nothing or to itself."""
+    try:
+        with os.scandir(folder) as it:
+            entries = sorted(it, key=lambda entry: entry.name)
+    except OSError as exc:
+        problems.append(f"'{folder}': {exc.strerror or exc}")
+        return
+    for entry in entries:
+        path = folder / entry.name
+        try:
+            inside = entry.is_dir(follow_symlinks=False)
+        except OSError:
+            inside = False
+        if inside:
+            _search(path, found, problems)
+        elif entry.name.endswith(".motion"):
+            try:
+                if stat.S_ISREG(os.stat(path).st_mode):
+                    found.append(path)
+            except OSError as exc:
+                reason = exc.strerror or str(exc)
+                with contextlib.suppress(OSError):
+                    if exc.errno != errno.ELOOP and entry.is_symlink():
+                        reason += f" (a symbolic link to '{os.readlink(path)}')"
+                problems.append(f"'{path}': {reason}")
+
+
 def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:
     """Expand directories to the ``*.motion`` files below them (sorted, recursive).
 
     Files named explicitly are kept whatever their extension; ``-`` (standard input) is kept
     as is. Raises :class:`MotionToolError` for a path that cannot be read (``cannot read
-    'PATH': REASON``, as :func:`read_file`) or a directory with no motion file.
+    'PATH': REASON``, as :func:`read_file`), a directory with no motion file, or a search that
+    met entries it cannot read, as ruff's E902 (``cannot read 3 entries under 'm': 'm/locked':
+    Permission denied; 'm/gone.motion': No such file or directory (a symbolic link to ...)``:
+    a folder that may not be listed, a dangling ``.motion`` link, a link loop).
     """
     files: list[Path] = []
     for raw in paths:
@@ -349,7 +396,17 @@ def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:
         except OSError as exc:
             raise MotionToolError(f"cannot read '{raw}': {exc.strerror or exc}") from exc
         if stat.S_ISDIR(mode):
-            found = sorted(q for q in p.rglob("*.motion") if q.is_file())
+            found: list[Path] = []
+            problems: list[str] = []
+            _search(p, found, problems)
+            if problems:
+                more = len(problems) - _SHOWN_PROBLEMS
+                raise MotionToolError(
+                    f"cannot read {len(problems)} {'entry' if len(problems) == 1 else 'entries'}"
+                    f" under '{raw}': {'; '.join(problems[:_SHOWN_PROBLEMS])}"
+                    + (f"; and {more} more" if more > 0 else "")
+                )
+            found.sort()
             if not found:
                 raise MotionToolError(f"no .motion file under '{raw}'")
             files.extend(found)

@@ -171,6 +171,53 @@ def test_a_file_without_read_permission(here: Path) -> None:
         )
 
 
+def _walked_folder(here: Path) -> None:
+    """``m/``: a motion, a folder nobody may read, a dangling link and a link to itself."""
+    (here / "m" / "ok").mkdir(parents=True)
+    (here / "m" / "ok" / "a.motion").write_bytes(HEAD)
+    (here / "m" / "locked").mkdir()
+    (here / "m" / "locked" / "b.motion").write_bytes(HEAD)
+    (here / "m" / "gone.motion").symlink_to("nowhere.motion")
+    (here / "m" / "loop.motion").symlink_to("loop.motion")
+    (here / "m" / "locked").chmod(0)
+    here.chmod(0o755)
+    (here / "m").chmod(0o755)
+    (here / "m" / "ok").chmod(0o755)
+
+
+@pytest.mark.parametrize(
+    "command", [["validate"], ["batch", "--no-cache"], ["expect", "--infer"]], ids=lambda c: c[0]
+)
+def test_a_folder_walk_reports_what_it_cannot_read(here: Path, command: list[str]) -> None:
+    """As ruff's E902: every entry of the search that cannot be read is named with its reason,
+    and the exit is not 0 (it said 'checked 1 file' and exited 0)."""
+    _walked_folder(here)
+    for warm in ("m/ok", "missing.motion"):  # every module imported while root, who may
+        invoke(*command, warm)  # read the interpreter's, runs it
+    with _unprivileged():
+        code, out, err = invoke(*command, "m")
+    assert (code, out) == (2, ""), err
+    assert err.startswith("motiontool: error: cannot read 3 entries under 'm': ")
+    assert err.count("\n") == 1
+    assert "'m/locked': Permission denied" in err
+    assert "'m/gone.motion': No such file or directory (a symbolic link to 'nowhere.motion')" in err
+    assert "'m/loop.motion': Too many levels of symbolic links" in err
+
+
+def test_a_file_in_a_folder_nobody_may_read_cannot_be_read(here: Path) -> None:
+    _walked_folder(here)
+    for command in (["validate"], ["validate", "--fix"], ["info"], ["batch", "--no-cache"]):
+        invoke(*command, "m/ok/a.motion")
+        invoke(*command, "missing.motion")
+        with _unprivileged():
+            result = invoke(*command, "m/locked/b.motion")
+        assert result == (
+            2,
+            "",
+            "motiontool: error: cannot read 'm/locked/b.motion': Permission denied\n",
+        ), command
+
+
 # --------------------------------------------------------------------------- --debug
 
 
