@@ -98,7 +98,7 @@ def test_writers_cover_every_output_option() -> None:
         for p in cmd.params:
             if p.name and p.opts[0] in written | folders:
                 found.add(p.opts[0])
-            elif p.opts[0] in ("--config", "--joint-map"):  # files read, never written
+            elif p.opts[0] in ("--config", "--joint-map", "--world"):  # files read, never written
                 continue
             elif "path" in f"{p.type} {p.type.name}".lower() and p.opts[0].startswith("--"):
                 pytest.fail(f"{cmd.name} {p.opts[0]}: a path option this test does not know")
