@@ -1,7 +1,9 @@
 """Hostile inputs against the installed ``motiontool``: outputs that are devices, FIFOs, links
 and descriptors, a full disk (a ``/dev/full`` node this script makes), stdout that cannot be
 written, a reader that goes away, Ctrl-C, huge and non-finite numbers, two outputs on one path,
-a motion that plays for 23 days (under a 3 GiB memory limit).
+a motion that plays for 23 days (under a 3 GiB memory limit), closed standard streams, SIGTERM
+and SIGHUP mid-write (no temporary file, no worker left), folder searches over dangling links
+and link loops, and names with ESC sequences or 4,000 characters echoed in messages.
 
 Every case runs the real console script in a scratch folder and checks two things: no Python
 traceback on stderr, and no special file replaced (a device node, a FIFO or a symlink is the
@@ -31,6 +33,8 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from motiontool import exit_codes
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = str(Path(sys.executable).parent / "motiontool")
@@ -427,6 +431,229 @@ def case_ctrl_c(tally: Tally) -> None:
         shutil.rmtree(here, ignore_errors=True)
 
 
+# A standard stream the shell closed (>&-, 2>&-, <&-): (redirect, command line, exit code, what
+# stderr must be; None: anything without a traceback).
+CLOSED = [
+    (">&-", ["-V"], 2, b"motiontool: error: cannot write to standard output: it is closed\n"),
+    (">&-", ["codes"], 2, b"motiontool: error: cannot write to standard output: it is closed\n"),
+    (">&-", ["validate", "in.motion"], 2, None),
+    (">&-", ["sample", "in.motion", "-o", "X"], 0, None),  # nothing written to stdout: fine
+    ("2>&-", ["validate", "in.motion"], 0, None),
+    ("2>&-", ["validate", "missing.motion"], 2, None),
+    ("<&-", ["validate", "-"], 2, None),
+]
+
+# SIGTERM or SIGHUP while an output is being written: (signal, command line, what appears in
+# the scratch folder (or its TMPDIR) once the output is under way).
+BIG_ROWS = b"".join(
+    b"%d,P,%.3f,%.3f\n" % (t, t % 1000 / 1000, t % 700 / 1000) for t in range(0, 600000, 40)
+)
+SIGNALLED = [
+    (signal.SIGTERM, ["resample", "big.motion", "--step", "1", "-o", "X"], ".X.*.tmp"),
+    (signal.SIGHUP, ["resample", "big.motion", "--step", "1", "-o", "X"], ".X.*.tmp"),
+    (signal.SIGTERM, ["play", "long.motion", "--headless", "--rrd", "X"], "tmp/motiontool-*"),
+    (
+        signal.SIGTERM,
+        [
+            "batch",
+            "long.motion",
+            "--samples",
+            "40",
+            "--perturb",
+            "friction=0.8:1.2",
+            "--json",
+            "X",
+            "--cache-dir",
+            "C",
+        ],
+        "C/*/*.json",
+    ),
+]
+
+
+def _script_with(redirect: str, here: Path, line: list[str]) -> subprocess.CompletedProcess[bytes]:
+    env = {**os.environ, "XDG_CACHE_HOME": str(here / "cache")}
+    return subprocess.run(
+        ["sh", "-c", f'exec "$@" {redirect}', "sh", SCRIPT, *line],
+        cwd=here,
+        capture_output=True,
+        env=env,
+        timeout=300,
+        check=False,
+    )
+
+
+def case_closed(redirect: str, line: list[str], code: int, err: bytes | None, tally: Tally) -> None:
+    """Issue 36 item 1: a closed standard stream is one line and an exit code, no traceback."""
+    here = _scratch()
+    try:
+        done = _script_with(redirect, here, line)
+        problem = _traceback(done.stderr)
+        if not problem and done.returncode != code:
+            problem = f"exit {done.returncode}, not {code}: {done.stderr[-200:]!r}"
+        if not problem and err is not None and done.stderr != err:
+            problem = f"stderr {done.stderr[-200:]!r}"
+        tally.record(f"{' '.join(line)} {redirect}", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_server_exit(tally: Tally) -> None:
+    """Issue 36 item 1: the LSP server exits 0 after a clean shutdown and exit."""
+    here = _scratch()
+    try:
+        talk = b""
+        for message in (
+            b'{"jsonrpc":"2.0","id":1,"method":"initialize","params":{"capabilities":{}}}',
+            b'{"jsonrpc":"2.0","method":"initialized","params":{}}',
+            b'{"jsonrpc":"2.0","id":2,"method":"shutdown"}',
+            b'{"jsonrpc":"2.0","method":"exit"}',
+        ):
+            talk += b"Content-Length: %d\r\n\r\n" % len(message) + message
+        done = subprocess.run(
+            [SCRIPT, "server"], input=talk, capture_output=True, cwd=here, timeout=120, check=False
+        )
+        missing = b"needs" in done.stderr and b"lsp" in done.stderr  # the extra not installed
+        problem = None if missing else _traceback(done.stderr)
+        if not problem and not missing and (done.returncode, done.stderr) != (0, b""):
+            problem = f"exit {done.returncode}: {done.stderr[-200:]!r}"
+        tally.record("server: shutdown, exit", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def case_signalled(signum: int, line: list[str], under_way: str, tally: Tally) -> None:
+    """Issue 36 item 2: SIGTERM or SIGHUP mid-write: exit 128 + N with one line, no temporary
+    file beside the output or in TMPDIR, no worker left running, no output."""
+    here = _scratch()
+    try:
+        head = MOTION.splitlines(keepends=True)[0]
+        (here / "big.motion").write_bytes(head + BIG_ROWS)
+        rows = b"".join(b"%d,P,%.3f,0\n" % (t, t % 1000 / 2000) for t in range(0, 120000, 400))
+        (here / "long.motion").write_bytes(head + rows)
+        (here / "tmp").mkdir()
+        env = {**os.environ, "XDG_CACHE_HOME": str(here / "cache"), "TMPDIR": str(here / "tmp")}
+        proc = subprocess.Popen(
+            [SCRIPT, *line],
+            cwd=here,
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            start_new_session=True,
+        )
+        deadline = time.monotonic() + 120
+        while (
+            not list(here.glob(under_way)) and proc.poll() is None and time.monotonic() < deadline
+        ):
+            time.sleep(0.01)
+        workers = _children(proc.pid)
+        proc.send_signal(signum)
+        try:
+            _, err = proc.communicate(timeout=60)
+        finally:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(proc.pid, signal.SIGKILL)
+        name = {signal.SIGTERM: b"terminated", signal.SIGHUP: b"hangup"}[signum]
+        problem = _traceback(err)
+        said = b"motiontool: error: " + name + b"\n"
+        if not problem and (proc.returncode, err) != (exit_codes.BY_SIGNAL[signum], said):
+            problem = f"exit {proc.returncode}, stderr {err[-200:]!r}"
+        debris = [str(p.relative_to(here)) for p in here.rglob("*") if p.name.endswith(".tmp")]
+        debris += [str(p.relative_to(here)) for p in (here / "tmp").iterdir()]
+        if not problem and debris:
+            problem = f"left behind: {debris}"
+        if not problem and (here / "X").exists():
+            problem = "the output was written"
+        if not problem and [w for w in workers if _running(w)]:
+            problem = "a worker is still running"
+        tally.record(f"{' '.join(line)}, {signal.Signals(signum).name}", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
+def _children(pid: int) -> list[int]:
+    with contextlib.suppress(OSError):
+        return [int(p) for p in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()]
+    return []
+
+
+def _running(pid: int) -> bool:
+    deadline = time.monotonic() + 10
+    while time.monotonic() < deadline:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            return False
+        if state == "Z":
+            return False
+        time.sleep(0.05)
+    return True
+
+
+def case_walk(tally: Tally) -> None:
+    """Issue 36 item 5: a folder search names what it cannot read (a dangling .motion link, a
+    link loop; a folder nobody may list, where the script does not run as root) and exits 2."""
+    here = _scratch()
+    try:
+        (here / "m" / "ok").mkdir(parents=True)
+        (here / "m" / "ok" / "a.motion").write_bytes(MOTION)
+        (here / "m" / "gone.motion").symlink_to("nowhere.motion")
+        (here / "m" / "loop.motion").symlink_to("loop.motion")
+        expected = [b"'m/gone.motion': No such file", b"'m/loop.motion': Too many levels"]
+        if os.geteuid() != 0:
+            (here / "m" / "locked").mkdir(mode=0)
+            expected.append(b"'m/locked': Permission denied")
+        for line in (["validate", "m"], ["batch", "m", "--no-cache"], ["expect", "--infer", "m"]):
+            done = _run(here, line)
+            problem = _traceback(done.stderr)
+            if not problem and (done.returncode != 2 or done.stderr.count(b"\n") != 1):
+                problem = f"exit {done.returncode}: {done.stderr[-300:]!r}"
+            if not problem and not all(e in done.stderr for e in expected):
+                problem = f"not every entry named: {done.stderr[-300:]!r}"
+            tally.record(f"{' '.join(line)} over a dangling link and a loop", problem)
+    finally:
+        with contextlib.suppress(OSError):
+            (here / "m" / "locked").chmod(0o755)
+        shutil.rmtree(here, ignore_errors=True)
+
+
+# Text from a file or an option that a message echoes: (file's bytes or None, command line).
+ECHOED = [
+    (b"#WEBOTS_MOTION,V1.0,Head\x1b[31mYaw\n0,P\x1b]0;t\x07,0x\x1b[2J\n", ["validate", "e.motion"]),
+    (
+        b"#WEBOTS_MOTION,V1.0,Head\x1b[31mYaw\n0,P\x1b]0;t\x07,0x\x1b[2J\n",
+        ["validate", "e.motion", "--format", "github"],
+    ),
+    (
+        b"#WEBOTS_MOTION,V1.0," + b"H" * 4000 + b"\n0,P,0\n",
+        ["validate", "e.motion", "--robot", "nao"],
+    ),
+    (b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P," + b"1" * 1000000 + b"\n", ["validate", "e.motion"]),
+    (b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P," + b"1" * 1000000 + b"\n", ["sample", "e.motion"]),
+    (None, ["batch", "in.motion", "--expect", "a" * 5000]),
+]
+
+
+def case_echoed(data: bytes | None, line: list[str], tally: Tally) -> None:
+    """Issue 36 item 6: what a message echoes is cut (no line of 1,000 characters) and its
+    control characters escaped (no ESC, BEL reaches the terminal)."""
+    here = _scratch()
+    try:
+        if data is not None:
+            (here / "e.motion").write_bytes(data)
+        done = _run(here, line)
+        out = done.stdout + done.stderr
+        problem = _traceback(done.stderr)
+        longest = max((len(x) for x in out.splitlines()), default=0)
+        if not problem and longest > 1000:
+            problem = f"a line of {longest} characters"
+        if not problem and any(c < 0x20 and c != 0x0A for c in out):
+            problem = "a control character reached the terminal"
+        tally.record(f"{' '.join(a[:20] for a in line)}: echoed text", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--jobs", type=int, default=2, help="cases run at once")
@@ -457,6 +684,10 @@ def main() -> int:
         cases += [lambda line=line: case_stdout_full(line, tally) for line in STDOUT]
         cases.append(lambda: case_full_folder(tally))
     cases += [lambda: case_broken_pipe(tally), lambda: case_ctrl_c(tally)]
+    cases += [lambda c=c: case_closed(*c, tally) for c in CLOSED]
+    cases += [lambda: case_server_exit(tally), lambda: case_walk(tally)]
+    cases += [lambda c=c: case_signalled(*c, tally) for c in SIGNALLED]
+    cases += [lambda c=c: case_echoed(*c, tally) for c in ECHOED]
     t0 = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         for future in [pool.submit(case) for case in cases]:
