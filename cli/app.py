@@ -526,7 +526,7 @@ def main() -> None:
         signal.setitimer(signal.ITIMER_REAL, 0)
         _caught.append(exc.signum)
         _report(exc, _ENDINGS[exc.signum], exit_codes.BY_SIGNAL[exc.signum])
-    except OSError as exc:  # a stream write: standard output or error
+    except OSError as exc:  # a stream write (standard output), or what no command foresaw
         _quiet_stdout()
-        where = f"'{exc.filename}'" if exc.filename else "to standard output"
-        _report(exc, f"cannot write {where}: {exc.strerror or exc}", exit_codes.ERROR)
+        what = f"access '{exc.filename}'" if exc.filename else "write to standard output"
+        _report(exc, f"cannot {what}: {exc.strerror or exc}", exit_codes.ERROR)

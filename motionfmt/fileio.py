@@ -398,6 +398,10 @@ def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:
         if stat.S_ISDIR(mode):
             found: list[Path] = []
             problems: list[str] = []
+            try:  # the folder itself: one reason
+                os.scandir(p).close()
+            except OSError as exc:
+                raise MotionToolError(f"cannot read '{raw}': {exc.strerror or exc}") from exc
             _search(p, found, problems)
             if problems:
                 more = len(problems) - _SHOWN_PROBLEMS

@@ -218,6 +218,38 @@ def test_a_file_in_a_folder_nobody_may_read_cannot_be_read(here: Path) -> None:
         ), command
 
 
+def test_a_folder_nobody_may_list_is_named_alone(here: Path) -> None:
+    _walked_folder(here)
+    invoke("validate", "missing.motion")
+    with _unprivileged():
+        result = invoke("validate", "m/locked")
+    assert result == (2, "", "motiontool: error: cannot read 'm/locked': Permission denied\n")
+
+
+def test_an_os_error_no_command_foresaw_is_not_called_a_write(
+    here: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The entry point's last resort for an OSError names the path, not a write it cannot
+    know of: here a --config in a folder nobody may search (it said 'cannot write')."""
+    from motiontool.cli.app import main
+
+    _walked_folder(here)
+    (here / "m" / "locked").chmod(0o755)
+    (here / "m" / "locked" / "motiontool.toml").write_text("[lint]\n")
+    (here / "m" / "locked").chmod(0)
+    invoke("validate", "--config", "in.motion", "in.motion")
+    invoke("validate", "missing.motion")
+    monkeypatch.setattr(
+        sys, "argv", ["motiontool", "validate", "--config", "m/locked/motiontool.toml", "in.motion"]
+    )
+    with _unprivileged(), pytest.raises(SystemExit) as ended:
+        main()
+    assert ended.value.code == 2
+    assert capsys.readouterr().err == (
+        "motiontool: error: cannot access 'm/locked/motiontool.toml': Permission denied\n"
+    )
+
+
 # --------------------------------------------------------------------------- --debug
 
 
