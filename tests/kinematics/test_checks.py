@@ -352,14 +352,14 @@ def test_the_velocity_check_reads_the_steps_around_each_pose_and_finds_what_ever
         return [str(d) for d in validate_bytes(data, "t.motion", checks=checks).diagnostics]
 
     read = found()
-    saved = velocity._steps_read, velocity._STREAM_CHUNK
-    velocity._steps_read = lambda motion, step, n: (np.array([0]), np.array([n]))
+    saved = velocity.steps_read, velocity._STREAM_CHUNK
+    velocity.steps_read = lambda motion, step, n: (np.array([0]), np.array([n]))
     try:
         every = found()
         velocity._STREAM_CHUNK = chunk
         assert found() == every
     finally:
-        velocity._steps_read, velocity._STREAM_CHUNK = saved
+        velocity.steps_read, velocity._STREAM_CHUNK = saved
     assert read == every
 
 
