@@ -152,6 +152,22 @@ def _self_collision(report: PlayReport) -> list[str]:
     ]
 
 
+def _chain(report: PlayReport) -> list[str]:
+    """A chain's elements, one line each: cycles, time in the run, what the base did."""
+    if not report.options.get("chain"):
+        return []
+    lines = [f"chain: {plural(len(report.files), 'element')}"]
+    for k, f in enumerate(report.files, 1):
+        cycles = f" x{f.loops}" if f.loops > 1 else ""
+        line = (
+            f"  {k}. {file_name(f.path)}{cycles}: {f.start_s:.2f}-{f.start_s + f.duration_s:.2f} s"
+        )
+        if f.dx_m is not None and f.dy_m is not None and f.yaw_change_deg is not None:
+            line += f", dx {f.dx_m:+.3f} m, dy {f.dy_m:+.3f} m, turn {f.yaw_change_deg:+.1f} deg"
+        lines.append(line)
+    return lines
+
+
 def _value(value: object) -> str:
     if isinstance(value, bool):
         return "TRUE" if value else "FALSE"
@@ -176,6 +192,7 @@ def render_text(report: PlayReport) -> str:
         *([f"note: {report.physics['profile_note']}"] if "profile_note" in report.physics else []),
         *_world(report),
         *_self_collision(report),
+        *_chain(report),
         "result: " + ("clean" if report.clean else "; ".join(report.problems)),
     ]
     if report.expectations:
@@ -230,7 +247,35 @@ _Rrd = Annotated[
     Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
 ]
 _Loop = Annotated[
-    int, typer.Option("--loop", min=1, max=MAX_COUNT, help="Play each motion N times.")
+    list[str] | None,
+    typer.Option(
+        "--loop",
+        metavar="N|NAME=N",
+        help="Play each motion N times; with --chain, NAME=N plays the element NAME (its path,"
+        " file name or stem) N times (repeat the option; the others play once, or N).",
+        show_default=False,
+    ),
+]
+_Chain = Annotated[
+    bool,
+    typer.Option(
+        "--chain",
+        help="The motions are one chain, as a controller plays them: each from the state the one"
+        " before left (the joints, the base and its velocities; as without --chain), an element"
+        " looped on its own (--loop NAME=N), and the report lists each element with its time in"
+        " the run, displacement and turn.",
+    ),
+]
+_StartPose = Annotated[
+    str | None,
+    typer.Option(
+        "--start-pose",
+        metavar="FILE[:POSE]",
+        help="Start from the pose POSE of the motion FILE (without :POSE its last pose: where"
+        " FILE leaves the robot) instead of the zero stance; with --start lying-*, the robot"
+        " lies with these joints.",
+        show_default=False,
+    ),
 ]
 _Reverse = Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")]
 _Robot = Annotated[
@@ -263,7 +308,9 @@ def play_command(
     json_path: _Json = None,
     rrd: _Rrd = None,
     bag: BagOption = None,
-    loop: _Loop = 1,
+    loop: _Loop = None,
+    chain: _Chain = False,
+    start_pose: _StartPose = None,
     reverse: _Reverse = False,
     timestep: Timestep = None,
     robot: _Robot = None,
@@ -291,6 +338,8 @@ def play_command(
     """
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
+    from motiontool.sim.chain import loop_counts
+    from motiontool.sim.chain import start_pose as read_start_pose
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play
 
@@ -303,9 +352,16 @@ def play_command(
         robot_node=robot_node,
     )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
+    loops, chain_loops = loop_counts(
+        loop or [], [str(f) for f in files], chain=chain, max_count=MAX_COUNT
+    )
     options = PlayOptions(
         timestep_ms=timestep if timestep is not None else _config_step(settings, planned),
-        loops=loop,
+        loops=loops,
+        chain=chain,
+        chain_loops=chain_loops,
+        start_pose=start_pose,
+        start_pose_joints=() if start_pose is None else read_start_pose(start_pose),
         reverse=reverse,
         hold_s=hold,
         seed=seed,
@@ -334,7 +390,8 @@ def _run(
     """The run of ``planned``, its progress shown as it goes."""
     with progress("play") as step:
         names = ", ".join(file_name(f) for f in planned.files)
-        label = f"{names}, {plural(options.loops, 'cycle')} in MuJoCo"
+        cycles = sum(options.chain_loops) or options.loops * len(planned.files)
+        label = f"{names}, {plural(cycles, 'cycle')} in MuJoCo"
         step(label)
 
         def simulated(done_s: float, total_s: float) -> None:

@@ -20,6 +20,7 @@ from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
+from motiontool.sim.commands import each_loops
 from motiontool.sim.recording_paths import Thinned
 from motiontool.sim.report import EndEffectorStats, KeyframePose
 
@@ -45,7 +46,11 @@ past them, every other one is let go, as often as needed (samples every 100 ms, 
 
 
 def _keyframe_steps(
-    motions: Sequence[Motion], lengths: Sequence[int], timestep_ms: int, reverse: bool, loops: int
+    motions: Sequence[Motion],
+    lengths: Sequence[int],
+    timestep_ms: int,
+    reverse: bool,
+    loops: Sequence[int],
 ) -> Iterator[tuple[int, int, int, int]]:
     """(file index, pose index, time ms, first control step at or after it) of every keyframe,
     in the order played (:func:`motiontool.motionfmt.player.elapsed_steps`: each cycle of a
@@ -55,7 +60,7 @@ def _keyframe_steps(
         duration = int(motion.duration_ms)
         cycle = -(-duration // timestep_ms) + 1
         poses = range(motion.n_poses - 1, -1, -1) if reverse else range(motion.n_poses)
-        for loop in range(loops):
+        for loop in range(loops[f]):
             for p in poses:
                 t_ms = int(motion.times_ms[p])
                 played_ms = duration - t_ms if reverse else t_ms
@@ -137,7 +142,7 @@ class ToolMeter:
         timestep_ms: int,
         *,
         reverse: bool = False,
-        loops: int = 1,
+        loops: int | Sequence[int] = 1,
         reach_tolerance_mm: float = DEFAULT_REACH_TOLERANCE_MM,
     ) -> None:
         assert scene.tool is not None
@@ -145,7 +150,8 @@ class ToolMeter:
         self.reach_tolerance_mm = reach_tolerance_mm
         self._tolerance_m = reach_tolerance_mm / MM_PER_M
         self._step_ms = timestep_ms
-        self._coming = _keyframe_steps(motions, lengths, timestep_ms, reverse, loops)
+        counts = each_loops(loops, len(motions))
+        self._coming = _keyframe_steps(motions, lengths, timestep_ms, reverse, counts)
         self._next = next(self._coming, None)
         self._entries: dict[tuple[int, int], _Entry] = {}  # (file, pose): in the order first met
         self._open: list[_Visit] = []

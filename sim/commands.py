@@ -15,7 +15,14 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-__all__ = ["CHUNK_STEPS", "MAX_RUN_STEPS", "CommandChunks", "command_matrix", "command_stream"]
+__all__ = [
+    "CHUNK_STEPS",
+    "MAX_RUN_STEPS",
+    "CommandChunks",
+    "command_matrix",
+    "command_stream",
+    "each_loops",
+]
 
 CHUNK_STEPS = 2048
 """Control steps a run simulates and measures at once: 41 s at the Nao's 20 ms, 16 s at the
@@ -28,6 +35,16 @@ longer run would compute for hours; it is refused in one line before it starts."
 
 Chunk = tuple["npt.NDArray[np.float64]", "npt.NDArray[np.bool_]"]
 """(K, J) targets in force and (K, J) whether each was sent, for K consecutive steps."""
+
+
+def each_loops(loops: int | Sequence[int], count: int) -> list[int]:
+    """The cycles of each of ``count`` motions: ``loops`` each, or ``loops`` as given (one per
+    motion)."""
+    if isinstance(loops, int):
+        return [loops] * count
+    if len(loops) != count:
+        raise MotionToolError(f"{len(loops)} loop counts for {count} motions")
+    return list(loops)
 
 
 class CommandChunks(NamedTuple):
@@ -55,7 +72,7 @@ def command_stream(
     initial: npt.NDArray[np.float64],
     *,
     reverse: bool = False,
-    loops: int = 1,
+    loops: int | Sequence[int] = 1,
     hold_steps: int = 0,
 ) -> CommandChunks:
     """The targets in force at each control step of the sequence ``motions``, in chunks.
@@ -65,7 +82,8 @@ def command_stream(
         joints: the robot's J motors.
         timestep_ms: control step, ms.
         initial: (J,) positions the motors hold before their first command, rad (m).
-        reverse, loops: Webots' reverse and loop modes, applied to each motion.
+        reverse, loops: Webots' reverse and loop modes, applied to each motion (``loops``: one
+            count for every motion, or one per motion: the elements of a chain).
         hold_steps: steps appended after the last motion, with no command.
 
     Raises:
@@ -73,8 +91,10 @@ def command_stream(
         MotionToolError: more than :data:`MAX_RUN_STEPS` steps, before any chunk; (while the
             chunks are read) a motion commands a non-finite target.
     """
+    counts = each_loops(loops, len(motions))
     lengths = [
-        played_steps(m.duration_ms, timestep_ms, reverse=reverse, loops=loops) for m in motions
+        played_steps(m.duration_ms, timestep_ms, reverse=reverse, loops=n)
+        for m, n in zip(motions, counts, strict=True)
     ]
     steps = sum(lengths) + hold_steps
     if steps > MAX_RUN_STEPS:
@@ -86,7 +106,7 @@ def command_stream(
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
     size = CHUNK_STEPS  # read when called: a test may set it
-    streams = _streams(motions, joints, timestep_ms, reverse, loops, hold_steps, size)
+    streams = _streams(motions, joints, timestep_ms, reverse, counts, hold_steps, size)
     return CommandChunks(_sized(_held(streams, joints, initial), size), lengths, ignored, steps)
 
 
@@ -95,15 +115,15 @@ def _streams(
     joints: Sequence[str],
     timestep_ms: int,
     reverse: bool,
-    loops: int,
+    loops: Sequence[int],
     hold_steps: int,
     size: int,
 ) -> Iterator[tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_], Sequence[str]]]:
     """Each motion's stream, then the hold steps (no command), as (targets, sent, columns)."""
     import numpy as np
 
-    for motion in motions:
-        for s in iter_commands(motion, timestep_ms, reverse=reverse, loops=loops, chunk_steps=size):
+    for motion, n in zip(motions, loops, strict=True):
+        for s in iter_commands(motion, timestep_ms, reverse=reverse, loops=n, chunk_steps=size):
             yield s.targets, s.commanded, s.joints
     for done in range(0, hold_steps, size):
         n = min(size, hold_steps - done)

@@ -30,7 +30,8 @@ from motiontool.motionfmt.fileio import open_output, source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import ToolMeter
 from motiontool.sim.bag import RunBag
-from motiontool.sim.commands import CommandChunks, command_matrix, command_stream
+from motiontool.sim.chain import ElementMeter
+from motiontool.sim.commands import CommandChunks, command_matrix, command_stream, each_loops
 from motiontool.sim.markers import Marker, MarkerMeter
 from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMeter
 from motiontool.sim.physics import read_back, resolve_physics
@@ -135,14 +136,16 @@ def play(
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep, physics, scene = _setup(spec, opts, loaded[0], world)
     stream = _commands(loaded, scene, timestep, opts)
-    files = _file_runs(labels, stream.lengths, timestep)
+    files = _file_runs(labels, stream.lengths, timestep, _loops(opts, len(loaded)))
     meter = RunMeter(scene, opts)
+    elements = ElementMeter(stream.lengths) if scene.floating else None
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
         events = MarkerMeter(scene.limits, opts, floating=scene.floating) if recorder else None
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
-        _simulate(scene, stream, takers, record=recorder is not None)
+        _simulate(scene, stream, (*takers, elements), record=recorder is not None)
+        files = files if elements is None else elements.elements(files)
         report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
         report.world = None if world is None else _world_doc(world, opts, timestep, physics)
         report.self_collision = _self_collision_doc(scene, opts, world, meter)
@@ -312,7 +315,7 @@ def _commands(
         timestep_ms,
         scene.data.qpos[scene.qpos_adr].copy(),
         reverse=opts.reverse,
-        loops=opts.loops,
+        loops=_loops(opts, len(motions)),
         hold_steps=round(opts.hold_s * MS_PER_S / timestep_ms),
     )
     for name in stream.ignored:
@@ -338,9 +341,14 @@ def _tool_meter(
         lengths,
         timestep_ms,
         reverse=opts.reverse,
-        loops=opts.loops,
+        loops=_loops(opts, len(motions)),
         reach_tolerance_mm=opts.reach_tolerance_mm,
     )
+
+
+def _loops(opts: PlayOptions, count: int) -> list[int]:
+    """The cycles of each of the ``count`` motions: the chain's, else ``opts.loops`` each."""
+    return each_loops(opts.chain_loops or opts.loops, count)
 
 
 def _columns(motions: Sequence[Motion]) -> Iterator[str]:
@@ -363,7 +371,7 @@ def _start_joints(
     spec: RobotSpec, opts: PlayOptions, first: Motion, timestep_ms: int
 ) -> dict[str, float]:
     """Each motor's start position, rad (m): zero; lying, the first motion's first pose; then
-    the start noise (drawn from the seed)."""
+    the start pose (``--start-pose``), then the start noise (drawn from the seed)."""
     import numpy as np
 
     start_joints = {j: 0.0 for j in spec.joint_names}
@@ -374,6 +382,7 @@ def _start_joints(
         ):
             if name in start_joints and sent:
                 start_joints[name] = value
+    start_joints.update((k, v) for k, v in opts.start_pose_joints if k in start_joints)
     if opts.start_noise_rad > 0:
         rng = np.random.default_rng(opts.seed)
         noise = rng.normal(0.0, opts.start_noise_rad, len(start_joints))
@@ -421,14 +430,17 @@ def _scene(
     )
 
 
-def _file_runs(names: Sequence[str], lengths: Sequence[int], step_ms: int) -> list[FileRun]:
+def _file_runs(
+    names: Sequence[str], lengths: Sequence[int], step_ms: int, loops: Sequence[int]
+) -> list[FileRun]:
     """Where each motion starts and how long it plays (s, from whole ms: 201 steps of 20 ms
     are 4.02 s, where 201 * 0.02 is 4.0200000000000005), its ``lengths`` in control steps of
-    ``step_ms`` ms."""
+    ``step_ms`` ms, its cycles."""
     files = []
     step = 0
-    for name, n in zip(names, lengths, strict=True):
-        files.append(FileRun(name, step * step_ms / MS_PER_S, n * step_ms / MS_PER_S, n))
+    for name, n, cycles in zip(names, lengths, loops, strict=True):
+        start, duration = step * step_ms / MS_PER_S, n * step_ms / MS_PER_S
+        files.append(FileRun(name, start, duration, n, cycles))
         step += n
     return files
 
@@ -453,7 +465,9 @@ def _all_stamps(
 def _options_doc(opts: PlayOptions, physics: Physics) -> dict[str, Any]:
     """The report's ``options``: the options but those stamped, the floor friction used."""
     doc = {
-        k: v for k, v in asdict(opts).items() if k not in ("timestep_ms", "physics_step_ms", "seed")
+        k: v
+        for k, v in asdict(opts).items()
+        if k not in ("timestep_ms", "physics_step_ms", "seed", "start_pose_joints")
     }
     doc["p_gain_per_s"] = doc.pop("p_gain")
     doc["floor_friction"] = physics.friction

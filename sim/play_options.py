@@ -52,6 +52,13 @@ class PlayOptions:
         self_collision: self-collision physics: the robot's parts collide with each other
             (Webots' ``selfCollision``); None: the world's ``selfCollision`` with a world,
             else as the robot's model has it (the Nao: off, Webots' default; the UR5e: on).
+        chain: the motions are the elements of a chain (``play --chain``): the text report
+            lists each with its time in the run and what its base did.
+        chain_loops: cycles of each motion, in order (``--loop NAME=N``); empty: ``loops``
+            each.
+        start_pose: the pose the run starts from, as given (``FILE:POSE``; None: the zero
+            stance, or the first motion's first pose lying), and ``start_pose_joints`` its
+            motor positions, rad (m), (name, value) pairs.
     """
 
     timestep_ms: int | None = None
@@ -74,13 +81,17 @@ class PlayOptions:
     collision_tolerance_mm: float = DEFAULT_PENETRATION_TOLERANCE_MM
     reach_tolerance_mm: float = 1.0
     self_collision: bool | None = None
+    chain: bool = False
+    chain_loops: tuple[int, ...] = ()
+    start_pose: str | None = None
+    start_pose_joints: tuple[tuple[str, float], ...] = ()
 
     def check(self) -> None:
         """Raise :class:`MotionToolError` for an out-of-range option."""
         if self.timestep_ms is not None and self.timestep_ms < 1:
             raise MotionToolError(f"the time step must be >= 1 ms, got {self.timestep_ms}")
-        if self.loops < 1:
-            raise MotionToolError(f"loops must be >= 1, got {self.loops}")
+        if self.loops < 1 or any(n < 1 for n in self.chain_loops):
+            raise MotionToolError(f"loops must be >= 1, got {self.chain_loops or self.loops}")
         StartState.parse(self.start)
         for name in ("p_gain", "mass_scale", "torque_scale"):
             value = getattr(self, name)

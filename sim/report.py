@@ -7,7 +7,10 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "stamps": {"motiontool", "mujoco", "pinocchio", "rerun", "numpy": versions,
                  "model_sha256": hex, "control_step_ms", "physics_step_ms", "seed"},
       "robot": "nao",
-      "files": [{"path", "start_s", "duration_s", "steps"}],   # one per motion played, in order
+      "files": [{"path", "start_s", "duration_s", "steps",     # one per motion played, in order
+                 "loops",                                      #   (an element of a chain)
+                 "dx_m", "dy_m", "distance_m",                 # its base's motion, start to end
+                 "yaw_change_deg"}],                           #   (null: a fixed-base robot)
       "options": {"loops", "reverse", "start", "p_gain_per_s", "hold_s", "floor_friction",
                   "mass_scale", "torque_scale", "start_yaw_deg", "start_noise_rad",
                   "fall_height_m", "fall_tilt_deg", "collision_tolerance_mm"},
@@ -121,12 +124,20 @@ _T = TypeVar("_T")
 
 @dataclass(frozen=True)
 class FileRun:
-    """One motion of the sequence: where it starts (s), how long it plays (s), its steps."""
+    """One motion of the sequence (an element of a chain): where it starts (s), how long it
+    plays (s), its steps, its cycles; for a free-flying robot, what its base did from the
+    frame the motion starts at to the frame it ends at (None: not measured): the displacement
+    (m, world frame), its length (m) and the heading change (degrees, + = left)."""
 
     path: str
     start_s: float
     duration_s: float
     steps: int
+    loops: int = 1
+    dx_m: float | None = None
+    dy_m: float | None = None
+    distance_m: float | None = None
+    yaw_change_deg: float | None = None
 
 
 @dataclass(frozen=True)
