@@ -135,9 +135,9 @@ def _style() -> Any:
 
 
 def _styled(func: Callable[_P, _R]) -> Callable[_P, _R]:
-    """``func``, drawing in matplotlib's default style (:func:`_style`), every text as typed:
-    a joint or file name with ``$`` signs is not read as mathtext (``a$\\frac$`` raised a
-    parse error)."""
+    """``func``, drawing in matplotlib's default style (:func:`_style`), every text as typed
+    (a name with ``$`` signs is not mathtext) and names escaped by :func:`fmt_name` (a byte
+    that is not UTF-8, a lone surrogate, as ``\\xNN``: matplotlib raised a TypeError)."""
 
     @functools.wraps(func)
     def styled(*args: _P.args, **kwargs: _P.kwargs) -> _R:
@@ -145,12 +145,6 @@ def _styled(func: Callable[_P, _R]) -> Callable[_P, _R]:
             return func(*args, **kwargs)
 
     return styled
-
-
-def _drawn(text: str) -> str:
-    """``text`` (a joint or file name) as the figure shows it: a byte that is not UTF-8, kept
-    as a lone surrogate, as ``\\xNN`` (matplotlib's font code raises a TypeError on it)."""
-    return fmt_name(text)
 
 
 def _figure(rows: int, cols: int) -> Any:
@@ -163,9 +157,9 @@ def _figure(rows: int, cols: int) -> Any:
 def _finish(fig: Any, title: str, caption: str) -> None:
     """Title above, caption below (fixed heights in inches), panels in between."""
     height = fig.get_figheight()
-    fig.suptitle(_drawn(title), fontsize=11, y=1.0 - 0.1 / height, va="top")
+    fig.suptitle(fmt_name(title), fontsize=11, y=1.0 - 0.1 / height, va="top")
     fig.text(
-        0.01, 0.05 / height, _drawn(caption), fontsize=7, color="#555555", ha="left", va="bottom"
+        0.01, 0.05 / height, fmt_name(caption), fontsize=7, color="#555555", ha="left", va="bottom"
     )
     fig.tight_layout(rect=(0, _CAPTION_IN / height, 1, 1.0 - _TITLE_IN / height))
 
@@ -349,7 +343,7 @@ def _draw_panel(
         v = motion.values[:, col]
         x, y = _decimated(t_s, v)
         marker = "o" if x.shape[0] == t_s.shape[0] else None  # too dense: they would cover it
-        ax.plot(x, y, color=color, lw=1.2, marker=marker, ms=2.2, label=_drawn(name), zorder=3)
+        ax.plot(x, y, color=color, lw=1.2, marker=marker, ms=2.2, label=fmt_name(name), zorder=3)
         if held is not None:  # dotted where the joint holds its target (cli/_held_lines.py)
             ax.plot(*held[col], color=color, lw=1.0, ls=":", zorder=2)
         jl = limits.get(name)
@@ -359,7 +353,7 @@ def _draw_panel(
         n_fast += _mark_too_fast(ax, t_s, v, jl)
     ax.set_ylim(y0, y1)
     ax.set_xlim(0.0, max(float(t_s[-1]), 1e-3) * 1.0)
-    ax.set_title(_drawn(panel.title), fontsize=9, pad=10)
+    ax.set_title(fmt_name(panel.title), fontsize=9, pad=10)
     ax.tick_params(labelsize=7)
     ax.grid(True, lw=0.3, alpha=0.6)
     unit = lim.unit if lim is not None else "rad"
@@ -487,7 +481,7 @@ def plot_diff(
                 lw=0,
                 zorder=1,
             )
-        ax.set_title(_drawn(name), fontsize=9)
+        ax.set_title(fmt_name(name), fontsize=9)
         ax.tick_params(labelsize=7)
         ax.grid(True, lw=0.3, alpha=0.6)
         if i % cols == 0:

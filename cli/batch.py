@@ -183,12 +183,7 @@ def batch_command(
         sidecar=not no_sidecar,
         rrd_dir=rrd_dir,
     )
-    _refuse_reports_over_recordings(specs, outputs)
-    if rrd_dir is not None:
-        try:
-            rrd_dir.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise OutputError(f"cannot write in '{rrd_dir}': {exc.strerror or exc}") from exc
+    _make_recordings_folder(specs, outputs)
     with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
         batch = _run(
             specs,
@@ -242,24 +237,24 @@ def _check_outputs(
     _require_extras(junit=outputs["--junit"], rrd_dir=outputs["--rrd-dir"], executor=executor)
 
 
-def _refuse_reports_over_recordings(specs: list[RunSpec], outputs: dict[str, Path | None]) -> None:
-    """A report (``--json``, ``--markdown``, ``--junit``) on the file where ``--rrd-dir`` keeps
-    a run's recording, named or through a symlink (a report replaced the recording and said
-    "wrote"): exit 2 before anything runs."""
+def _make_recordings_folder(specs: list[RunSpec], outputs: dict[str, Path | None]) -> None:
+    """The ``--rrd-dir`` folder made (with its parents), once no report (``--json``,
+    ``--markdown``, ``--junit``) is on the file where it keeps a run's recording, named or
+    through a symlink (a report replaced the recording and said "wrote"): that is refused,
+    exit 2, before anything runs or is written."""
     import os
 
     from motiontool.sim.runs import run_outputs
 
-    if outputs["--rrd-dir"] is None:
+    rrd_dir = outputs["--rrd-dir"]
+    if rrd_dir is None:
         return
     reports = {
         os.path.realpath(path): option
         for option, path in outputs.items()
         if option != "--rrd-dir" and path is not None and output_kind(path) == "file"
     }
-    if not reports:
-        return
-    for spec in specs:
+    for spec in specs if reports else []:
         for recording in run_outputs(spec):
             option = reports.get(os.path.realpath(recording))
             if option is not None:
@@ -267,6 +262,10 @@ def _refuse_reports_over_recordings(specs: list[RunSpec], outputs: dict[str, Pat
                     f"{option} and --rrd-dir both write '{recording}' (the recording of "
                     f"{spec.path} on {spec.robot}, sample {spec.sample}); give each its own file"
                 )
+    try:
+        rrd_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"cannot write in '{rrd_dir}': {exc.strerror or exc}") from exc
 
 
 def _require_extras(*, junit: Path | None, rrd_dir: Path | None, executor: str) -> None:
