@@ -28,6 +28,16 @@ from motiontool.cli.physics_options import (
     WorldOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
+from motiontool.cli.play_robustness import (
+    ExecutorOption,
+    JobsOption,
+    NoCacheOption,
+    RobustnessOption,
+    StrictOption,
+    check_robustness,
+    robustness_of,
+    strict_exit,
+)
 from motiontool.cli.progress import progress
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name, plural
@@ -39,6 +49,7 @@ from motiontool.motionfmt.units import MM_PER_M
 if TYPE_CHECKING:
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.report import ContactSummary, PlayReport
+    from motiontool.sim.robustness import Robustness
     from motiontool.sim.session import PlayPlan, PlayResult
 
 __all__ = ["play_command"]
@@ -325,6 +336,11 @@ def play_command(
     world: WorldOption = None,
     robot_node: RobotNodeOption = None,
     self_collision: SelfCollisionOption = None,
+    robustness: RobustnessOption = None,
+    strict: StrictOption = False,
+    jobs: JobsOption = 2,
+    executor: ExecutorOption = "local",
+    no_cache: NoCacheOption = False,
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
@@ -334,9 +350,11 @@ def play_command(
     (P = 10) makes a velocity command capped at maxVelocity, a velocity servo limited to
     maxTorque realises it. Exit code 0 when the run is clean, 1 when the robot fell, collided,
     MuJoCo raised a warning or an expectation (--expect, motions.toml) is not met, 2 on error.
-    --json and --rrd are written in every case.
+    --json and --rrd are written in every case. With --robustness N, each verdict holds,
+    is fragile (a warning; exit 1 with --strict) or fails.
     """
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
+    check_robustness(robustness, files, strict, executor)
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
     from motiontool.sim.chain import loop_counts
     from motiontool.sim.chain import start_pose as read_start_pose
@@ -373,7 +391,14 @@ def play_command(
     robot = robot if robot is not None else settings.robot_for(files[0])
     result = _run(planned, robot, options, rrd=rrd, bag=bag)
     say_bag(result, bag)
-    _render(result, json_path, rrd)
+    ensemble = None
+    if robustness is not None:
+        from motiontool.sim.batch import default_cache_dir
+
+        cache = None if no_cache else default_cache_dir()
+        run = (executor, jobs, cache)
+        ensemble = robustness_of(result, planned, options, n=robustness, run=run)
+    _render(result, json_path, rrd, (ensemble, strict))
 
 
 def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
@@ -430,10 +455,16 @@ def _check_outputs(
     return files
 
 
-def _render(result: PlayResult, json_path: Path | None, rrd: Path | None) -> None:
+def _render(
+    result: PlayResult,
+    json_path: Path | None,
+    rrd: Path | None,
+    robust: tuple[Robustness | None, bool] = (None, False),
+) -> None:
     """The JSON report, the warnings and the text report (on stderr where --json or --rrd is
-    standard output), a line for each file written; exit with the run's code, or raise the
-    error that kept it from starting."""
+    standard output), a line for each file written; exit with the run's code (``robust``: the
+    run's robustness and --strict: 1 on a fragile verdict), or raise the error that kept it
+    from starting."""
     report = result.report
     if report is None:
         assert result.error is not None, "a result without a report has an error"
@@ -447,15 +478,28 @@ def _render(result: PlayResult, json_path: Path | None, rrd: Path | None) -> Non
             f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored",
             err=True,
         )
+    ensemble, strict = robust
+    code = strict_exit(report.exit_code, ensemble, strict)
     if json_path is not None:
-        emit(dumps(result.to_json(), indent=1), json_path)
+        doc = result.to_json()
+        if ensemble is not None:
+            doc.update(robustness=ensemble.to_json(), exit_code=code)
+        emit(dumps(doc, indent=1), json_path)
     # Names keep the file's bytes (no UnicodeEncodeError); where --json or --rrd is '-' (stdout),
     # the text report goes to stderr.
     text = render_text(report)
+    if ensemble is not None:
+        text += "\n".join(ensemble.lines()) + "\n"
     if is_stdout(json_path) or is_stdout(rrd):
         emit_stderr(text)
     else:
         emit(text, None)
     say_wrote(json_path, f"play report, JSON, {report.simulated_s:.2f} s simulated")
     say_wrote(rrd, f"Rerun recording, {report.simulated_s:.2f} s simulated")
-    raise typer.Exit(report.exit_code)
+    if ensemble is not None and ensemble.fragile:
+        typer.echo(
+            "motiontool: warning: a verdict is fragile under --robustness"
+            + (" (--strict: exit 1)" if strict else ""),
+            err=True,
+        )
+    raise typer.Exit(code)

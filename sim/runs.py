@@ -27,6 +27,10 @@ _OPTION_OF = {
     "start-noise": "start_noise_rad",
 }
 
+_PLAY = ("loops", "reverse", "hold_s")
+"""Play options a batch does not set and ``play --robustness``'s members carry (their play's
+``--loop``, ``--reverse``, ``--hold``): in the options, and so in the cache key, only there."""
+
 
 def retimed(motion: Motion, speed: float) -> Motion:
     """``motion`` played ``speed`` times faster: pose times as ``retime --speed`` writes them
@@ -71,8 +75,8 @@ def _play_options(spec: RunSpec) -> Any:
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
         kwargs["start"] = str(options["start"])
-    for name in ("physics_step_ms", "floor_friction", "profile", "self_collision"):
-        # sim.physics.physics_run_options
+    for name in ("physics_step_ms", "floor_friction", "profile", "self_collision", *_PLAY):
+        # sim.physics.physics_run_options; _PLAY: play --robustness's members
         if options.get(name) is not None:
             kwargs[name] = options[name]
     return PlayOptions(**kwargs, seed=spec.sample)
