@@ -15,11 +15,10 @@ from __future__ import annotations
 
 import hashlib
 import json
-import math
 import os
 import random
 import time
-from collections.abc import Callable, Generator, Mapping, Sequence
+from collections.abc import Callable, Generator, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -39,6 +38,12 @@ from motiontool.sim.batch_results import (
 from motiontool.sim.cache import DEFAULT_MAX_BYTES, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 from motiontool.sim.expect import parse_expectations
+from motiontool.sim.perturb import (
+    PERTURBATIONS,
+    Perturbation,
+    PerturbationKind,
+    parse_perturbation,
+)
 from motiontool.sim.sidecar import Sidecar
 from motiontool.sim.start import StartState
 
@@ -59,84 +64,6 @@ __all__ = [
     "recording_stems",
     "run_batch",
 ]
-
-
-@dataclass(frozen=True)
-class PerturbationKind:
-    """What ``--perturb NAME=LOW:HIGH`` draws for one NAME.
-
-    Attributes:
-        meaning: what a value is, with its unit (a factor: 1 = nominal).
-        above: the values taken are above this one (-inf: any finite number).
-        inclusive: whether ``above`` itself is taken (``>=``; else ``>``).
-    """
-
-    meaning: str
-    above: float = -math.inf
-    inclusive: bool = False
-
-    @property
-    def values(self) -> str:
-        """The values taken, for people: ``> 0``, ``>= 0`` or ``any finite number``."""
-        if self.above == -math.inf:
-            return "any finite number"
-        return f"{'>=' if self.inclusive else '>'} {self.above:g}"
-
-    def takes(self, value: float) -> bool:
-        """Whether ``value`` (finite) is one of the values taken."""
-        return value >= self.above if self.inclusive else value > self.above
-
-
-PERTURBATIONS: dict[str, PerturbationKind] = {
-    "friction": PerturbationKind("a factor on the floor friction", 0.0),
-    "mass": PerturbationKind("a factor on every body mass", 0.0),
-    "motor-strength": PerturbationKind("a factor on every motor's maxTorque", 0.0),
-    "start-yaw": PerturbationKind("the start heading, deg"),
-    "start-noise": PerturbationKind(
-        "the standard deviation of the start joint offsets, rad", 0.0, inclusive=True
-    ),
-    "speed": PerturbationKind("a factor on the playback speed", 0.0),
-}
-"""Perturbation names for ``--perturb NAME=LOW:HIGH``, what they draw and the values they take
-(a factor of 1: as without the perturbation; ``friction`` scales ``--friction``, else the
-profile's). A mass, a torque limit or a speed of 0 or less cannot be played, a standard
-deviation below 0 is none: refused where parsed, before any run."""
-
-
-@dataclass(frozen=True)
-class Perturbation:
-    """A uniform range ``[low, high]`` for one perturbation parameter."""
-
-    name: str
-    low: float
-    high: float
-
-
-def parse_perturbation(text: str) -> Perturbation:
-    """``friction=0.7:1.3`` -> Perturbation; a one-line error naming the valid names, or the
-    values the name takes (:data:`PERTURBATIONS`), otherwise."""
-    name, sep, bounds = text.partition("=")
-    name = name.strip()
-    if not sep or name not in PERTURBATIONS:
-        raise MotionToolError(
-            f"perturbation {text!r}: expected NAME=LOW:HIGH, NAME one of "
-            + ", ".join(PERTURBATIONS)
-        )
-    low_s, colon, high_s = bounds.partition(":")
-    try:
-        low = float(low_s)
-        high = float(high_s) if colon else low
-    except ValueError:
-        raise MotionToolError(f"perturbation {text!r}: LOW and HIGH must be numbers") from None
-    if not (math.isfinite(low) and math.isfinite(high)) or high < low:
-        raise MotionToolError(f"perturbation {text!r}: need finite LOW <= HIGH")
-    kind = PERTURBATIONS[name]
-    if not kind.takes(low):  # HIGH >= LOW: in range too
-        raise MotionToolError(
-            f"perturbation {text!r}: {name} takes values {kind.values} ({kind.meaning}), "
-            f"got LOW {low:g}"
-        )
-    return Perturbation(name, low, high)
 
 
 @dataclass(frozen=True)
@@ -438,24 +365,40 @@ def run_batch(
         if hit is not None:
             results.finish(i, hit)
     outcomes = run(runner, [specs[i] for i in todo], jobs=jobs, timeout_s=timeout_s)
-    try:
-        for outcome in outcomes:
-            i = todo[outcome.index]
-            try:
-                result = _classify(specs[i], outcome)
-            except OutputError as exc:
-                at = f"the batch stopped at run {results.done + 1} of {len(specs)}"
-                raise OutputError(f"{exc} ({at})") from None
-            _store(cache, result, keys[i])
-            results.finish(i, result)
-    finally:
-        if isinstance(outcomes, Generator):  # a batch that stops stops its runs now
-            outcomes.close()
+    _collect(outcomes, [(i, specs[i], keys[i]) for i in todo], cache, results)
     if cache is not None:
         cache.prune()
     models = {s.robot: model_hash(s.robot) for s in specs}
     models = {robot: sha for robot, sha in sorted(models.items()) if sha}  # auto: none fits
     return BatchResult(results.in_plan_order(), time.monotonic() - t0, executor, jobs, models)
+
+
+def _collect(
+    outcomes: Iterator[Outcome],
+    todo: list[tuple[int, RunSpec, str]],
+    cache: ResultCache | None,
+    results: _Results,
+) -> None:
+    """Each outcome of the runs ``todo`` (their index in the plan, spec and cache key, in the
+    order given to the executor) classified, cached and kept in ``results``.
+
+    Raises:
+        OutputError: a run could not write a file it writes: the runs still going are stopped
+            (the executor's generator closed) and the batch stops.
+    """
+    try:
+        for outcome in outcomes:
+            i, spec, key = todo[outcome.index]
+            try:
+                result = _classify(spec, outcome)
+            except OutputError as exc:
+                at = f"the batch stopped at run {results.done + 1} of {len(results)}"
+                raise OutputError(f"{exc} ({at})") from None
+            _store(cache, result, key)
+            results.finish(i, result)
+    finally:
+        if isinstance(outcomes, Generator):  # a batch that stops stops its runs now
+            outcomes.close()
 
 
 class _Results:
@@ -490,6 +433,10 @@ class _Results:
     def done(self) -> int:
         """How many runs have a result."""
         return self._done
+
+    def __len__(self) -> int:
+        """How many runs the batch has."""
+        return len(self._results)
 
     def in_plan_order(self) -> list[RunResult]:
         """Every result, in plan order (each run has one by now)."""
