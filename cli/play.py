@@ -28,7 +28,7 @@ from motiontool.cli.physics_options import (
     WorldOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
-from motiontool.cli.play_robustness import (
+from motiontool.cli.robustness import (
     ExecutorOption,
     JobsOption,
     NoCacheOption,
