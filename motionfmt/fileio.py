@@ -7,8 +7,10 @@ import contextlib
 import errno
 import os
 import re
+import signal
 import stat
 import sys
+import threading
 import weakref
 from collections.abc import Iterable, Iterator, Sequence
 from pathlib import Path
@@ -295,12 +297,11 @@ def _atomic(path: str | Path) -> Iterator[BinaryIO]:
         mode = 0o666 & ~umask
     import tempfile  # only to write a file
 
+    tmp = ""
     try:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    except OSError as exc:
-        raise _cannot_write(path, exc) from exc
-    try:
+        with _signals_held():  # the temporary file and its removal below: one step
+            target.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
         with os.fdopen(fd, "wb") as f:
             yield f
             f.flush()
@@ -311,13 +312,41 @@ def _atomic(path: str | Path) -> Iterator[BinaryIO]:
                 os.chown(tmp, st.st_uid, st.st_gid)
         os.replace(tmp, target)
     except OSError as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         raise _cannot_write(path, exc) from exc
     except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
+        if tmp:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
         raise
+
+
+_HELD = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ctrl-C, SIGTERM and SIGHUP held back in the block, and sent again once it ends: a file
+    made in it and the ``try`` that removes it are one step (a signal between them would leave
+    the file). Their handlers run in the main thread only, so only it holds them (another
+    thread's block is not cut by a signal)."""
+    if threading.current_thread() is not threading.main_thread() or any(
+        signal.getsignal(s) is None
+        for s in _HELD  # a handler set outside Python: kept
+    ):
+        yield
+        return
+    came: list[int] = []
+    previous = {s: signal.signal(s, lambda signum, frame: came.append(signum)) for s in _HELD}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+        for signum in came[:1]:  # handled now, by its own handler
+            signal.raise_signal(signum)
 
 
 def atomic_write(path: str | Path, data: bytes) -> None:

@@ -280,3 +280,35 @@ def test_a_long_option_value_is_capped_in_the_error_line(here: Path) -> None:
     err = done.stderr.decode()
     assert done.returncode == 2 and err.startswith("motiontool: error: expectation 'aaa")
     assert err.count("\n") == 1 and "a" * 81 not in err and len(err) < 600, err
+
+
+def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The temporary file and the ``try`` that removes it are made as one step: a signal that
+    comes between them is held until the removal is in place (it left ``.out.txt.XXXX.tmp``)."""
+    import tempfile
+
+    from motiontool.motionfmt.fileio import atomic_write
+
+    class Stop(BaseException):
+        pass
+
+    def stop(signum: int, frame: object) -> None:
+        raise Stop
+
+    real = tempfile.mkstemp
+
+    def mkstemp_then_signal(*args: object, **kwargs: object) -> tuple[int, str]:
+        made = real(*args, **kwargs)  # type: ignore[call-overload]
+        os.kill(os.getpid(), signal.SIGTERM)  # its handler runs now, unless it is held
+        return made  # type: ignore[no-any-return]
+
+    monkeypatch.setattr(tempfile, "mkstemp", mkstemp_then_signal)
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        with pytest.raises(Stop):
+            atomic_write(tmp_path / "out.txt", b"data")
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert list(tmp_path.iterdir()) == []
