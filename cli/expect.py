@@ -75,7 +75,7 @@ def expect_command(
         raise MotionToolError("expect needs --infer (propose expectations from the names)")
     from motiontool.motionfmt.fileio import collect_motion_files
     from motiontool.sim.infer import infer as infer_name
-    from motiontool.sim.infer import render_toml
+    from motiontool.sim.infer import propose_chains, render_toml
     from motiontool.sim.infer_start import find_start
 
     inputs: list[Path] = []
@@ -104,5 +104,6 @@ def expect_command(
         if file is not None and robot is not None:
             find_start(inference, file, robot)
         inferences.append(inference)
+    propose_chains(inferences)
     emit(render_toml(inferences), output)
     say_wrote(output, f"TOML, expectations of {plural(len(inferences), 'motion')}")

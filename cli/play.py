@@ -370,8 +370,9 @@ def play_command(
         robot_node=robot_node,
     )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
+    chain = chain or bool(planned.motion.before)  # a sidecar's after: a chain
     loops, chain_loops = loop_counts(
-        loop or [], [str(f) for f in files], chain=chain, max_count=MAX_COUNT
+        loop or [], [str(f) for f in planned.files], chain=chain, max_count=MAX_COUNT
     )
     options = PlayOptions(
         timestep_ms=timestep if timestep is not None else _config_step(settings, planned),

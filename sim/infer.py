@@ -7,12 +7,12 @@ rule that fits wins:
 ================================  =============================================================
 name has                          proposal
 ================================  =============================================================
-Stand/Get/Fast/Quick + Up         ``upright`` at the end; start ``lying-front`` / ``lying-back``
-(StandUp, GetUpFront, FastUp)     from Front/Belly/Prone or Back/Supine; else decided by playing
-                                  the file from both (:mod:`motiontool.sim.infer_start`)
+Stand/Get/Gen/Fast/Quick/Rise    ``upright`` at the end; start ``lying-front`` / ``lying-back``
++ Up (StandUp, GetUpFront,        from Front/Belly/Prone or Back/Supine; else decided by playing
+GenUp, Genup, StandingUp)         the file from both (:mod:`motiontool.sim.infer_start`)
 Fall / Dive [+ side]              ``fell``; with Left/Right/Forward/Front/Back also
                                   ``fall_direction=90±45`` (-90, 0, 180)
-Kick / Shoot / Shot / Pass        ``no-fall`` (a direction word is the ball's, not a walk)
+Kick / Shoot(ing) / Shot / Pass   ``no-fall`` (a direction word is the ball's, not a walk)
 Turn + Left/Right [+N]            ``yaw=±N±15%`` (at least 5°) when N follows the turn word
                                   and is 1-360: ``Team5_TurnLeft60`` is 60; else the sign only,
                                   ``yaw>0`` / ``yaw<0``; ``upright``
@@ -21,7 +21,8 @@ Walk / Step [+ Back(ward)]        ``dx_heading>=0.03`` (back: ``<=-0.03``); ``up
                                   number is not a distance)
 Wave / Hand / Wipe / Salute /     ``upright``, ``feet-planted`` (upper body only: LeanForward
 Bow / Head / Arm / Nod / Lean /   is no walk)
-Bend / Look / Point / Reach
+Bend / Look / Point(ing) /
+Reach / Thumb(s) / (Good)bye
 Backward(s)                       ``dx_heading<=-0.03``; ``upright``
 Forward(s) / Fwd                  ``dx_heading>=0.03``; ``upright``
 anything else                     ``upright``
@@ -29,6 +30,10 @@ a fixed-base robot (arm)          ``no-self-collision`` (it cannot fall or walk)
 ================================  =============================================================
 
 ``upright`` is the play report's fall detector (no fall, up at the end), not a tilt bound.
+
+Across the names (:func:`propose_chains`): a ``_Start`` / ``_Loop`` / ``_Stop`` family
+(``SideStepLeft_Start``, ``WalkLoop``) is a chain, as a controller plays it: the loop gets
+``after`` its start, the stop ``after`` its loop (else its start).
 """
 
 from __future__ import annotations
@@ -47,6 +52,7 @@ __all__ = [
     "TURN_TOLERANCE",
     "Inference",
     "infer",
+    "propose_chains",
     "render_toml",
     "words",
 ]
@@ -65,10 +71,14 @@ MIN_PROGRESS_M = 0.03
 make: more than a standing robot sways (the Webots arm motions move the torso < 0.01 m)."""
 
 _ARMS = {"wave", "hand", "hands", "wipe", "salute", "bow", "head", "arm", "arms", "nod", "no"}
-_ARMS |= {"lean", "bend", "look", "point", "reach"}
-_UP_VERBS = {"stand", "get", "fast", "quick", "slow"}
+_ARMS |= {"lean", "bend", "look", "point", "pointing", "points", "reach"}
+_ARMS |= {"thumb", "thumbs", "goodbye", "bye", "waving", "gesture"}
+_UP_VERB = re.compile(r"(stand|get|gen|fast|quick|slow|rise)(t?ing)?")
+"""A word that goes with ``up`` in a stand-up's name (StandUp, GettingUp, GenUp, FastUp)."""
+_UP_WORDS = {"standup", "getup", "genup"}
 _FALLS = {"fall", "falls", "falling", "dive", "dives", "diving"}
-_KICKS = {"kick", "kicks", "kicking", "shoot", "shoots", "shot", "shots", "pass", "passes"}
+_KICKS = {"kick", "kicks", "kicking", "shoot", "shoots", "shooting", "shot", "shots", "pass"}
+_KICKS |= {"passes"}
 _FALL_SIDES = {
     "left": 90,
     "right": -90,
@@ -91,7 +101,8 @@ class Inference:
     """What a motion's name suggests: a sidecar section, with notes for the reviewer.
 
     ``needs_start``: a stand-up whose name does not say front or back (the start is then to be
-    found by playing the motion, or set by the reviewer).
+    found by playing the motion, or set by the reviewer). ``after``: the motion played before
+    it, a chain (:func:`propose_chains`).
     """
 
     name: str
@@ -99,6 +110,7 @@ class Inference:
     start: StartState | None = None
     notes: list[str] = field(default_factory=list)
     needs_start: bool = False
+    after: str | None = None
 
 
 def words(name: str) -> list[str]:
@@ -115,8 +127,8 @@ def _side(ws: Sequence[str]) -> int:
 
 def _is_stand_up(ws: list[str]) -> bool:
     pairs = itertools.pairwise(ws)
-    return any(w in ("standup", "getup") for w in ws) or any(
-        a in _UP_VERBS and b == "up" for a, b in pairs
+    return any(w in _UP_WORDS for w in ws) or any(
+        _UP_VERB.fullmatch(a) is not None and b == "up" for a, b in pairs
     )
 
 
@@ -228,6 +240,32 @@ def infer(name: str, *, floating_base: bool | None = None) -> Inference:
     return out
 
 
+_PHASE = re.compile(r"^(?P<base>.*?[A-Za-z0-9])[_-]?(?P<phase>start|loop|stop)$", re.IGNORECASE)
+_PHASE_NOTES = {"loop": "the loop of {base}", "stop": "the end of {base}"}
+
+
+def propose_chains(inferences: Sequence[Inference]) -> None:
+    """Set ``after`` of each ``_Loop`` / ``_Stop`` of a ``_Start`` / ``_Loop`` / ``_Stop``
+    family among ``inferences`` (``SideStepLeft_Start``, ``WalkLoop``): a loop plays after its
+    start, a stop after its loop, else its start; a note says so."""
+    families: dict[str, dict[str, str]] = {}
+    for inf in inferences:
+        m = _PHASE.match(inf.name)
+        if m:
+            families.setdefault(m["base"], {})[m["phase"].lower()] = inf.name
+    for inf in inferences:
+        m = _PHASE.match(inf.name)
+        if not m or m["phase"].lower() == "start":
+            continue
+        family = families[m["base"]]
+        phase = m["phase"].lower()
+        before = family.get("start") if phase == "loop" else family.get("loop", family.get("start"))
+        if before is not None:
+            inf.after = before
+            what = _PHASE_NOTES[phase].format(base=m["base"])
+            inf.notes.insert(0, f"{what}: played after {before}")
+
+
 def _toml_key(name: str) -> str:
     return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else json.dumps(name, ensure_ascii=False)
 
@@ -247,4 +285,6 @@ def render_toml(inferences: Sequence[Inference]) -> str:
         )
         if inf.start is not None:
             lines.append(f'start = "{inf.start}"')
+        if inf.after is not None:
+            lines.append(f"after = {json.dumps(inf.after, ensure_ascii=False)}")
     return "\n".join(lines) + "\n"

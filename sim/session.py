@@ -31,7 +31,7 @@ from motiontool.motionfmt.fileio import is_stdin, source_name
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
 from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
-from motiontool.sim.sidecar import Sidecar, lookup
+from motiontool.sim.sidecar import Sidecar, SidecarEntry, after_path, lookup
 from motiontool.sim.start import StartState
 from motiontool.sim.world import read_world
 from motiontool.sim.world_run import WorldRun, world_run
@@ -52,6 +52,8 @@ class MotionPlan:
         expectations: the same, parsed.
         start: the given start state, else the sidecar's, else None (not set: standing).
         world, robot_node: the sidecar's Webots world and its robot node (None: not set).
+        before: the motions played before it, first first: the chain its sidecar's ``after``
+            makes (followed back, each motion's own sidecar's ``after``); empty: none.
     """
 
     expect: tuple[str, ...]
@@ -59,6 +61,7 @@ class MotionPlan:
     start: StartState | None
     world: Path | None = None
     robot_node: str | None = None
+    before: tuple[Path, ...] = ()
 
 
 def plan_motion(
@@ -83,14 +86,53 @@ def plan_motion(
     """
     entry = lookup(motion, tuple(roots), cache) if sidecar else None
     expected = (entry.expect if entry else ()) + tuple(expect)
-    chosen = start if start is not None else (entry.start if entry else None)
+    before = _before(motion, entry, tuple(roots), cache)
+    if start is not None:
+        chosen: StartState | str | None = start
+    elif before:  # a chain starts as its first motion does
+        first = lookup(before[0], tuple(roots), cache)
+        chosen = first.start if first else None
+    else:
+        chosen = entry.start if entry else None
     return MotionPlan(
         expected,
         tuple(parse_expectations(expected)),
         None if chosen is None else StartState.parse(chosen),
         entry.world if entry else None,
         entry.robot_node if entry else None,
+        before,
     )
+
+
+MAX_CHAIN = 64
+"""Most motions a sidecar's ``after`` chain may hold (a longer one is most likely a loop)."""
+
+
+def _before(
+    motion: str | Path,
+    entry: SidecarEntry | None,
+    roots: tuple[Path, ...],
+    cache: dict[Path, Sidecar] | None,
+) -> tuple[Path, ...]:
+    """The motions played before ``motion``, first first, following each one's sidecar
+    ``after`` back (:func:`motiontool.sim.sidecar.after_path`).
+
+    Raises:
+        SidecarError: an ``after`` that names no motion file. MotionToolError: a chain that
+            comes back to a motion it holds, or longer than :data:`MAX_CHAIN`.
+    """
+    chain: list[Path] = []
+    seen = {Path(motion).resolve()}
+    current: str | Path = motion
+    while entry is not None and entry.after is not None:
+        previous = after_path(entry, current)
+        if previous.resolve() in seen or len(chain) >= MAX_CHAIN:
+            names = " <- ".join(p.stem for p in [Path(motion), *reversed(chain), previous])
+            raise MotionToolError(f"{entry.path}: the after chain {names} comes back on itself")
+        seen.add(previous.resolve())
+        chain.append(previous)
+        current, entry = previous, lookup(previous, roots, cache)
+    return tuple(reversed(chain))
 
 
 @dataclass
@@ -236,7 +278,8 @@ def plan_play(
     """Plan playing ``files`` one after another with the expectations ``expect`` and the start
     state ``start`` (None: the sidecar's, else standing), in the Webots ``world`` (its robot
     node ``robot_node``; see :class:`PlayPlan`). A sidecar describes one motion: it is read
-    (``sidecar``) only when one file, not standard input, is played.
+    (``sidecar``) only when one file, not standard input, is played; its ``after`` makes the
+    run a chain, the motions played before it first (:attr:`MotionPlan.before`).
 
     Raises:
         MotionToolError: no file; a sidecar, an expectation or a start that cannot be used
@@ -246,4 +289,4 @@ def plan_play(
         raise MotionToolError("no motion file to play")
     one_file = len(files) == 1 and not is_stdin(files[0])
     motion = plan_motion(files[0], expect, start=start, sidecar=sidecar and one_file)
-    return PlayPlan(tuple(files), motion, world, robot_node)
+    return PlayPlan((*motion.before, *files), motion, world, robot_node)

@@ -20,9 +20,12 @@ motion's folder, or in a folder above it, says what each motion must do::
     world = "../worlds/wrestling.wbt"   # the Webots world it plays in (from this folder)
     robot-node = "participant"          # the world's robot node that plays it (name or DEF)
 
+    [SideStepLeft_Loop]
+    after = "SideStepLeft_Start"  # the motion played before it (a chain): its name, beside it
+
 Every section that matches a motion applies, in file order (expectations add up); for
-``start`` and ``world`` (with its ``robot-node``), a section that names the motion beats a
-glob, and of two globs the first wins. The
+``start``, ``world`` (with its ``robot-node``) and ``after``, a section that names the motion
+beats a glob, and of two globs the first wins. The
 sidecar of a motion is the nearest ``motions.toml`` from the motion's folder up to the search
 boundary (:func:`search_boundary`); sidecars do not merge. Read with the standard ``tomllib``.
 """
@@ -48,6 +51,7 @@ __all__ = [
     "Sidecar",
     "SidecarEntry",
     "SidecarError",
+    "after_path",
     "expectations_for",
     "find_sidecar",
     "load_sidecar",
@@ -58,7 +62,7 @@ __all__ = [
 SIDECAR_NAME = "motions.toml"
 """The file name of a sidecar."""
 
-_KEYS = ("expect", "start", "world", "robot-node")
+_KEYS = ("expect", "start", "world", "robot-node", "after")
 
 
 class SidecarError(MotionToolError):
@@ -76,6 +80,7 @@ class Section:
     start: str | None
     world: Path | None = None
     robot_node: str | None = None
+    after: str | None = None
 
     @property
     def is_glob(self) -> bool:
@@ -94,8 +99,8 @@ class Section:
 @dataclass(frozen=True)
 class SidecarEntry:
     """What a sidecar says about one motion: where from, the sections that matched, the
-    expectations (texts, in file order), the start state and the world with its robot node
-    (None: not set)."""
+    expectations (texts, in file order), the start state, the world with its robot node and
+    the motion played before it (``after``, as written: a motion name) (None: not set)."""
 
     path: Path
     sections: tuple[str, ...]
@@ -103,6 +108,7 @@ class SidecarEntry:
     start: str | None
     world: Path | None = None
     robot_node: str | None = None
+    after: str | None = None
 
 
 @dataclass(frozen=True)
@@ -122,6 +128,7 @@ class Sidecar:
         starts = [s for s in matched if s.start is not None]
         starts.sort(key=lambda s: s.is_glob)  # stable: exact names first, then file order
         worlds = sorted((s for s in matched if s.world is not None), key=lambda s: s.is_glob)
+        afters = sorted((s for s in matched if s.after is not None), key=lambda s: s.is_glob)
         return SidecarEntry(
             self.path,
             tuple(s.key for s in matched),
@@ -129,6 +136,7 @@ class Sidecar:
             starts[0].start if starts else None,
             worlds[0].world if worlds else None,
             worlds[0].robot_node if worlds else None,
+            afters[0].after if afters else None,
         )
 
 
@@ -237,7 +245,14 @@ def _section(path: Path, lines: list[str], key: str, line: int, table: dict[str,
             f"{path}:{where}: start {start!r} in [{key}]: choose {', '.join(StartState)}"
         )
     world, robot_node = _world(path, lines, key, line, table)
-    return Section(key, line, tuple(expect), start, world, robot_node)
+    after = table.get("after")
+    if after is not None and (not isinstance(after, str) or not after):
+        where = _line_of(lines, line, "after")
+        raise SidecarError(
+            f"{path}:{where}: after in [{key}] must be a string: the name of the motion played "
+            'before, e.g. after = "Walk_Start"'
+        )
+    return Section(key, line, tuple(expect), start, world, robot_node, after)
 
 
 def _world(
@@ -260,6 +275,31 @@ def _world(
         where = _line_of(lines, line, "world")
         raise SidecarError(f"{path}:{where}: world {world!r} in [{key}]: no such file ({found})")
     return found, node
+
+
+def after_path(entry: SidecarEntry, motion: str | Path) -> Path:
+    """The motion file ``entry.after`` names for ``motion``: a name is the file of that stem
+    beside ``motion`` (``Walk_Start``: ``Walk_Start.motion``); a path (with ``/`` or the
+    ``.motion`` suffix) is from the sidecar's folder.
+
+    Raises:
+        SidecarError: ``motions.toml:LINE: after 'X' in [key]: no such motion (PATH)``.
+    """
+    assert entry.after is not None
+    after = entry.after
+    if "/" in after or after.endswith(".motion"):
+        found = entry.path.parent / after
+    else:
+        found = Path(motion).parent / f"{after}.motion"
+    if found.is_file():
+        return found
+    sidecar = load_sidecar(entry.path)
+    section = next(s for s in sidecar.sections if s.key in entry.sections and s.after == after)
+    lines = _read_toml(entry.path)[0].splitlines()
+    where = _line_of(lines, section.line, "after")
+    raise SidecarError(
+        f"{entry.path}:{where}: after {after!r} in [{section.key}]: no such motion ({found})"
+    )
 
 
 def search_boundary(motion: str | Path, roots: tuple[Path, ...] | list[Path] = ()) -> Path:

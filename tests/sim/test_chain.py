@@ -123,3 +123,34 @@ def test_start_pose_starts_from_a_pose_of_a_motion_file(motions: Path) -> None:
         "motiontool: error: --start-pose crouch.motion:Sit: no pose 'Sit' (poses: Zero, "
         "Crouch, Half)\n",
     )
+
+
+def test_a_sidecar_after_makes_the_run_a_chain(motions: Path) -> None:
+    (motions / "walk_Start.motion").write_bytes(CROUCH)
+    (motions / "walk_Loop.motion").write_bytes(NOD)
+    (motions / "walk_Stop.motion").write_bytes(RAISE)
+    (motions / "motions.toml").write_text(
+        '[walk_Loop]\nafter = "walk_Start"\nexpect = ["upright"]\n\n'
+        '[walk_Stop]\nafter = "walk_Loop"\n\n[nod]\nafter = "gone"\n',
+        encoding="utf-8",
+    )
+    doc = _play("walk_Stop.motion")
+    assert [f["path"] for f in doc["files"]] == [  # type: ignore[union-attr, index]
+        "walk_Start.motion",
+        "walk_Loop.motion",
+        "walk_Stop.motion",
+    ]
+    assert doc["options"]["chain"] is True  # type: ignore[index]
+    loop = _play("walk_Loop.motion", "--chain", "--loop", "walk_Loop=2")
+    assert [(f["path"], f["loops"]) for f in loop["files"]] == [  # type: ignore[union-attr, index]
+        ("walk_Start.motion", 1),
+        ("walk_Loop.motion", 2),
+    ]
+    assert [e["text"] for e in loop["expectations"]] == ["upright"]  # type: ignore[union-attr, index]
+    alone = _play("walk_Loop.motion", "--no-sidecar")
+    assert len(alone["files"]) == 1  # type: ignore[arg-type]
+    result = runner.invoke(app, ["play", "--headless", "nod.motion"])
+    assert (result.exit_code, result.stderr) == (
+        2,
+        "motiontool: error: motions.toml:9: after 'gone' in [nod]: no such motion (gone.motion)\n",
+    )

@@ -197,3 +197,84 @@ def test_upright_is_the_fall_detector_not_a_tilt_bound(tmp_path: Path) -> None:
     fallen.write_bytes(hips(pitch=-0.8))
     (down,) = evaluate(["upright"], play([fallen], robot="nao"))
     assert not down.passed and down.reason.startswith("expected upright (no fall, up at the end)")
+
+
+# ------------------------------------------------------------------- issue 37 item 3
+
+
+@pytest.mark.parametrize(
+    ("name", "start", "needs_start"),
+    [
+        ("GenUp", None, True),  # a spelling of GetUp seen in team code
+        ("Genup", None, True),
+        ("GenUpFront", "lying-front", False),
+        ("genup_back", "lying-back", False),
+        ("Getup", None, True),
+        ("Standup", None, True),
+        ("GettingUpFromBack", "lying-back", False),
+        ("StandingUp", None, True),
+        ("GetUpBack", "lying-back", False),  # Webots' wrestling world
+        ("GetUpFront", "lying-front", False),
+        ("StandUpFromFront", "lying-front", False),  # Webots' Nao demo
+    ],
+)
+def test_every_get_up_spelling_gets_its_lying_start(
+    name: str, start: str | None, needs_start: bool
+) -> None:
+    inference = infer(name)
+    assert (inference.expect, inference.start, inference.needs_start) == (
+        ["upright"],
+        start,
+        needs_start,
+    )
+
+
+@pytest.mark.parametrize(
+    "name",
+    [
+        "Pointing",
+        "PointLeft",
+        "ThumbsUp",
+        "thumb_up",
+        "Goodbye",
+        "GoodBye",
+        "Bye",
+        "WaveGoodbye",
+        "HandWave",  # Webots' wrestling world
+        "HandWaveLeft",
+        "WipeForehead",
+    ],
+)
+def test_gestures_keep_the_feet_planted(name: str) -> None:
+    assert proposal(name) == (["upright", "feet-planted"], None)
+
+
+@pytest.mark.parametrize("name", ["Shoot", "Shooting", "ShootLeft", "long_shot", "KickRight"])
+def test_shoot_names_are_kicks(name: str) -> None:
+    expect, start = proposal(name)
+    assert (expect, start) == (["no-fall"], None)
+    assert infer(name).notes[0].startswith("kicks")
+
+
+def test_start_loop_stop_families_are_proposed_as_chains(tmp_path: Path) -> None:
+    folder = tmp_path / "steps"
+    folder.mkdir()
+    for name in ("SideStepLeft_Start", "SideStepLeft_Loop", "SideStepLeft_Stop", "WalkStart",
+                 "WalkLoop", "Shoot"):  # fmt: skip
+        (folder / f"{name}.motion").write_bytes(NOD)
+    sidecar = folder / "motions.toml"
+    result = runner.invoke(app, ["expect", "--infer", str(folder), "-o", str(sidecar)])
+    assert result.exit_code == 0, result.output
+    loaded = load_sidecar(sidecar)
+    after = {p.stem: loaded.lookup(p).after for p in sorted(folder.glob("*.motion"))}  # type: ignore[union-attr]
+    assert after == {
+        "Shoot": None,
+        "SideStepLeft_Loop": "SideStepLeft_Start",
+        "SideStepLeft_Start": None,
+        "SideStepLeft_Stop": "SideStepLeft_Loop",
+        "WalkLoop": "WalkStart",
+        "WalkStart": None,
+    }
+    text = sidecar.read_text(encoding="utf-8")
+    assert "the loop of SideStepLeft: played after SideStepLeft_Start" in text
+    assert "the end of SideStepLeft: played after SideStepLeft_Loop" in text

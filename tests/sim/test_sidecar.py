@@ -105,7 +105,7 @@ def test_the_nearest_sidecar_up_to_the_boundary_wins(
         ),
         (
             '[wave]\nexpects = ["upright"]\n',
-            r"motions.toml:2: unknown key 'expects' in \[wave\]; did you mean 'expect'\? \(keys: expect, start, world, robot-node\)",
+            r"motions.toml:2: unknown key 'expects' in \[wave\]; did you mean 'expect'\? \(keys: expect, start, world, robot-node, after\)",
         ),
         (
             '[wave]\nexpect = [\n  "upright",\n  "dxx>0",\n]\n',
@@ -147,3 +147,24 @@ def test_the_project_library_has_a_sidecar_for_every_motion() -> None:
         assert "no-self-collision" in entry.expect
         matched.update(entry.sections)
     assert matched == {s.key for s in sidecar.sections}  # no section matches nothing
+
+
+def test_after_names_the_motion_played_before(tmp_path: Path) -> None:
+    (tmp_path / "motions.toml").write_text(
+        '["*_Loop"]\nafter = "Walk_Start"\n\n[Walk_Stop]\nafter = "Walk_Loop"\n'
+        "\n[Odd]\nafter = 3\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(SidecarError, match=r"motions.toml:8: after in \[Odd\] must be a string"):
+        load_sidecar(tmp_path / "motions.toml")
+    (tmp_path / "motions.toml").write_text(
+        '["*_Loop"]\nafter = "Walk_Start"\n\n[Walk_Stop]\nafter = "Walk_Loop"\n',
+        encoding="utf-8",
+    )
+    sidecar = load_sidecar(tmp_path / "motions.toml")
+    loop, stop = (
+        sidecar.lookup(tmp_path / "Walk_Loop.motion"),
+        sidecar.lookup(tmp_path / "Walk_Stop.motion"),
+    )
+    assert loop is not None and loop.after == "Walk_Start"
+    assert stop is not None and stop.after == "Walk_Loop"
