@@ -36,7 +36,7 @@ def motion_rows(batch: BatchResult) -> list[dict[str, Any]]:
     """Per (motion, robot): runs, share clean, and the worst run (largest tilt, or a failure)."""
     groups: dict[tuple[str, str], list[RunResult]] = defaultdict(list)
     for r in batch.runs:
-        groups[(r.spec.path, r.spec.robot)].append(r)
+        groups[(r.spec.shown, r.spec.robot)].append(r)
     rows = []
     for (path, robot), runs in groups.items():
         clean = sum(r.ok for r in runs)

@@ -80,6 +80,8 @@ class RunSpec:
         options: play options (time step in ms, loops, reverse, start pose, ...).
         expect: expectations the run must meet (``dx>=0.3``, ``upright``; not in the cache
             key: judged on the report after the cache).
+        chain, chain_sha256: the motions played before it, first first (its sidecar's
+            ``after``: the run is a chain), and the hashes of their bytes (in the cache key).
     """
 
     path: str
@@ -89,11 +91,18 @@ class RunSpec:
     params: tuple[tuple[str, float], ...] = ()
     options: tuple[tuple[str, Any], ...] = ()
     expect: tuple[str, ...] = ()
+    chain: tuple[str, ...] = ()
+    chain_sha256: tuple[str, ...] = ()
+
+    @property
+    def shown(self) -> str:
+        """The motion, or every element of its chain: ``Walk_Start.motion + Walk_Loop.motion``."""
+        return " + ".join((*self.chain, self.path))
 
     @property
     def label(self) -> str:
         extra = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
-        return f"{self.path} [{self.robot}" + (f" #{self.sample}: {extra}]" if extra else "]")
+        return f"{self.shown} [{self.robot}" + (f" #{self.sample}: {extra}]" if extra else "]")
 
     def cache_key(self, model_hash: str) -> str:
         doc = {
@@ -103,6 +112,7 @@ class RunSpec:
             "params": list(self.params),
             "options": list(self.options),
             "tool": __version__,
+            **({"chain": list(self.chain_sha256)} if self.chain_sha256 else {}),
         }
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
 
@@ -190,7 +200,8 @@ def plan_batch(
 ) -> list[RunSpec]:
     """Every run of a batch (:func:`plan`), file by file, each with what its sidecar and the
     caller ask of it (:func:`motiontool.sim.session.plan_motion`: the sidecar's expectations,
-    then ``expect``; ``start``, else the sidecar's), and its recording's name.
+    then ``expect``; ``start``, else the sidecar's; its ``after``: the motions played before
+    it, :attr:`RunSpec.chain`), and its recording's name.
 
     Args:
         robots: the robots each file is played on; timesteps: each file's control step, ms
@@ -223,7 +234,9 @@ def plan_batch(
         if rrd_dir is not None:
             file_options["rrd_dir"] = str(rrd_dir)
             file_options["rrd_name"] = rrd_names[str(f)]
-        specs += plan(
+        if motion.before:
+            file_options["chain"] = True
+        runs = plan(
             [f],
             robots[f],
             perturbations=perturbations,
@@ -232,7 +245,16 @@ def plan_batch(
             options=file_options,
             expect=motion.expect,
         )
+        specs += [_chained(run, motion.before) for run in runs]
     return specs
+
+
+def _chained(spec: RunSpec, before: Sequence[Path]) -> RunSpec:
+    """``spec`` played after the motions ``before`` (a sidecar's ``after``: a chain)."""
+    if not before:
+        return spec
+    hashes = tuple(hashlib.sha256(read_file(p)).hexdigest() for p in before)
+    return replace(spec, chain=tuple(str(p) for p in before), chain_sha256=hashes)
 
 
 def recording_stems(files: Sequence[str | Path]) -> dict[str, str]:

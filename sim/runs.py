@@ -75,7 +75,7 @@ def _play_options(spec: RunSpec) -> Any:
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
         kwargs["start"] = str(options["start"])
-    for name in ("physics_step_ms", "floor_friction", "profile", "self_collision", *_PLAY):
+    for name in ("physics_step_ms", "floor_friction", "profile", "self_collision", "chain", *_PLAY):
         # sim.physics.physics_run_options; _PLAY: play --robustness's members
         if options.get(name) is not None:
             kwargs[name] = options[name]
@@ -94,11 +94,12 @@ def run_spec(spec: RunSpec) -> dict[str, Any]:
     # plan() has resolved "auto" where a built-in robot fits; where none does, this run fails
     # alone, NoRobotDetectedError saying why in one line.
     robot = resolve_robot(spec.robot, motion.joints)
+    motions = [*(read_playable(p) for p in spec.chain), motion]  # a chain: the motions before
     if params.get("speed", 1.0) != 1.0:
-        motion = retimed(motion, params["speed"])
+        motions = [retimed(m, params["speed"]) for m in motions]
     report = play(
-        [motion],
-        names=[spec.path],
+        motions,
+        names=[*spec.chain, spec.path],
         robot=robot,
         options=_play_options(spec),
         rrd=recording_path(spec, robot),

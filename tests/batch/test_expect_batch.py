@@ -215,3 +215,41 @@ def test_inferred_expectations_pass_on_the_corpus_and_a_wrong_one_fails(tmp_path
     (line,) = [line for line in stdout.splitlines() if "TurnLeft60" in line]
     assert "failed: expected yaw = -60 ± 10 deg, measured 58." in line
     assert "3 clean, 1 not clean, 4 from cache" in stdout
+
+
+def test_a_sidecar_after_makes_a_batch_run_a_chain_named_in_every_report(
+    tmp_path: Path,
+) -> None:
+    """Issue 37 item 3: the run of Walk_Loop plays Walk_Start then Walk_Loop; the reports name
+    both; a changed Walk_Start is played again, not answered from the cache."""
+    motions = tmp_path / "motions"
+    motions.mkdir()
+    (motions / "Walk_Start.motion").write_bytes(NOD)
+    (motions / "Walk_Loop.motion").write_bytes(NOD.replace(b"0.6,-0.3", b"-0.6,-0.3"))
+    (motions / "motions.toml").write_text('[Walk_Loop]\nafter = "Walk_Start"\n')
+    out = tmp_path / "out"
+    cache = ["--cache-dir", str(tmp_path / "cache")]
+    reports = ["--json", f"{out}.json", "--junit", f"{out}.xml", "--markdown", f"{out}.md"]
+    loop = str(motions / "Walk_Loop.motion")
+    code, stdout, _ = batch(loop, *cache, *reports)
+    assert code == 0, stdout
+    chain = f"{motions / 'Walk_Start.motion'} + {loop}"
+    assert chain in stdout
+    doc = json.loads(Path(f"{out}.json").read_text())
+    jsonschema.validate(doc, schemas.load("batch"), registry=schemas.registry())
+    (run,) = doc["runs"]
+    assert run["spec"]["chain"] == [str(motions / "Walk_Start.motion")]
+    assert [Path(f["path"]).name for f in run["report"]["files"]] == [
+        "Walk_Start.motion",
+        "Walk_Loop.motion",
+    ]
+    assert run["report"]["options"]["chain"] is True
+    assert doc["motions"][0]["motion"] == chain
+    (case,) = ET.parse(f"{out}.xml").getroot().iter("testcase")
+    assert chain in (case.get("name") or "")
+    assert "Walk_Start.motion + " in Path(f"{out}.md").read_text()
+    code, stdout, _ = batch(loop, *cache)
+    assert code == 0 and "1 from cache" in stdout
+    (motions / "Walk_Start.motion").write_bytes(NOD.replace(b"0.6,-0.3", b"0.5,-0.3"))
+    code, stdout, _ = batch(loop, *cache)
+    assert code == 0 and "0 from cache" in stdout
