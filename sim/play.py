@@ -382,7 +382,14 @@ def _start_joints(
         ):
             if name in start_joints and sent:
                 start_joints[name] = value
-    start_joints.update((k, v) for k, v in opts.start_pose_joints if k in start_joints)
+    pose = opts.start_pose_joints
+    if opts.start_pose is not None and not any(k in start_joints for k, _v in pose):
+        names = ", ".join(k for k, _v in pose)
+        raise MotionToolError(
+            f"--start-pose {opts.start_pose}: none of its joints ({names}) is a motor of "
+            f"{spec.name}"
+        )
+    start_joints.update((k, v) for k, v in pose if k in start_joints)
     if opts.start_noise_rad > 0:
         rng = np.random.default_rng(opts.seed)
         noise = rng.normal(0.0, opts.start_noise_rad, len(start_joints))

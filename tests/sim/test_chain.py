@@ -154,3 +154,17 @@ def test_a_sidecar_after_makes_the_run_a_chain(motions: Path) -> None:
         2,
         "motiontool: error: motions.toml:9: after 'gone' in [nod]: no such motion (gone.motion)\n",
     )
+
+
+def test_a_start_pose_for_another_robot_is_refused(motions: Path) -> None:
+    (motions / "arm.motion").write_bytes(
+        b"#WEBOTS_MOTION,V1.0,shoulder_pan_joint,elbow_joint\n00:00:000,Home,0.5,1.0\n"
+    )
+    result = runner.invoke(
+        app, ["play", "--headless", "nod.motion", "--start-pose", "arm.motion:Home"]
+    )
+    assert (result.exit_code, result.stderr) == (
+        2,
+        "motiontool: error: --start-pose arm.motion:Home: none of its joints (shoulder_pan_joint,"
+        " elbow_joint) is a motor of nao\n",
+    )
