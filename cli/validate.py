@@ -72,7 +72,7 @@ _Format = Annotated[
 _Timestep = Annotated[
     int | None,
     timestep_option(
-        "the robot's, Nao 20",
+        "the robot's, Nao 20 ms, UR5e 8 ms; none without a robot",
         use="report pose times that are not a multiple of it, and check the command stream "
         "at that step",
     ),
