@@ -31,6 +31,12 @@ from motiontool.cli.physics_options import (
     SelfCollisionOption,
     WorldOption,
 )
+from motiontool.cli.robustness import (
+    RobustnessOption,
+    StrictOption,
+    robust_batch,
+    with_robustness,
+)
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError, OutputError
@@ -149,6 +155,8 @@ def batch_command(
     world: WorldOption = None,
     robot_node: RobotNodeOption = None,
     self_collision: SelfCollisionOption = None,
+    robustness: RobustnessOption = None,
+    strict: StrictOption = False,
     junit: _Junit = None,
     json_out: _Json = None,
     markdown: _Markdown = None,
@@ -177,7 +185,7 @@ def batch_command(
         timestep=timestep,
         physics=(profile, physics_step, friction, self_collision),
         world=(world, robot_node),
-        sampling=(perturb or [], samples, seed),
+        sampling=(perturb or [], samples, seed, robustness, strict),
         expect=expect or [],
         start=start,
         sidecar=not no_sidecar,
@@ -194,6 +202,7 @@ def batch_command(
             ray_address=ray_address,
             spool_dir=Path(spool),  # the runs' reports wait there, not in memory
         )
+        batch = robust_batch(batch, robustness, seed=seed, strict=strict)
         _write_reports(batch, profile, outputs)
     if batch.failures:
         raise typer.Exit(exit_codes.FINDINGS)
@@ -290,7 +299,7 @@ def _plan(
     timestep: int | None,
     physics: tuple[Profile, float | None, float | None, bool | None],
     world: tuple[Path | None, str | None],
-    sampling: tuple[list[str], int, int],
+    sampling: tuple[list[str], int, int, int | None, bool],
     expect: list[str],
     start: Start | None,
     sidecar: bool,
@@ -300,12 +309,14 @@ def _plan(
     each file's robots and time step from the configuration unless given; ``physics`` is the
     profile, physics step (ms), friction and self-collision, ``world`` the Webots world and its
     robot node (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
-    configuration's), ``sampling`` the perturbations, the samples and the seed. A bad option,
-    robot, expectation, sidecar, world or physics step: exit 2 before anything runs."""
+    configuration's), ``sampling`` the perturbations, the samples, the seed, ``--robustness``
+    and ``--strict`` (each run's members follow the runs:
+    :func:`motiontool.cli.robustness.with_robustness`). A bad option, robot, expectation,
+    sidecar, world or physics step: exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
     from motiontool.sim.physics import physics_run_options
 
-    perturb, samples, seed = sampling
+    perturb, samples, seed, robustness, strict = sampling
     perturbations = [parse_perturbation(p) for p in perturb]
     profile, physics_step, friction, self_collision = physics
     options = {
@@ -330,7 +341,9 @@ def _plan(
         seed=seed,
     )
     _check_physics(specs, profile, physics_step, friction)
-    return _in_world(specs, *world)
+    in_world = _in_world(specs, *world)
+    perturbed = bool(perturb) or samples > 1
+    return with_robustness(in_world, robustness, seed=seed, perturbed=perturbed, strict=strict)
 
 
 def _in_world(specs: list[RunSpec], world: Path | None, robot_node: str | None) -> list[RunSpec]:

@@ -28,6 +28,7 @@ __all__ = [
     "render_json",
     "render_markdown",
     "render_summary",
+    "robustness_lines",
     "write_junit",
 ]
 
@@ -93,7 +94,18 @@ def render_summary(batch: BatchResult) -> str:
         f" {cached} from cache; {batch.wall_s:.1f} s wall, {pace}"
         f" ({batch.executor}, {batch.jobs} jobs)"
     )
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + robustness_lines(batch)) + "\n"
+
+
+def robustness_lines(batch: BatchResult) -> list[str]:
+    """Each run's verdicts over its ``--robustness`` members, and the members that disagree
+    (none without --robustness)."""
+    lines = []
+    for r in batch.runs:
+        if r.robustness is not None:
+            lines.append(f"{r.spec.label}: {r.robustness.lines()[0]}")
+            lines += r.robustness.lines()[1:]
+    return lines
 
 
 def render_json(batch: BatchResult) -> Iterator[str]:
@@ -172,7 +184,23 @@ def render_markdown(batch: BatchResult) -> str:
         f" ({batch.executor}, {batch.jobs} jobs); motiontool {stamps()['motiontool']},"
         f" MuJoCo {stamps()['mujoco']}.",
     ]
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + _md_robustness(batch)) + "\n"
+
+
+def _md_robustness(batch: BatchResult) -> list[str]:
+    """A table of every ``--robustness`` verdict: the run, the verdict, holds / fragile /
+    fails, and the members that disagree with their values (none without --robustness)."""
+    rows = [
+        f"| {_md_code(r.spec.label)} | {_md_code(v.name)} | {v.status} |"
+        f" {md_cell('; '.join(d.summary() for d in v.disagree) or '—')} |"
+        for r in batch.runs
+        if r.robustness is not None
+        for v in r.robustness.verdicts
+    ]
+    if not rows:
+        return []
+    head = ["", "#### Robustness", "", "| run | verdict | status | members that disagree |"]
+    return [*head, "|---|---|---|---|", *rows]
 
 
 def write_junit(batch: BatchResult, path: Path) -> None:
@@ -189,6 +217,8 @@ def write_junit(batch: BatchResult, path: Path) -> None:
             case.result = [Failure(r.reason, "not clean")]
         elif not r.ok:
             case.result = [Error(r.reason, r.status)]
+        if r.robustness is not None:  # each verdict, the members that disagree
+            case.system_out = "\n".join(r.robustness.lines())
         suite.add_testcase(case)
     suite.update_statistics()  # type: ignore[no-untyped-call]
     xml = JUnitXml()

@@ -28,6 +28,7 @@ from motiontool.cli.physics_options import (
     WorldOption,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
+from motiontool.cli.progress import progress
 from motiontool.cli.robustness import (
     ExecutorOption,
     JobsOption,
@@ -35,10 +36,10 @@ from motiontool.cli.robustness import (
     RobustnessOption,
     StrictOption,
     check_robustness,
+    robust_json,
     robustness_of,
     strict_exit,
 )
-from motiontool.cli.progress import progress
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
 from motiontool.cli.text import file_name, plural
 from motiontool.errors import MotionToolError
@@ -392,13 +393,7 @@ def play_command(
     robot = robot if robot is not None else settings.robot_for(files[0])
     result = _run(planned, robot, options, rrd=rrd, bag=bag)
     say_bag(result, bag)
-    ensemble = None
-    if robustness is not None:
-        from motiontool.sim.batch import default_cache_dir
-
-        cache = None if no_cache else default_cache_dir()
-        run = (executor, jobs, cache)
-        ensemble = robustness_of(result, planned, options, n=robustness, run=run)
+    ensemble = robustness_of(result, planned, options, n=robustness, run=(executor, jobs, no_cache))
     _render(result, json_path, rrd, (ensemble, strict))
 
 
@@ -479,28 +474,16 @@ def _render(
             f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored",
             err=True,
         )
-    ensemble, strict = robust
-    code = strict_exit(report.exit_code, ensemble, strict)
+    code = strict_exit(report.exit_code, *robust)
     if json_path is not None:
-        doc = result.to_json()
-        if ensemble is not None:
-            doc.update(robustness=ensemble.to_json(), exit_code=code)
-        emit(dumps(doc, indent=1), json_path)
+        emit(dumps(robust_json(result.to_json(), robust[0], code), indent=1), json_path)
     # Names keep the file's bytes (no UnicodeEncodeError); where --json or --rrd is '-' (stdout),
     # the text report goes to stderr.
-    text = render_text(report)
-    if ensemble is not None:
-        text += "\n".join(ensemble.lines()) + "\n"
+    text = render_text(report) + ("" if robust[0] is None else robust[0].text())
     if is_stdout(json_path) or is_stdout(rrd):
         emit_stderr(text)
     else:
         emit(text, None)
     say_wrote(json_path, f"play report, JSON, {report.simulated_s:.2f} s simulated")
     say_wrote(rrd, f"Rerun recording, {report.simulated_s:.2f} s simulated")
-    if ensemble is not None and ensemble.fragile:
-        typer.echo(
-            "motiontool: warning: a verdict is fragile under --robustness"
-            + (" (--strict: exit 1)" if strict else ""),
-            err=True,
-        )
     raise typer.Exit(code)

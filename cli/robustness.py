@@ -1,5 +1,6 @@
-"""``play --robustness N``: the run's verdicts replayed over N perturbed members
-(:mod:`motiontool.sim.robustness`) on the batch executors, cached as batch runs are."""
+"""``play --robustness N`` and ``batch --robustness N``: each run's verdicts replayed over N
+perturbed members (:mod:`motiontool.sim.robustness`) on the batch executors, cached as batch
+runs are; ``--strict`` fails on a fragile verdict."""
 
 from __future__ import annotations
 
@@ -15,6 +16,8 @@ from motiontool.motionfmt.fileio import is_stdin
 from motiontool.sim.executor import EXECUTORS, REGISTRY
 
 if TYPE_CHECKING:
+    from motiontool.sim.batch import RunSpec
+    from motiontool.sim.batch_results import BatchResult
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.robustness import Robustness
     from motiontool.sim.session import PlayPlan, PlayResult
@@ -26,8 +29,11 @@ __all__ = [
     "RobustnessOption",
     "StrictOption",
     "check_robustness",
+    "robust_batch",
+    "robust_json",
     "robustness_of",
     "strict_exit",
+    "with_robustness",
 ]
 
 RobustnessOption = Annotated[
@@ -87,23 +93,26 @@ def robustness_of(
     planned: PlayPlan,
     options: PlayOptions,
     *,
-    n: int,
-    run: tuple[str, int, Path | None],
+    n: int | None,
+    run: tuple[str, int, bool],
 ) -> Robustness | None:
     """The robustness of ``result``'s run over ``n`` members, each played as the run was
     (``options``, the plan's start and world) on the batch executors (``run``: executor, jobs,
-    cache folder or None), judged as the run was; None when the run could not start."""
+    --no-cache: else batch's cache), judged as the run was; None without ``n`` or when the run
+    could not start."""
     report = result.report
-    if report is None:
+    if report is None or n is None:
         return None
     import hashlib
 
     from motiontool.motionfmt.fileio import read_file
-    from motiontool.sim.batch import RunSpec, run_batch
+    from motiontool.sim.batch import RunSpec, default_cache_dir, run_batch
     from motiontool.sim.robustness import judge, member_specs
     from motiontool.sim.runs import run_spec
 
-    executor, jobs, cache_dir = run
+    if len(planned.files) != 1:  # a sidecar's after: a chain
+        raise MotionToolError("--robustness replays one motion, not a chain")
+    executor, jobs, no_cache = run
     path = planned.files[0]
     nominal = RunSpec(
         str(path),
@@ -120,7 +129,7 @@ def robustness_of(
         model_hash=lambda _robot: str(report.stamps.get("model_sha256") or ""),
         executor=executor,
         jobs=jobs,
-        cache_dir=cache_dir,
+        cache_dir=None if no_cache else default_cache_dir(),
     )
     return judge(report, batch.runs, seed=options.seed)
 
@@ -152,7 +161,86 @@ def _member_options(
 
 
 def strict_exit(code: int, robustness: Robustness | None, strict: bool) -> int:
-    """The run's exit code: ``code``, or 1 where ``strict`` and a verdict is fragile."""
-    if strict and robustness is not None and robustness.fragile and code == exit_codes.CLEAN:
-        return exit_codes.FINDINGS
-    return code
+    """The run's exit code: ``code``, or 1 where ``strict`` and a verdict is fragile; a fragile
+    verdict is said on stderr as a warning."""
+    if robustness is None or not robustness.fragile:
+        return code
+    more = " (--strict: exit 1)" if strict else ""
+    typer.echo(f"motiontool: warning: a verdict is fragile under --robustness{more}", err=True)
+    return exit_codes.FINDINGS if strict and code == exit_codes.CLEAN else code
+
+
+def robust_json(doc: dict[str, Any], robustness: Robustness | None, code: int) -> dict[str, Any]:
+    """The play report ``doc`` with its ``robustness`` and the exit code (``--strict``)."""
+    if robustness is not None:
+        doc.update(robustness=robustness.to_json(), exit_code=code)
+    return doc
+
+
+def with_robustness(
+    specs: list[RunSpec], n: int | None, *, seed: int, perturbed: bool, strict: bool
+) -> list[RunSpec]:
+    """``batch --robustness N``: ``specs``, then each run's N members
+    (:func:`motiontool.sim.robustness.with_members`, at its control step: ``-t``, its world's
+    basicTimeStep, else its robot's). Not with ``--perturb`` (a run of its own ensemble is
+    not a perturbation sample); ``--strict`` needs it: exit 2 before any run."""
+    if strict and n is None:
+        raise MotionToolError("--strict fails on a fragile verdict: pass --robustness N")
+    if n is None:
+        return specs
+    if perturbed:
+        raise MotionToolError(
+            "--robustness replays each run over its own perturbed members: not with --perturb "
+            "or --samples"
+        )
+    from motiontool.sim.robustness import with_members
+
+    return with_members(specs, n, seed=seed, control_step_ms=_control_step)
+
+
+def _control_step(spec: RunSpec) -> int | None:
+    """The control step of a batch run, ms (None: a run no robot fits, which fails alone)."""
+    from motiontool.kinematics.robots import AUTO, load_robot
+    from motiontool.sim.world import read_world
+
+    if spec.robot == AUTO:
+        return None
+    options = dict(spec.options)
+    if options.get("timestep_ms"):
+        return int(options["timestep_ms"])
+    if options.get("world"):
+        world = read_world(Path(options["world"]), options.get("robot_node"), spec.robot)
+        return int(world.basic_time_step_ms)
+    return load_robot(spec.robot).default_timestep_ms
+
+
+def robust_batch(batch: BatchResult, n: int | None, *, seed: int, strict: bool) -> BatchResult:
+    """The batch's runs (not its members), each with its robustness over its members
+    (:func:`motiontool.sim.robustness.regroup`); with ``strict``, a run with a fragile verdict
+    is not clean (``failed``, the verdicts its reason), else a warning on stderr says how many
+    have one."""
+    if n is None:
+        return batch
+    from dataclasses import replace
+
+    from motiontool.sim.robustness import regroup
+
+    batch = regroup(batch, seed=seed)
+    fragile = [r for r in batch.runs if r.robustness is not None and r.robustness.fragile]
+    if not fragile:
+        return batch
+    if not strict:
+        typer.echo(
+            f"motiontool: warning: {len(fragile)} of {len(batch.runs)} runs have a fragile "
+            "verdict under --robustness (--strict fails on it)",
+            err=True,
+        )
+        return batch
+    out = []
+    for r in batch.runs:
+        if r in fragile and r.robustness is not None:
+            names = [v.name for v in r.robustness.verdicts if v.status == "fragile"]
+            why = "fragile under --robustness: " + ", ".join(names)
+            r = replace(r, status="failed", reason=f"{r.reason}; {why}" if r.reason else why)
+        out.append(r)
+    return replace(batch, runs=out)

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 if TYPE_CHECKING:
     from motiontool.sim.batch import RunSpec
+    from motiontool.sim.robustness import Robustness
 
 __all__ = ["CACHED_STATUSES", "BatchResult", "RunResult", "RunStatus", "result_json"]
 
@@ -37,6 +38,8 @@ class RunResult:
             :meth:`full_report` reads it back.
         tilt_deg: the base's largest tilt, deg (from the report, kept when it is stored):
             what ranks a run among its motion's runs.
+        robustness: its verdicts over its ``--robustness`` members
+            (:mod:`motiontool.sim.robustness`); None: not asked for.
     """
 
     spec: RunSpec
@@ -47,6 +50,7 @@ class RunResult:
     cached: bool = False
     stored: Path | None = None
     tilt_deg: float | None = None
+    robustness: Robustness | None = None
 
     def __post_init__(self) -> None:
         if self.report is not None and self.tilt_deg is None:
@@ -96,4 +100,5 @@ def result_json(result: RunResult) -> dict[str, Any]:
         "wall_s": round(result.wall_s, 3),
         "cached": result.cached,
         "report": result.full_report(),
+        **({} if result.robustness is None else {"robustness": result.robustness.to_json()}),
     }

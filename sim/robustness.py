@@ -24,7 +24,7 @@ calibration of its encoders).
 from __future__ import annotations
 
 import random
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -32,7 +32,7 @@ from motiontool.errors import MotionToolError
 from motiontool.sim.batch import Perturbation, RunSpec, draw
 
 if TYPE_CHECKING:
-    from motiontool.sim.batch_results import RunResult
+    from motiontool.sim.batch_results import BatchResult, RunResult
     from motiontool.sim.report import PlayReport
 
 __all__ = [
@@ -46,6 +46,8 @@ __all__ = [
     "judge",
     "member_specs",
     "physics_steps",
+    "regroup",
+    "with_members",
 ]
 
 DEFAULT_MEMBERS = 8
@@ -84,7 +86,7 @@ def member_specs(nominal: RunSpec, n: int, *, seed: int, control_step_ms: int) -
         MotionToolError: ``n`` < 1.
     """
     if n < 1:
-        raise MotionToolError(f"--robustness needs at least 1 member, got {n}")
+        raise MotionToolError(f"an ensemble needs at least 1 member, got {n}")
     steps = list(physics_steps(control_step_ms))
     random.Random(f"{seed}:physics-step").shuffle(steps)  # every step played from n = 3 on
     options = {k: v for k, v in nominal.options if k not in ("rrd_dir", "rrd_name")}
@@ -193,6 +195,10 @@ class Robustness:
             "verdicts": [v.to_json() for v in self.verdicts],
         }
 
+    def text(self) -> str:
+        """:meth:`lines` as text, each line ending in a newline."""
+        return "".join(f"{line}\n" for line in self.lines())
+
     def lines(self) -> list[str]:
         """The text report's lines: a title, then each verdict and its disagreeing members."""
         out = [f"robustness: {self.members} members (seed {self.seed})"]
@@ -213,8 +219,8 @@ def verdicts(report: PlayReport) -> list[tuple[str, bool, str]]:
     return out
 
 
-def _member_verdicts(result: RunResult) -> list[tuple[str, bool, str]] | None:
-    """A member's verdicts, or None when it has no report (an error, a crash, a timeout)."""
+def _run_verdicts(result: RunResult) -> list[tuple[str, bool, str]] | None:
+    """A batch run's verdicts, or None when it has no report (an error, a crash, a timeout)."""
     from motiontool.sim.expect import evaluate
     from motiontool.sim.report import PlayReport
 
@@ -232,23 +238,63 @@ def _values(spec: RunSpec) -> dict[str, float]:
     return values
 
 
-def judge(nominal: PlayReport, members: Sequence[RunResult], *, seed: int) -> Robustness:
-    """Each verdict of ``nominal`` (judged) over ``members`` (judged batch results of
-    :func:`member_specs`, in order): holds, fragile or fails, with the members that disagree.
-    A member that did not end with a report (an error, a crash, a timeout) disagrees with every
-    verdict the nominal run passes."""
-    judged = [(m, _member_verdicts(m)) for m in members]
+def judge(
+    nominal: PlayReport | RunResult, members: Sequence[RunResult], *, seed: int
+) -> Robustness:
+    """Each verdict of ``nominal`` (a judged report, or a batch run) over ``members`` (batch
+    results of :func:`member_specs`, in order): holds, fragile or fails, with the members that
+    disagree. A member that did not end with a report (an error, a crash, a timeout) disagrees
+    with every verdict the nominal run passes; a nominal batch run without one fails ``clean``.
+    """
+    from motiontool.sim.batch_results import RunResult
+
+    if isinstance(nominal, RunResult):
+        theirs = _run_verdicts(nominal)
+        ours = [(CLEAN, False, nominal.reason)] if theirs is None else theirs
+    else:
+        ours = verdicts(nominal)
+    judged = [(m, _run_verdicts(m)) for m in members]
     out = []
-    for i, (name, passed, _why) in enumerate(verdicts(nominal)):
+    for i, (name, passed, _why) in enumerate(ours):
         disagree = []
-        for result, theirs in judged:
-            if theirs is None:
+        for result, member in judged:
+            if member is None:
                 their = (False, f"the run did not end: {result.status}: {result.reason}")
             else:
-                their = theirs[i][1:]
+                their = member[i][1:]
             if their[0] != passed:
                 disagree.append(Disagreement(result.spec.sample, _values(result.spec), *their))
         status: VerdictStatus = "fails" if not passed else "fragile" if disagree else "holds"
         out.append(Verdict(name, status, len(members), tuple(disagree)))
     draws = tuple(_values(m.spec) for m in members)
     return Robustness(len(members), seed, tuple(out), draws)
+
+
+def with_members(
+    specs: Sequence[RunSpec], n: int, *, seed: int, control_step_ms: Callable[[RunSpec], int | None]
+) -> list[RunSpec]:
+    """``specs`` (a batch's runs), then the ``n`` members of each (:func:`member_specs`) whose
+    control step (ms; None: none, a run no robot fits) is known: what ``batch --robustness``
+    runs, in one batch. :func:`regroup` takes the results apart again."""
+    out = list(specs)
+    for spec in specs:
+        step = control_step_ms(spec)
+        if step is not None:
+            out += member_specs(spec, n, seed=seed, control_step_ms=step)
+    return out
+
+
+def regroup(batch: BatchResult, *, seed: int) -> BatchResult:
+    """``batch`` (of :func:`with_members`: its runs, sample 0, then their members, 1..n) as its
+    runs, each with its :class:`Robustness` (:func:`judge`) over its members (those of the same
+    file and robot); the members count in the wall time only."""
+    members: dict[tuple[str, str], list[RunResult]] = {}
+    for result in batch.runs:
+        if result.spec.sample:
+            members.setdefault((result.spec.path, result.spec.robot), []).append(result)
+    out = []
+    for result in (r for r in batch.runs if not r.spec.sample):
+        mine = members.get((result.spec.path, result.spec.robot), [])
+        robust = judge(result, mine, seed=seed) if mine else None
+        out.append(replace(result, robustness=robust))
+    return replace(batch, runs=out)

@@ -144,3 +144,47 @@ def test_robustness_usage_errors_exit_2_in_one_line(
     assert result.exit_code == 2
     assert message in result.output
     assert "Traceback" not in result.output
+
+
+def test_batch_robustness_reports_fragile_runs_in_every_format(
+    head_no: Path, tmp_path: Path
+) -> None:
+    out = {ext: tmp_path / f"report.{ext}" for ext in ("json", "md", "xml")}
+    argv = ["batch", str(head_no), "--expect", "max_tilt<=0.5", "--robustness", "4", "--no-cache"]
+    argv += ["--json", str(out["json"]), "--markdown", str(out["md"]), "--junit", str(out["xml"])]
+    result = runner.invoke(app, argv)
+    assert result.exit_code == 0, result.output  # fragile is a warning
+    assert "warning: 1 of 1 runs have a fragile verdict under --robustness" in result.stderr
+    assert "fragile  max_tilt<=0.5" in result.stdout
+    doc = json.loads(out["json"].read_text(encoding="utf-8"))
+    validator = jsonschema.Draft202012Validator(schemas.load("batch"), registry=schemas.registry())
+    assert [e.message for e in validator.iter_errors(doc)] == []
+    (run,) = doc["runs"]  # the members are not runs of the batch
+    assert run["status"] == "clean"
+    tilt = {v["name"]: v for v in run["robustness"]["verdicts"]}["max_tilt<=0.5"]
+    assert tilt["status"] == "fragile" and 1 <= len(tilt["disagree"]) < 4
+    member = tilt["disagree"][0]
+    markdown = out["md"].read_text(encoding="utf-8")
+    assert "#### Robustness" in markdown and "| fragile |" in markdown
+    assert f"#{member['sample']} (friction " in markdown
+    junit = out["xml"].read_text(encoding="utf-8")
+    assert "fragile  max_tilt&lt;=0.5" in junit and "<failure" not in junit
+
+    strict = runner.invoke(app, [*argv, "--strict"])
+    assert strict.exit_code == 1, strict.output
+    doc = json.loads(out["json"].read_text(encoding="utf-8"))
+    assert doc["runs"][0]["status"] == "failed"
+    assert "fragile under --robustness: max_tilt<=0.5" in doc["runs"][0]["reason"]
+    assert "<failure" in out["xml"].read_text(encoding="utf-8")
+
+
+def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
+    result = runner.invoke(app, ["batch", str(head_no), "--robustness", "3", "--no-cache"])
+    assert result.exit_code == 0, result.output
+    assert "robustness: 3 members (seed 0)" in result.stdout
+    assert "holds    clean" in result.stdout and "fragile" not in result.stdout
+    refused = runner.invoke(
+        app, ["batch", str(head_no), "--robustness", "3", "--perturb", "mass=0.9:1.1"]
+    )
+    assert refused.exit_code == 2
+    assert "not with --perturb or --samples" in refused.output
