@@ -41,7 +41,7 @@ from motiontool.cli.robustness import (
     strict_exit,
 )
 from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_option
-from motiontool.cli.text import file_name, plural
+from motiontool.cli.text import file_name, plural, shown
 from motiontool.errors import MotionToolError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import is_stdout
@@ -471,7 +471,7 @@ def _render(
         raise result.error
     for name in report.ignored_joints:
         typer.echo(
-            f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored",
+            shown(f"motiontool: warning: joint '{name}' is not a motor of {report.robot}: ignored"),
             err=True,
         )
     code = strict_exit(report.exit_code, *robust)

@@ -312,3 +312,17 @@ def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
     finally:
         signal.signal(signal.SIGTERM, previous)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_joint_name_play_ignores_is_shown_escaped(here: Path) -> None:
+    pytest.importorskip("mujoco")
+    (here / "esc.motion").write_bytes(
+        b"#WEBOTS_MOTION,V1.0,HeadYaw,Bad\x1b[2JName\n0,P1,0,0\n160,P2,0.2,0\n"
+    )
+    done = subprocess.run(
+        [SCRIPT, "play", "esc.motion", "--headless", "--robot", "nao"],
+        capture_output=True,
+        check=False,
+    )
+    assert b"motiontool: warning: joint 'Bad\\x1b[2JName' is not a motor" in done.stderr
+    assert b"\x1b" not in done.stderr, done.stderr
