@@ -278,7 +278,7 @@ class _Sources:
             group=grouped,
             on_step=self.on_step,
         )
-        _settle(report, f, self.settings[i], checker, checks, self.overrides)
+        _settle(report, f, self.settings[i], checker, checks, self.overrides, timestep)
         return report
 
     def survey(self, i: int) -> None:
@@ -311,7 +311,7 @@ def lint_document(
         checks=[checker] if checker is not None else [],
         group=grouped,
     )
-    return report, _settle(report, path, settings, checker, checks, overrides)
+    return report, _settle(report, path, settings, checker, checks, overrides, timestep)
 
 
 def _settle(
@@ -321,13 +321,15 @@ def _settle(
     checker: RobotChecks | None,
     checks: tuple[str, ...] | None,
     overrides: Overrides,
+    timestep: int | None,
 ) -> RobotSpec | None:
     """What the settings do to one file's report: leave out the findings they do not report,
-    plan the robot's fixes against the robot it was checked with (returned; None: none)."""
+    plan the robot's fixes against the robot it was checked with (returned; None: none), at
+    the step it was checked at (``timestep`` ms; None: the robot's)."""
     cli = overrides.selection
     report.diagnostics = report.diagnostics.where(lambda d: settings.reports(d.code, path, cli))
     spec = None if checker is None else checker.used.get(report.path)
-    report.robot_fixes = _planner(spec, path, settings, checks, overrides)
+    report.robot_fixes = _planner(spec, path, settings, checks, overrides, timestep)
     return spec
 
 
@@ -341,9 +343,11 @@ def _planner(
     settings: Settings,
     checks: tuple[str, ...] | None,
     overrides: Overrides,
+    timestep: int | None,
 ) -> RobotPlanner | None:
     """The robot fixes for ``path`` against ``spec``: those whose finding its settings report
-    and whose check runs (None: no robot, or none of them)."""
+    and whose check runs (None: no robot, or none of them); a stretch keeps pose times on the
+    controller's step (``timestep`` ms, else the robot's)."""
     if spec is None:
         return None
     ran = DEFAULT_CHECKS if checks is None else parse_checks(checks)
@@ -355,7 +359,7 @@ def _planner(
     }
     if not codes:
         return None
-    return planner(spec, str(path), codes)
+    return planner(spec, str(path), codes, step_ms=timestep or spec.default_timestep_ms)
 
 
 def reported(path: Path, code: str, resolver: Resolver, overrides: Overrides) -> bool:
@@ -372,8 +376,8 @@ def robot_planner(
     ``data``): against the robot its settings name or the one its joints fit."""
     path = overrides.named(path)
     settings = resolver.for_file(path)
-    robot, checks, _timestep, _grouped = _group_key(path, settings, overrides)
+    robot, checks, timestep, _grouped = _group_key(path, settings, overrides)
     if robot == NONE:
         return None
     spec = pick_robot(robot, read_bytes(data, str(path)).joints)
-    return _planner(spec, path, settings, checks, overrides)
+    return _planner(spec, path, settings, checks, overrides, timestep)

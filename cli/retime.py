@@ -91,8 +91,9 @@ _FitLimits = Annotated[
     bool,
     typer.Option(
         "--fit-limits",
-        help="Stretch each segment that is too fast for a joint to the shortest whole-ms "
-        "duration within maxVelocity x margin; other segments keep theirs.",
+        help="Stretch each segment that is too fast for a joint to the shortest duration "
+        "within maxVelocity x margin, in whole controller steps (-t, else the robot's) where "
+        "it was a whole number of them, else whole ms; other segments keep theirs.",
     ),
 ]
 _Robot = Annotated[str, robot_option("Robot whose limits --fit-limits uses")]
@@ -154,7 +155,13 @@ def retime_command(
         spec = resolve_robot(robot, motion.joints)
         limits = {j.name: j.max_velocity for j in spec.joints}
         result = fit_limits(
-            times, motion.joints, motion.values, limits, margin=margin, max_acceleration=accel
+            times,
+            motion.joints,
+            motion.values,
+            limits,
+            margin=margin,
+            max_acceleration=accel,
+            step_ms=timestep or spec.default_timestep_ms,
         )
         how = f"fit to {spec.name}'s limits"
     times_ms = list(result.times_ms)

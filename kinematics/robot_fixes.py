@@ -140,10 +140,14 @@ def clamp_fixes(
     return cast("list[Fix]", fixes)  # every entry was set
 
 
-def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -> list[Fix]:
+def stretch_fixes(
+    data: bytes, path: str, result: ReadResult, spec: RobotSpec, step_ms: int | None = None
+) -> list[Fix]:
     """MT303: the new time of every pose that moves, written in the file's time style; none
     for a motion with a nan/inf command (it has no speed to fit: MT113 first), or one whose
-    stretched times would pass the longest a ``.motion`` file holds."""
+    stretched times would pass the longest a ``.motion`` file holds. A stretched segment that
+    was a whole number of controller steps (``step_ms``, ms; None: whole ms) stays one, so the
+    fix brings no MT209."""
     import numpy as np
 
     motion = result.motion
@@ -152,7 +156,7 @@ def stretch_fixes(data: bytes, path: str, result: ReadResult, spec: RobotSpec) -
     limits = {j.name: j.max_velocity for j in spec.joints if math.isfinite(j.max_velocity)}
     times = [int(t) for t in result.times_ms]
     try:
-        fitted = fit_limits(times, result.joints, result.motion.values, limits)
+        fitted = fit_limits(times, result.joints, result.motion.values, limits, step_ms=step_ms)
     except TimeOverflowError:  # the stretched motion would not fit in Webots' time: no fix
         return []
     if list(fitted.times_ms) == times:
@@ -181,6 +185,7 @@ class Planner:
     spec: RobotSpec
     path: str
     codes: frozenset[str] = ROBOT_CODES
+    step_ms: int | None = None
 
     def __call__(self, data: bytes) -> list[Fix]:
         result = read_bytes(data, self.path)
@@ -208,10 +213,13 @@ class Planner:
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
         if "MT303" not in self.codes:
             return []
-        return stretch_fixes(data, self.path, result, self.spec)
+        return stretch_fixes(data, self.path, result, self.spec, self.step_ms)
 
 
-def planner(spec: RobotSpec, path: str, codes: Iterable[str] = ROBOT_CODES) -> Planner:
+def planner(
+    spec: RobotSpec, path: str, codes: Iterable[str] = ROBOT_CODES, *, step_ms: int | None = None
+) -> Planner:
     """A planner of the fixes of ``codes`` (both by default) for ``spec``, for
-    :func:`motiontool.motionfmt.fixes.fix_bytes` and the reports."""
-    return Planner(spec, path, frozenset(codes))
+    :func:`motiontool.motionfmt.fixes.fix_bytes` and the reports; stretches keep pose times
+    on the controller's step ``step_ms`` (ms; None: whole ms)."""
+    return Planner(spec, path, frozenset(codes), step_ms)

@@ -5,8 +5,9 @@ not. Values never change. Pure numpy: velocity limits come in as ``{joint name: 
 
 from __future__ import annotations
 
+import itertools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, overload
 
 from motiontool.errors import MotionToolError
@@ -47,6 +48,7 @@ def fit_limits(
     *,
     margin: float = DEFAULT_MARGIN,
     max_acceleration: float | None = None,
+    step_ms: int | None = None,
 ) -> Retimed:
     """Stretch every segment that is too fast for a joint, to the shortest duration that is not.
 
@@ -61,11 +63,15 @@ def fit_limits(
             at each pose, taken over the half segments on either side
             (``|w[k] - w[k-1]| <= A * (d[k-1] + d[k]) / 2``), the motion starting and ending at
             rest. Segments touching ``*`` are not constrained.
+        step_ms: the controller's time step, ms: a segment whose duration is a whole number of
+            steps is stretched to a whole number of them (the shortest that is within the
+            limits), so that pose times on the step stay on it (Webots plays a pose time off
+            the step at the step after it: MT209). None: whole ms.
 
     Returns:
         a :class:`Retimed`: a segment already within the limits keeps its duration; the first
-        pose keeps its time; durations are whole ms, rounded up so that no limit is exceeded.
-        Applying it again changes nothing.
+        pose keeps its time; durations are whole ms (whole steps, see ``step_ms``), rounded up
+        so that no limit is exceeded. Applying it again changes nothing.
 
     Raises:
         TimeOverflowError: the stretched motion would end past :data:`MAX_TIME_MS`.
@@ -76,6 +82,8 @@ def fit_limits(
         raise MotionToolError(f"the margin must be in (0, 1], got {margin}")
     if max_acceleration is not None and not (max_acceleration > 0):
         raise MotionToolError(f"the acceleration limit must be > 0 rad/s², got {max_acceleration}")
+    if step_ms is not None and not step_ms >= 1:
+        raise MotionToolError(f"the time step must be a whole number of ms >= 1, got {step_ms}")
     old = [int(t) for t in times_ms]
     v = np.asarray(values, dtype=np.float64).reshape(len(old), len(joints))
     limits = np.array([max_velocity.get(name, math.inf) for name in joints], dtype=np.float64)
@@ -89,9 +97,28 @@ def fit_limits(
     dur = _fit_velocity(
         old, v[:, cols], limits[cols] * margin, [joints[int(c)] for c in cols], reason
     )
+    on_step = _on_step(old, step_ms)
+    dur = on_step(dur)
     if max_acceleration is not None:
-        dur = _fit_acceleration(dur, v[:, cols], max_acceleration, joints, cols, reason)
+        dur = _fit_acceleration(dur, v[:, cols], max_acceleration, joints, cols, reason, on_step)
     return _retimed(old, dur, reason, unconstrained)
+
+
+def _on_step(old: list[int], step_ms: int | None) -> Callable[[list[int]], list[int]]:
+    """What keeps pose times on the controller's step: of new segment durations (ms), each
+    stretched one whose old duration in ``old`` (pose times, ms) is a whole number of
+    ``step_ms`` rounded up to a whole number of it (None: the durations as they are)."""
+    if step_ms is None:
+        return lambda dur: dur
+    old_dur = [b - a for a, b in itertools.pairwise(old)]
+
+    def round_up(dur: list[int]) -> list[int]:
+        return [
+            -(-d // step_ms) * step_ms if d > o and o % step_ms == 0 else d
+            for d, o in zip(dur, old_dur, strict=True)
+        ]
+
+    return round_up
 
 
 def _retimed(
@@ -237,11 +264,13 @@ def _fit_acceleration(
     joints: Sequence[str],
     cols: npt.NDArray[np.intp],
     reason: dict[int, tuple[str, str]],
+    on_step: Callable[[list[int]], list[int]],
 ) -> list[int]:
-    """Lengthen segments (whole ms, never shorten) until every pose's velocity change is within
-    ``amax``: a violated pose stretches both its segments by sqrt(ratio), which brings its own
-    ratio to 1 (velocities scale by 1/f, the allowed change by f); neighbours are re-checked. If
-    that does not settle, the whole motion is slowed uniformly, which always does."""
+    """Lengthen segments (whole ms, never shorten; ``on_step`` rounds them, :func:`_on_step`)
+    until every pose's velocity change is within ``amax``: a violated pose stretches both its
+    segments by sqrt(ratio), which brings its own ratio to 1 (velocities scale by 1/f, the
+    allowed change by f); neighbours are re-checked. If that does not settle, the whole motion
+    is slowed uniformly, which always does."""
     import numpy as np
 
     with np.errstate(invalid="ignore"):
@@ -265,7 +294,7 @@ def _fit_acceleration(
                     blame.setdefault(s, joint)
         if attempt >= _ACCEL_ROUNDS // 2:  # uniform slow-down: every ratio scales by 1/f**2
             factor[:] = factor.max()
-        dur = np.ceil(dur * factor)
+        dur = np.asarray(on_step([int(d) for d in np.ceil(dur * factor)]), dtype=np.float64)
     else:  # pragma: no cover - the uniform slow-down converges geometrically
         raise MotionToolError("could not fit the acceleration limit")
     fallback = joints[int(cols[0])] if cols.shape[0] else ""

@@ -333,6 +333,37 @@ def test_fit_limits_never_violates_and_is_idempotent(
             assert np.all(ratio <= 1.0)
 
 
+@settings(max_examples=200, deadline=None)
+@given(
+    m=limited_motions(),
+    step=st.sampled_from([1, 8, 10, 20, 32]),
+    accel=st.sampled_from([None, 5.0, 200.0]),
+)
+def test_fit_limits_keeps_pose_times_on_the_step(m: tuple, step: int, accel: float | None) -> None:
+    """A segment that was a whole number of controller steps is stretched to the fewest whole
+    steps within the limits (so its pose times stay on the step: no MT209), and the result is
+    still within them and a fixed point."""
+    times, joints, values, limits = m
+    r = fit_limits(times, joints, values, limits, max_acceleration=accel, step_ms=step)
+    assert _velocity_ok(r.times_ms, joints, values, limits, 0.9)
+    old_d, new_d = np.diff(times), np.diff(r.times_ms)
+    assert np.all(new_d >= old_d)
+    for s in r.stretches:
+        if old_d[s.segment] % step == 0:
+            assert new_d[s.segment] % step == 0
+            if s.reason == "velocity":  # the fewest steps: one less breaks a limit
+                shorter = list(r.times_ms)
+                for i in range(s.segment + 1, len(shorter)):
+                    shorter[i] -= step
+                assert not _velocity_ok(tuple(shorter), joints, values, limits, 0.9)
+    if accel is None:  # a segment off the step is stretched as without one: whole ms
+        plain = np.diff(fit_limits(times, joints, values, limits).times_ms)
+        off = old_d % step != 0
+        assert np.array_equal(new_d[off], plain[off])
+    again = fit_limits(r.times_ms, joints, values, limits, max_acceleration=accel, step_ms=step)
+    assert again.times_ms == r.times_ms and again.stretches == ()
+
+
 def test_fit_limits_stretches_to_the_shortest_whole_ms() -> None:
     # 0.262 rad in 40 ms at 6.40239 rad/s x 0.9: needs 45.47 ms -> 46 ms
     r = fit_limits([0, 40, 80], ["K"], np.array([[0.0], [0.262], [0.262]]), {"K": 6.40239})
