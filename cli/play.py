@@ -8,9 +8,15 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
+from motiontool.cli.chain_options import (
+    ChainOption,
+    LoopOption,
+    StartPoseOption,
+    chain_options,
+)
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.jsontext import dumps
-from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
+from motiontool.cli.options import Timestep, finite, robot_option
 from motiontool.cli.output import (
     emit,
     emit_stderr,
@@ -258,37 +264,6 @@ _Json = Annotated[
 _Rrd = Annotated[
     Path | None, typer.Option("--rrd", help="Write a Rerun recording of the run (.rrd).")
 ]
-_Loop = Annotated[
-    list[str] | None,
-    typer.Option(
-        "--loop",
-        metavar="N|NAME=N",
-        help="Play each motion N times; with --chain, NAME=N plays the element NAME (its path,"
-        " file name or stem) N times (repeat the option; the others play once, or N).",
-        show_default=False,
-    ),
-]
-_Chain = Annotated[
-    bool,
-    typer.Option(
-        "--chain",
-        help="The motions are one chain, as a controller plays them: each from the state the one"
-        " before left (the joints, the base and its velocities; as without --chain), an element"
-        " looped on its own (--loop NAME=N), and the report lists each element with its time in"
-        " the run, displacement and turn.",
-    ),
-]
-_StartPose = Annotated[
-    str | None,
-    typer.Option(
-        "--start-pose",
-        metavar="FILE[:POSE]",
-        help="Start from the pose POSE of the motion FILE (without :POSE its last pose: where"
-        " FILE leaves the robot) instead of the zero stance; with --start lying-*, the robot"
-        " lies with these joints.",
-        show_default=False,
-    ),
-]
 _Reverse = Annotated[bool, typer.Option("--reverse", help="Play each motion backwards.")]
 _Robot = Annotated[
     str | None,
@@ -320,9 +295,9 @@ def play_command(
     json_path: _Json = None,
     rrd: _Rrd = None,
     bag: BagOption = None,
-    loop: _Loop = None,
-    chain: _Chain = False,
-    start_pose: _StartPose = None,
+    loop: LoopOption = None,
+    chain: ChainOption = False,
+    start_pose: StartPoseOption = None,
     reverse: _Reverse = False,
     timestep: Timestep = None,
     robot: _Robot = None,
@@ -357,8 +332,6 @@ def play_command(
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
     check_robustness(robustness, files, strict, executor)
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
-    from motiontool.sim.chain import loop_counts
-    from motiontool.sim.chain import start_pose as read_start_pose
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play
 
@@ -371,17 +344,9 @@ def play_command(
         robot_node=robot_node,
     )
     settings = Resolver(config=config, isolated=isolated).for_file(files[0])
-    chain = chain or bool(planned.motion.before)  # a sidecar's after: a chain
-    loops, chain_loops = loop_counts(
-        loop or [], [str(f) for f in planned.files], chain=chain, max_count=MAX_COUNT
-    )
     options = PlayOptions(
         timestep_ms=timestep if timestep is not None else _config_step(settings, planned),
-        loops=loops,
-        chain=chain,
-        chain_loops=chain_loops,
-        start_pose=start_pose,
-        start_pose_joints=() if start_pose is None else read_start_pose(start_pose),
+        **chain_options(loop, start_pose, planned, chain=chain),
         reverse=reverse,
         hold_s=hold,
         seed=seed,

@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable, Generator, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool import __version__
 from motiontool.errors import MotionToolError, OutputError
@@ -46,6 +46,9 @@ from motiontool.sim.perturb import (
 )
 from motiontool.sim.sidecar import Sidecar
 from motiontool.sim.start import StartState
+
+if TYPE_CHECKING:
+    from motiontool.sim.session import MotionPlan
 
 __all__ = [
     "PERTURBATIONS",
@@ -200,8 +203,7 @@ def plan_batch(
 ) -> list[RunSpec]:
     """Every run of a batch (:func:`plan`), file by file, each with what its sidecar and the
     caller ask of it (:func:`motiontool.sim.session.plan_motion`: the sidecar's expectations,
-    then ``expect``; ``start``, else the sidecar's; its ``after``: the motions played before
-    it, :attr:`RunSpec.chain`), and its recording's name.
+    then ``expect``; ``start``, else the sidecar's; ``after``: a chain), and its recording's name.
 
     Args:
         robots: the robots each file is played on; timesteps: each file's control step, ms
@@ -226,16 +228,8 @@ def plan_batch(
     specs = []
     for f in files:
         motion = plan_motion(f, expect, start=start, sidecar=sidecar, roots=roots, cache=sidecars)
-        file_options = {**options, "timestep_ms": timesteps[f]}
-        if motion.start is not None and motion.start.lying:
-            file_options["start"] = str(motion.start)
-        if motion.world is not None:  # the sidecar's world (cli.batch adds its hash)
-            file_options.update(world=str(motion.world), robot_node=motion.robot_node)
-        if rrd_dir is not None:
-            file_options["rrd_dir"] = str(rrd_dir)
-            file_options["rrd_name"] = rrd_names[str(f)]
-        if motion.before:
-            file_options["chain"] = True
+        recording = None if rrd_dir is None else (rrd_dir, rrd_names[str(f)])
+        file_options = _file_options(options, timesteps[f], motion, recording)
         runs = plan(
             [f],
             robots[f],
@@ -249,10 +243,27 @@ def plan_batch(
     return specs
 
 
+def _file_options(
+    options: Mapping[str, Any],
+    timestep_ms: int | None,
+    motion: MotionPlan,
+    recording: tuple[Path, str] | None,
+) -> dict[str, Any]:
+    """A file's play options: ``options``, its step (ms), lying start, world, chain, recording."""
+    file_options = {**options, "timestep_ms": timestep_ms}
+    if motion.start is not None and motion.start.lying:
+        file_options["start"] = str(motion.start)
+    if motion.world is not None:  # the sidecar's world (cli.batch adds its hash)
+        file_options.update(world=str(motion.world), robot_node=motion.robot_node)
+    if recording is not None:
+        file_options.update(rrd_dir=str(recording[0]), rrd_name=recording[1])
+    if motion.before:
+        file_options["chain"] = True
+    return file_options
+
+
 def _chained(spec: RunSpec, before: Sequence[Path]) -> RunSpec:
     """``spec`` played after the motions ``before`` (a sidecar's ``after``: a chain)."""
-    if not before:
-        return spec
     hashes = tuple(hashlib.sha256(read_file(p)).hexdigest() for p in before)
     return replace(spec, chain=tuple(str(p) for p in before), chain_sha256=hashes)
 

@@ -4,12 +4,14 @@ controller plays them (issue 37 item 3).
 A run of several motions is one simulation: the physics state (the joints, the base's pose and
 velocities) simply goes on from one motion to the next. What a chain adds is said here, once:
 
-- :func:`loop_counts`: ``--loop N`` (every motion N times) and ``--loop NAME=N`` (one element
-  of a chain N times, by its path as given, file name or stem);
-- :func:`start_pose`: ``--start-pose FILE[:POSE]``, the motor positions of a pose of a motion
-  file (the named pose, else the file's last: where the motion leaves the robot);
-- :class:`ElementMeter`: what the base did during each element (displacement, distance,
-  heading change), from the frame the element starts at to the frame it ends at.
+- the loop count of each element (``PlayOptions.chain_loops``; ``play --loop NAME=N``,
+  :mod:`motiontool.cli.chain_options`);
+- :func:`start_pose`: a pose of a motion file to start from (``FILE:POSE``, or ``FILE``: its
+  last pose, where the motion leaves the robot), its motor positions, and :func:`posed`, those
+  of the robot's motors;
+- :class:`ElementMeter`: each element's place in the run (:class:`FileRun`) and what the base
+  did during it (displacement, distance, heading change), from the frame the element starts
+  at to the frame it ends at.
 """
 
 from __future__ import annotations
@@ -17,64 +19,19 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import replace
-from pathlib import Path, PurePath
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
+from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.measure import tilt_and_heading
 from motiontool.sim.report import FileRun
 
 if TYPE_CHECKING:
+    from motiontool.kinematics.robots import RobotSpec
     from motiontool.sim.trace import Trace
 
-__all__ = ["ElementMeter", "loop_counts", "start_pose"]
-
-
-def _is_element(name: str, path: str) -> bool:
-    """Whether ``name`` names the element played from ``path``: the path as given, its file
-    name or its stem."""
-    pure = PurePath(path)
-    return name in (path, pure.name, pure.stem)
-
-
-def loop_counts(
-    specs: Sequence[str], names: Sequence[str], *, chain: bool, max_count: int
-) -> tuple[int, tuple[int, ...]]:
-    """The cycles of each motion from ``--loop`` values: ``N`` (every motion) or ``NAME=N``
-    (the elements ``NAME`` names, in a chain only; the others keep ``N``, else 1).
-
-    Returns:
-        (the count of every motion, the counts of each one in order; empty: no ``NAME=N``).
-
-    Raises:
-        MotionToolError: a count that is no whole number from 1 (to ``max_count``), two
-            plain counts, ``NAME=N`` without ``chain`` or naming no element.
-    """
-    every, named = 1, {}
-    plain = [s for s in specs if "=" not in s]
-    if len(plain) > 1:
-        raise MotionToolError(f"--loop {plain[0]} and --loop {plain[1]}: give one count")
-    for spec in specs:
-        name, _, text = spec.rpartition("=")
-        if not text.isdigit() or not 1 <= int(text) <= max_count:
-            raise MotionToolError(
-                f"--loop {spec}: the count must be a whole number from 1"
-                + (f" to {max_count:,}" if text.isdigit() and int(text) > max_count else "")
-            )
-        if not name and "=" not in spec:
-            every = int(text)
-            continue
-        if not chain:
-            raise MotionToolError(f"--loop {spec} loops one element of a chain: pass --chain")
-        if not any(_is_element(name, n) for n in names):
-            raise MotionToolError(
-                f"--loop {spec}: no element {name!r} in the chain ({', '.join(names)})"
-            )
-        named[name] = int(text)
-    if not named:
-        return every, ()
-    counts = [next((n for k, n in named.items() if _is_element(k, p)), every) for p in names]
-    return every, tuple(counts)
+__all__ = ["ElementMeter", "file_runs", "posed", "start_pose"]
 
 
 def start_pose(spec: str) -> tuple[tuple[str, float], ...]:
@@ -98,17 +55,60 @@ def start_pose(spec: str) -> tuple[tuple[str, float], ...]:
     elif pose in names:
         index = names.index(pose)
     else:
-        raise MotionToolError(f"--start-pose {spec}: no pose {pose!r} (poses: {', '.join(names)})")
+        raise MotionToolError(f"start pose {spec}: no pose {pose!r} (poses: {', '.join(names)})")
     row = motion.values[index].tolist()
     return tuple((j, float(v)) for j, v in zip(motion.joints, row, strict=True) if math.isfinite(v))
 
 
-class ElementMeter:
-    """What a free-flying robot's base did during each motion of a run, a chunk at a time
-    (:func:`motiontool.sim._mujoco.run_chunks`): its position and summed heading change at the
-    frames where the elements start and end (``lengths``: each element's control steps)."""
+def posed(
+    label: str | None, pose: Sequence[tuple[str, float]], robot: RobotSpec
+) -> list[tuple[str, float]]:
+    """The positions of ``pose`` (:func:`start_pose`, named ``label``; None: no start pose) that
+    are the robot's motors (the others are ignored, as a motion's columns are).
 
-    def __init__(self, lengths: Sequence[int]) -> None:
+    Raises:
+        MotionToolError: a start pose none of whose joints is a motor of the robot.
+    """
+    mine = [(k, v) for k, v in pose if k in robot.joint_names]
+    if label is not None and not mine:
+        names = ", ".join(k for k, _v in pose)
+        raise MotionToolError(
+            f"start pose {label}: none of its joints ({names}) is a motor of {robot.name}"
+        )
+    return mine
+
+
+def file_runs(
+    names: Sequence[str], lengths: Sequence[int], step_ms: int, loops: Sequence[int]
+) -> list[FileRun]:
+    """Where each motion starts and how long it plays (s, from whole ms: 201 steps of 20 ms
+    are 4.02 s, where 201 * 0.02 is 4.0200000000000005), its ``lengths`` in control steps of
+    ``step_ms`` ms, its cycles."""
+    files = []
+    step = 0
+    for name, n, cycles in zip(names, lengths, loops, strict=True):
+        start, duration = step * step_ms / MS_PER_S, n * step_ms / MS_PER_S
+        files.append(FileRun(name, start, duration, n, cycles))
+        step += n
+    return files
+
+
+class ElementMeter:
+    """Each motion of a run (:func:`file_runs`) and, for a free-flying robot (``floating``),
+    what its base did, a chunk at a time (:func:`motiontool.sim._mujoco.run_chunks`): its
+    position and summed heading change at the frames where the elements start and end."""
+
+    def __init__(
+        self,
+        names: Sequence[str],
+        lengths: Sequence[int],
+        step_ms: int,
+        loops: Sequence[int],
+        *,
+        floating: bool,
+    ) -> None:
+        self.runs = file_runs(names, lengths, step_ms, loops)
+        self.floating = floating
         self.bounds = [0]
         for n in lengths:
             self.bounds.append(self.bounds[-1] + n)
@@ -120,6 +120,8 @@ class ElementMeter:
         """Take the next chunk of the run (its frame 0 is the last frame of the one before)."""
         import numpy as np
 
+        if not self.floating:
+            return
         _tilt, heading = tilt_and_heading(chunk.base_quat)
         steps = (np.diff(heading) + 180.0) % 360.0 - 180.0
         turned = self._turned + np.concatenate(([0.0], np.cumsum(steps)))
@@ -130,11 +132,11 @@ class ElementMeter:
                 self._pos[frame], self._turn[frame] = (x, y), float(turned[frame - first])
         self._turned = float(turned[-1])
 
-    def elements(self, files: Sequence[FileRun]) -> list[FileRun]:
-        """``files`` with what the base did during each (unchanged where not measured: a run
-        that stopped before)."""
+    def files(self) -> list[FileRun]:
+        """Each motion of the run with what the base did during it (not where not measured: a
+        fixed base, a run that stopped before)."""
         out = []
-        for f, start, end in zip(files, self.bounds[:-1], self.bounds[1:], strict=True):
+        for f, start, end in zip(self.runs, self.bounds[:-1], self.bounds[1:], strict=True):
             if start not in self._pos or end not in self._pos:
                 out.append(f)
                 continue

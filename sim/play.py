@@ -30,7 +30,7 @@ from motiontool.motionfmt.fileio import open_output, source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import ToolMeter
 from motiontool.sim.bag import RunBag
-from motiontool.sim.chain import ElementMeter
+from motiontool.sim.chain import ElementMeter, posed
 from motiontool.sim.commands import CommandChunks, command_matrix, command_stream, each_loops
 from motiontool.sim.markers import Marker, MarkerMeter
 from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMeter
@@ -136,22 +136,19 @@ def play(
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep, physics, scene = _setup(spec, opts, loaded[0], world)
     stream = _commands(loaded, scene, timestep, opts)
-    files = _file_runs(labels, stream.lengths, timestep, _loops(opts, len(loaded)))
-    meter = RunMeter(scene, opts)
-    elements = ElementMeter(stream.lengths) if scene.floating else None
+    meter, elements = RunMeter(scene, opts), _elements(labels, stream, timestep, opts, scene)
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
         events = MarkerMeter(scene.limits, opts, floating=scene.floating) if recorder else None
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
         _simulate(scene, stream, (*takers, elements), record=recorder is not None)
-        files = files if elements is None else elements.elements(files)
-        report = _report(meter, files, loaded, physics, all_stamps, stream.ignored)
+        report = _report(meter, elements.files(), loaded, physics, all_stamps, stream.ignored)
         report.world = None if world is None else _world_doc(world, opts, timestep, physics)
         report.self_collision = _self_collision_doc(scene, opts, world, meter)
         report.end_effector = None if tool is None else tool.stats()
         if recorder is not None and events is not None:
-            recorder.finish(events.markers(files), report.end_effector)
+            recorder.finish(events.markers(report.files), report.end_effector)
     return report
 
 
@@ -346,6 +343,14 @@ def _tool_meter(
     )
 
 
+def _elements(
+    names: Sequence[str], stream: CommandChunks, timestep_ms: int, opts: PlayOptions, scene: Scene
+) -> ElementMeter:
+    """What places each motion in the run and measures what the base did during it."""
+    loops = _loops(opts, len(names))
+    return ElementMeter(names, stream.lengths, timestep_ms, loops, floating=scene.floating)
+
+
 def _loops(opts: PlayOptions, count: int) -> list[int]:
     """The cycles of each of the ``count`` motions: the chain's, else ``opts.loops`` each."""
     return each_loops(opts.chain_loops or opts.loops, count)
@@ -382,14 +387,7 @@ def _start_joints(
         ):
             if name in start_joints and sent:
                 start_joints[name] = value
-    pose = opts.start_pose_joints
-    if opts.start_pose is not None and not any(k in start_joints for k, _v in pose):
-        names = ", ".join(k for k, _v in pose)
-        raise MotionToolError(
-            f"--start-pose {opts.start_pose}: none of its joints ({names}) is a motor of "
-            f"{spec.name}"
-        )
-    start_joints.update((k, v) for k, v in pose if k in start_joints)
+    start_joints.update(posed(opts.start_pose, opts.start_pose_joints, spec))
     if opts.start_noise_rad > 0:
         rng = np.random.default_rng(opts.seed)
         noise = rng.normal(0.0, opts.start_noise_rad, len(start_joints))
@@ -435,21 +433,6 @@ def _scene(
         self_collision=_self_collision(opts, placed),
         **world_scene,
     )
-
-
-def _file_runs(
-    names: Sequence[str], lengths: Sequence[int], step_ms: int, loops: Sequence[int]
-) -> list[FileRun]:
-    """Where each motion starts and how long it plays (s, from whole ms: 201 steps of 20 ms
-    are 4.02 s, where 201 * 0.02 is 4.0200000000000005), its ``lengths`` in control steps of
-    ``step_ms`` ms, its cycles."""
-    files = []
-    step = 0
-    for name, n, cycles in zip(names, lengths, loops, strict=True):
-        start, duration = step * step_ms / MS_PER_S, n * step_ms / MS_PER_S
-        files.append(FileRun(name, start, duration, n, cycles))
-        step += n
-    return files
 
 
 def _all_stamps(
