@@ -330,7 +330,7 @@ def play_command(
     is fragile (a warning; exit 1 with --strict) or fails.
     """
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
-    check_robustness(robustness, files, strict, executor)
+    check_robustness(robustness, files, strict, (executor, start_pose))
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play

@@ -72,9 +72,13 @@ NoCacheOption = Annotated[
 ]
 
 
-def check_robustness(n: int | None, files: list[Path], strict: bool, executor: str) -> None:
-    """``--robustness`` replays one motion file, on an executor that exists; ``--strict``
-    needs it: exit 2 before the run."""
+def check_robustness(
+    n: int | None, files: list[Path], strict: bool, run: tuple[str, str | None]
+) -> None:
+    """``--robustness`` replays one motion file from the zero stance or a lying start (``run``:
+    the executor, which must exist, and ``--start-pose``, which members do not take yet);
+    ``--strict`` needs it: exit 2 before the run."""
+    executor, start_pose = run
     if executor not in EXECUTORS:
         raise typer.BadParameter(
             f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
@@ -85,6 +89,11 @@ def check_robustness(n: int | None, files: list[Path], strict: bool, executor: s
         raise MotionToolError(
             "--robustness replays one motion file (not standard input): play one file, or "
             "use batch --robustness"
+        )
+    if n is not None and start_pose is not None:
+        raise MotionToolError(
+            "--robustness replays a run from the zero stance or --start lying-*, not from "
+            "--start-pose yet"
         )
 
 

@@ -134,6 +134,7 @@ def test_members_in_a_world_play_at_steps_dividing_its_basic_time_step(head_no: 
         (["--strict"], "--strict fails on a fragile verdict: pass --robustness N"),
         (["--robustness", "3", "SECOND"], "--robustness replays one motion file"),
         (["--robustness", "3", "--executor", "nope"], "'nope': choose local or ray"),
+        (["--robustness", "3", "--start-pose", "SECOND"], "not from --start-pose yet"),
     ],
 )
 def test_robustness_usage_errors_exit_2_in_one_line(
