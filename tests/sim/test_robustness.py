@@ -4,7 +4,10 @@ a short Nao motion, on the batch's local pool), holds / fragile / fails, and ``-
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -19,6 +22,7 @@ from motiontool.sim.batch import PERTURBATIONS, RunSpec, draw
 from motiontool.sim.robustness import ENSEMBLE, member_specs, physics_steps
 
 runner = CliRunner()
+SCRIPT = str(Path(sys.executable).parent / "motiontool")
 # A head shake: 2.4 s of motion, the robot standing still (max tilt about 0.26 deg).
 HEAD_NO = ROOT / "motions" / "nao" / "head_no.motion"
 
@@ -189,3 +193,19 @@ def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
     )
     assert refused.exit_code == 2
     assert "not with --perturb or --samples" in refused.output
+
+
+@pytest.mark.slow
+def test_members_on_ray_give_the_local_verdicts(head_no: Path, tmp_path: Path) -> None:
+    pytest.importorskip("ray", reason="the Ray executor is an optional extra")
+    docs = {}
+    for executor in ("local", "ray"):
+        out = tmp_path / f"{executor}.json"
+        argv = ["play", str(head_no), "--headless", "--hold", "0.2", "--expect", "max_tilt<=0.5"]
+        argv += ["--robustness", "3", "--no-cache", "--executor", executor, "--json", str(out)]
+        home = tmp_path / "home"  # a local Ray of its own (no ~/.ray of an earlier one)
+        env = {**os.environ, "HOME": str(home)}
+        subprocess.run([SCRIPT, *argv], check=True, capture_output=True, timeout=300, env=env)
+        docs[executor] = json.loads(out.read_text(encoding="utf-8"))["robustness"]
+    assert docs["ray"] == docs["local"]
+    assert {v["status"] for v in docs["ray"]["verdicts"]} == {"holds", "fragile"}
