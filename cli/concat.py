@@ -95,11 +95,12 @@ def concat_command(
 
     Every motion needs the same joints (any column order: later files are put in the first
     one's order, cell by cell). Between two motions, the first's last pose moves to the next
-    one's first pose in the shortest whole-ms time within maxVelocity x margin for every joint
-    both command (retime --fit-limits' logic), or in --transition ms; the next one's times are
-    shifted to follow. The first file's lines keep their spelling, the others' too but for
-    their times. --in-place replaces the first file. Exits 1 if validate's velocity check
-    finds a transition too fast (only possible with --transition, or after a '*').
+    one's first pose in the shortest time within maxVelocity x margin for every joint both
+    command, in whole controller steps (-t, else the robot's; retime --fit-limits' logic), or
+    in --transition ms; the next one's times are shifted to follow. The first file's lines
+    keep their spelling, the others' too but for their times. --in-place replaces the first
+    file. Exits 1 if validate's velocity check finds a transition too fast (only possible with
+    --transition, or after a '*').
     """
     if len(paths) < 2:
         raise MotionToolError("concat needs two motion files or more")
@@ -114,7 +115,10 @@ def concat_command(
             "(none detected), or a fixed --transition MS"
         )
     limits = None if spec is None else {j.name: j.max_velocity for j in spec.joints}
-    result = concat(docs, transition_ms=transition, max_velocity=limits, margin=margin)
+    step = None if spec is None else timestep or spec.default_timestep_ms
+    result = concat(
+        docs, transition_ms=transition, max_velocity=limits, margin=margin, step_ms=step
+    )
     del docs  # the inputs go before the result is read (its memory is theirs again)
     step, findings = _transition_findings(result, spec, timestep)
     write_result(result.document, target)

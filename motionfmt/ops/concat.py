@@ -1,7 +1,7 @@
 """Concatenate motions: play them one after another, joined by transitions.
 
 :func:`concat` joins motions with a transition from one's last pose to the next one's first pose
-that is the shortest whole-ms duration within maxVelocity x margin
+that is the shortest duration within maxVelocity x margin, in whole controller steps
 (:func:`~motiontool.motionfmt.transform.fit_limits`, the logic of ``retime --fit-limits``), or a
 given one. The inputs' pose lines keep their spelling, but for their times.
 """
@@ -86,6 +86,7 @@ def concat(
     transition_ms: int | None = None,
     max_velocity: Mapping[str, float] | None = None,
     margin: float = DEFAULT_MARGIN,
+    step_ms: int | None = None,
 ) -> Concatenated:
     """Join ``docs`` one after another.
 
@@ -99,6 +100,9 @@ def concat(
         max_velocity: ``{joint: max velocity}``, rad/s (m/s); needed when ``transition_ms`` is
             None. A joint not in it is not constrained.
         margin: the fraction of the maximum velocity the transition may use, in (0, 1].
+        step_ms: the controller's time step, ms: a fitted transition is a whole number of
+            steps (at least one), so that inputs whose times are on the step stay on it
+            (MT209). None: whole ms, at least 1.
 
     Each next motion's times are shifted so that its first pose lands at the end of the
     transition (a first pose at t > 0 loses its lead-in: the transition replaces it).
@@ -122,7 +126,7 @@ def concat(
         if transition_ms is None:
             start = _targets(doc.motion, order, 0)
             transition = _fitted(
-                doc.path, joined.end_ms, joints, joined.last_row, start, limits, margin
+                doc.path, joined.end_ms, joints, joined.last_row, start, limits, margin, step_ms
             )
         else:
             transition = Transition(doc.path, joined.end_ms, transition_ms, "", False)
@@ -258,13 +262,22 @@ def _fitted(
     first_row: npt.NDArray[np.float64],
     limits: Mapping[str, float],
     margin: float,
+    step_ms: int | None,
 ) -> Transition:
     """The transition into ``into`` from ``last_row`` to ``first_row`` ((J,) rad or m, NaN
-    where not commanded), starting at ``start_ms``: the shortest whole-ms duration within
-    ``margin`` x ``limits`` (rad/s, m/s), as :func:`fit_limits` fits two poses 1 ms apart."""
+    where not commanded), starting at ``start_ms``: the shortest duration within ``margin`` x
+    ``limits`` (rad/s, m/s), as :func:`fit_limits` fits two poses one step (``step_ms``, else
+    1 ms) apart: whole steps, else whole ms."""
     import numpy as np
 
-    retimed = fit_limits([0, 1], joints, np.vstack([last_row, first_row]), limits, margin=margin)
+    retimed = fit_limits(
+        [0, step_ms or 1],
+        joints,
+        np.vstack([last_row, first_row]),
+        limits,
+        margin=margin,
+        step_ms=step_ms,
+    )
     duration = int(retimed.times_ms[-1])
     joint = retimed.stretches[0].joint if retimed.stretches else ""
     return Transition(into, start_ms, duration, joint, True)

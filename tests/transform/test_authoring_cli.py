@@ -122,15 +122,19 @@ def test_concat_report_and_json(here: Path) -> None:
     code, out, _ = invoke("concat", "head.motion", "other.motion", "-o", "c.motion")
     assert code == 0
     assert out.splitlines() == [
-        "joined head.motion + other.motion -> c.motion: 6 poses, 916 ms",
+        "joined head.motion + other.motion -> c.motion: 6 poses, 920 ms",
         f"robot: nao (model {NAO}); transitions within 90% of maxVelocity",
-        # HeadYaw -0.4 -> 1.2 rad: 1.6 / (0.9 x 8.26797 rad/s) = 215.02 ms -> 216 ms
-        "transition into other.motion: 216 ms from 400 ms (fitted, limited by HeadYaw)",
+        # HeadYaw -0.4 -> 1.2 rad: 1.6 / (0.9 x 8.26797 rad/s) = 215.02 ms -> 11 steps of
+        # the Nao's 20 ms (216 ms at whole ms: every later pose time off the step, MT209)
+        "transition into other.motion: 220 ms from 400 ms (fitted, limited by HeadYaw)",
         "columns put in the first file's order: other.motion",
         "velocity check (20 ms controller step): no warning in the transitions",
     ]
     joined = loads((here / "c.motion").read_bytes()).motion
-    assert joined.times_ms.tolist() == [0, 100, 200, 400, 616, 916]
+    assert joined.times_ms.tolist() == [0, 100, 200, 400, 620, 920]
+    assert invoke("validate", "c.motion", "--robot", "nao")[0] == 0  # no MT209
+    code, out, _ = invoke("concat", "head.motion", "other.motion", "-t", "8", "-o", "c8.motion")
+    assert code == 0 and "transition into other.motion: 216 ms from 400 ms" in out  # 27 x 8
     assert joined.joints == ("HeadYaw", "HeadPitch")
     code, out, _ = invoke(
         "concat",
