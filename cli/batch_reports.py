@@ -105,6 +105,11 @@ def robustness_lines(batch: BatchResult) -> list[str]:
         if r.robustness is not None:
             lines.append(f"{r.spec.label}: {r.robustness.lines()[0]}")
             lines += r.robustness.lines()[1:]
+    members = sum(r.robustness.members for r in batch.runs if r.robustness is not None)
+    if members:  # the runs/s above counts the runs alone
+        lines.insert(
+            0, f"--robustness: {members} members played besides the runs, in the wall time"
+        )
     return lines
 
 

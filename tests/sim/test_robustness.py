@@ -187,6 +187,7 @@ def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
     result = runner.invoke(app, ["batch", str(head_no), "--robustness", "3", "--no-cache"])
     assert result.exit_code == 0, result.output
     assert "robustness: 3 members (seed 0)" in result.stdout
+    assert "--robustness: 3 members played besides the runs, in the wall time" in result.stdout
     assert "holds    clean" in result.stdout and "fragile" not in result.stdout
     refused = runner.invoke(
         app, ["batch", str(head_no), "--robustness", "3", "--perturb", "mass=0.9:1.1"]
