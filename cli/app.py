@@ -4,12 +4,8 @@ from __future__ import annotations
 
 import contextlib
 import contextvars
-import errno
 import functools
 import importlib
-import io
-import os
-import signal
 import sys
 import traceback
 from collections.abc import Callable, Iterator, MutableMapping, Sequence
@@ -28,6 +24,7 @@ from typer.core import TyperGroup
 from typer.models import CommandInfo, TyperInfo
 
 from motiontool import exit_codes
+from motiontool.cli import process
 from motiontool.cli.color import set_no_color
 from motiontool.errors import MotionToolError
 
@@ -131,7 +128,7 @@ def _guard(func: F) -> F:
             _say(_error_line(exc))
             raise typer.Exit(exit_codes.ERROR) from None
         except BrokenPipeError:  # the reader went away (| head): quiet, as a SIGPIPE ends it
-            _quiet_stdout()
+            process.quiet_stdout()
             raise typer.Exit(exit_codes.BROKEN_PIPE) from None
         except MemoryError:  # what no guard foresaw: one line, never a traceback
             if _debug.get():
@@ -385,119 +382,6 @@ def _report(exc: BaseException, line: str, code: int) -> NoReturn:
     sys.exit(code)
 
 
-def _quiet_stdout() -> None:
-    """Point standard output at the null device, so that the interpreter's last flush of what
-    could not be written raises nothing more."""
-    with contextlib.suppress(OSError, ValueError):
-        null = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(null, sys.stdout.fileno())
-        os.close(null)
-
-
-class _ClosedStream(io.RawIOBase):
-    """A standard stream the process was started without (``>&-``): every write fails, as
-    a write to a closed descriptor would, in words a user reads."""
-
-    def writable(self) -> bool:
-        return True
-
-    def write(self, data: Any) -> int:
-        raise OSError(errno.EBADF, "it is closed")
-
-
-def _hold_standard_streams() -> None:
-    """Give a standard descriptor that the process was started without (``>&-``, ``2>&-``,
-    ``<&-``) the null device, so that the first file the command opens cannot take its number
-    and receive what was meant for the stream; a closed standard output then fails at its first
-    write (one line, exit 2), and a command that writes nothing there runs as usual; what is
-    written to a closed standard error is dropped (the exit code still says how it ended)."""
-    for fd in (0, 1, 2):
-        try:
-            os.fstat(fd)
-        except OSError:
-            null = os.open(os.devnull, os.O_RDONLY if fd == 0 else os.O_WRONLY)
-            if null != fd:  # the lowest free number: fd itself, unless a lower one was free too
-                os.dup2(null, fd)
-                os.close(null)
-            if fd == 1:
-                sys.stdout = io.TextIOWrapper(_ClosedStream(), encoding="utf-8", write_through=True)
-            elif fd == 2:
-                sys.stderr = open(fd, "w", encoding="utf-8", closefd=False)  # noqa: SIM115
-
-
-_ENDINGS: dict[int, str] = {signal.SIGTERM: "terminated", signal.SIGHUP: "hangup"}
-"""The signals that end a command the way Ctrl-C does, and the word its one line says."""
-
-
-class _Ended(BaseException):
-    """SIGTERM or SIGHUP, raised where the command is: every ``with`` and ``finally`` on the way
-    out runs (temporary files removed, worker processes stopped), then :func:`main` says so in
-    one line and exits 128 + N. Not an :class:`Exception`: nothing on the way mistakes it for
-    a failed step and goes on."""
-
-    def __init__(self, signum: int) -> None:
-        super().__init__(signum)
-        self.signum = signum
-
-
-_signalled: list[int] = []
-"""The signal that is ending the command, once one came."""
-
-_caught: list[int] = []
-"""The same, once :func:`main` has caught its :class:`_Ended`."""
-
-_AGAIN_S = 0.2
-"""How often, seconds, a signal's :class:`_Ended` is raised again until :func:`main` catches
-it: code that swallows every exception (a bare ``except:`` in a library, a finalizer) would
-otherwise let the command run on as if the signal had never come."""
-
-
-def _end(signum: int, frame: object) -> None:
-    for ending in _ENDINGS:  # a second one does not cut the way out short
-        signal.signal(ending, signal.SIG_IGN)
-    _signalled.append(signum)
-    signal.signal(signal.SIGALRM, _again)
-    signal.setitimer(signal.ITIMER_REAL, _AGAIN_S, _AGAIN_S)
-    raise _Ended(signum)
-
-
-def _again(signum: int, frame: object) -> None:
-    """Raise the signal's :class:`_Ended` again, unless it is on its way out (the code that
-    runs now is a ``finally``, an ``except`` or an ``__exit__`` it passes through) or caught."""
-    exc = sys.exc_info()[1]
-    while exc is not None:
-        if isinstance(exc, _Ended):
-            return
-        exc = exc.__context__
-    if not _caught:
-        raise _Ended(_signalled[0])
-
-
-def _catch_endings() -> None:
-    """Turn SIGTERM and SIGHUP into :class:`_Ended`, unless the process was started with them
-    ignored (``nohup`` ignores SIGHUP): they stay ignored."""
-    for ending in _ENDINGS:
-        if signal.getsignal(ending) is signal.SIG_DFL:
-            signal.signal(ending, _end)
-    sys.unraisablehook = functools.partial(_unraisable, sys.unraisablehook)
-
-
-def _unraisable(previous: Callable[[Any], object], unraisable: Any) -> None:
-    """Once a signal came, what a finalizer (``__del__``, a weak reference's callback) raises
-    is not shown (``--debug`` shows it): an :class:`_Ended` it swallowed is raised again
-    (:func:`_again`), and objects the signal cut short in the middle fail as they go."""
-    if not _signalled or _debug.get():
-        previous(unraisable)
-
-
-def _flush_stdout() -> None:
-    """Flush standard output, so that a failed write surfaces in :func:`main`, not in the
-    interpreter's exit; nothing for a stream already closed (the LSP server closes it when
-    its client says ``exit``)."""
-    if sys.stdout is not None and not sys.stdout.closed:
-        sys.stdout.flush()
-
-
 def main() -> None:
     """Console entry point: every failure ends as one ``motiontool: error:`` line (a traceback
     too with ``--debug``) and a non-zero exit code.
@@ -508,25 +392,24 @@ def main() -> None:
     - Ctrl-C: ``interrupted``, 130; SIGTERM: ``terminated``, 143; SIGHUP: ``hangup``, 129
       (temporary files removed first).
     """
-    _hold_standard_streams()
-    _catch_endings()
+    process.hold_standard_streams()
+    process.catch_endings(_debug.get)
     try:
         try:
             app(prog_name="motiontool")
         finally:
-            _flush_stdout()
+            process.flush_stdout()
     except MotionToolError as exc:
         _report(exc, _error_line(exc), exit_codes.ERROR)
     except BrokenPipeError as exc:
-        _quiet_stdout()
+        process.quiet_stdout()
         _report(exc, "", exit_codes.BROKEN_PIPE)
     except KeyboardInterrupt as exc:
         _report(exc, "interrupted", exit_codes.INTERRUPTED)
-    except _Ended as exc:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        _caught.append(exc.signum)
-        _report(exc, _ENDINGS[exc.signum], exit_codes.BY_SIGNAL[exc.signum])
+    except process.Ended as exc:
+        process.caught(exc)
+        _report(exc, process.ENDINGS[exc.signum], exit_codes.BY_SIGNAL[exc.signum])
     except OSError as exc:  # a stream write (standard output), or what no command foresaw
-        _quiet_stdout()
+        process.quiet_stdout()
         what = f"access '{exc.filename}'" if exc.filename else "write to standard output"
         _report(exc, f"cannot {what}: {exc.strerror or exc}", exit_codes.ERROR)
