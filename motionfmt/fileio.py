@@ -323,14 +323,15 @@ def _atomic(path: str | Path) -> Iterator[BinaryIO]:
         raise
 
 
-_HELD = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+_HELD = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP, signal.SIGALRM)
+"""The signals that end a command (SIGALRM: the CLI raises a swallowed SIGTERM again by it)."""
 
 
 @contextlib.contextmanager
 def _signals_held() -> Iterator[None]:
-    """Ctrl-C, SIGTERM and SIGHUP held back in the block, and sent again once it ends: a file
-    made in it and the ``try`` that removes it are one step (a signal between them would leave
-    the file). Their handlers run in the main thread only, so only it holds them (another
+    """The signals of :data:`_HELD` held back in the block, sent again once it ends: a file made
+    in it and the ``try`` that removes it are one step (a signal between them would leave the
+    file). Their handlers run in the main thread only, so only it holds them (another
     thread's block is not cut by a signal)."""
     if threading.current_thread() is not threading.main_thread() or any(
         signal.getsignal(s) is None
