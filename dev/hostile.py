@@ -654,6 +654,31 @@ def case_echoed(data: bytes | None, line: list[str], tally: Tally) -> None:
         shutil.rmtree(here, ignore_errors=True)
 
 
+# Issue 36 item 7: a 3-line file whose last pose is past 2^31 ms took 10 s to validate; what
+# validation costs must not follow how long the motion plays (0.2 s here; 3 s leaves room for a
+# loaded machine, where a run per controller step would take seconds).
+PAST = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n2200000000,P3,0,0.1\n"
+QUICK = [["validate", "past.motion"], ["validate", "past.motion", "--robot", "nao"]]
+_QUICK_S = 3.0
+
+
+def case_quick(line: list[str], tally: Tally) -> None:
+    here = _scratch()
+    try:
+        (here / "past.motion").write_bytes(PAST)
+        t0 = time.monotonic()
+        done = _run(here, line)
+        wall = time.monotonic() - t0
+        problem = _traceback(done.stderr)
+        if not problem and done.returncode not in (0, 1):
+            problem = f"exit {done.returncode}: {done.stderr[-200:]!r}"
+        if not problem and wall > _QUICK_S:
+            problem = f"{wall:.1f} s, over {_QUICK_S:g} s"
+        tally.record(f"{' '.join(line)}: past 2^31 ms", problem)
+    finally:
+        shutil.rmtree(here, ignore_errors=True)
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--jobs", type=int, default=2, help="cases run at once")
@@ -688,6 +713,7 @@ def main() -> int:
     cases += [lambda: case_server_exit(tally), lambda: case_walk(tally)]
     cases += [lambda c=c: case_signalled(*c, tally) for c in SIGNALLED]
     cases += [lambda c=c: case_echoed(*c, tally) for c in ECHOED]
+    cases += [lambda line=line: case_quick(line, tally) for line in QUICK]
     t0 = time.monotonic()
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         for future in [pool.submit(case) for case in cases]:
