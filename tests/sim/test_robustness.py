@@ -117,8 +117,14 @@ def test_members_are_cached_as_batch_runs(head_no: Path, tmp_path: Path) -> None
     play(head_no, "--robustness", "3", cache=cache)
     stored = sorted(p.stem for p in (cache / "motiontool" / "batch").rglob("*.json"))
     assert len(stored) == 3
-    code, text, doc = play(head_no, "--robustness", "3", cache=cache)  # answered from the cache
-    assert code == 0 and verdicts(doc)["clean"]["status"] == "holds", text
+    # A member's cached report says it fell: the next play reads it instead of playing again.
+    first = next((cache / "motiontool" / "batch").rglob("*.json"))
+    cached = json.loads(first.read_text(encoding="utf-8"))
+    cached["report"]["base"].update(fell=True, fell_at_s=1.0)
+    first.write_text(json.dumps(cached), encoding="utf-8")
+    code, text, doc = play(head_no, "--robustness", "3", cache=cache)
+    assert code == 0 and verdicts(doc)["clean"]["status"] == "fragile", text
+    assert [d["why"] for d in verdicts(doc)["clean"]["disagree"]] == ["fell at 1.00 s"]
     assert sorted(p.stem for p in (cache / "motiontool" / "batch").rglob("*.json")) == stored
 
 
