@@ -14,6 +14,7 @@ from motiontool.cli.options import MAX_COUNT
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.fileio import is_stdin
 from motiontool.sim.executor import EXECUTORS, REGISTRY
+from motiontool.sim.robustness import DEFAULT_MEMBERS, describe
 
 if TYPE_CHECKING:
     from motiontool.sim.batch import RunSpec
@@ -43,10 +44,9 @@ RobustnessOption = Annotated[
         min=1,
         max=MAX_COUNT,
         metavar="N",
-        help="Replay every verdict (clean, each expectation) over N perturbed members (8 is "
-        "a good start): friction x0.5-2, physics step 1/2/4 ms, mass x0.95-1.05, start yaw "
-        "+-5 deg, start noise 0-0.01 rad, drawn from --seed; each verdict holds, is fragile "
-        "(k of N disagree: a warning) or fails.",
+        help="Replay every verdict (clean, each expectation) over N perturbed members "
+        f"({DEFAULT_MEMBERS} is a good start): {describe()}, drawn from --seed; each verdict "
+        "holds, is fragile (k of N disagree: a warning) or fails.",
     ),
 ]
 StrictOption = Annotated[

@@ -29,9 +29,10 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, Literal
 
 from motiontool.errors import MotionToolError
-from motiontool.sim.batch import Perturbation, RunSpec, draw
+from motiontool.sim.perturb import Perturbation
 
 if TYPE_CHECKING:
+    from motiontool.sim.batch import RunSpec
     from motiontool.sim.batch_results import BatchResult, RunResult
     from motiontool.sim.report import PlayReport
 
@@ -43,6 +44,7 @@ __all__ = [
     "Robustness",
     "Verdict",
     "VerdictStatus",
+    "describe",
     "judge",
     "member_specs",
     "physics_steps",
@@ -70,6 +72,13 @@ CLEAN = "clean"
 VerdictStatus = Literal["holds", "fragile", "fails"]
 
 
+def describe() -> str:
+    """The ensemble in a few words, for ``--help``: ``friction 0.5..2, ..., physics step
+    1/2/4 ms``."""
+    ranges = ", ".join(f"{p.name} {p.low:g}..{p.high:g}" for p in ENSEMBLE)
+    return f"{ranges} (as batch --perturb), physics step {'/'.join(map(str, PHYSICS_STEPS_MS))} ms"
+
+
 def physics_steps(control_step_ms: int) -> tuple[int, ...]:
     """The steps of :data:`PHYSICS_STEPS_MS` that divide ``control_step_ms`` (ms): at most the
     control step, so a world's basicTimeStep bounds them."""
@@ -85,6 +94,8 @@ def member_specs(nominal: RunSpec, n: int, *, seed: int, control_step_ms: int) -
     Raises:
         MotionToolError: ``n`` < 1.
     """
+    from motiontool.sim.batch import draw
+
     if n < 1:
         raise MotionToolError(f"an ensemble needs at least 1 member, got {n}")
     steps = list(physics_steps(control_step_ms))
