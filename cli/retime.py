@@ -38,6 +38,7 @@ from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import Velocity
 from motiontool.kinematics.robots import AUTO, RobotSpec, resolve_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
+from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops.retimed import retimed_blocks
@@ -116,6 +117,25 @@ _Accel = Annotated[
 ]
 
 
+def _fit_to(
+    spec: RobotSpec, doc: MotionDocument, margin: float, accel: float | None, timestep: int | None
+) -> Retimed:
+    """``--fit-limits``: ``doc``'s times stretched to ``spec``'s velocity limits, in whole
+    controller steps (``timestep``, else the robot's) where a segment was whole steps."""
+    motion = doc.motion
+    # A nan/inf command has no speed to fit (and an infinite one no finite duration).
+    refuse_non_finite(motion, doc.result, "fitting it to the robot's limits")
+    return fit_limits(
+        [int(t) for t in motion.times_ms],
+        motion.joints,
+        motion.values,
+        {j.name: j.max_velocity for j in spec.joints},
+        margin=margin,
+        max_acceleration=accel,
+        step_ms=timestep or spec.default_timestep_ms,
+    )
+
+
 def retime_command(
     path: MotionFile,
     speed: _Speed = None,
@@ -150,19 +170,8 @@ def retime_command(
         result = fit_duration(times, duration)
         how = f"duration {duration} ms"
     else:
-        # A nan/inf command has no speed to fit (and an infinite one no finite duration).
-        refuse_non_finite(motion, doc.result, "fitting it to the robot's limits")
         spec = resolve_robot(robot, motion.joints)
-        limits = {j.name: j.max_velocity for j in spec.joints}
-        result = fit_limits(
-            times,
-            motion.joints,
-            motion.values,
-            limits,
-            margin=margin,
-            max_acceleration=accel,
-            step_ms=timestep or spec.default_timestep_ms,
-        )
+        result = _fit_to(spec, doc, margin, accel, timestep)
         how = f"fit to {spec.name}'s limits"
     times_ms = list(result.times_ms)
     if spec is None:  # times only: the lines are written a block at a time, never all held

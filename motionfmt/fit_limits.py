@@ -78,12 +78,7 @@ def fit_limits(
     """
     import numpy as np
 
-    if not (0 < margin <= 1):
-        raise MotionToolError(f"the margin must be in (0, 1], got {margin}")
-    if max_acceleration is not None and not (max_acceleration > 0):
-        raise MotionToolError(f"the acceleration limit must be > 0 rad/s², got {max_acceleration}")
-    if step_ms is not None and not step_ms >= 1:
-        raise MotionToolError(f"the time step must be a whole number of ms >= 1, got {step_ms}")
+    _refuse_options(margin, max_acceleration, step_ms)
     old = [int(t) for t in times_ms]
     v = np.asarray(values, dtype=np.float64).reshape(len(old), len(joints))
     limits = np.array([max_velocity.get(name, math.inf) for name in joints], dtype=np.float64)
@@ -102,6 +97,16 @@ def fit_limits(
     if max_acceleration is not None:
         dur = _fit_acceleration(dur, v[:, cols], max_acceleration, joints, cols, reason, on_step)
     return _retimed(old, dur, reason, unconstrained)
+
+
+def _refuse_options(margin: float, max_acceleration: float | None, step_ms: int | None) -> None:
+    """Raise :class:`MotionToolError` for an option of :func:`fit_limits` out of its range."""
+    if not (0 < margin <= 1):
+        raise MotionToolError(f"the margin must be in (0, 1], got {margin}")
+    if max_acceleration is not None and not (max_acceleration > 0):
+        raise MotionToolError(f"the acceleration limit must be > 0 rad/s², got {max_acceleration}")
+    if step_ms is not None and not step_ms >= 1:
+        raise MotionToolError(f"the time step must be a whole number of ms >= 1, got {step_ms}")
 
 
 def _on_step(old: list[int], step_ms: int | None) -> Callable[[list[int]], list[int]]:

@@ -189,7 +189,8 @@ def _self_collision_doc(
     """The report's ``self_collision``: whether the robot's parts collided with each other in
     the simulation, why, and how many pairs of bodies touched."""
     if opts.self_collision is not None:
-        source, why = "option", "--self-collision" if opts.self_collision else "--no-self-collision"
+        source = "option"
+        why = "asked for" if opts.self_collision else "turned off, whatever the world says"
     elif placed is not None:
         robot = placed.world.robot
         value = "TRUE" if robot.self_collision else "FALSE"

@@ -76,7 +76,7 @@ def describe() -> str:
     """The ensemble in a few words, for ``--help``: ``friction 0.5..2, ..., physics step
     1/2/4 ms``."""
     ranges = ", ".join(f"{p.name} {p.low:g}..{p.high:g}" for p in ENSEMBLE)
-    return f"{ranges} (as batch --perturb), physics step {'/'.join(map(str, PHYSICS_STEPS_MS))} ms"
+    return f"{ranges} (batch's perturbations), physics step {'/'.join(map(str, PHYSICS_STEPS_MS))} ms"
 
 
 def physics_steps(control_step_ms: int) -> tuple[int, ...]:

@@ -235,7 +235,7 @@ class Velocity(GroupingCheck):
                 speed - vmax,
                 noun="segment",
                 hint="Webots caps the motor's speed at maxVelocity, so the joint arrives "
-                "late; give each of these moves more time (--no-group: a finding per segment, "
+                "late; give each of these moves more time (ungrouped: a finding per segment, "
                 "with the time each needs)",
                 amount=_amount(u, over, need, t1 - t0),
             ),

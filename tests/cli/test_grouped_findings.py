@@ -99,7 +99,7 @@ def test_a_run_of_fast_segments_counts_segments(here: Path) -> None:
     # --no-group gives each segment's own amount (issue #36 item 15).
     assert (
         "= hint: Webots caps the motor's speed at maxVelocity, so the joint arrives late; give"
-        " each of these moves more time (--no-group: a finding per segment, with the time each"
+        " each of these moves more time (ungrouped: a finding per segment, with the time each"
         " needs)" in out
     )
     _code, flat, _ = invoke("validate", *CHECKS, "--no-group", "fast.motion")

@@ -137,7 +137,7 @@ def test_play_self_collision_option_and_its_report(tmp_path: Path) -> None:
     doc, text = _play(tmp_path, "--self-collision")
     assert _schema_errors(doc) == []
     sc = doc["self_collision"]
-    assert (sc["physics"], sc["source"], sc["why"]) == (True, "option", "--self-collision")
+    assert (sc["physics"], sc["source"], sc["why"]) == (True, "option", "asked for")
     assert sc["touching_pairs"] >= 2 and sc["touching_s"] > 0
     assert _roll_error(doc) > 0.4  # held off by the torso, 1 s on
     pairs = {(c["body_a"], c["body_b"]) for c in doc["self_collisions"]}
