@@ -42,9 +42,15 @@ def git_ignored(paths: Iterable[Path]) -> set[Path]:
 
 
 def _root(folder: Path, seen: dict[Path, Path | None]) -> Path | None:
-    """The closest folder up from ``folder`` (itself included) with a ``.git``, or None."""
+    """The closest folder up from ``folder`` (itself included) with a ``.git``, or None (also
+    where a folder on the way may not be searched: git could not tell either)."""
     if folder not in seen:
-        if (folder / ".git").exists():
+        try:
+            here = (folder / ".git").exists()
+        except OSError:  # a folder above that this user may not search
+            seen[folder] = None
+            return None
+        if here:
             seen[folder] = folder
         else:
             up = folder.parent

@@ -152,22 +152,34 @@ def collect(
             if is_stdin(p) or not (force and s.excluded(named)):  # stdin: never left out
                 files.append(p)
             continue
+        respect = _respects(p, resolver, o)
         found = []
-        for f in collect_motion_files([p]):
+        # Hidden folders are not searched (respect-gitignore), and what cannot be read in a
+        # folder the search leaves out is no error (an unreadable excluded or ignored folder).
+        for f in collect_motion_files(
+            [p], skip_hidden=respect, left_out=lambda met: _left_out(met, resolver, o)
+        ):
             s = resolver.for_file(f)
-            respect = (
-                o.respect_gitignore if o.respect_gitignore is not None else s.respect_gitignore
-            )
-            if not s.excluded(f) and not (respect and _hidden(f, p)):
-                found.append((f, respect))
+            if not s.excluded(f):
+                found.append((f, _respects(f, resolver, o)))
         ignored = git_ignored(f for f, respect in found if respect)
         files.extend(f for f, _respect in found if f not in ignored)
     return files
 
 
-def _hidden(path: Path, under: Path) -> bool:
-    """Whether ``path``, found by searching folder ``under``, is in a hidden folder below it."""
-    return any(part.startswith(".") for part in path.relative_to(under).parts[:-1])
+def _respects(path: Path, resolver: Resolver, o: Overrides) -> bool:
+    """Whether searches leave out what git ignores and hidden folders for ``path``
+    (``respect-gitignore``: the command line's, else its settings')."""
+    if o.respect_gitignore is not None:
+        return o.respect_gitignore
+    return resolver.for_file(path).respect_gitignore
+
+
+def _left_out(met: list[Path], resolver: Resolver, o: Overrides) -> set[Path]:
+    """Of the entries a folder search could not read (``met``), those it leaves out: excluded
+    by their settings, or ignored by git where ``respect-gitignore`` holds."""
+    excluded = {q for q in met if resolver.for_file(q).excluded(q)}
+    return excluded | git_ignored(q for q in met if _respects(q, resolver, o))
 
 
 _Key = tuple[str, tuple[str, ...] | None, int | None, bool]

@@ -12,7 +12,7 @@ import stat
 import sys
 import threading
 import weakref
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
@@ -375,15 +375,18 @@ _SHOWN_PROBLEMS = 5
 """At most this many entries a folder search could not read are named in its error line."""
 
 
-def _search(folder: Path, found: list[Path], problems: list[str]) -> None:
+def _search(
+    folder: Path, found: list[Path], problems: list[tuple[Path, str]], skip_hidden: bool
+) -> None:
     """Add the ``*.motion`` files below ``folder`` to ``found`` (regular files, through symlinks;
-    symlinked folders are not entered), and to ``problems`` each entry that cannot be read: a
-    folder that may not be listed, a ``.motion`` link to nothing or to itself."""
+    symlinked folders are not entered; with ``skip_hidden``, nor folders whose name starts with
+    a dot), and to ``problems`` each entry that cannot be read, with the reason: a folder that
+    may not be listed, a ``.motion`` link to nothing or to itself."""
     try:
         with os.scandir(folder) as it:
             entries = sorted(it, key=lambda entry: entry.name)
     except OSError as exc:
-        problems.append(f"'{folder}': {exc.strerror or exc}")
+        problems.append((folder, f"'{folder}': {exc.strerror or exc}"))
         return
     for entry in entries:
         path = folder / entry.name
@@ -392,7 +395,8 @@ def _search(folder: Path, found: list[Path], problems: list[str]) -> None:
         except OSError:
             inside = False
         if inside:
-            _search(path, found, problems)
+            if not (skip_hidden and entry.name.startswith(".")):
+                _search(path, found, problems, skip_hidden)
         elif entry.name.endswith(".motion"):
             try:
                 if stat.S_ISREG(os.stat(path).st_mode):
@@ -402,18 +406,25 @@ def _search(folder: Path, found: list[Path], problems: list[str]) -> None:
                 with contextlib.suppress(OSError):
                     if exc.errno != errno.ELOOP and entry.is_symlink():
                         reason += f" (a symbolic link to '{os.readlink(path)}')"
-                problems.append(f"'{path}': {reason}")
+                problems.append((path, f"'{path}': {reason}"))
 
 
-def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:
-    """Expand directories to the ``*.motion`` files below them (sorted, recursive).
+def collect_motion_files(
+    paths: Iterable[str | Path],
+    *,
+    skip_hidden: bool = False,
+    left_out: Callable[[list[Path]], set[Path]] | None = None,
+) -> list[Path]:
+    """Expand directories to the ``*.motion`` files below them (sorted, recursive; with
+    ``skip_hidden``, folders whose name starts with a dot below a named one are not searched).
 
     Files named explicitly are kept whatever their extension; ``-`` (standard input) is kept
     as is. Raises :class:`MotionToolError` for a path that cannot be read (``cannot read
     'PATH': REASON``, as :func:`read_file`), a directory with no motion file, or a search that
     met entries it cannot read, as ruff's E902 (``cannot read 3 entries under 'm': 'm/locked':
     Permission denied; 'm/gone.motion': No such file or directory (a symbolic link to ...)``:
-    a folder that may not be listed, a dangling ``.motion`` link, a link loop).
+    a folder that may not be listed, a dangling ``.motion`` link, a link loop), but for those
+    ``left_out`` says the search leaves out (of the entries it is given: excluded, ignored).
     """
     files: list[Path] = []
     for raw in paths:
@@ -427,12 +438,14 @@ def collect_motion_files(paths: Iterable[str | Path]) -> list[Path]:
             raise MotionToolError(f"cannot read '{raw}': {exc.strerror or exc}") from exc
         if stat.S_ISDIR(mode):
             found: list[Path] = []
-            problems: list[str] = []
+            met: list[tuple[Path, str]] = []
             try:  # the folder itself: one reason
                 os.scandir(p).close()
             except OSError as exc:
                 raise MotionToolError(f"cannot read '{raw}': {exc.strerror or exc}") from exc
-            _search(p, found, problems)
+            _search(p, found, met, skip_hidden)
+            gone = left_out([q for q, _ in met]) if left_out is not None and met else set()
+            problems = [why for q, why in met if q not in gone]
             if problems:
                 more = len(problems) - _SHOWN_PROBLEMS
                 raise MotionToolError(

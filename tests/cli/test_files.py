@@ -196,7 +196,7 @@ def test_a_folder_walk_reports_what_it_cannot_read(here: Path, command: list[str
         invoke(*command, warm)  # read the interpreter's, runs it
     with _unprivileged():
         code, out, err = invoke(*command, "m")
-    assert (code, out) == (2, ""), err
+    assert (code, out) == (2, ""), (err, out)
     assert err.startswith("motiontool: error: cannot read 3 entries under 'm': ")
     assert err.count("\n") == 1
     assert "'m/locked': Permission denied" in err

@@ -140,6 +140,28 @@ def test_gitignore_counts_only_inside_a_repository_up_to_its_root(
     assert "motions/generated/g.motion" not in paths(invoke("validate", "-f", "json", "motions")[1])
 
 
+def test_what_a_search_leaves_out_is_neither_searched_nor_an_error(repo: Path) -> None:
+    """A dangling link in an ignored or excluded folder, or one in a hidden folder, is no
+    'cannot read' error: the search leaves those folders out (hidden ones are not even
+    entered: a checkout's .git is never walked); outside them it still is one (issue 36
+    item 5)."""
+    git_repo(repo)
+    for folder in ("build", ".cache", "generated"):
+        (repo / "motions" / folder / "gone.motion").symlink_to("nowhere.motion")
+    (repo / "motiontool.toml").write_text('exclude = ["motions/generated"]\n')
+    code, out, err = invoke("validate", "-f", "json", "--robot", "none", "motions")
+    assert (code, err) == (0, ""), err
+    assert paths(out) == ["motions/a.motion"]
+    code, _, err = invoke("validate", "--no-respect-gitignore", "--robot", "none", "motions")
+    assert code == 2 and "cannot read 2 entries under 'motions'" in err, (code, err)
+    assert "'motions/build/gone.motion'" in err and "'motions/.cache/gone.motion'" in err
+    (repo / "motions" / "sub").mkdir()  # a.motion: what motions/.gitignore keeps
+    (repo / "motions" / "sub" / "a.motion").symlink_to("nowhere.motion")
+    code, _, err = invoke("validate", "--robot", "none", "motions")
+    assert code == 2 and "'motions/sub/a.motion': No such file" in err, err
+    assert err.startswith("motiontool: error: cannot read 1 entry under 'motions'")
+
+
 def test_a_hidden_folder_named_on_the_command_line_is_searched(repo: Path) -> None:
     assert paths(invoke("validate", "-f", "json", "motions/.cache")[1]) == [
         "motions/.cache/c.motion"
