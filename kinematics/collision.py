@@ -11,10 +11,11 @@ pairs that are far apart. Here the configurations of a whole motion are handled 
    :func:`motiontool.kinematics.build_model`), and a pair of joints that no configuration of
    a block of consecutive ones can bring near (a bound on how far the motors move them,
    :mod:`motiontool.kinematics.sweep_bound`) is skipped for that block;
-3. forward kinematics of the configurations left runs in numpy (one vectorised step per
-   joint, a block of configurations at a time, the blocks side by side on the machine's
-   cores), and a sphere around each joint's geometries drops the far (configuration, joint
-   pair)s, then a sphere around each geometry the far (configuration, geometry pair)s;
+3. forward kinematics of the configurations left runs in numpy
+   (:mod:`motiontool.kinematics.batched_kinematics`: one vectorised step per joint, a block
+   of configurations at a time, the blocks side by side on the machine's cores), and a
+   sphere around each joint's geometries drops the far (configuration, joint pair)s, then a
+   sphere around each geometry the far (configuration, geometry pair)s;
 4. two bounds on the penetration depth, both vectorised, drop every (configuration, pair)
    that cannot penetrate as deep as the tolerance. Translating two convex shapes apart by
    their overlap along any direction separates them, so the depth is at most the smallest
@@ -43,7 +44,13 @@ from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import _pinocchio
-from motiontool.kinematics._pinocchio import PRISMATIC, REVOLUTE, KinematicTables
+from motiontool.kinematics._pinocchio import KinematicTables
+from motiontool.kinematics.batched_kinematics import (
+    forward_kinematics,
+    geometry_centers,
+    geometry_poses,
+    joint_first,
+)
 from motiontool.kinematics.contact_depth import body_ids, deepest_by_row, deepest_first
 from motiontool.kinematics.distinct_rows import Known, distinct_rows
 from motiontool.kinematics.overlap_bound import overlap_bound
@@ -89,112 +96,6 @@ class Contact(NamedTuple):
     depth_m: float
 
 
-def _skew(axis: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-    """The matrix K (3, 3) of ``axis x v``: a rotation by θ about the unit ``axis`` is
-    I + sin θ K + (1 - cos θ) K² (Rodrigues)."""
-    import numpy as np
-
-    x, y, z = axis
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
-def _joint_frames(
-    tables: KinematicTables, q_motors: npt.NDArray[np.float64]
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """:func:`forward_kinematics`, joint first: rotations (nj, N, 3, 3) and translations
-    (nj, N, 3). A joint's N frames are one (3N, 3) matrix, so each step is one matrix product
-    with a constant (the joint's placement, K, K²) and a per-configuration scaling."""
-    import numpy as np
-
-    n = q_motors.shape[0]
-    nj = tables.joint_parent.shape[0]
-    moving = np.append((q_motors != 0.0).any(axis=0), False)  # index -1: no motor
-    rot = np.empty((nj, n, 3, 3))
-    pos = np.empty((nj, n, 3))
-    rot[0] = np.eye(3)
-    pos[0] = 0.0
-    for j in range(1, nj):
-        parent = int(tables.joint_parent[j])
-        r_parent = rot[parent].reshape(3 * n, 3)
-        r_j = rot[j].reshape(3 * n, 3)
-        np.matmul(r_parent, tables.joint_rotation[j], out=r_j)
-        np.add(pos[parent], (r_parent @ tables.joint_translation[j]).reshape(n, 3), out=pos[j])
-        kind, motor = tables.joint_kind[j], tables.joint_motor[j]
-        if kind != PRISMATIC and not moving[motor]:
-            continue  # a motor held at 0 for every configuration: identity motion
-        q = q_motors[:, motor]
-        if kind == REVOLUTE:
-            k = _skew(tables.joint_axis[j])
-            r_k, r_kk = (r_j @ k).reshape(n, 3, 3), (r_j @ (k @ k)).reshape(n, 3, 3)
-            rot[j] += np.sin(q)[:, None, None] * r_k
-            rot[j] += (1.0 - np.cos(q))[:, None, None] * r_kk
-        elif kind == PRISMATIC:
-            pos[j] += (r_j @ tables.joint_axis[j]).reshape(n, 3) * q[:, None]
-    return rot, pos
-
-
-def forward_kinematics(
-    tables: KinematicTables, q_motors: npt.NDArray[np.float64]
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """World placement of every model joint frame for N configurations at once.
-
-    Args:
-        tables: the model (:func:`motiontool.kinematics._pinocchio.kinematic_tables`).
-        q_motors: (N, M) float64, motor positions in ``spec.joints`` order, rad or m.
-
-    Returns:
-        (rotations (N, nj, 3, 3), translations (N, nj, 3) in m), float64 (views of joint-first
-        arrays); a free-flying root stays at the origin, upright.
-    """
-    rot, pos = _joint_frames(tables, q_motors)
-    return rot.transpose(1, 0, 2, 3), pos.transpose(1, 0, 2)
-
-
-def geometry_poses(
-    tables: KinematicTables,
-    q_motors: npt.NDArray[np.float64],
-    fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]] | None = None,
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """World orientation (N, G, 3, 3) and bounding-sphere centre (N, G, 3), m, of every
-    collision geometry, float64 (the centre is the geometry's origin for primitives).
-    ``fk``: the result of :func:`forward_kinematics` for ``q_motors``, if already computed."""
-    import numpy as np
-
-    rot, pos = _joint_frames(tables, q_motors) if fk is None else _joint_first(fk)
-    n = rot.shape[1]
-    local = tables.geom_translation + np.einsum(
-        "gij,gj->gi", tables.geom_rotation, tables.geom_center
-    )
-    count = tables.geom_joint.shape[0]
-    out_rot = np.empty((count, n, 3, 3))
-    out_center = np.empty((count, n, 3))
-    for g, j in enumerate(tables.geom_joint.tolist()):
-        r_joint = rot[j].reshape(3 * n, 3)
-        np.matmul(r_joint, tables.geom_rotation[g], out=out_rot[g].reshape(3 * n, 3))
-        np.add(pos[j], (r_joint @ local[g]).reshape(n, 3), out=out_center[g])
-    return out_rot.transpose(1, 0, 2, 3), out_center.transpose(1, 0, 2)
-
-
-def _joint_first(
-    fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """:func:`forward_kinematics`' result as :func:`_joint_frames` gives it (its own arrays,
-    where it is a view of them)."""
-    import numpy as np
-
-    rot, pos = fk
-    return np.ascontiguousarray(rot.transpose(1, 0, 2, 3)), np.ascontiguousarray(
-        pos.transpose(1, 0, 2)
-    )
-
-
-def geometry_centers(
-    tables: KinematicTables, q_motors: npt.NDArray[np.float64]
-) -> npt.NDArray[np.float64]:
-    """World centres (N, G, 3) float64, m, of the geometries' bounding spheres."""
-    return geometry_poses(tables, q_motors)[1]
-
-
 def _joint_broad_phase(
     tables: KinematicTables,
     fk: tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]],
@@ -208,7 +109,7 @@ def _joint_broad_phase(
     the configuration."""
     import numpy as np
 
-    rot, pos = _joint_first(fk)
+    rot, pos = joint_first(fk)
     n = rot.shape[1]
     groups = sorted_distinct(tables.pair_group[active])
     ja, jb = tables.group_joints[groups, 0], tables.group_joints[groups, 1]

@@ -67,7 +67,7 @@ def uncleared(
         q: (N, M) the configurations, motor positions (rad or m).
         rot, centers: world orientation (N, G, 3, 3) and bounding-sphere centre (N, G, 3), m,
             of every geometry at each configuration
-            (:func:`~motiontool.kinematics.collision.geometry_poses`).
+            (:func:`~motiontool.kinematics.batched_kinematics.geometry_poses`).
         rows, pairs: the candidates, (C,) each.
         tolerance: m, >= 0.
     """

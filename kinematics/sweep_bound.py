@@ -25,6 +25,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from motiontool.kinematics._pinocchio import PRISMATIC, KinematicTables
+from motiontool.kinematics.batched_kinematics import forward_kinematics
 
 if TYPE_CHECKING:
     import numpy as np
@@ -104,8 +105,6 @@ class _Pairs:
     ) -> npt.NDArray[np.bool_]:
         """(B, G) bool: the pairs no configuration within [lo, hi] (B, M) rad brings near."""
         import numpy as np
-
-        from motiontool.kinematics.collision import forward_kinematics
 
         tables = self.tables
         rot, pos = forward_kinematics(tables, (lo + hi) / 2.0)  # (B, nj, 3, 3), (B, nj, 3)
