@@ -146,6 +146,25 @@ def build_scene(
     spec = _load_spec(robot, dt)
     roots, floating = _robot_roots(spec, robot)
     _scale_masses(spec, mass_scale)
+    _add_surroundings(spec, roots, floating, ground, floor_friction, gravity)
+    limits = _motor_limits(robot, torque_scale, p_gain)
+    _add_motors(spec, robot.joint_names, limits.max_torque, dt)
+    scene = _compiled_scene(spec, robot, limits, substeps, roots, floating, self_collision)
+    set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg, start_xy)
+    scene.tool = None if floating else tool_frame(scene.model, scene.root_body, scene.robot_bodies)
+    return scene
+
+
+def _add_surroundings(
+    spec: MjSpec,
+    roots: Sequence[MjsBody],
+    floating: bool,
+    ground: Sequence[Ground],
+    floor_friction: float,
+    gravity: tuple[float, float, float] | None,
+) -> None:
+    """The world around the robot (see :func:`build_scene` for the arguments): gravity, the
+    floor plane (or a world's ground) and the light, and the box under a fixed-base robot."""
     if gravity is not None:
         spec.option.gravity = list(gravity)
     if not any(g.kind == "plane" for g in ground):
@@ -155,8 +174,20 @@ def build_scene(
     _add_ground(spec, ground)
     if not floating:
         _add_box(spec, roots)
-    limits = _motor_limits(robot, torque_scale, p_gain)
-    _add_motors(spec, robot.joint_names, limits.max_torque, dt)
+
+
+def _compiled_scene(
+    spec: MjSpec,
+    robot: RobotSpec,
+    limits: MotorLimits,
+    substeps: int,
+    roots: Sequence[MjsBody],
+    floating: bool,
+    self_collision: bool | None,
+) -> Scene:
+    """The scene of ``spec`` compiled, at the zero pose: self-collision as ``self_collision``
+    asks (None: as the model has it; recompiled otherwise), with the probe of the self-collision
+    pairs of the model as designed (see :func:`build_scene`)."""
     model = _compile_as_designed(spec, robot)
     scene = _scene(model, robot, limits, substeps, roots, floating)
     pairs = self_collision_pairs(spec, model, scene)
@@ -166,9 +197,7 @@ def build_scene(
         model = _compile(spec, robot)
         scene = _scene(model, robot, limits, substeps, roots, floating)
     scene.self_collision = self_collides(model, scene)
-    set_start_state(scene, StartState(start), start_joints or {}, start_yaw_deg, start_xy)
     scene.probe = probe
-    scene.tool = None if floating else tool_frame(model, scene.root_body, scene.robot_bodies)
     return scene
 
 
