@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from motiontool import exit_codes
-from motiontool.cli.color import rich_no_color
+from motiontool.cli.batch_progress import run_with_progress
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.lint_run import collect
 from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
@@ -45,9 +45,7 @@ from motiontool.motionfmt.fileio import is_folder, is_stdin, output_kind
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 
 if TYPE_CHECKING:
-    from rich.progress import Progress
-
-    from motiontool.sim.batch import BatchResult, RunResult, RunSpec
+    from motiontool.sim.batch import BatchResult, RunSpec
 
 __all__ = ["batch_command"]
 
@@ -186,26 +184,18 @@ def batch_command(
         physics=(profile, physics_step, friction, self_collision),
         world=(world, robot_node),
         sampling=(perturb or [], samples, seed, robustness, strict),
-        expect=expect or [],
-        start=start,
-        sidecar=not no_sidecar,
+        sidecar=(expect or [], start, not no_sidecar),
         rrd_dir=rrd_dir,
     )
     _make_recordings_folder(specs, outputs)
-    with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
-        batch = _run(
-            specs,
-            executor=executor,
-            jobs=jobs,
-            timeout=timeout,
-            cache=(cache_dir, no_cache, cache_max_mb),
-            ray_address=ray_address,
-            spool_dir=Path(spool),  # the runs' reports wait there, not in memory
-        )
-        batch = robust_batch(batch, robustness, seed=seed, strict=strict)
-        _write_reports(batch, profile, outputs)
-    if batch.failures:
-        raise typer.Exit(exit_codes.FINDINGS)
+    _run_and_report(
+        specs,
+        outputs,
+        profile=profile,
+        execution=(executor, jobs, timeout, ray_address),
+        cache=(cache_dir, no_cache, cache_max_mb),
+        robustness=(robustness, seed, strict),
+    )
 
 
 def _inputs(
@@ -300,9 +290,7 @@ def _plan(
     physics: tuple[Profile, float | None, float | None, bool | None],
     world: tuple[Path | None, str | None],
     sampling: tuple[list[str], int, int, int | None, bool],
-    expect: list[str],
-    start: Start | None,
-    sidecar: bool,
+    sidecar: tuple[list[str], Start | None, bool],
     rrd_dir: Path | None,
 ) -> list[RunSpec]:
     """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
@@ -311,12 +299,14 @@ def _plan(
     robot node (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
     configuration's), ``sampling`` the perturbations, the samples, the seed, ``--robustness``
     and ``--strict`` (each run's members follow the runs:
-    :func:`motiontool.cli.robustness.with_robustness`). A bad option, robot, expectation,
-    sidecar, world or physics step: exit 2 before anything runs."""
+    :func:`motiontool.cli.robustness.with_robustness`), ``sidecar`` the expectations, the start
+    and whether each motion's sidecar is read. A bad option, robot, expectation, sidecar, world
+    or physics step: exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
     from motiontool.sim.physics import physics_run_options
 
     perturb, samples, seed, robustness, strict = sampling
+    expect, start, read_sidecar = sidecar
     perturbations = [parse_perturbation(p) for p in perturb]
     profile, physics_step, friction, self_collision = physics
     options = {
@@ -333,7 +323,7 @@ def _plan(
         timesteps={f: timestep or (None if world[0] else settings[f].timestep) for f in files},
         expect=expect,
         start=start,
-        sidecar=sidecar,
+        sidecar=read_sidecar,
         roots=roots,
         rrd_dir=rrd_dir,
         perturbations=perturbations,
@@ -392,80 +382,37 @@ def _check_physics(
         )
 
 
-def _model_hash(name: str) -> str:
-    from motiontool.kinematics.robots import AUTO, load_robot
-
-    return "" if name == AUTO else load_robot(name).model_hash
-
-
-def _run(
+def _run_and_report(
     specs: list[RunSpec],
+    outputs: dict[str, Path | None],
     *,
-    executor: str,
-    jobs: int,
-    timeout: float | None,
+    profile: Profile,
+    execution: tuple[str, int, float | None, str | None],
     cache: tuple[Path | None, bool, float],
-    ray_address: str | None,
-    spool_dir: Path,
-) -> BatchResult:
-    """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
-    (a terminal only), cached (``cache``: the folder, default the user's; no cache; its size
-    limit in MB), each run's report stored in ``spool_dir`` as it ends."""
-    cache_dir, no_cache, cache_max_mb = cache
-    from motiontool.motionfmt.disk_cache import BYTES_PER_MB
-    from motiontool.sim.batch import default_cache_dir, run_batch
-    from motiontool.sim.runs import run_outputs, run_spec
-
-    failures = 0
-    with _progress_bar() as bar:
-        task = bar.add_task("batch", total=len(specs), rate=0.0, failures=0)
-
-        def progress(result: RunResult, done: int, total: int) -> None:
-            nonlocal failures
-            failures += not result.ok
-            elapsed = bar.tasks[0].elapsed or 1e-9
-            bar.update(task, completed=done, rate=done / elapsed, failures=failures)
-
-        return run_batch(
+    robustness: tuple[int | None, int, bool],
+) -> None:
+    """The batch run (:func:`~motiontool.cli.batch_progress.run_with_progress`; ``execution``:
+    the executor, jobs, timeout in s and Ray address), each run judged over its members
+    (``robustness``: --robustness, --seed, --strict;
+    :func:`motiontool.cli.robustness.robust_batch`), then its reports written
+    (:func:`_write_reports`; the runs' reports wait in a temporary folder until then, not in
+    memory); exit 1 if a run is not clean."""
+    executor, jobs, timeout, ray_address = execution
+    members, seed, strict = robustness
+    with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
+        batch = run_with_progress(
             specs,
-            run_spec,
-            model_hash=_model_hash,
             executor=executor,
             jobs=jobs,
-            timeout_s=timeout,
-            cache_dir=None if no_cache else (cache_dir or default_cache_dir()),
-            cache_max_bytes=round(cache_max_mb * BYTES_PER_MB),
+            timeout=timeout,
+            cache=cache,
             ray_address=ray_address,
-            outputs=run_outputs,
-            progress=progress,
-            spool_dir=spool_dir,
+            spool_dir=Path(spool),
         )
-
-
-def _progress_bar() -> Progress:
-    """The batch's progress bar on stderr: runs done, runs per second, runs not clean, time
-    left; shown on a terminal only, gone when the batch is over."""
-    from rich.console import Console
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeRemainingColumn,
-    )
-
-    # Colour: rich follows NO_COLOR / FORCE_COLOR itself; --no-color is the root option.
-    console = Console(stderr=True, no_color=rich_no_color())
-    return Progress(
-        TextColumn("[progress.description]{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TextColumn("{task.fields[rate]:.2f} runs/s, {task.fields[failures]} not clean"),
-        TimeRemainingColumn(),
-        console=console,
-        transient=True,
-        disable=not console.is_terminal,
-    )
+        batch = robust_batch(batch, members, seed=seed, strict=strict)
+        _write_reports(batch, profile, outputs)
+    if batch.failures:
+        raise typer.Exit(exit_codes.FINDINGS)
 
 
 def _write_reports(batch: BatchResult, profile: Profile, outputs: dict[str, Path | None]) -> None:

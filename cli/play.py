@@ -332,21 +332,61 @@ def play_command(
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
     check_robustness(robustness, files, strict, (executor, start_pose))
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
+    planned, robot, options = _plan(
+        files,
+        robot,
+        config=(config, isolated),
+        sidecar=(expect or [], start, not no_sidecar),
+        world=(world, robot_node),
+        chain=(loop, start_pose, chain),
+        playback=(timestep, reverse, hold, seed),
+        physics=(profile, physics_step, friction, self_collision),
+    )
+    result = _run(planned, robot, options, rrd=rrd, bag=bag)
+    say_bag(result, bag)
+    ensemble = robustness_of(result, planned, options, n=robustness, run=(executor, jobs, no_cache))
+    _render(result, json_path, rrd, (ensemble, strict))
+
+
+def _plan(
+    files: list[Path],
+    robot: str | None,
+    *,
+    config: tuple[Path | None, bool],
+    sidecar: tuple[list[str], Start | None, bool],
+    world: tuple[Path | None, str | None],
+    chain: tuple[list[str] | None, str | None, bool],
+    playback: tuple[int | None, bool, float, int],
+    physics: tuple[Profile, float | None, float | None, bool | None],
+) -> tuple[PlayPlan, str, PlayOptions]:
+    """The run the options describe: what to play (:func:`motiontool.sim.session.plan_play`;
+    ``sidecar``: the expectations, the start and whether the sidecar is read; ``world``: the
+    Webots world and its robot node), on which robot (``robot``, else the configuration's for
+    the first file; ``config``: --config and --isolated) and how
+    (:class:`~motiontool.sim.play.PlayOptions`; ``chain``: --loop, --start-pose and --chain;
+    ``playback``: the control step in ms (else the configuration's), --reverse, the hold in s
+    and the seed; ``physics``: the profile, physics step in ms, friction and self-collision).
+    A bad option, sidecar, world or configuration: exit 2 before anything runs."""
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.session import plan_play
 
+    expect, start, read_sidecar = sidecar
+    world_path, robot_node = world
     planned = plan_play(
         files,
-        expect=expect or [],
+        expect=expect,
         start=start,
-        sidecar=not no_sidecar,
-        world=world,
+        sidecar=read_sidecar,
+        world=world_path,
         robot_node=robot_node,
     )
-    settings = Resolver(config=config, isolated=isolated).for_file(files[0])
+    settings = Resolver(config=config[0], isolated=config[1]).for_file(files[0])
+    loop, start_pose, chained = chain
+    timestep, reverse, hold, seed = playback
+    profile, physics_step, friction, self_collision = physics
     options = PlayOptions(
         timestep_ms=timestep if timestep is not None else _config_step(settings, planned),
-        **chain_options(loop, start_pose, planned, chain=chain),
+        **chain_options(loop, start_pose, planned, chain=chained),
         reverse=reverse,
         hold_s=hold,
         seed=seed,
@@ -356,10 +396,7 @@ def play_command(
         self_collision=self_collision,
     )
     robot = robot if robot is not None else settings.robot_for(files[0])
-    result = _run(planned, robot, options, rrd=rrd, bag=bag)
-    say_bag(result, bag)
-    ensemble = robustness_of(result, planned, options, n=robustness, run=(executor, jobs, no_cache))
-    _render(result, json_path, rrd, (ensemble, strict))
+    return planned, robot, options
 
 
 def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
