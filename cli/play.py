@@ -162,10 +162,13 @@ def _self_collision(report: PlayReport) -> list[str]:
     doc = report.self_collision
     if doc is None or (doc["source"] == "robot model" and not doc["physics"]):
         return []
+    why = doc["why"]
+    if doc["source"] == "option":  # the library's words; the flag is the command line's
+        why = "--self-collision" if doc["physics"] else "--no-self-collision"
     if not doc["physics"]:
-        return [f"self-collision physics: off ({doc['why']})"]
+        return [f"self-collision physics: off ({why})"]
     return [
-        f"self-collision physics: on ({doc['why']}); {doc['touching_pairs']} pairs of bodies "
+        f"self-collision physics: on ({why}); {doc['touching_pairs']} pairs of bodies "
         f"touched, {doc['touching_s']:.2f} s in all"
     ]
 

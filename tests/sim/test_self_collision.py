@@ -150,7 +150,7 @@ def test_play_self_collision_option_and_its_report(tmp_path: Path) -> None:
     assert doc["self_collision"] == {
         "physics": False,
         "source": "option",
-        "why": "--no-self-collision",
+        "why": "turned off, whatever the world says",
         "touching_pairs": 0,
         "touching_s": 0,
     }
