@@ -76,7 +76,8 @@ def describe() -> str:
     """The ensemble in a few words, for ``--help``: ``friction 0.5..2, ..., physics step
     1/2/4 ms``."""
     ranges = ", ".join(f"{p.name} {p.low:g}..{p.high:g}" for p in ENSEMBLE)
-    return f"{ranges} (batch's perturbations), physics step {'/'.join(map(str, PHYSICS_STEPS_MS))} ms"
+    steps = "/".join(map(str, PHYSICS_STEPS_MS))
+    return f"{ranges} (batch's perturbations), physics step {steps} ms"
 
 
 def physics_steps(control_step_ms: int) -> tuple[int, ...]:
