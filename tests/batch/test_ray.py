@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import socket
@@ -9,9 +10,11 @@ import subprocess
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import pytest
 from conftest import ROOT
+from rrds import rrd_rows
 
 from motiontool.kinematics.robots import load_robot
 from motiontool.sim.batch import parse_perturbation, plan, run_batch
@@ -30,20 +33,31 @@ def _free_port() -> int:
 
 @pytest.fixture(scope="module")
 def ray_head(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    """A two-node cluster on loopback, as ``ray start`` makes one: a head and a worker node,
+    each started from a folder of its own (their workers' working folders), one CPU each."""
     ray_bin = shutil.which("ray", path=str(Path(sys.executable).parent))
     assert ray_bin, "the 'ray' command is not installed next to this Python"
     port = _free_port()
     temp = tmp_path_factory.mktemp("ray")
+    head, worker = temp / "head", temp / "worker"
+    head.mkdir()
+    worker.mkdir()
     # Hermetic: `ray start` turns token auth on when it finds ~/.ray/auth_token (left by an earlier
-    # local Ray); this head gets a home of its own, so it runs without auth like the driver.
+    # local Ray); this cluster gets a home of its own, so it runs without auth like the driver.
     env = {**os.environ, "HOME": str(temp)}
-    subprocess.run(
-        [ray_bin, "start", "--head", "--node-ip-address=127.0.0.1", f"--port={port}", "--num-cpus=2",
-         "--include-dashboard=false", "--disable-usage-stats", f"--temp-dir={temp}"],
-        check=True, capture_output=True, timeout=120, env=env,
-    )  # fmt: skip
+    address = f"127.0.0.1:{port}"
+    common = ["--node-ip-address=127.0.0.1", "--num-cpus=1", "--disable-usage-stats"]
     try:
-        yield f"127.0.0.1:{port}"
+        subprocess.run(
+            [ray_bin, "start", "--head", f"--port={port}", "--include-dashboard=false",
+             f"--temp-dir={temp}", *common],
+            check=True, capture_output=True, timeout=120, env=env, cwd=head,
+        )  # fmt: skip
+        subprocess.run(
+            [ray_bin, "start", f"--address={address}", *common],
+            check=True, capture_output=True, timeout=120, env=env, cwd=worker,
+        )  # fmt: skip
+        yield address
     finally:
         subprocess.run(
             [ray_bin, "stop", "--force"], capture_output=True, timeout=120, check=False, env=env
@@ -73,5 +87,63 @@ def test_ray_gives_the_local_results(ray_head: str) -> None:
         ray_address=ray_head,
     )
     assert [r.status for r in remote.runs] == [r.status for r in local.runs] == ["clean", "clean"]
+    for run in remote.runs:  # the worker's host stamped: the only difference
+        assert run.report is not None and run.report["stamps"].pop("host")
     assert [r.report for r in remote.runs] == [r.report for r in local.runs]  # bit for bit
     assert remote.executor == "ray"
+
+
+def _batch(cwd: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    script = Path(sys.executable).parent / "motiontool"
+    return subprocess.run(
+        [str(script), "batch", "motions/head_no.motion", "motions/bow.motion", "--isolated",
+         "--no-cache", "--rrd-dir", "rrd", "--json", "report.json", *args],
+        cwd=cwd, capture_output=True, text=True, timeout=600, check=False,
+    )  # fmt: skip
+
+
+def _runs(report: Path) -> list[dict[str, Any]]:
+    """The runs of a batch report, without what differs between executors: timings, the
+    worker's host."""
+    runs = json.loads(report.read_text())["runs"]
+    for run in runs:
+        run.pop("wall_s")
+        run["report"]["stamps"].pop("host", None)
+    return list(runs)
+
+
+@pytest.mark.slow
+def test_a_cluster_plays_relative_paths_and_returns_the_recordings(
+    ray_head: str, tmp_path: Path
+) -> None:
+    """Run from a third folder with relative paths, that neither node's workers can resolve:
+    every motion travels as bytes, and every recording comes back to the driver."""
+    drivers = {"local": tmp_path / "local", "ray": tmp_path / "ray"}
+    for folder in drivers.values():
+        (folder / "motions").mkdir(parents=True)
+        for name in ("head_no", "bow"):
+            shutil.copy(ROOT / "motions" / "nao" / f"{name}.motion", folder / "motions")
+    local = _batch(drivers["local"])
+    remote = _batch(drivers["ray"], "--executor", "ray", "--ray-address", ray_head, "-j", "2")
+    assert local.returncode == 0, local.stderr
+    assert remote.returncode == 0, remote.stdout + remote.stderr
+    for name in ("head_no.nao.0.rrd", "bow.nao.0.rrd"):
+        want = rrd_rows(drivers["local"] / "rrd" / name, skip=("/__properties",))
+        got = rrd_rows(drivers["ray"] / "rrd" / name, skip=("/__properties",))
+        assert got == want, name
+    runs = _runs(drivers["ray"] / "report.json")
+    assert [r["status"] for r in runs] == ["clean", "clean"]
+    assert runs == _runs(drivers["local"] / "report.json")
+    hosts = {json.loads((drivers["ray"] / "report.json").read_text())["runs"][0]["report"][
+        "stamps"]["host"]}  # fmt: skip
+    assert hosts == {socket.gethostname()}
+
+
+def test_an_unreachable_cluster_is_one_line(tmp_path: Path) -> None:
+    (tmp_path / "motions").mkdir()
+    shutil.copy(ROOT / "motions" / "nao" / "bow.motion", tmp_path / "motions")
+    shutil.copy(ROOT / "motions" / "nao" / "head_no.motion", tmp_path / "motions")
+    done = _batch(tmp_path, "--executor", "ray", "--ray-address", f"127.0.0.1:{_free_port()}")
+    assert done.returncode == 2
+    assert done.stderr.startswith("motiontool: error: cannot reach the Ray cluster at")
+    assert len(done.stderr.splitlines()) == 1, done.stderr
