@@ -72,3 +72,24 @@ def test_a_worker_of_another_version_refuses_the_run(tmp_path: Path) -> None:
     older = replace(parcel, versions=(("motiontool", "0.0.1"), *parcel.versions[1:]))
     with pytest.raises(MotionToolError, match=r"has motiontool \S+, the driver 0\.0\.1"):
         open_parcel(run_spec, older, store=bytes)
+
+
+def test_a_world_and_its_local_protos_travel_with_the_run(tmp_path: Path) -> None:
+    from motiontool.sim.world_run import world_run_options
+
+    tree = tmp_path / "tree"
+    shutil.copytree(ROOT / "tests" / "data" / "worlds" / "wrestling", tree / "wrestling")
+    shutil.copy(ROOT / "motions" / "nao" / "head_no.motion", tree)
+    world = tree / "wrestling" / "worlds" / "wrestling.wbt"
+    options = world_run_options(world, "participant", ["nao"])
+    (spec,) = plan([tree / "head_no.motion"], ["nao"], options=options)
+    parcel = pack(spec)
+    assert isinstance(parcel, Parcel)
+    shipped = {Path(at).name for _, at, _ in parcel.files}
+    assert {"wrestling.wbt", "WrestlingRing.proto"} <= shipped
+    want = run_spec(spec)
+    shutil.rmtree(tree)  # the worker sees only the parcel
+    got = land(open_parcel(run_spec, parcel, store=bytes), fetch=bytes)
+    got["stamps"].pop("host")
+    assert got == want
+    assert str(world) in str(got["world"])  # the driver's world, as the user named it
