@@ -106,6 +106,7 @@ def _model_sha256(robot: str) -> str | None:
     return load_robot(robot).model_hash
 
 
+@lru_cache(maxsize=1)
 def _versions() -> tuple[tuple[str, str | None], ...]:
     from motiontool.stamps import stamps
 
