@@ -194,7 +194,7 @@ class Settings:
     def _folders_of(self, path: Path) -> list[Path]:
         """The folders ``path`` is in below :attr:`root` (none outside it)."""
         try:
-            rel = path.resolve().relative_to(self.root.resolve())
+            rel = _resolved(path).relative_to(self.root.resolve())
         except ValueError:
             return []
         return [self.root / p for p in rel.parents if p != Path(".")]
@@ -204,7 +204,7 @@ class Settings:
         matches the relative path (``*`` and ``**`` cross folders), one without matches any
         folder name on the way or the file name."""
         try:
-            rel = PurePosixPath(path.resolve().relative_to(self.root.resolve()).as_posix())
+            rel = PurePosixPath(_resolved(path).relative_to(self.root.resolve()).as_posix())
         except ValueError:
             rel = PurePosixPath(path.as_posix())
         if "/" in pattern.rstrip("/"):
@@ -399,6 +399,15 @@ def _settings(path: Path, values: dict[str, Any]) -> Settings:
     )
 
 
+def _resolved(path: Path) -> Path:
+    """``path`` made absolute, its links followed; a link that comes back to itself (which
+    :meth:`Path.resolve` refuses) stays a name in its folder, resolved."""
+    try:
+        return path.resolve()
+    except (RuntimeError, OSError):  # RuntimeError: a symbolic link loop (Python < 3.13)
+        return path.parent.resolve() / path.name
+
+
 class Resolver:
     """The settings for each motion file: the closest configuration file up from it (each
     file read once), one named file (``config``), or none (``isolated``)."""
@@ -422,8 +431,9 @@ class Resolver:
             return Settings()
         if self._fixed is not None:
             return self._fixed
-        folder = Path.cwd() if str(path) == "-" else path.resolve().parent
-        return self._for_folder(folder)
+        if str(path) == "-":
+            return self._for_folder(Path.cwd())
+        return self._for_folder(_resolved(path).parent)
 
     def _for_folder(self, folder: Path) -> Settings:
         if folder in self._by_folder:

@@ -148,12 +148,14 @@ def test_what_a_search_leaves_out_is_neither_searched_nor_an_error(repo: Path) -
     git_repo(repo)
     for folder in ("build", ".cache", "generated"):
         (repo / "motions" / folder / "gone.motion").symlink_to("nowhere.motion")
+    (repo / "motions" / "build" / "loop.motion").symlink_to("loop.motion")  # to itself
     (repo / "motiontool.toml").write_text('exclude = ["motions/generated"]\n')
     code, out, err = invoke("validate", "-f", "json", "--robot", "none", "motions")
     assert (code, err) == (0, ""), err
     assert paths(out) == ["motions/a.motion"]
     code, _, err = invoke("validate", "--no-respect-gitignore", "--robot", "none", "motions")
-    assert code == 2 and "cannot read 2 entries under 'motions'" in err, (code, err)
+    assert code == 2 and "cannot read 3 entries under 'motions'" in err, (code, err)
+    assert "'motions/build/loop.motion': Too many levels of symbolic links" in err
     assert "'motions/build/gone.motion'" in err and "'motions/.cache/gone.motion'" in err
     (repo / "motions" / "sub").mkdir()  # a.motion: what motions/.gitignore keeps
     (repo / "motions" / "sub" / "a.motion").symlink_to("nowhere.motion")
