@@ -6,7 +6,10 @@ batch (a Nao motion x perturbation samples, no cache) with each executor and pri
 second and the ratios measured in the same run. Targets (issue 6): jobs 2 >= 1.7x jobs 1; Ray
 >= 0.8x the local pool at 2 jobs. Then the whole ``batch`` command with 20 and 80 samples of a
 short motion and a JSON report: the peak of the larger against the smaller (target: flat, at
-most 1.1x: the runs' reports are stored on disk as they end, not held).
+most 1.1x: the runs' reports are stored on disk as they end, not held). ``--shipping``: what a
+Ray task costs to ship as bytes (issue 40: :mod:`motiontool.sim.shipped`): packing on the
+driver, the parcel's pickled size, and a run opened from its parcel (files written to a
+temporary folder, report mapped back, recording read back) against the same run played in place.
 """
 
 from __future__ import annotations
@@ -34,9 +37,13 @@ def main() -> None:
     parser.add_argument("--samples", type=int, default=8)
     parser.add_argument("--no-ray", action="store_true")
     parser.add_argument("--memory-only", action="store_true")
+    parser.add_argument("--shipping", action="store_true")
     args = parser.parse_args()
     if args.memory_only:
         memory()
+        return
+    if args.shipping:
+        shipping(Path(args.motion))
         return
     specs = plan([args.motion], ["nao"], perturbations=[parse_perturbation("friction=0.8:1.2")],
                  samples=args.samples, seed=1)  # fmt: skip
@@ -72,6 +79,39 @@ def main() -> None:
             f"ray (local cluster), 2 in flight: {rr:.2f} runs/s  ratio {rr / r2:.2f}x local pool  (target >= 0.8)"
         )
     memory()
+
+
+def shipping(motion: Path, runs: int = 10) -> None:
+    """The per-task cost of shipping a run as bytes, with a recording (best of ``runs``)."""
+    import pickle
+
+    from motiontool.sim.shipped import land, open_parcel, pack
+
+    with tempfile.TemporaryDirectory() as tmp:
+        options = {"rrd_dir": str(Path(tmp) / "rrd"), "rrd_name": motion.stem}
+        Path(options["rrd_dir"]).mkdir()
+        (spec,) = plan([motion], ["nao"], options=options)
+        run_spec(spec)  # warm imports and the model
+        t0 = time.perf_counter()
+        for _ in range(1000):
+            parcel = pack(spec)
+        packing = (time.perf_counter() - t0) / 1000
+        in_place, shipped = [], []
+        for _ in range(runs):
+            t0 = time.perf_counter()
+            run_spec(spec)
+            in_place.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            land(open_parcel(run_spec, parcel, store=bytes), fetch=bytes)
+            shipped.append(time.perf_counter() - t0)
+        size = len(pickle.dumps(parcel))
+        rrd = sum(f.stat().st_size for f in Path(options["rrd_dir"]).iterdir())
+    overhead = min(shipped) - min(in_place)
+    print(f"shipping {motion.name}: pack {packing * 1e6:.0f} us, parcel {size} bytes pickled")
+    print(
+        f"run in place {min(in_place) * 1e3:.0f} ms, from its parcel {min(shipped) * 1e3:.0f} ms"
+        f" (+{overhead * 1e3:.1f} ms a task, recording of {rrd / 1e6:.1f} MB included)"
+    )
 
 
 def memory(counts: tuple[int, int] = (20, 80)) -> None:
