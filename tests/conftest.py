@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
+from collections.abc import Iterator
 from pathlib import Path
 from typing import NoReturn
 
@@ -105,3 +107,18 @@ def _no_colour_settings_from_the_environment(monkeypatch: pytest.MonkeyPatch) ->
     tests must not change them (the colour tests set them where they need them)."""
     monkeypatch.delenv("NO_COLOR", raising=False)
     monkeypatch.delenv("FORCE_COLOR", raising=False)
+
+
+@pytest.fixture(scope="module")
+def one_ray() -> Iterator[None]:
+    """Held while a module's tests use Ray: one Ray at a time on this machine, whatever the
+    test worker (a local ``ray.init()`` beside a ``ray start`` cluster joins it, and ``ray stop
+    --force`` stops every Ray of the user). An exclusive lock on a file, released on exit."""
+    import fcntl
+
+    with open(Path(tempfile.gettempdir()) / "motiontool-tests-ray.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)

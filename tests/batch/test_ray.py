@@ -8,6 +8,7 @@ import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -32,13 +33,15 @@ def _free_port() -> int:
 
 
 @pytest.fixture(scope="module")
-def ray_head(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+def ray_head(one_ray: None) -> Iterator[str]:
     """A two-node cluster on loopback, as ``ray start`` makes one: a head and a worker node,
-    each started from a folder of its own (their workers' working folders), one CPU each."""
+    each started from a folder of its own (their workers' working folders), one CPU each; in
+    a short folder of its own (Ray's sockets live under it, and a Unix socket's path holds at
+    most 107 bytes: pytest's temporary folders under xdist are longer)."""
     ray_bin = shutil.which("ray", path=str(Path(sys.executable).parent))
     assert ray_bin, "the 'ray' command is not installed next to this Python"
     port = _free_port()
-    temp = tmp_path_factory.mktemp("ray")
+    temp = Path(tempfile.mkdtemp(prefix="mtray"))
     head, worker = temp / "head", temp / "worker"
     head.mkdir()
     worker.mkdir()
@@ -62,6 +65,7 @@ def ray_head(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
         subprocess.run(
             [ray_bin, "stop", "--force"], capture_output=True, timeout=120, check=False, env=env
         )
+        shutil.rmtree(temp, ignore_errors=True)
 
 
 @pytest.mark.slow

@@ -203,7 +203,9 @@ def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
 
 
 @pytest.mark.slow
-def test_members_on_ray_give_the_local_verdicts(head_no: Path, tmp_path: Path) -> None:
+def test_members_on_ray_give_the_local_verdicts(
+    head_no: Path, tmp_path: Path, one_ray: None
+) -> None:
     pytest.importorskip("ray", reason="the Ray executor is an optional extra")
     docs = {}
     for executor in ("local", "ray"):
