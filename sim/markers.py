@@ -4,7 +4,7 @@ the simulator's warnings and errors, as :class:`Marker` in time order."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -56,8 +56,16 @@ class MarkerMeter:
     :func:`motiontool.sim._mujoco.run_chunks` in order, then :meth:`markers`): only the
     events and what the last frame or step was are kept."""
 
-    def __init__(self, limits: MotorLimits, opts: PlayOptions, *, floating: bool) -> None:
+    def __init__(
+        self,
+        limits: MotorLimits,
+        opts: PlayOptions,
+        *,
+        floating: bool,
+        touches: Callable[[str, str], bool] | None = None,
+    ) -> None:
         self.limits, self.opts, self.floating = limits, opts, floating
+        self.touches = touches  # Scene.touch_counts
         self._falls: tuple[list[Marker], list[Marker]] = ([], [])  # fell, upright
         self._contacts: dict[str, dict[tuple[str, str], list[Marker]]] = {
             k: {} for k in _CONTACT_WORDS
@@ -114,7 +122,7 @@ class MarkerMeter:
         come in frame order)."""
         for kind, pairs in self._contacts.items():
             level = "INFO" if kind == "ground" else "WARN"
-            for e in counted_contacts(trace, kind, self.opts):
+            for e in counted_contacts(trace, kind, self.opts, touches=self.touches):
                 key = (kind, e.body_a, e.body_b)
                 last = self._last_contact.get(key)
                 if last == e.frame:

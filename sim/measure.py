@@ -6,7 +6,7 @@ the fall and which way), the feet, each joint's tracking and time at its caps, a
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any
 
 from motiontool.motionfmt.units import MM_PER_M, MS_PER_S
@@ -260,14 +260,24 @@ class _JointMeter:
         return out
 
 
-def counted_contacts(trace: Trace, kind: str, opts: PlayOptions) -> list[ContactEvent]:
-    """The events of ``kind``; self-collisions: the probe's from the tolerance down, and every
-    contact between robot bodies that the simulation itself collides."""
+def counted_contacts(
+    trace: Trace,
+    kind: str,
+    opts: PlayOptions,
+    *,
+    touches: Callable[[str, str], bool] | None = None,
+) -> list[ContactEvent]:
+    """The events of ``kind``; self-collisions: the probe's from the tolerance down, and the
+    contacts between robot bodies that the simulation itself collides which ``touches``
+    counts (:meth:`Scene.touch_counts`; None: every one)."""
     if kind != "self":
         return [e for e in trace.events if e.kind == kind]
     floor = opts.collision_tolerance_mm / MM_PER_M
     return [
-        e for e in trace.events if e.kind == "touch" or (e.kind == "self" and e.depth_m >= floor)
+        e
+        for e in trace.events
+        if (e.kind == "touch" and (touches is None or touches(e.body_a, e.body_b)))
+        or (e.kind == "self" and e.depth_m >= floor)
     ]
 
 
@@ -275,15 +285,15 @@ class _ContactMeter:
     """One summary per pair of bodies and kind of contact: first frame, frames seen (as a
     duration), deepest (:class:`ContactSummary`)."""
 
-    def __init__(self, opts: PlayOptions) -> None:
-        self.opts = opts
+    def __init__(self, opts: PlayOptions, touches: Callable[[str, str], bool]) -> None:
+        self.opts, self.touches = opts, touches
         self.pairs: dict[str, dict[tuple[str, str], list[Any]]] = {
             k: {} for k in (*CONTACT_KINDS, "touch")
         }
 
     def add(self, trace: Trace) -> None:
         for kind, pairs in self.pairs.items():
-            for e in counted_contacts(trace, kind, self.opts):
+            for e in counted_contacts(trace, kind, self.opts, touches=self.touches):
                 seen = pairs.get((e.body_a, e.body_b))
                 if seen is None:
                     pairs[(e.body_a, e.body_b)] = [e.frame, e.frame, 1, max(0.0, e.depth_m)]
@@ -322,7 +332,7 @@ class RunMeter:
         self._joints = _JointMeter(scene)
         self._base = _BaseMeter(opts) if scene.floating else None
         self._feet = _FeetMeter()
-        self._contacts = _ContactMeter(opts)
+        self._contacts = _ContactMeter(opts, scene.touch_counts)
         self._last: Trace | None = None
 
     def add(self, chunk: Trace) -> None:

@@ -140,7 +140,11 @@ def play(
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
-        events = MarkerMeter(scene.limits, opts, floating=scene.floating) if recorder else None
+        events = (
+            MarkerMeter(scene.limits, opts, floating=scene.floating, touches=scene.touch_counts)
+            if recorder
+            else None
+        )
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
         _simulate(scene, stream, (*takers, elements), record=recorder is not None)
         report = _report(meter, elements.files(), loaded, physics, all_stamps, stream.ignored)

@@ -197,6 +197,7 @@ def _compiled_scene(
         model = _compile(spec, robot)
         scene = _scene(model, robot, limits, substeps, roots, floating)
     scene.self_collision = self_collides(model, scene)
+    scene.touch_fails = self_collision is None  # the model's own: see Scene.touch_fails
     scene.probe = probe
     return scene
 

@@ -64,6 +64,11 @@ class Scene:
             while a body has exactly one child).
         self_collision: whether the robot's parts collide with each other in the simulation
             (self-collision physics).
+        touch_fails: whether every touch between the robot's parts is a self-collision that
+            fails the run: where the robot's model collides its parts (the UR5e: an arm that
+            touches itself has crashed). Where a world or an option asked for the physics of a
+            robot whose model does not (the Nao in the wrestling world), only a touch between
+            two limbs is (:meth:`touch_counts`).
     """
 
     model: MjModel
@@ -84,7 +89,9 @@ class Scene:
     probe: tuple[MjModel, MjData] | None = None
     tool: tuple[str, str, int] | None = None
     self_collision: bool = False
+    touch_fails: bool = True
     _names: dict[int, str] = field(default_factory=dict)
+    _limb_of: dict[str, str] = field(default_factory=dict)
 
     @property
     def physics_step_s(self) -> float:
@@ -93,6 +100,18 @@ class Scene:
     @property
     def control_step_s(self) -> float:
         return float(self.model.opt.timestep) * self.control_substeps
+
+    def touch_counts(self, body_a: str, body_b: str) -> bool:
+        """Whether a touch between robot bodies ``body_a`` and ``body_b`` (names) is a
+        self-collision: always where :attr:`touch_fails`; else only between two limbs (a hand's
+        fingers and its palm, a foot's sensor and its sole are one limb and touch as in
+        Webots; an arm on the torso, one foot on the other are two)."""
+        if self.touch_fails:
+            return True
+        if not self._limb_of:
+            for body, limb in zip(self.robot_bodies.tolist(), self.body_limbs, strict=True):
+                self._limb_of[self.body_name(int(body))] = limb.replace("Hand", "Arm")
+        return self._limb_of.get(body_a, body_a) != self._limb_of.get(body_b, body_b)
 
     def body_name(self, body: int) -> str:
         if body not in self._names:

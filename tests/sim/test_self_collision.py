@@ -79,6 +79,23 @@ def _pairs_that_can_collide(scene: _mujoco.Scene) -> set[tuple[str, str]]:
     return out
 
 
+def test_a_touch_within_one_limb_fails_only_where_the_model_collides_its_parts() -> None:
+    """The Nao in a world that turns self-collision on: its fingers touch its palm and its
+    foot sensors its soles as in Webots (not a self-collision), an arm on the torso or one foot
+    on the other is one; the UR5e's model collides its parts, and every touch counts."""
+    nao = _mujoco.build_scene(resolve_robot("nao", []), 20, self_collision=True)
+    assert not nao.touch_fails
+    assert not nao.touch_counts("r_hand", "r_phalanx3")  # a fist: fingertips on the palm
+    assert not nao.touch_counts("r_phalanx1", "r_phalanx8")
+    assert not nao.touch_counts("RFsr", "r_ankle")
+    assert nao.touch_counts("l_forearm", "torso")
+    assert nao.touch_counts("LFsr", "RFsr")
+    assert nao.touch_counts("l_phalanx2", "r_phalanx2")  # the two hands
+    arm = _mujoco.build_scene(resolve_robot("ur5e", []), 8)
+    assert arm.self_collision and arm.touch_fails
+    assert arm.touch_counts("wrist_1_link", "wrist_3_link")
+
+
 def test_solids_joined_by_a_joint_never_collide() -> None:
     # Webots' rule (Robot.selfCollision): no collision between two solids attached by a
     # joint, nor along a chain of joints sharing an anchor (the model's helper frames without
