@@ -140,11 +140,7 @@ def play(
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
-        events = (
-            MarkerMeter(scene.limits, opts, floating=scene.floating, touches=scene.touch_counts)
-            if recorder
-            else None
-        )
+        events = _markers(scene, opts) if recorder else None
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
         _simulate(scene, stream, (*takers, elements), record=recorder is not None)
         report = _report(meter, elements.files(), loaded, physics, all_stamps, stream.ignored)
@@ -154,6 +150,11 @@ def play(
         if recorder is not None and events is not None:
             recorder.finish(events.markers(report.files), report.end_effector)
     return report
+
+
+def _markers(scene: Scene, opts: PlayOptions) -> MarkerMeter:
+    """The recording's event markers of a run, its self-collisions counted as the run's."""
+    return MarkerMeter(scene.limits, opts, floating=scene.floating, touches=scene.touch_counts)
 
 
 def _setup(
