@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from motiontool.cli.options import output_path
+from motiontool.cli.options import output_option
 from motiontool.cli.output import emit, refuse_overwrite, say_wrote
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
@@ -39,16 +39,7 @@ def _robot(path: Path) -> RobotSpec | None:
     return pick_robot(AUTO, result.joints)
 
 
-_Output = Annotated[
-    Path | None,
-    typer.Option(
-        "--output",
-        "-o",
-        parser=output_path,
-        metavar="PATH",
-        help="Write the motions.toml here (default: stdout).",
-    ),
-]
+_Output = Annotated[Path | None, output_option("Write the motions.toml here (default: stdout).")]
 
 
 def expect_command(

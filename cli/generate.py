@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.options import output_path
+from motiontool.cli.options import output_option
 from motiontool.cli.output import emit, say_wrote, written_motion
 from motiontool.kinematics.robots import RobotSpec, load_robot
 from motiontool.kinematics.ur5e_tasks import ROBOT, Task, generate, peak_speeds
@@ -49,13 +49,9 @@ def generate_command(
     ],
     output: Annotated[
         Path | None,
-        typer.Option(
-            "--output",
-            "-o",
-            parser=output_path,
-            metavar="PATH",
-            help="Write the motion file here (atomically); without it the motion goes to "
-            "stdout and the report to stderr.",
+        output_option(
+            "Write the motion file here (atomically); without it the motion goes to "
+            "stdout and the report to stderr."
         ),
     ] = None,
 ) -> None:

@@ -42,6 +42,7 @@ __all__ = [
     "Timestep",
     "error_line",
     "finite",
+    "output_option",
     "output_path",
     "robot_option",
     "timestep_option",
@@ -142,25 +143,21 @@ FormatOption = Annotated[
 TextOrJsonOption = Annotated[
     TextOrJson, typer.Option("--format", "-f", help="Text for people or json for CI.")
 ]
+
+
+def output_option(help: str, **more: Any) -> Any:
+    """``--output`` / ``-o``: a file to write (parsed by :func:`output_path`), ``help`` saying
+    what goes there; ``more``: other keywords of :func:`typer.Option`."""
+    return typer.Option("--output", "-o", parser=output_path, metavar="PATH", help=help, **more)
+
+
 Output = Annotated[
     Path | None,
-    typer.Option(
-        "--output",
-        "-o",
-        parser=output_path,
-        metavar="PATH",
-        help="Write the result here ('-': stdout). Never the input file, unless --in-place.",
-    ),
+    output_option("Write the result here ('-': stdout). Never the input file, unless --in-place."),
 ]
 ReportOutput = Annotated[
     Path | None,
-    typer.Option(
-        "--output",
-        "-o",
-        parser=output_path,
-        metavar="PATH",
-        help="Write the report to this file instead of stdout (never over an input file).",
-    ),
+    output_option("Write the report to this file instead of stdout (never over an input file)."),
 ]
 InPlace = Annotated[bool, typer.Option("--in-place", help="Replace the input file (atomically).")]
 

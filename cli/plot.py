@@ -11,7 +11,7 @@ import typer
 from motiontool.cli.options import (
     ROBOT_OPTION,
     MotionFile,
-    output_path,
+    output_option,
     robot_option,
     timestep_option,
 )
@@ -32,17 +32,7 @@ __all__ = ["plot_command"]
 _DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
 
 
-_Output = Annotated[
-    Path,
-    typer.Option(
-        "--output",
-        "-o",
-        parser=output_path,
-        metavar="PATH",
-        help="The PNG file to write ('-': stdout).",
-        show_default=False,
-    ),
-]
+_Output = Annotated[Path, output_option("The PNG file to write ('-': stdout).", show_default=False)]
 _Robot = Annotated[
     str, robot_option("Robot whose limits are drawn", none="no limits (as auto finding none)")
 ]

@@ -15,7 +15,7 @@ from typing import Annotated
 
 import typer
 
-from motiontool.cli.options import MAX_COUNT, MAX_ROWS, MotionFile, output_path, timestep_option
+from motiontool.cli.options import MAX_COUNT, MAX_ROWS, MotionFile, output_option, timestep_option
 from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.sample_text import csv_header, csv_rows, json_document
 from motiontool.cli.text import plural
@@ -85,14 +85,7 @@ def _chunks(
 
 
 _Output = Annotated[
-    Path | None,
-    typer.Option(
-        "--output",
-        "-o",
-        parser=output_path,
-        metavar="PATH",
-        help="Write to this file instead of stdout (never over the input).",
-    ),
+    Path | None, output_option("Write to this file instead of stdout (never over the input).")
 ]
 
 
