@@ -454,7 +454,7 @@ MAX_MODULE_LINES = 500
 MAX_FUNCTION_LINES = 60
 
 #: What is still over the limits: ``path`` for a module, ``path::function`` for a function. An
-#: entry that stays for good is named in README's Architecture section with the reason; the
+#: entry that stays for good is named in docs/architecture.md with the reason; the
 #: others go as their splits land (an entry whose file or function is gone or small may go).
 OVERSIZED: set[str] = set()  # none: every split has landed (issue 16)
 
