@@ -11,7 +11,7 @@ import typer
 
 from motiontool import exit_codes
 from motiontool.cli.batch_progress import run_with_progress
-from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.lint_run import collect
 from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
 from motiontool.cli.output import (
@@ -30,6 +30,7 @@ from motiontool.cli.physics_options import (
     RobotNodeOption,
     SelfCollisionOption,
     WorldOption,
+    chosen_world,
 )
 from motiontool.cli.robustness import (
     RobustnessOption,
@@ -320,7 +321,7 @@ def _plan(
         files,
         robots,
         options=options,
-        timesteps={f: timestep or (None if world[0] else settings[f].timestep) for f in files},
+        timesteps={f: timestep or _config_step(world[0], settings[f]) for f in files},
         expect=expect,
         start=start,
         sidecar=read_sidecar,
@@ -331,14 +332,26 @@ def _plan(
         seed=seed,
     )
     _check_physics(specs, profile, physics_step, friction)
-    in_world = _in_world(specs, *world)
+    in_world = _in_world(specs, *world, {str(f): s for f, s in settings.items()})
     perturbed = bool(perturb) or samples > 1
     return with_robustness(in_world, robustness, seed=seed, perturbed=perturbed, strict=strict)
 
 
-def _in_world(specs: list[RunSpec], world: Path | None, robot_node: str | None) -> list[RunSpec]:
+def _config_step(world: Path | None, settings: Settings) -> int | None:
+    """The configuration's control step (ms); None in --world or the configuration's world,
+    whose basicTimeStep wins."""
+    return None if world or settings.world else settings.timestep
+
+
+def _in_world(
+    specs: list[RunSpec],
+    world: Path | None,
+    robot_node: str | None,
+    settings: dict[str, Settings],
+) -> list[RunSpec]:
     """``specs`` with their world's options (in their cache key): --world, else the sidecar's
-    world; a world without a robot node for a run's robot: exit 2 before anything runs."""
+    world, else the configuration's (``settings``: each file's, by its path); a world without a
+    robot node for a run's robot: exit 2 before anything runs."""
     from dataclasses import replace
 
     from motiontool.kinematics.robots import AUTO
@@ -349,9 +362,8 @@ def _in_world(specs: list[RunSpec], world: Path | None, robot_node: str | None) 
     out = []
     for spec in specs:
         options = dict(spec.options)
-        path, node = (
-            (world, robot_node) if world else (options.get("world"), options.get("robot_node"))
-        )
+        in_sidecar = options.get("world"), options.get("robot_node")
+        path, node = chosen_world((world, robot_node), in_sidecar, settings[spec.path])
         if path is None or spec.robot == AUTO:
             out.append(spec)
             continue

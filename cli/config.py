@@ -25,7 +25,9 @@ Keys (``cli/schemas/config.schema.json`` is their JSON Schema, shipped in the pa
 - ``respect-gitignore``: folder searches leave out what ``.gitignore`` files ignore, and
   hidden folders (default true);
 - ``max-findings``: findings shown at most (the summary still counts every one);
-- ``group``: consecutive per-pose findings of one code and joint as one finding (default true).
+- ``group``: consecutive per-pose findings of one code and joint as one finding (default true);
+- ``world``, ``robot-node``: the Webots world ``play`` and ``batch`` play in (a path from the
+  file's folder) and its robot node, where neither the command line nor ``motions.toml`` names one.
 
 A key that does not exist or a value of the wrong type is one error naming the file, the line
 and the key, with a did-you-mean.
@@ -154,6 +156,8 @@ class Settings:
     respect_gitignore: bool = True
     max_findings: int | None = None
     group: bool = True
+    world: Path | None = None
+    robot_node: str | None = None
 
     def robot_for(self, path: Path) -> str:
         """The robot for ``path``: the first ``robots`` glob that matches it, else ``robot``."""
@@ -223,6 +227,8 @@ class Settings:
                 value = {k: list(v) if isinstance(v, tuple) else v for k, v in value}
             elif isinstance(value, tuple):
                 value = list(value)
+            elif isinstance(value, Path):
+                value = str(value)
             out[f.name.replace("_", "-")] = value
         return out
 
@@ -266,6 +272,8 @@ KEYS: dict[str, tuple[Any, str]] = {
         "a whole number >= 1",
     ),
     "group": (lambda v: isinstance(v, bool), "true or false"),
+    "world": (lambda v: isinstance(v, str) and v != "", "a Webots world file (a path, string)"),
+    "robot-node": (lambda v: isinstance(v, str) and v != "", "a robot node's name or DEF"),
 }
 """Every configuration key, with the check of its value and what that value must be."""
 
@@ -337,7 +345,24 @@ def load_settings(path: Path) -> Settings | None:
         if bad is not None:
             raise ConfigError(f"{path}:{_line_of(text, key, name)}: '{key}': {bad}")
         values[key.replace("-", "_")] = value
+    if "world" in values or "robot_node" in values:
+        values["world"] = _world_file(path, text, name, values)
     return _settings(path, values)
+
+
+def _world_file(path: Path, text: str, table: str | None, values: dict[str, Any]) -> Path:
+    """The file ``world`` names (from the folder of ``path``, the configuration file).
+
+    Raises:
+        ConfigError: ``robot-node`` without ``world``, or a world that is no file."""
+    if "world" not in values:
+        line = _line_of(text, "robot-node", table)
+        raise ConfigError(f"{path}:{line}: 'robot-node' names a node of 'world': set world too")
+    found: Path = path.resolve().parent / values["world"]
+    if not found.is_file():
+        line = _line_of(text, "world", table)
+        raise ConfigError(f"{path}:{line}: 'world': no such file '{values['world']}' ({found})")
+    return found
 
 
 def _did_you_mean(word: str, choices: Iterable[str]) -> str:
@@ -396,6 +421,8 @@ def _settings(path: Path, values: dict[str, Any]) -> Settings:
         respect_gitignore=values.get("respect_gitignore", True),
         max_findings=values.get("max_findings"),
         group=values.get("group", True),
+        world=values.get("world"),
+        robot_node=values.get("robot_node"),
     )
 
 

@@ -7,11 +7,14 @@ from __future__ import annotations
 
 import enum
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from motiontool.cli.options import finite
+
+if TYPE_CHECKING:
+    from motiontool.cli.config import Settings
 
 __all__ = [
     "FrictionOption",
@@ -21,6 +24,7 @@ __all__ = [
     "RobotNodeOption",
     "SelfCollisionOption",
     "WorldOption",
+    "chosen_world",
 ]
 
 
@@ -91,3 +95,17 @@ SelfCollisionOption = Annotated[
         show_default=False,
     ),
 ]
+
+
+def chosen_world(
+    given: tuple[Path | None, str | None],
+    sidecar: tuple[Path | None, str | None],
+    settings: Settings,
+) -> tuple[Path | None, str | None]:
+    """The world a motion plays in, with its robot node: ``--world`` (``given``), else its
+    ``motions.toml`` entry's (``sidecar``), else the configuration's ``world`` (``settings``;
+    none with ``--isolated``); (None, None): no world."""
+    for world, node in (given, sidecar, (settings.world, settings.robot_node)):
+        if world is not None:
+            return world, node
+    return None, None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -32,6 +33,7 @@ from motiontool.cli.physics_options import (
     RobotNodeOption,
     SelfCollisionOption,
     WorldOption,
+    chosen_world,
 )
 from motiontool.cli.play_bag import BagOption, check_bag, say_bag
 from motiontool.cli.progress import progress
@@ -384,6 +386,9 @@ def _plan(
         robot_node=robot_node,
     )
     settings = Resolver(config=config[0], isolated=config[1]).for_file(files[0])
+    in_sidecar = (planned.motion.world, planned.motion.robot_node)
+    world_path, robot_node = chosen_world((world_path, robot_node), in_sidecar, settings)
+    planned = replace(planned, world=world_path, robot_node=robot_node)  # or the configuration's
     loop, start_pose, chained = chain
     timestep, reverse, hold, seed = playback
     profile, physics_step, friction, self_collision = physics
@@ -403,11 +408,10 @@ def _plan(
 
 
 def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
-    """The configuration's control step, ms; None in a world (--world, the sidecar's), whose
-    basicTimeStep wins (the configuration's stands for the robot's usual world; -t wins over
-    both)."""
-    in_world = planned.world is not None or planned.motion.world is not None
-    return None if in_world else settings.timestep
+    """The configuration's control step, ms; None in a world (--world, the sidecar's, the
+    configuration's), whose basicTimeStep wins (the configuration's step stands for the robot's
+    usual world; -t wins over both)."""
+    return None if planned.world is not None else settings.timestep
 
 
 def _run(
