@@ -60,7 +60,7 @@ ProfileOption = Annotated[
     typer.Option(
         "--profile",
         help="default (friction 1, 2 ms) or webots (Webots' friction 7 and physics step = the"
-        " control step; not what makes walks match: see README, Fidelity). --friction and"
+        " control step; not what makes walks match: see docs/play.md, Fidelity). --friction and"
         " --physics-step override it.",
     ),
 ]

@@ -25,7 +25,7 @@ def server_command(
     type (with the project's configuration, the closest to each file), hover on a cell (joint,
     time, value, limits) and the fixes of ``validate --fix`` as code actions.
 
-    Editors start it themselves (README: Neovim, VS Code, Helix); it needs
+    Editors start it themselves (docs/editor.md: Neovim, VS Code, Helix); it needs
     ``pip install 'motiontool[lsp]'``.
     """
     require("pygls", "lsp", "motiontool server")

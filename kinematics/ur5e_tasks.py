@@ -209,7 +209,7 @@ def sorting_plan(items: Sequence[str] = ITEMS) -> list[Waypoint]:
 
 def sorting_expectations(items: Sequence[str] = ITEMS) -> list[str]:
     """Where the sorting task must reach each pick and place, as expectations of its play
-    report (README, "Expectations"): the pick within 1 mm (the default reach tolerance) before
+    report (docs/play.md, "Expectations"): the pick within 1 mm (the default reach tolerance) before
     the grasp pause ends, and at the end of each pause the tool within
     :data:`REACH_TOLERANCE_MM` of the keyframe's forward kinematics and of the stated target
     (:func:`sorting_spots`, world frame, m)."""

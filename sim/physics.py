@@ -2,7 +2,7 @@
 
 MuJoCo is not ODE: the numbers of the Webots Nao worlds (floor ``coulombFriction`` 7, physics
 at the 20 ms ``basicTimeStep``) make the Webots walks fall in MuJoCo, while μ = 1 and a 2 ms
-step make them walk as their names say (README, *Fidelity*; ``dev/fidelity_sweep.py`` measures
+step make them walk as their names say (docs/play.md, *Fidelity*; ``dev/fidelity_sweep.py`` measures
 it). So the ``default`` profile is μ = 1 and 2 ms; ``webots`` takes Webots' numbers, for
 comparison only, and every report made with it says so (:data:`WEBOTS_PROFILE_NOTE`).
 
@@ -53,7 +53,7 @@ WEBOTS_FRICTION = 7.0
 WEBOTS_PROFILE_NOTE = (
     "profile webots uses Webots' floor friction (7) and physics step (= the control step); "
     "this is not what makes walks match Webots: MuJoCo's contacts are not ODE's, and with "
-    "these numbers the Webots walks fall (README, Fidelity)"
+    "these numbers the Webots walks fall (docs/play.md, Fidelity)"
 )
 """The line a report made with ``--profile webots`` carries when it ran with Webots' numbers
 (:func:`profile_note` says what ran when ``--friction`` / ``--physics-step`` override them)."""
@@ -252,7 +252,7 @@ def profile_note(
         )
     return (
         f"profile webots, overridden: this run used {' and '.join(parts)}, so it is not a run "
-        "with Webots' numbers; how friction and step change the walks: README, Fidelity"
+        "with Webots' numbers; how friction and step change the walks: docs/play.md, Fidelity"
     )
 
 

@@ -17,7 +17,7 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "physics": {"timestep_ms", "friction",                     # as the compiled model has them
                   "profile" ("default"|"webots"),
                   "profile_note"},                               # webots only: not what makes
-                                                                 #   walks match (README); with
+                                                                 #   walks match (docs/play.md); with
                                                                  #   --friction / --physics-step:
                                                                  #   what ran instead
       "world": null | {"path", "version",                        # play --world FILE.wbt

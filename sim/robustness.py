@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 DEFAULT_MEMBERS = 8
-"""The ensemble size the README and ``--help`` suggest (``--robustness 8``)."""
+"""The ensemble size docs/play.md and ``--help`` suggest (``--robustness 8``)."""
 
 ENSEMBLE: tuple[Perturbation, ...] = (
     Perturbation("friction", 0.5, 2.0),

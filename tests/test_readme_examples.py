@@ -1,4 +1,5 @@
-"""The README's examples run as written from a fresh clone (issue 17 item 8): every motion file
+"""The examples of README and docs/ run as written from a fresh clone (issue 17 item 8, issue 38
+item 5: the reference moved to docs/, its examples still tested): every motion file
 a ``motiontool`` example reads is in the repository, a transcript (``$ motiontool ...`` and what
 follows) is what the command prints, and the library example runs."""
 
@@ -20,6 +21,15 @@ from typer.testing import CliRunner
 from motiontool.cli.app import app
 
 README = ROOT / "README.md"
+
+DOCUMENTS = (README, *sorted((ROOT / "docs").glob("*.md")))
+"""README and every page of docs/: their examples are held to the same tests."""
+
+
+def documents() -> list[tuple[str, str]]:
+    """(name relative to the repository, text) of README and each page of docs/."""
+    return [(str(p.relative_to(ROOT)), p.read_text(encoding="utf-8")) for p in DOCUMENTS]
+
 
 PLACEHOLDERS: frozenset[str] = frozenset()
 """Motion files README's examples name that are not in the repository on purpose, each declared
@@ -133,13 +143,14 @@ def test_the_extraction_finds_the_examples() -> None:
 
 def test_every_motion_file_an_example_reads_is_in_the_repository() -> None:
     missing = []
-    for example in examples(README.read_text(encoding="utf-8")):
-        for name in motion_inputs(example):
-            if name in PLACEHOLDERS:
-                continue
-            found = list(example.cwd.glob(name)) if "*" in name else [example.cwd / name]
-            if not found or not all(path.is_file() for path in found):
-                missing.append(f"README.md:{example.line}: {name} (from {example.cwd})")
+    for document, text in documents():
+        for example in examples(text):
+            for name in motion_inputs(example):
+                if name in PLACEHOLDERS:
+                    continue
+                found = list(example.cwd.glob(name)) if "*" in name else [example.cwd / name]
+                if not found or not all(path.is_file() for path in found):
+                    missing.append(f"{document}:{example.line}: {name} (from {example.cwd})")
     assert missing == [], "files that are not in the repository:\n" + "\n".join(missing)
 
 
@@ -161,13 +172,16 @@ def transcripts(text: str) -> list[tuple[Example, str]]:
 
 
 def test_every_transcript_is_what_the_command_prints(monkeypatch: pytest.MonkeyPatch) -> None:
-    found = transcripts(README.read_text(encoding="utf-8"))
-    assert found
-    for example, printed in found:
+    found = [(name, *t) for name, text in documents() for t in transcripts(text)]
+    assert {name for name, *_ in found} >= {"README.md", "docs/commands.md"}
+    for name, example, printed in found:
         monkeypatch.chdir(example.cwd)
         args = list(example.tokens[example.tokens.index("motiontool") + 1 :])
         result = CliRunner().invoke(app, args)
-        assert result.output == printed, f"README.md:{example.line}"
+        assert result.output == printed, f"{name}:{example.line}"
+
+
+LIBRARY = ROOT / "docs" / "library.md"
 
 
 def test_the_library_example_runs_from_the_repository_root(
@@ -175,11 +189,11 @@ def test_the_library_example_runs_from_the_repository_root(
 ) -> None:
     (code,) = [
         "\n".join(b.lines)
-        for b in blocks(README.read_text(encoding="utf-8"))
+        for b in blocks(LIBRARY.read_text(encoding="utf-8"))
         if b.info == "python" and "from motiontool" in "\n".join(b.lines)
     ]
     monkeypatch.chdir(ROOT)
-    exec(compile(code, str(README), "exec"), {})  # README's own example
+    exec(compile(code, str(LIBRARY), "exec"), {})  # the page's own example
 
 
 def _shell_commands(block: Block) -> list[tuple[int, list[str]]]:
@@ -265,21 +279,27 @@ QUICK = frozenset(
 take seconds to minutes each: they are parsed, and run by their own tests)."""
 
 
-def _shell_blocks() -> list[Block]:
-    return [
-        b for b in blocks(README.read_text(encoding="utf-8")) if b.info in {"sh", "bash", "shell"}
-    ]
+def _shell_blocks(text: str | None = None) -> list[Block]:
+    """The shell blocks of ``text`` (default: README)."""
+    text = README.read_text(encoding="utf-8") if text is None else text
+    return [b for b in blocks(text) if b.info in {"sh", "bash", "shell"}]
 
 
 def test_every_command_line_of_a_shell_block_parses_as_written() -> None:
     """Issue 36 item 22: a line of a copyable block runs as written (no ``[--x]``, no
     ``json|sarif``, no option that does not exist); synopsis lives in ``text`` blocks."""
     bad = []
-    lines = [(b, n, a) for b in _shell_blocks() for n, a in _shell_commands(b)]
+    lines = [
+        (name, n, a)
+        for name, text in documents()
+        for b in _shell_blocks(text)
+        for n, a in _shell_commands(b)
+    ]
     assert len(lines) >= 55
-    for _block, number, args in lines:
+    assert len([line for line in lines if line[0] == "README.md"]) >= 45
+    for name, number, args in lines:
         if (why := _parse(args)) is not None:
-            bad.append(f"README.md:{number}: {why}")
+            bad.append(f"{name}:{number}: {why}")
     assert bad == [], "\n".join(bad)
 
 

@@ -246,7 +246,7 @@ def test_the_goal_names_the_controller_the_robots_driver_starts(tmp_path: Path) 
     assert _run(WAVE, tmp_path / "w.trajectory.yaml")[0] == 0
     text = (tmp_path / "w.trajectory.yaml").read_text()
     assert "# ros2 action send_goal /joint_trajectory_controller/follow_joint_trajectory" in text
-    readme = (ROOT / "README.md").read_text()
+    readme = (ROOT / "docs" / "interchange.md").read_text()
     assert (
         "ros2 action send_goal /scaled_joint_trajectory_controller/follow_joint_trajectory"
         in readme

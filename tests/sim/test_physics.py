@@ -91,7 +91,7 @@ def test_the_webots_profile_uses_webots_numbers_and_says_it_is_not_what_matches(
             {"friction": 1.0},
             "profile webots, overridden: this run used floor friction 1 (1 given; Webots' is 7)"
             " and physics step 20 ms (= the control step, Webots'), so it is not a run with"
-            " Webots' numbers; how friction and step change the walks: README, Fidelity",
+            " Webots' numbers; how friction and step change the walks: docs/play.md, Fidelity",
         ),
         ({"physics_step_ms": 2.0}, "floor friction 7 (Webots') and physics step 2 ms"),
         ({"friction_scale": 0.5}, "floor friction 3.5 (Webots' 7 x 0.5 by the friction pert"),
