@@ -325,7 +325,7 @@ def test_built_wheel_contains_every_subpackage(built: dict[str, Any], tmp_path: 
     assert proc.stdout.splitlines()[1].startswith("motiontool ")
 
 
-#: What each library package must not import (STYLE.md: motionfmt <- kinematics, sim <- cli;
+#: What each library package must not import (docs/architecture.md: motionfmt <- kinematics, sim <- cli;
 #: nothing imports cli), counting imports inside functions too.
 _FORBIDDEN = {
     "motionfmt": ("motiontool.cli", "motiontool.kinematics", "motiontool.sim"),
@@ -448,7 +448,7 @@ def test_no_function_is_written_twice_in_a_package(package: str) -> None:
 
 
 #: Issue 16: no module of the four packages over 500 lines, no function over 60 (a longer one
-#: holds several concepts: STYLE.md, "Sizes"). A function is counted from its ``def`` to its
+#: holds several concepts: docs/architecture.md). A function is counted from its ``def`` to its
 #: last line, docstring included.
 MAX_MODULE_LINES = 500
 MAX_FUNCTION_LINES = 60
