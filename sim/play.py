@@ -148,7 +148,7 @@ def play(
         report.self_collision = _self_collision_doc(scene, opts, world, meter)
         report.end_effector = None if tool is None else tool.stats()
         if recorder is not None and events is not None:
-            recorder.finish(events.markers(report.files), report.end_effector)
+            recorder.finish(events.markers(report.files), report.end_effector, report.world)
     return report
 
 

@@ -23,7 +23,9 @@ output at the end (:class:`RunRecorder`). Layout of a recording:
   (static ``Points3D``);
 - ``/events``: falls, collisions, limit hits, motion starts and simulator warnings
   (``TextLog``, level INFO / WARN / ERROR);
-- a blueprint: the 3D view, the event log and one tab of joint plots per limb;
+- a run in a Webots world: ``/webots_world``, what was applied of it and what was not
+  (:mod:`motiontool.sim.recording_world`);
+- a blueprint: the 3D view, the event log (and the world) and one tab of joint plots per limb;
 - recording properties ``stamps`` (tool and library versions, model hash, time steps, seed).
 
 Read one back with ``rerun.chunk.RrdReader(path).stream().collect()`` (see the tests).
@@ -44,6 +46,7 @@ from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write, open_output
 from motiontool.sim.recording_paths import Thinned, thin
 from motiontool.sim.recording_shapes import log_shapes
+from motiontool.sim.recording_world import WORLD_ENTITY, log_world
 
 if TYPE_CHECKING:
     import numpy as np
@@ -225,10 +228,15 @@ class RunRecorder:
             self._start_s = float(chunk.time_s[0])
         self._last = chunk
 
-    def finish(self, markers: Sequence[Marker], end_effector: EndEffectorStats | None) -> None:
+    def finish(
+        self,
+        markers: Sequence[Marker],
+        end_effector: EndEffectorStats | None,
+        world: Mapping[str, object] | None = None,
+    ) -> None:
         """Log what is known at the end of the run (the limits over its time, the root body's
-        path, the tool's keyframes and path, the events, the blueprint) and write the
-        recording to ``path``."""
+        path, the tool's keyframes and path, the events, the report's ``world``, the
+        blueprint) and write the recording to ``path``."""
         import rerun as rr
 
         assert self._start_s is not None and self._last is not None, "a run has a chunk at least"
@@ -246,10 +254,12 @@ class RunRecorder:
             _log_tool(rec, end_effector)
         if markers:
             _log_events(rec, markers)
+        if world is not None:
+            log_world(rec, world)
         limbs: dict[str, list[str]] = {}
         for limb, base in zip(self.joint_limbs, self._entities, strict=True):
             limbs.setdefault(limb, []).append(base)
-        rec.send_blueprint(_blueprint(limbs))
+        rec.send_blueprint(_blueprint(limbs, world=world is not None))
         try:
             rec.flush()
         except RuntimeError as exc:  # the file sink stopped: a full or unwritable disk
@@ -408,9 +418,14 @@ def _log_events(rec: rerun.RecordingStream, markers: Sequence[Marker]) -> None:
     )
 
 
-def _blueprint(limbs: Mapping[str, Sequence[str]]) -> rerun.blueprint.Blueprint:
-    """The 3D view and the event log beside one tab of joint plots per limb."""
+def _blueprint(limbs: Mapping[str, Sequence[str]], *, world: bool) -> rerun.blueprint.Blueprint:
+    """The 3D view and the event log (in a tab beside the ``world`` document) beside one tab
+    of joint plots per limb."""
     import rerun.blueprint as rrb
+
+    events: rrb.View | rrb.Tabs = rrb.TextLogView(origin="/events", name="events")
+    if world:
+        events = rrb.Tabs(events, rrb.TextDocumentView(origin=WORLD_ENTITY, name="world"))
 
     plots = [
         rrb.Grid(
@@ -423,7 +438,7 @@ def _blueprint(limbs: Mapping[str, Sequence[str]]) -> rerun.blueprint.Blueprint:
         rrb.Horizontal(
             rrb.Vertical(
                 rrb.Spatial3DView(origin="/world", name="robot"),
-                rrb.TextLogView(origin="/events", name="events"),
+                events,
                 row_shares=[3, 1],
             ),
             rrb.Tabs(*plots) if plots else rrb.TextLogView(origin="/events"),

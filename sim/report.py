@@ -20,7 +20,7 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
                                                                  #   walks match (docs/play.md); with
                                                                  #   --friction / --physics-step:
                                                                  #   what ran instead
-      "world": null | {"path", "version",                        # play --world FILE.wbt
+      "world": null | {"path", "sha256", "version",              # play --world FILE.wbt
                 "robot_node": {"name", "def", "type"},           # the node that played
                 "applied": [{"field", "value", "unit", "applied_as"}],
                 "not_applied": [{"field", "value", "unit", "reason"}],

@@ -112,8 +112,9 @@ class WorldRun:
         friction_given: bool,
         self_collision_given: bool = False,
     ) -> dict[str, Any]:
-        """The report's ``world`` object: the file, the robot node, each field applied (with
-        its value and unit) and each field or node not applied (with why)."""
+        """The report's ``world`` object: the file and the sha256 of its bytes, the robot node,
+        each field applied (with its value and unit) and each field or node not applied (with
+        why)."""
         world, robot = self.world, self.world.robot
         said = _Said()
         step = world.basic_time_step_ms
@@ -147,6 +148,7 @@ class WorldRun:
             )
         return {
             "path": world.path,
+            "sha256": hashlib.sha256(Path(world.path).read_bytes()).hexdigest(),
             "version": world.version,
             "robot_node": {"name": robot.name, "def": robot.def_name, "type": robot.type},
             "applied": said.done,
