@@ -20,6 +20,7 @@ from motiontool.cli.text import file_name, plural
 from motiontool.extras import require
 from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.fileio import is_stdout, read_file, source_name
+from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.stamps import stamps
 
@@ -29,8 +30,6 @@ if TYPE_CHECKING:
 
 __all__ = ["plot_command"]
 
-_DEFAULT_TIMESTEP_MS = 20  # without a robot: the Webots Nao worlds' step
-
 
 _Output = Annotated[Path, output_option("The PNG file to write ('-': stdout).", show_default=False)]
 _Robot = Annotated[
@@ -39,7 +38,8 @@ _Robot = Annotated[
 _Timestep = Annotated[
     int | None,
     timestep_option(
-        "the robot's, else 20", use="held targets ('*' spans, dotted) are drawn at its steps"
+        f"the robot's, else Webots' {WEBOTS_DEFAULT_TIMESTEP_MS}",
+        use="held targets ('*' spans, dotted) are drawn at its steps",
     ),
 ]
 
@@ -63,7 +63,7 @@ def plot_command(
     require("matplotlib", "plot", "motiontool plot")
     motion = read_bytes(read_file(path), source_name(path)).motion
     spec = pick_robot(robot, motion.joints)
-    step = timestep or (spec.default_timestep_ms if spec else _DEFAULT_TIMESTEP_MS)
+    step = timestep or (spec.default_timestep_ms if spec else WEBOTS_DEFAULT_TIMESTEP_MS)
     names = tuple(dict.fromkeys(motion.joints))
     groups = limb_groups(
         motion.joints, spec.name if spec else None, spec.joint_names if spec else ()

@@ -24,7 +24,12 @@ from motiontool.motionfmt import read_file
 from motiontool.motionfmt.clock import clock_overflow
 from motiontool.motionfmt.fileio import STDOUT, open_output, source_name
 from motiontool.motionfmt.motion import Motion
-from motiontool.motionfmt.player import iter_commands, iter_elapsed, step_count
+from motiontool.motionfmt.player import (
+    WEBOTS_DEFAULT_TIMESTEP_MS,
+    iter_commands,
+    iter_elapsed,
+    step_count,
+)
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 __all__ = ["CHUNK_CELLS", "SampleFormat", "sample_command"]
@@ -92,8 +97,12 @@ _Output = Annotated[
 def sample_command(
     path: MotionFile,
     timestep: Annotated[
-        int, timestep_option("20, the Webots Nao worlds'; the UR5e's is 8", use="one row per step")
-    ] = 20,
+        int,
+        timestep_option(
+            f"Webots' {WEBOTS_DEFAULT_TIMESTEP_MS}; the Nao's worlds 20, the UR5e's 8",
+            use="one row per step",
+        ),
+    ] = WEBOTS_DEFAULT_TIMESTEP_MS,
     format: Annotated[
         SampleFormat,
         typer.Option(

@@ -22,6 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.kinematics.robot_spec import JointSpec, RobotSpec
+from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
 
 __all__ = [
     "BUILTIN_ROBOTS",
@@ -77,8 +78,8 @@ motors, :func:`motiontool.kinematics.robots.detect_robot` picks the first (``nao
 _BY_NAME = {robot.name: robot for robot in BUILTIN_ROBOTS}
 _MODELS_DIR = Path(__file__).resolve().parent / "models"
 
-DEFAULT_TIMESTEP_MS = 32
-"""Webots' WorldInfo default basicTimeStep (ms), for robots whose model names no Webots world."""
+DEFAULT_TIMESTEP_MS = WEBOTS_DEFAULT_TIMESTEP_MS
+"""The step of robots whose model names no Webots world: Webots' default (ms)."""
 
 
 def models_dir() -> Path:

@@ -38,6 +38,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "MAX_HELD_STEPS",
+    "WEBOTS_DEFAULT_TIMESTEP_MS",
     "CommandStream",
     "Held",
     "Holder",
@@ -173,6 +174,11 @@ def iter_elapsed(
             done += n
             elapsed = wrap_int(elapsed + n * step)
 
+
+WEBOTS_DEFAULT_TIMESTEP_MS = 32
+"""Webots' default ``basicTimeStep`` (WorldInfo), ms: the controller step where neither a robot's
+world nor ``timestep`` says one (sampling, plotting or exporting without a robot, a URDF or
+``example-robot-data`` robot). The one home of this fact."""
 
 MAX_HELD_STEPS = 2_000_000
 """Most controller steps (or grid poses) held whole in memory: 11 h at the Nao's 20 ms step,

@@ -203,3 +203,30 @@ def test_the_held_target_carry_has_one_home() -> None:
         and {k.arg for k in node.keywords} & {"initial", "holding"}
     ]
     assert not stray, "use motiontool.motionfmt.player.Holder:\n" + "\n".join(stray)
+
+
+def test_the_step_without_a_robot_has_one_home() -> None:
+    """Issue 38 item 4: sampling, plotting and exporting without a robot, and a robot whose model
+    names no Webots world, all step at Webots' default ``basicTimeStep``: one constant."""
+    import inspect
+
+    from motiontool.cli.plot import plot_command
+    from motiontool.cli.sample import sample_command
+    from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
+    from motiontool.motionfmt.convert.base import ExportOptions
+    from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
+
+    assert WEBOTS_DEFAULT_TIMESTEP_MS == 32  # Webots' WorldInfo default
+    assert DEFAULT_TIMESTEP_MS == ExportOptions().timestep_ms == WEBOTS_DEFAULT_TIMESTEP_MS
+    assert inspect.signature(sample_command).parameters["timestep"].default == 32
+    assert "WEBOTS_DEFAULT_TIMESTEP_MS)" in inspect.getsource(plot_command)
+    spelt = [
+        f"{rel}:{node.lineno}"
+        for rel, tree in sources()
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if isinstance(target, ast.Name) and "TIMESTEP_MS" in target.id
+        if isinstance(node.value, ast.Constant)
+    ]
+    assert [s.split(":")[0] for s in spelt] == ["motionfmt/player.py"], spelt

@@ -12,6 +12,8 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
+
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
@@ -79,7 +81,7 @@ class ExportOptions:
         topic: the ``sensor_msgs/JointState`` topic of a ROS 2 bag.
     """
 
-    timestep_ms: int = 32
+    timestep_ms: int = WEBOTS_DEFAULT_TIMESTEP_MS
     source: str = "<motion>"
     robot: str | None = None
     joint_order: tuple[str, ...] | None = None
