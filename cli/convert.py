@@ -382,11 +382,15 @@ def convert_command(
     imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
     spec = _robot(robot, fmt_out, imported.motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
+    # The robot a format drives (nao-v5 for NAOqi) says which joints one motor drives there,
+    # whichever robot the export is checked against.
+    real = resolve_robot(fmt_out.default_robot) if fmt_out.default_robot else spec
     options = ExportOptions(
         timestep_ms=step,
         source=source_name(source),
         robot=None if spec is None else spec.name,
         joint_order=None if spec is None else spec.joint_names,
+        coupled_joints=() if real is None else real.coupled_joints,
         lead_in_ms=lead_in,
         keyframes=keyframes,
         target_name=_target_name(target, send_script),

@@ -69,6 +69,9 @@ class ExportOptions:
             metadata), or None: unchecked, which a format with a place for it says
             (:func:`robot_check`).
         joint_order: the robot's motors in its own order (a UR arm's six joints), or None.
+        coupled_joints: the robot's (leader, follower) pairs that one motor drives on the real
+            robot (``nao-v5``'s two HipYawPitch), from its robot facts: NAOqi names the
+            follower by its leader.
         lead_in_ms: time to reach the first pose before the motion starts, ms (NAOqi).
         keyframes: one move per keyframe instead of the stream at every step (URScript).
         target_name: the output file as its companion script opens it: its path from the
@@ -85,6 +88,7 @@ class ExportOptions:
     source: str = "<motion>"
     robot: str | None = None
     joint_order: tuple[str, ...] | None = None
+    coupled_joints: tuple[tuple[str, str], ...] = ()
     lead_in_ms: int = DEFAULT_LEAD_IN_MS
     keyframes: bool = False
     target_name: str | None = None

@@ -26,7 +26,7 @@ become ``LHand`` (``RPhalanx1..8``: ``RHand``) and ``RHipYawPitch`` follows ``LH
 from __future__ import annotations
 
 import json
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
@@ -51,10 +51,18 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["NAOQI_NAMES", "write_naoqi"]
+__all__ = ["naoqi_names", "write_naoqi"]
 
-#: Webots motor -> the NAOqi joint that moves it on the real robot (others keep their name).
-NAOQI_NAMES: dict[str, str] = {**NAO_HANDS, "RHipYawPitch": "LHipYawPitch"}
+
+def naoqi_names(coupled_joints: Sequence[tuple[str, str]]) -> dict[str, str]:
+    """Webots motor -> the NAOqi joint that moves it on the real robot (others keep their
+    name): a follower of ``coupled_joints`` (the robot's (leader, follower) pairs one motor
+    drives, ``nao-v5``'s ``RHipYawPitch`` after ``LHipYawPitch``) is its leader, and a hand's
+    phalanges are its one joint (:data:`NAO_HANDS`)."""
+    return {
+        **{follower: NAO_HANDS.get(leader, leader) for leader, follower in coupled_joints},
+        **NAO_HANDS,
+    }
 
 
 def _keys(t_s: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> list[Key]:
@@ -78,7 +86,7 @@ def _keys(t_s: npt.NDArray[np.float64], q: npt.NDArray[np.float64]) -> list[Key]
 
 
 def _corners(
-    motors: tuple[str, ...], chunks: Callable[[], Iterator[StreamChunk]]
+    motors: tuple[str, ...], chunks: Callable[[], Iterator[StreamChunk]], names: dict[str, str]
 ) -> tuple[dict[str, int], list[Corners]]:
     """The keys of every motor's held targets from its first command on (:class:`Corners`),
     and NAOqi name -> the motor that drives it (the first of the motion's motors that maps to
@@ -92,7 +100,7 @@ def _corners(
             found.add(elapsed[live], targets[live, k])
     chosen: dict[str, int] = {}
     for k, motor in enumerate(motors):
-        name = NAOQI_NAMES.get(motor, motor)
+        name = names.get(motor, motor)
         if name not in chosen and corners[k].count:
             chosen[name] = k
     return chosen, corners
@@ -114,19 +122,20 @@ def _deviation(
     chunks: Callable[[], Iterator[StreamChunk]],
     curves: dict[str, tuple[list[float], list[Key]]],
     lead_in: int,
+    names: dict[str, str],
 ) -> Deviation:
     """Worst |NAOqi model - Webots' held target| over every step where a motor holds one, the
     stream read a chunk at a time (per motor the first of its worst, then the motors in
     order)."""
     import numpy as np
 
-    compared_motors = [k for k, m in enumerate(motors) if NAOQI_NAMES.get(m, m) in curves]
+    compared_motors = [k for k, m in enumerate(motors) if names.get(m, m) in curves]
     worst_by_motor = {k: WorstError() for k in compared_motors}  # each motor's first worst
     compared, row = 0, 0
     for elapsed, targets in chunks():
         model = _model(curves, elapsed, lead_in)
         for k in compared_motors:
-            got, want = model[NAOQI_NAMES.get(motors[k], motors[k])], targets[:, k]
+            got, want = model[names.get(motors[k], motors[k])], targets[:, k]
             mask = ~np.isnan(want) & ~np.isnan(got)
             compared += int(mask.sum())
             err = np.where(mask, np.abs(got - want), 0.0)
@@ -151,7 +160,8 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
             f"the lead-in must be > 0 ms (NAOqi times are), got {options.lead_in_ms}"
         )
     motors, chunks = held_chunks(motion, options.timestep_ms)
-    columns, corners = _corners(motors, chunks)
+    renamed = naoqi_names(options.coupled_joints)
+    columns, corners = _corners(motors, chunks, renamed)
     if not columns:
         raise MotionToolError("no joint of the motion is ever commanded: nothing to send")
     curves: dict[str, tuple[list[float], list[Key]]] = {}
@@ -160,7 +170,7 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
         t_s = (at_ms.astype(np.float64) + options.lead_in_ms) / MS_PER_S
         curves[name] = ([float(x) for x in t_s], _keys(t_s, values))
     names = list(curves)
-    deviation = _deviation(motors, chunks, curves, options.lead_in_ms)
+    deviation = _deviation(motors, chunks, curves, options.lead_in_ms, renamed)
     times, keys = [c[0] for c in curves.values()], [c[1] for c in curves.values()]
     doc = _document(options, names, times, keys, deviation)
     data = (json.dumps(doc, indent=1) + "\n").encode("utf-8", "surrogateescape")

@@ -22,19 +22,32 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 from motiontool.kinematics import detect_robot
+from motiontool.kinematics.builtin_robots import builtin
 from motiontool.motionfmt import read_bytes
 from motiontool.motionfmt.convert.base import ExportOptions
 from motiontool.motionfmt.convert.held import held_stream
-from motiontool.motionfmt.convert.naoqi import NAOQI_NAMES, write_naoqi
+from motiontool.motionfmt.convert.naoqi import naoqi_names, write_naoqi
 from motiontool.motionfmt.convert.naoqi_curve import curve_at
 from motiontool.motionfmt.motion import Motion
 
 NAO_FILES = sorted((ROOT / "motions" / "nao").glob("*.motion"))
 ROUNDING = 1e-12  # rad: what floating-point evaluation of a straight line may leave
+COUPLED = builtin("nao-v5").coupled_joints  # what convert --to naoqi passes (its robot's facts)
+NAOQI_NAMES = naoqi_names(COUPLED)
+
+
+def test_naoqi_names_come_from_the_robot_facts() -> None:
+    """Issue 38 item 4: the hip the real NAO drives with one motor is read from nao-v5.json's
+    coupled joints, not spelt again; the hands are NAOqi's one joint each."""
+    assert NAOQI_NAMES["RHipYawPitch"] == "LHipYawPitch"
+    assert NAOQI_NAMES["LPhalanx1"] == NAOQI_NAMES["LPhalanx8"] == "LHand"
+    assert "LHipYawPitch" not in NAOQI_NAMES
+    assert "RHipYawPitch" not in naoqi_names(())  # another robot: no coupling assumed
 
 
 def _export(motion: Motion, lead_in_ms: int = 1000) -> tuple[dict[str, Any], Any]:
-    out = write_naoqi(motion, ExportOptions(timestep_ms=20, lead_in_ms=lead_in_ms))
+    options = ExportOptions(timestep_ms=20, lead_in_ms=lead_in_ms, coupled_joints=COUPLED)
+    out = write_naoqi(motion, options)
     return json.loads(out.data), out
 
 
