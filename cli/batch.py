@@ -32,6 +32,7 @@ from motiontool.cli.physics_options import (
     WorldOption,
     chosen_world,
 )
+from motiontool.cli.ray_options import RayRuntimeEnvOption
 from motiontool.cli.robustness import (
     RobustnessOption,
     StrictOption,
@@ -75,7 +76,17 @@ _Robots = Annotated[
         more="Repeat to run every file on several robots.",
     ),
 ]
-_Jobs = Annotated[int, typer.Option("--jobs", "-j", min=1, max=MAX_COUNT, help="Runs in parallel.")]
+_Jobs = Annotated[
+    int | None,
+    typer.Option(
+        "--jobs",
+        "-j",
+        min=1,
+        max=MAX_COUNT,
+        help="Runs in parallel (default: 2; on Ray, the cluster's CPUs, at most this).",
+        show_default=False,
+    ),
+]
 _Executor = Annotated[
     str,
     typer.Option("--executor", help=" or ".join(f"{e.name} ({e.summary})" for e in REGISTRY) + "."),
@@ -140,9 +151,10 @@ _CacheMaxMb = Annotated[
 def batch_command(
     paths: _Paths,
     robot: _Robots = None,
-    jobs: _Jobs = 2,
+    jobs: _Jobs = None,
     executor: _Executor = "local",
     ray_address: _RayAddress = None,
+    ray_runtime_env: RayRuntimeEnvOption = None,
     timeout: _Timeout = None,
     perturb: _Perturb = None,
     samples: _Samples = 1,
@@ -173,7 +185,7 @@ def batch_command(
     clean (fell, collided, simulator warning, an expectation not met, error, crash or
     timeout)."""
     resolver = Resolver(config=config, isolated=isolated)
-    files = _inputs(paths, resolver, executor=executor, ray_address=ray_address)
+    files = _inputs(paths, resolver, executor=executor, ray=(ray_address, ray_runtime_env))
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
     _check_outputs(files, outputs, cache_dir=cache_dir, executor=executor)
     specs = _plan(
@@ -188,22 +200,25 @@ def batch_command(
         sidecar=(expect or [], start, not no_sidecar),
         rrd_dir=rrd_dir,
     )
-    _make_recordings_folder(specs, outputs)
     _run_and_report(
         specs,
         outputs,
         profile=profile,
-        execution=(executor, jobs, timeout, ray_address),
+        execution=(executor, jobs, timeout, (ray_address, ray_runtime_env)),
         cache=(cache_dir, no_cache, cache_max_mb),
         robustness=(robustness, seed, strict),
     )
 
 
 def _inputs(
-    paths: list[Path], resolver: Resolver, *, executor: str, ray_address: str | None
+    paths: list[Path],
+    resolver: Resolver,
+    *,
+    executor: str,
+    ray: tuple[str | None, dict[str, object] | None],
 ) -> list[Path]:
-    """The motion files to play; an executor that does not exist, ``-`` or --ray-address
-    with an executor that takes no cluster address: exit 2 before anything runs."""
+    """The motion files to play; an executor that does not exist, ``-`` or --ray-address (or
+    --ray-runtime-env) with an executor that takes no cluster: exit 2 before anything runs."""
     if executor not in EXECUTORS:
         raise typer.BadParameter(
             f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
@@ -216,11 +231,12 @@ def _inputs(
             os.close(os.open(f, os.O_RDONLY | os.O_NONBLOCK))
         except OSError as exc:
             raise MotionToolError(f"cannot read '{f}': {exc.strerror or exc}") from exc
-    if ray_address is not None and not executor_info(executor).takes_address:
-        takes = " or ".join(e.name for e in REGISTRY if e.takes_address)
-        raise MotionToolError(
-            f"--ray-address names a cluster: use it with --executor {takes}, not {executor}"
-        )
+    for option, given in zip(("--ray-address", "--ray-runtime-env"), ray, strict=True):
+        if given is not None and not executor_info(executor).takes_address:
+            takes = " or ".join(e.name for e in REGISTRY if e.takes_address)
+            raise MotionToolError(
+                f"{option} is for a cluster: use it with --executor {takes}, not {executor}"
+            )
     return files
 
 
@@ -399,18 +415,21 @@ def _run_and_report(
     outputs: dict[str, Path | None],
     *,
     profile: Profile,
-    execution: tuple[str, int, float | None, str | None],
+    execution: tuple[str, int | None, float | None, tuple[str | None, dict[str, object] | None]],
     cache: tuple[Path | None, bool, float],
     robustness: tuple[int | None, int, bool],
 ) -> None:
-    """The batch run (:func:`~motiontool.cli.batch_progress.run_with_progress`; ``execution``:
-    the executor, jobs, timeout in s and Ray address), each run judged over its members
+    """The recordings' folder made (:func:`_make_recordings_folder`), the batch run
+    (:func:`~motiontool.cli.batch_progress.run_with_progress`; ``execution``: the executor,
+    jobs (None: its default), timeout in s, and the Ray address and runtime environment), each
+    run judged over its members
     (``robustness``: --robustness, --seed, --strict;
     :func:`motiontool.cli.robustness.robust_batch`), then its reports written
     (:func:`_write_reports`; the runs' reports wait in a temporary folder until then, not in
     memory); exit 1 if a run is not clean."""
-    executor, jobs, timeout, ray_address = execution
+    executor, jobs, timeout, ray = execution
     members, seed, strict = robustness
+    _make_recordings_folder(specs, outputs)
     with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
         batch = run_with_progress(
             specs,
@@ -418,7 +437,7 @@ def _run_and_report(
             jobs=jobs,
             timeout=timeout,
             cache=cache,
-            ray_address=ray_address,
+            ray=ray,
             spool_dir=Path(spool),
         )
         batch = robust_batch(batch, members, seed=seed, strict=strict)

@@ -16,7 +16,14 @@ from motiontool.errors import MotionToolError
 if TYPE_CHECKING:
     from motiontool.sim.session import PlayPlan
 
-__all__ = ["ChainOption", "LoopOption", "StartPoseOption", "chain_options", "loop_counts"]
+__all__ = [
+    "ChainOption",
+    "LoopOption",
+    "StartPoseOption",
+    "chain_options",
+    "loop_counts",
+    "start_pose_options",
+]
 
 LoopOption = Annotated[
     list[str] | None,
@@ -100,20 +107,25 @@ def chain_options(
 ) -> dict[str, Any]:
     """The :class:`~motiontool.sim.play.PlayOptions` of the run ``planned``: ``loops``,
     ``chain`` (``--chain``, or a sidecar's ``after``), ``chain_loops``, ``start_pose`` and its
-    joints (read here: a bad pose fails before the run, ``--start-pose X: ...``)."""
-    from motiontool.sim.chain import start_pose as read_start_pose
-
+    joints (:func:`start_pose_options`)."""
     chain = chain or bool(planned.motion.before)
     names = [str(f) for f in planned.files]
     loops, chain_loops = loop_counts(loop or [], names, chain=chain)
-    try:
-        joints = () if start_pose is None else read_start_pose(start_pose)
-    except MotionToolError as exc:
-        raise MotionToolError(str(exc).replace("start pose ", "--start-pose ", 1)) from None
     return {
         "loops": loops,
         "chain": chain,
         "chain_loops": chain_loops,
-        "start_pose": start_pose,
-        "start_pose_joints": joints,
+        **start_pose_options(start_pose),
     }
+
+
+def start_pose_options(start_pose: str | None) -> dict[str, Any]:
+    """The :class:`~motiontool.sim.play.PlayOptions` of ``--start-pose``: ``start_pose`` and
+    its joints (read here: a bad pose fails before the run, ``--start-pose X: ...``)."""
+    from motiontool.sim.chain import start_pose as read_start_pose
+
+    try:
+        joints = () if start_pose is None else read_start_pose(start_pose)
+    except MotionToolError as exc:
+        raise MotionToolError(str(exc).replace("start pose ", "--start-pose ", 1)) from None
+    return {"start_pose": start_pose, "start_pose_joints": joints}

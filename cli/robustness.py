@@ -29,6 +29,7 @@ __all__ = [
     "NoCacheOption",
     "RobustnessOption",
     "StrictOption",
+    "check_ensemble",
     "check_robustness",
     "robust_batch",
     "robust_json",
@@ -78,6 +79,18 @@ def check_robustness(
     """``--robustness`` replays one motion file from the zero stance or a lying start (``run``:
     the executor, which must exist, and ``--start-pose``, which members do not take yet);
     ``--strict`` needs it: exit 2 before the run."""
+    check_ensemble(n, strict, run)
+    if n is not None and (len(files) != 1 or is_stdin(files[0])):
+        raise MotionToolError(
+            "--robustness replays one motion file (not standard input): play one file, or "
+            "use batch --robustness"
+        )
+
+
+def check_ensemble(n: int | None, strict: bool, run: tuple[str, str | None]) -> None:
+    """What ``play`` and ``expect`` check of ``--robustness``: the executor exists (``run``:
+    it and ``--start-pose``, which members do not take yet), ``--strict`` needs it: exit 2
+    before the run."""
     executor, start_pose = run
     if executor not in EXECUTORS:
         raise typer.BadParameter(
@@ -85,11 +98,6 @@ def check_robustness(
         )
     if strict and n is None:
         raise MotionToolError("--strict fails on a fragile verdict: pass --robustness N")
-    if n is not None and (len(files) != 1 or is_stdin(files[0])):
-        raise MotionToolError(
-            "--robustness replays one motion file (not standard input): play one file, or "
-            "use batch --robustness"
-        )
     if n is not None and start_pose is not None:
         raise MotionToolError(
             "--robustness replays a run from the zero stance or --start lying-*, not from "

@@ -102,7 +102,9 @@ class Inference:
 
     ``needs_start``: a stand-up whose name does not say front or back (the start is then to be
     found by playing the motion, or set by the reviewer). ``after``: the motion played before
-    it, a chain (:func:`propose_chains`).
+    it, a chain (:func:`propose_chains`). ``details``: comment lines under its section (the
+    members of an ensemble that disagree); ``fragile``: a decision played over an ensemble did
+    not hold (:mod:`motiontool.sim.infer_start`).
     """
 
     name: str
@@ -111,6 +113,8 @@ class Inference:
     notes: list[str] = field(default_factory=list)
     needs_start: bool = False
     after: str | None = None
+    details: list[str] = field(default_factory=list)
+    fragile: bool = False
 
 
 def words(name: str) -> list[str]:
@@ -270,16 +274,26 @@ def _toml_key(name: str) -> str:
     return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else json.dumps(name, ensure_ascii=False)
 
 
-def render_toml(inferences: Sequence[Inference]) -> str:
-    """The inferences as a ``motions.toml`` (:mod:`motiontool.sim.sidecar`) to review."""
+def render_toml(
+    inferences: Sequence[Inference],
+    *,
+    world: str | None = None,
+    robot_node: str | None = None,
+    header: Sequence[str] = (),
+) -> str:
+    """The inferences as a ``motions.toml`` (:mod:`motiontool.sim.sidecar`) to review: each
+    played in ``world`` (a path from the sidecar's folder) by its ``robot_node`` when given;
+    ``header``: more comment lines for the top (how the motions were played)."""
     lines = [
         "# motions.toml: expectations proposed from the motion names by `motiontool expect",
         "# --infer`. REVIEW EVERY LINE before you commit it: a name is not a measurement",
         "# (Webots' TurnLeft10 turns about 32 deg). Syntax: README, 'Expectations'.",
+        *(f"# {line}" for line in header),
     ]
     for inf in inferences:
         lines.append("")
         lines.append(f"[{_toml_key(inf.name)}]  # {'; '.join(inf.notes)}")
+        lines += [f"# {line}" for line in inf.details]
         lines.append(
             "expect = [" + ", ".join(json.dumps(e, ensure_ascii=False) for e in inf.expect) + "]"
         )
@@ -287,4 +301,8 @@ def render_toml(inferences: Sequence[Inference]) -> str:
             lines.append(f'start = "{inf.start}"')
         if inf.after is not None:
             lines.append(f"after = {json.dumps(inf.after, ensure_ascii=False)}")
+        if world is not None:
+            lines.append(f"world = {json.dumps(world, ensure_ascii=False)}")
+        if robot_node is not None:
+            lines.append(f"robot-node = {json.dumps(robot_node, ensure_ascii=False)}")
     return "\n".join(lines) + "\n"
