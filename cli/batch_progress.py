@@ -6,6 +6,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from motiontool.cli.color import rich_no_color
+from motiontool.cli.output import emit_stderr
+from motiontool.cli.text import plural
+from motiontool.errors import MotionToolError
 
 if TYPE_CHECKING:
     from pathlib import Path
@@ -13,8 +16,9 @@ if TYPE_CHECKING:
     from rich.progress import Progress
 
     from motiontool.sim.batch import BatchResult, RunResult, RunSpec
+    from motiontool.sim.executor import Parallelism
 
-__all__ = ["run_with_progress"]
+__all__ = ["in_flight", "run_with_progress"]
 
 
 def _model_hash(name: str) -> str:
@@ -27,15 +31,56 @@ def run_with_progress(
     specs: list[RunSpec],
     *,
     executor: str,
+    jobs: int | None,
+    timeout: float | None,
+    cache: tuple[Path | None, bool, float],
+    ray: tuple[str | None, dict[str, object] | None],
+    spool_dir: Path,
+) -> BatchResult:
+    """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
+    (a terminal only), cached (``cache``: the folder, default the user's; no cache; its size
+    limit in MB), each run's report stored in ``spool_dir`` as it ends; ``ray``: the cluster's
+    address and runtime environment. On a cluster, the runs in flight (its CPUs, at most
+    ``jobs``) are said in one line on stderr; a cluster that cannot play the batch at all (its
+    workers cannot import motiontool) stops it with one line, exit 2."""
+    from motiontool.sim.executor import ClusterSetupError, session
+
+    try:
+        with session(executor, jobs, address=ray[0], runtime_env=ray[1]) as parallel:
+            if parallel.cpus is not None:
+                emit_stderr(f"motiontool: {executor}: {in_flight(parallel)}\n")
+            return _run(specs, executor, parallel.in_flight, timeout, cache, ray[0], spool_dir)
+    except ClusterSetupError as exc:
+        if not exc.remedy:
+            raise
+        raise MotionToolError(
+            f"{exc.problem}: install motiontool[sim] in the cluster's image or pass"
+            " --ray-runtime-env (docs/ray.md)"
+        ) from None
+
+
+def in_flight(parallel: Parallelism) -> str:
+    """``4 runs in flight (the cluster's 4 CPUs)``: how many runs a cluster plays at once, and
+    why."""
+    runs = plural(parallel.in_flight, "run")
+    cpus = plural(parallel.cpus or 0, "CPU")
+    if parallel.asked is None:
+        return f"{runs} in flight (the cluster's {cpus})"
+    if parallel.asked <= parallel.in_flight:
+        return f"{runs} in flight (--jobs {parallel.asked}; the cluster has {cpus})"
+    return f"{runs} in flight (the cluster's {cpus}; --jobs {parallel.asked} is more)"
+
+
+def _run(
+    specs: list[RunSpec],
+    executor: str,
     jobs: int,
     timeout: float | None,
     cache: tuple[Path | None, bool, float],
     ray_address: str | None,
     spool_dir: Path,
 ) -> BatchResult:
-    """Run the batch (:func:`motiontool.sim.batch.run_batch`) under a progress bar on stderr
-    (a terminal only), cached (``cache``: the folder, default the user's; no cache; its size
-    limit in MB), each run's report stored in ``spool_dir`` as it ends."""
+    """The batch run under the progress bar."""
     cache_dir, no_cache, cache_max_mb = cache
     from motiontool.motionfmt.disk_cache import BYTES_PER_MB
     from motiontool.sim.batch import default_cache_dir, run_batch

@@ -5,21 +5,32 @@ Ray is an optional extra (``pip install 'motiontool[ray]'``). Each run is one Ra
 reported as ``timeout``; a task whose worker dies is reported as ``crashed``. A batch run travels
 as bytes (:mod:`motiontool.sim.shipped`): packed when it is sent, so the driver holds only the
 runs in flight; its recordings come back through Ray's object store, fetched and written one at
-a time. With no ``jobs``, the cluster's CPUs are the runs in flight. Ray ships its own
-types (``py.typed``): the module is imported directly (lazily), so mypy checks every call.
+a time. The runs in flight are the cluster's CPUs, at most ``jobs`` (:func:`ray_session`). A
+worker that cannot import motiontool stops the batch with one line (:func:`_setup_error`). Ray
+ships its own types (``py.typed``): the module is imported directly (lazily), so mypy checks
+every call.
 """
 
 from __future__ import annotations
 
+import re
 import time
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from functools import partial
 from typing import TYPE_CHECKING, Never, TypeVar
 
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.extras import require
-from motiontool.sim.executor import Outcome, Status, call_runner, error_reason
-from motiontool.sim.shipped import land, open_parcel, pack
+from motiontool.sim.executor import (
+    ClusterSetupError,
+    Outcome,
+    Parallelism,
+    Status,
+    call_runner,
+    error_reason,
+)
+from motiontool.sim.shipped import Parcel, land, open_parcel, pack
 
 if TYPE_CHECKING:
     from ray import ObjectRef
@@ -27,7 +38,7 @@ if TYPE_CHECKING:
     #: A task in flight: what :func:`~motiontool.sim.executor.call_runner` returns, once ready.
     _Ref = ObjectRef[tuple[Status, object, str]]
 
-__all__ = ["run_ray"]
+__all__ = ["SIM_MODULES", "ray_session", "run_ray"]
 
 _LOST = "the Ray task failed: its worker died or its result was lost"
 
@@ -46,31 +57,54 @@ def run_ray(
     """Run ``runner(task)`` for every task as Ray tasks, at most ``jobs`` in flight; yield
     outcomes as they end (an :class:`~motiontool.sim.executor.Executor`).
 
-    Connects to ``address`` (``auto`` finds a running cluster) or, when None, starts a local
-    Ray instance for the duration of the call. ``jobs``: at most this many runs in flight
-    (None: the cluster's CPUs).
+    Uses the Ray this process is connected to (:func:`ray_session`), else connects to
+    ``address`` (``auto`` finds a running cluster) or, when None, starts a local Ray instance
+    for the duration of the call. ``jobs``: at most this many runs in flight (None: the
+    cluster's CPUs).
 
     Raises:
         MotionToolError: the cluster cannot be reached (within :data:`CONNECT_TIMEOUT_S`); a
             run that cannot be packed (its file cannot be read).
+        ClusterSetupError: the workers cannot import motiontool or its simulation libraries,
+            or Ray cannot set up their runtime environment: the batch stops.
+    """
+    import ray
+
+    with ray_session(address, jobs) as parallel:
+        remote = ray.remote(max_retries=0)(_call_on_worker)
+        pending = list(range(len(tasks)))
+        in_flight: dict[_Ref, tuple[int, float]] = {}
+        while pending or in_flight:
+            while pending and len(in_flight) < parallel.in_flight:
+                i = pending.pop(0)
+                in_flight[remote.remote(runner, pack(tasks[i]))] = (i, time.monotonic())
+            yield from _collect(in_flight, timeout_s)
+
+
+@contextmanager
+def ray_session(
+    address: str | None, jobs: int | None, runtime_env: dict[str, object] | None = None
+) -> Iterator[Parallelism]:
+    """Connected to Ray for the ``with`` block (already connected: as it is), and how many
+    runs go in flight: the cluster's CPUs, at most ``jobs``.
+
+    ``address``: the cluster (None: a local Ray started with ``jobs`` CPUs, or this machine's);
+    ``runtime_env``: Ray's runtime environment of the batch's tasks
+    (``ray.init(runtime_env=...)``: ``py_modules``, ``pip``, ``env_vars``...).
+
+    Raises:
+        MotionToolError: the cluster cannot be reached, or refuses ``runtime_env``.
     """
     require("ray", "ray", "the Ray executor")
     import ray
 
     started_here = not ray.is_initialized()
     if started_here:
-        _connect(address, jobs)
-    if jobs is None:
-        jobs = max(1, int(ray.cluster_resources().get("CPU", 1)))  # type: ignore[no-untyped-call]
-    remote = ray.remote(max_retries=0)(_call_on_worker)
+        _connect(address, jobs, runtime_env)
     try:
-        pending = list(range(len(tasks)))
-        in_flight: dict[_Ref, tuple[int, float]] = {}
-        while pending or in_flight:
-            while pending and len(in_flight) < jobs:
-                i = pending.pop(0)
-                in_flight[remote.remote(runner, pack(tasks[i]))] = (i, time.monotonic())
-            yield from _collect(in_flight, timeout_s)
+        cpus = int(ray.cluster_resources().get("CPU", 0))  # type: ignore[no-untyped-call]
+        in_flight = max(1, min(cpus, jobs) if jobs is not None else cpus)
+        yield Parallelism(in_flight, cpus, jobs)
     finally:
         if started_here:
             ray.shutdown()
@@ -81,23 +115,34 @@ CONNECT_TIMEOUT_S = 10.0
 (Ray itself retries an unreachable head for minutes)."""
 
 
-def _connect(address: str | None, jobs: int | None) -> None:
+def _connect(address: str | None, jobs: int | None, runtime_env: dict[str, object] | None) -> None:
     """Connect to the cluster at ``address`` (None: start a local one with ``jobs`` CPUs)."""
+    import logging
     import os
 
     import ray
 
-    if address is None:
-        cpus = jobs if jobs is not None else os.cpu_count() or 1
-        ray.init(num_cpus=max(cpus, 1), include_dashboard=False, log_to_driver=False)
-        return
-    _probe(address)
+    where = "Ray" if address is None else f"the Ray cluster at {address!r}"
+    if address is not None:
+        _probe(address)
+    cpus = jobs if jobs is not None else os.cpu_count() or 1
     try:
-        ray.init(address=address, include_dashboard=False, log_to_driver=False)
-    except (ConnectionError, RuntimeError, ValueError, TimeoutError) as exc:
+        ray.init(
+            address=address,
+            num_cpus=max(cpus, 1) if address is None else None,
+            runtime_env=runtime_env,
+            include_dashboard=False,
+            log_to_driver=False,
+            logging_level=logging.WARNING,  # not Ray's "Connecting to..." on stderr
+        )
+    except (ValueError, TypeError) as exc:
+        if runtime_env is None:
+            raise MotionToolError(f"cannot reach {where}: {error_reason(exc)}") from None
         raise MotionToolError(
-            f"cannot reach the Ray cluster at {address!r}: {error_reason(exc)}"
+            f"{where} refuses the runtime environment: {error_reason(exc)}"
         ) from None
+    except (ConnectionError, RuntimeError, TimeoutError) as exc:
+        raise MotionToolError(f"cannot reach {where}: {error_reason(exc)}") from None
 
 
 def _probe(address: str) -> None:
@@ -123,10 +168,43 @@ def _probe(address: str) -> None:
 
 def _call_on_worker(runner: Callable[[Never], object], task: object) -> tuple[Status, object, str]:
     """:func:`call_runner` of ``task`` as :func:`motiontool.sim.shipped.pack` made it, on the
-    worker: its recordings kept in the object store."""
+    worker: its recordings kept in the object store. A batch run on a worker without the
+    simulation's libraries raises their :class:`ImportError` (the driver stops the batch)."""
+    import importlib
+
     import ray
 
+    if isinstance(task, Parcel):
+        for module in SIM_MODULES:
+            importlib.import_module(module)
     return call_runner(partial(open_parcel, runner, store=ray.put), task)
+
+
+SIM_MODULES = ("mujoco",)
+"""What a worker imports before it plays a batch run: a worker without them cannot play one."""
+
+
+def _setup_error(exc: Exception) -> ClusterSetupError | None:
+    """The :class:`ClusterSetupError` that a task's failure ``exc`` shows, or None: a worker
+    could not import motiontool (Ray could not unpickle the task) or a simulation library, or
+    Ray could not set up its runtime environment."""
+    import ray
+
+    text = str(exc)
+    ip = re.search(r"\bip=([^\s,)]+)", text)
+    host = ip.group(1) if ip else "a worker"
+    if isinstance(exc, ray.exceptions.RuntimeEnvSetupError):
+        last = [line.strip() for line in text.splitlines() if line.strip()][-1]
+        return ClusterSetupError(
+            f"Ray could not set up the runtime environment on {host}: {last}", remedy=False
+        )
+    found = re.findall(r"(?:ModuleNotFoundError|ImportError): (.+)", text)
+    if not isinstance(exc, ray.exceptions.RayTaskError) or not found:
+        return None
+    return ClusterSetupError(
+        f"the Ray workers cannot import motiontool or its simulation libraries"
+        f" ({found[-1].strip()}, on {host})"
+    )
 
 
 def _collect(
@@ -146,7 +224,10 @@ def _collect(
         i, t0 = in_flight.pop(ref)
         try:
             status, value, reason = ray.get(ref)
-        except ray.exceptions.RayError:
+        except ray.exceptions.RayError as exc:
+            setup = _setup_error(exc)
+            if setup is not None:
+                raise setup from None
             status, value, reason = "crashed", None, _LOST
         if status == "done":
             try:

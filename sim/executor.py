@@ -15,23 +15,28 @@ missing-library message come from the row, and the executor tests iterate over t
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
 from motiontool.errors import MotionToolError, OutputError
 
 __all__ = [
+    "DEFAULT_JOBS",
     "EXECUTORS",
     "MAX_TIMEOUT_S",
     "REGISTRY",
+    "ClusterSetupError",
     "Executor",
     "ExecutorInfo",
     "Outcome",
+    "Parallelism",
     "Status",
     "call_runner",
     "error_reason",
     "executor_info",
     "get_executor",
+    "session",
 ]
 
 MAX_TIMEOUT_S = 7 * 24 * 3600.0
@@ -76,6 +81,70 @@ class Executor(Protocol):
         jobs: int,
         timeout_s: float | None,
     ) -> Iterator[Outcome]: ...
+
+
+class ClusterSetupError(MotionToolError):
+    """A cluster whose workers cannot play the batch at all (they cannot import motiontool or
+    its simulation libraries; Ray cannot set up their runtime environment): the batch stops.
+
+    Attributes:
+        problem: what is wrong, without the remedy.
+        remedy: whether the remedy is to give the cluster motiontool (else the message is
+            the problem alone).
+    """
+
+    def __init__(self, problem: str, *, remedy: bool = True):
+        more = (
+            ": install motiontool[sim] in the cluster's image, or ship it in a Ray runtime"
+            " environment (docs/ray.md)"
+        )
+        super().__init__(problem + (more if remedy else ""))
+        self.problem = problem
+        self.remedy = remedy
+
+
+@dataclass(frozen=True)
+class Parallelism:
+    """How many runs of a batch go at once, and why.
+
+    Attributes:
+        in_flight: the runs at once.
+        cpus: the CPUs of the cluster (None: a process pool, on this machine).
+        asked: the runs at once the caller asked for (None: the default).
+    """
+
+    in_flight: int
+    cpus: int | None = None
+    asked: int | None = None
+
+
+DEFAULT_JOBS = 2
+"""The local pool's workers when the caller names none."""
+
+
+@contextmanager
+def session(
+    name: str,
+    jobs: int | None,
+    *,
+    address: str | None = None,
+    runtime_env: dict[str, object] | None = None,
+) -> Iterator[Parallelism]:
+    """Executor ``name`` made ready for a batch in the ``with`` block (Ray: connected, with
+    ``runtime_env``), and its :class:`Parallelism`: the local pool's ``jobs`` workers
+    (:data:`DEFAULT_JOBS` for None), a Ray cluster's CPUs at most ``jobs``.
+
+    Raises:
+        MotionToolError: an unknown name; a cluster that cannot be reached or refuses
+            ``runtime_env``.
+    """
+    if not executor_info(name).takes_address:
+        yield Parallelism(jobs or DEFAULT_JOBS, None, jobs)
+        return
+    from motiontool.sim._ray import ray_session
+
+    with ray_session(address, jobs, runtime_env) as parallel:
+        yield parallel
 
 
 def error_reason(exc: BaseException) -> str:

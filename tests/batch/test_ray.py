@@ -17,8 +17,10 @@ import pytest
 from conftest import ROOT
 from rrds import rrd_rows
 
+from motiontool.cli.batch_progress import in_flight
 from motiontool.kinematics.robots import load_robot
 from motiontool.sim.batch import parse_perturbation, plan, run_batch
+from motiontool.sim.executor import DEFAULT_JOBS, Parallelism, session
 from motiontool.sim.runs import run_spec
 
 pytest.importorskip(
@@ -151,3 +153,32 @@ def test_an_unreachable_cluster_is_one_line(tmp_path: Path) -> None:
     assert done.returncode == 2
     assert done.stderr.startswith("motiontool: error: cannot reach the Ray cluster at")
     assert len(done.stderr.splitlines()) == 1, done.stderr
+
+
+@pytest.mark.slow
+def test_runs_in_flight_are_the_cluster_cpus_at_most_jobs(ray_head: str, tmp_path: Path) -> None:
+    """Without --jobs, a batch keeps as many runs in flight as the cluster has CPUs (two nodes
+    of one CPU); --jobs caps them; stderr and the report say how many."""
+    (tmp_path / "motions").mkdir()
+    for name in ("head_no", "bow"):
+        shutil.copy(ROOT / "motions" / "nao" / f"{name}.motion", tmp_path / "motions")
+    for jobs, said in [
+        ((), "2 runs in flight (the cluster's 2 CPUs)"),
+        (("-j", "1"), "1 run in flight (--jobs 1; the cluster has 2 CPUs)"),
+    ]:
+        done = _batch(tmp_path, "--executor", "ray", "--ray-address", ray_head, *jobs)
+        assert done.returncode == 0, done.stdout + done.stderr
+        assert f"motiontool: ray: {said}" in done.stderr.splitlines()
+        report = json.loads((tmp_path / "report.json").read_text())
+        assert report["jobs"] == int(said.split()[0])
+        assert f"(ray, {said.split()[0]} jobs)" in done.stdout
+    with session("ray", 8, address=ray_head) as parallel:
+        assert parallel == Parallelism(in_flight=2, cpus=2, asked=8)
+    assert in_flight(parallel) == "2 runs in flight (the cluster's 2 CPUs; --jobs 8 is more)"
+
+
+def test_the_local_pool_keeps_its_default() -> None:
+    with session("local", None) as parallel:
+        assert parallel == Parallelism(in_flight=DEFAULT_JOBS, cpus=None, asked=None)
+    with session("local", 5) as parallel:
+        assert parallel.in_flight == 5
