@@ -11,6 +11,7 @@ import typer
 
 from motiontool import exit_codes
 from motiontool.cli.batch_progress import run_with_progress
+from motiontool.cli.chain_options import AfterOption, StartPoseOption, start_pose_options
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.lint_run import collect
 from motiontool.cli.options import MAX_COUNT, Timestep, finite, robot_option
@@ -173,6 +174,8 @@ def batch_command(
     markdown: _Markdown = None,
     rrd_dir: _RrdDir = None,
     start: _Start = None,
+    start_pose: StartPoseOption = None,
+    after: AfterOption = None,
     expect: _Expect = None,
     no_sidecar: Annotated[bool, NO_SIDECAR] = False,
     no_cache: _NoCache = False,
@@ -198,6 +201,7 @@ def batch_command(
         world=(world, robot_node),
         sampling=(perturb or [], samples, seed, robustness, strict),
         sidecar=(expect or [], start, not no_sidecar),
+        chain=(start_pose, after),
         rrd_dir=rrd_dir,
     )
     _run_and_report(
@@ -308,6 +312,7 @@ def _plan(
     world: tuple[Path | None, str | None],
     sampling: tuple[list[str], int, int, int | None, bool],
     sidecar: tuple[list[str], Start | None, bool],
+    chain: tuple[str | None, Path | None],
     rrd_dir: Path | None,
 ) -> list[RunSpec]:
     """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
@@ -317,8 +322,9 @@ def _plan(
     configuration's), ``sampling`` the perturbations, the samples, the seed, ``--robustness``
     and ``--strict`` (each run's members follow the runs:
     :func:`motiontool.cli.robustness.with_robustness`), ``sidecar`` the expectations, the start
-    and whether each motion's sidecar is read. A bad option, robot, expectation, sidecar, world
-    or physics step: exit 2 before anything runs."""
+    and whether each motion's sidecar is read, ``chain`` --start-pose (:func:`_chain_options`)
+    and --after. A bad option, robot, expectation, sidecar, world or physics step:
+    exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
     from motiontool.sim.physics import physics_run_options
 
@@ -329,6 +335,7 @@ def _plan(
     options = {
         "timestep_ms": timestep,
         **physics_run_options(profile.value, physics_step, friction, self_collision),
+        **_chain_options(chain[0]),
     }
     settings = {f: resolver.for_file(f) for f in files}
     robots = {f: robot or [settings[f].robot_for(f)] for f in files}
@@ -346,11 +353,18 @@ def _plan(
         perturbations=perturbations,
         samples=samples,
         seed=seed,
+        after=chain[1],
     )
     _check_physics(specs, profile, physics_step, friction)
     in_world = _in_world(specs, *world, {str(f): s for f, s in settings.items()})
     perturbed = bool(perturb) or samples > 1
     return with_robustness(in_world, robustness, seed=seed, perturbed=perturbed, strict=strict)
+
+
+def _chain_options(start_pose: str | None) -> dict[str, object]:
+    """The options --start-pose gives every run (its pose's joints, read now: in the cache
+    key); none without it. A bad --start-pose: exit 2 before anything runs."""
+    return {} if start_pose is None else start_pose_options(start_pose)
 
 
 def _config_step(world: Path | None, settings: Settings) -> int | None:

@@ -5,7 +5,7 @@ motions as the elements of a chain and where the run starts (one spelling and he
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import PurePath
+from pathlib import Path, PurePath
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
@@ -17,6 +17,7 @@ if TYPE_CHECKING:
     from motiontool.sim.session import PlayPlan
 
 __all__ = [
+    "AfterOption",
     "ChainOption",
     "LoopOption",
     "StartPoseOption",
@@ -43,6 +44,17 @@ ChainOption = Annotated[
         " before left (the joints, the base and its velocities; as without --chain), an element"
         " looped on its own (--loop NAME=N), and the report lists each element with its time in"
         " the run, displacement and turn. A motions.toml 'after' makes a chain too.",
+    ),
+]
+AfterOption = Annotated[
+    Path | None,
+    typer.Option(
+        "--after",
+        metavar="FILE",
+        help="Play every motion after the motion FILE, in one run (a chain, as a motions.toml"
+        " 'after': FILE's own 'after' is followed too); a motion whose motions.toml has an"
+        " 'after' keeps it. The reports name every element.",
+        show_default=False,
     ),
 ]
 StartPoseOption = Annotated[

@@ -29,21 +29,11 @@ from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.disk_cache import ResultCache
 from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
-from motiontool.sim.batch_results import (
-    CACHED_STATUSES,
-    BatchResult,
-    RunResult,
-    RunStatus,
-)
+from motiontool.sim.batch_results import CACHED_STATUSES, BatchResult, RunResult, RunStatus
 from motiontool.sim.cache import DEFAULT_MAX_BYTES, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 from motiontool.sim.expect import parse_expectations
-from motiontool.sim.perturb import (
-    PERTURBATIONS,
-    Perturbation,
-    PerturbationKind,
-    parse_perturbation,
-)
+from motiontool.sim.perturb import PERTURBATIONS, Perturbation, PerturbationKind, parse_perturbation
 from motiontool.sim.sidecar import Sidecar
 from motiontool.sim.start import StartState
 
@@ -200,10 +190,12 @@ def plan_batch(
     perturbations: Sequence[Perturbation] = (),
     samples: int = 1,
     seed: int = 0,
+    after: Path | None = None,
 ) -> list[RunSpec]:
     """Every run of a batch (:func:`plan`), file by file, each with what its sidecar and the
     caller ask of it (:func:`motiontool.sim.session.plan_motion`: the sidecar's expectations,
-    then ``expect``; ``start``, else the sidecar's; ``after``: a chain), and its recording's name.
+    then ``expect``; ``start``, else the sidecar's; the sidecar's ``after``, else ``after``: a
+    chain), and its recording's name.
 
     Args:
         robots: the robots each file is played on; timesteps: each file's control step, ms
@@ -218,16 +210,21 @@ def plan_batch(
     Raises:
         ExpectationError: an expectation of ``expect`` does not parse (before any sidecar is
             read); SidecarError: a sidecar cannot be used; MotionToolError: a file cannot be
-            read.
+            read, ``after`` is no motion Webots plays.
     """
+    from motiontool.sim.play import read_playable
     from motiontool.sim.session import plan_motion
 
     parse_expectations(expect)
+    if after is not None:
+        read_playable(after)  # a motion Webots would reject: its file:line before any run
     rrd_names = recording_stems(files)
     sidecars: dict[Path, Sidecar] = {}
     specs = []
     for f in files:
-        motion = plan_motion(f, expect, start=start, sidecar=sidecar, roots=roots, cache=sidecars)
+        motion = plan_motion(
+            f, expect, start=start, sidecar=sidecar, roots=roots, cache=sidecars, after=after
+        )
         recording = None if rrd_dir is None else (rrd_dir, rrd_names[str(f)])
         file_options = _file_options(options, timesteps[f], motion, recording)
         runs = plan(

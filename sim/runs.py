@@ -75,6 +75,11 @@ def _play_options(spec: RunSpec) -> Any:
         kwargs["timestep_ms"] = int(options["timestep_ms"])
     if options.get("start"):
         kwargs["start"] = str(options["start"])
+    if options.get("start_pose"):  # batch --start-pose: the pose's joints, read by the driver
+        kwargs["start_pose"] = str(options["start_pose"])
+        kwargs["start_pose_joints"] = tuple(
+            (str(k), float(v)) for k, v in options["start_pose_joints"]
+        )
     for name in ("physics_step_ms", "floor_friction", "profile", "self_collision", "chain", *_PLAY):
         # sim.physics.physics_run_options; _PLAY: play --robustness's members
         if options.get(name) is not None:

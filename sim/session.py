@@ -72,11 +72,14 @@ def plan_motion(
     sidecar: bool = True,
     roots: Sequence[Path] = (),
     cache: dict[Path, Sidecar] | None = None,
+    after: Path | None = None,
 ) -> MotionPlan:
-    """What ``motion``'s sidecar and the caller (``expect``, ``start``) ask of its run.
+    """What ``motion``'s sidecar and the caller (``expect``, ``start``, ``after``) ask of its run.
 
     Args:
         sidecar: read the motion's sidecar (False: only what is given applies).
+        after: the motion played before it where its sidecar has no ``after`` (``batch
+            --after``), itself after what its own sidecar's ``after`` names.
         roots, cache: as for :func:`motiontool.sim.sidecar.lookup` (a batch's folders; parsed
             sidecars kept between motions).
 
@@ -87,10 +90,13 @@ def plan_motion(
     entry = lookup(motion, tuple(roots), cache) if sidecar else None
     expected = (entry.expect if entry else ()) + tuple(expect)
     before = _before(motion, entry, tuple(roots), cache)
+    if not before and after is not None:
+        previous = lookup(after, tuple(roots), cache) if sidecar else None
+        before = (*_before(after, previous, tuple(roots), cache), after)
     if start is not None:
         chosen: StartState | str | None = start
     elif before:  # a chain starts as its first motion does
-        first = lookup(before[0], tuple(roots), cache)
+        first = lookup(before[0], tuple(roots), cache) if sidecar else None
         chosen = first.start if first else None
     else:
         chosen = entry.start if entry else None
