@@ -209,7 +209,7 @@ def _header(
         how.append(f"self-collision physics {'on' if self_collision else 'off'}")
     if start_pose is not None:
         how.append(f"from the start pose {start_pose}")
-    lines = [f"Stand-ups played {', '.join(how)}."] if how else []
+    lines = [f"A stand-up played to find its lying start plays {', '.join(how)}."] if how else []
     if world is not None and (output is None or is_stdout(output)):
         lines.append(f"world is a path from {folder}: save this file there.")
     return lines

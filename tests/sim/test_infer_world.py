@@ -66,7 +66,7 @@ def test_the_probes_play_in_the_world_and_the_proposal_plays_there_in_batch(
     text = sidecar.read_text(encoding="utf-8")
     assert text.count('world = "../../worlds/wrestling.wbt"') == 2  # from the sidecar's folder
     assert text.count('robot-node = "participant"') == 2
-    assert f"# Stand-ups played in the world {world}." in text
+    assert f"# A stand-up played to find its lying start plays in the world {world}." in text
     assert (
         "[GetUp]  # played from both lying starts: gets up from lying-front, not from "
         "lying-back; holds over an ensemble of 2 members (seed 0)" in text
@@ -129,7 +129,10 @@ def test_the_start_pose_reaches_the_probes(wrestling: Path) -> None:
     pose = f"{motions / 'GetUp.motion'}:Pose1"
     result = expect(motions / "GetUp.motion", "--start-pose", pose)
     assert result.exit_code == 0, result.output
-    assert f"# Stand-ups played from the start pose {pose}." in result.stdout
+    assert (
+        f"# A stand-up played to find its lying start plays from the start pose {pose}."
+        in result.stdout
+    )
     assert 'start = "lying-front"' in result.stdout
 
 
