@@ -344,7 +344,7 @@ def _plan(
         files,
         robots,
         options=options,
-        timesteps={f: timestep or _config_step(world[0], settings[f]) for f in files},
+        timesteps={f: timestep or settings[f].timestep for f in files},
         expect=expect,
         start=start,
         sidecar=read_sidecar,
@@ -356,7 +356,8 @@ def _plan(
         after=chain[1],
     )
     _check_physics(specs, profile, physics_step, friction)
-    in_world = _in_world(specs, *world, {str(f): s for f, s in settings.items()})
+    by_path = {str(f): s for f, s in settings.items()}
+    in_world = _in_world(specs, *world, by_path, timestep_given=timestep is not None)
     perturbed = bool(perturb) or samples > 1
     return with_robustness(in_world, robustness, seed=seed, perturbed=perturbed, strict=strict)
 
@@ -367,21 +368,19 @@ def _chain_options(start_pose: str | None) -> dict[str, object]:
     return {} if start_pose is None else start_pose_options(start_pose)
 
 
-def _config_step(world: Path | None, settings: Settings) -> int | None:
-    """The configuration's control step (ms); None in --world or the configuration's world,
-    whose basicTimeStep wins."""
-    return None if world or settings.world else settings.timestep
-
-
 def _in_world(
     specs: list[RunSpec],
     world: Path | None,
     robot_node: str | None,
     settings: dict[str, Settings],
+    *,
+    timestep_given: bool,
 ) -> list[RunSpec]:
     """``specs`` with their world's options (in their cache key): --world, else the sidecar's
-    world, else the configuration's (``settings``: each file's, by its path); a world without a
-    robot node for a run's robot: exit 2 before anything runs."""
+    world, else the configuration's (``settings``: each file's, by its path), and its
+    basicTimeStep as the control step unless -t gave one (``timestep_given``: the
+    configuration's stands for the robot's usual world); a world without a robot node for a
+    run's robot: exit 2 before anything runs."""
     from dataclasses import replace
 
     from motiontool.kinematics.robots import AUTO
@@ -397,6 +396,8 @@ def _in_world(
         if path is None or spec.robot == AUTO:
             out.append(spec)
             continue
+        if not timestep_given:
+            options["timestep_ms"] = None
         key = (str(path), node, spec.robot)
         if key not in found:
             found[key] = world_run_options(Path(path), node, [spec.robot])

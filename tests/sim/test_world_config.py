@@ -61,8 +61,11 @@ def test_the_configuration_world_is_played_in_below_the_sidecar_and_command_line
 
 
 def test_batch_plays_in_the_configuration_world(wrestling: Path) -> None:
+    """As play: the world's basicTimeStep beats the configuration's timestep, -t beats both;
+    motions.toml beats the configuration; --isolated reads none of it."""
     (wrestling / "motiontool.toml").write_text(
-        'world = "worlds/wrestling.wbt"\nrobot-node = "WRESTLER_BLUE"\n', encoding="utf-8"
+        'timestep = 40\nworld = "worlds/wrestling.wbt"\nrobot-node = "WRESTLER_BLUE"\n',
+        encoding="utf-8",
     )
     args = ["batch", str(MOTION), "-j", "1", "--no-cache", "--json", "b.json"]
     result = runner.invoke(app, args)
@@ -77,6 +80,16 @@ def test_batch_plays_in_the_configuration_world(wrestling: Path) -> None:
     assert result.exit_code == 0, result.output
     (run,) = json.loads(Path("b.json").read_text(encoding="utf-8"))["runs"]
     assert run["report"]["world"] is None
+    (wrestling / MOTION.parent / "motions.toml").write_text(
+        '[HandWave]\nworld = "../../worlds/wrestling.wbt"\nrobot-node = "participant"\n',
+        encoding="utf-8",
+    )
+    for more, step in (([], 10), (["-t", "40"], 40)):
+        result = runner.invoke(app, [*args, *more])
+        assert result.exit_code == 0, result.output
+        (run,) = json.loads(Path("b.json").read_text(encoding="utf-8"))["runs"]
+        assert run["report"]["world"]["robot_node"]["name"] == "participant"
+        assert run["report"]["stamps"]["control_step_ms"] == step
 
 
 @pytest.mark.parametrize(
