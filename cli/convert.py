@@ -321,6 +321,7 @@ def _write(exported: Exported, source: Path, target: Path, send_script: Path | N
     where ``--send-script`` names it, else beside OUT where OUT is a regular file, else none
     (said in one line); say what was written."""
     companions: list[tuple[Path | None, bytes]] = []
+    unwritten: list[str] = []  # said once OUT is written: a failed write is its one line
     for suffix, data in exported.companions:
         if send_script is not None:
             companions.append((send_script, data))
@@ -332,13 +333,14 @@ def _write(exported: Exported, source: Path, target: Path, send_script: Path | N
                 if is_stdout(target)
                 else f"'{target}' is not a regular file"
             )
-            emit_stderr(
+            unwritten.append(
                 f"motiontool: no script written: {what} (give --send-script PATH for one)\n"
             )
     for path, _ in companions:
         refuse_overwrite(path, [source], "OUT's companion", "write to another file")
         refuse_shared_outputs({"OUT": target, "its companion": path})
     emit_files([(None if is_stdout(target) else target, exported.data), *companions])
+    emit_stderr("".join(unwritten))
     say_wrote(target, f"{plural(exported.poses, 'pose')}, {exported.detail}")
     for path, _ in companions:
         say_wrote(path, "the script that sends it")

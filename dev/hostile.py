@@ -34,42 +34,13 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from writers import WRITERS  # dev/writers.py: this script's folder is on sys.path
+
 from motiontool import exit_codes
 
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = str(Path(sys.executable).parent / "motiontool")
 MOTION = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P1,0,0\n00:00:160,P2,0.2,0.1\n"
-
-# Every option that writes a file, OUT where the output goes.
-WRITERS = [
-    ["validate", "in.motion", "-o", "OUT"],
-    ["validate", "in.motion", "-f", "sarif", "-o", "OUT"],
-    ["sample", "in.motion", "-o", "OUT"],
-    ["play", "in.motion", "--headless", "--json", "OUT"],
-    ["play", "in.motion", "--headless", "--rrd", "OUT"],
-    ["play", "in.motion", "--headless", "--bag", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--json", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--junit", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--markdown", "OUT"],
-    ["diff", "other.motion", "in.motion", "--plot", "OUT"],
-    ["plot", "in.motion", "-o", "OUT"],
-    ["expect", "--infer", "in.motion", "-o", "OUT"],
-    ["generate", "ur5e-jog", "-o", "OUT"],
-    ["resample", "in.motion", "--step", "20", "-o", "OUT"],
-    ["retime", "in.motion", "--speed", "2", "-o", "OUT"],
-    ["mirror", "in.motion", "-o", "OUT"],
-    ["concat", "in.motion", "other.motion", "-o", "OUT"],
-    ["trim", "in.motion", "--from", "0", "--to", "80", "-o", "OUT"],
-    ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
-    ["robots", "export", "ur5e", "--mjcf", "OUT"],
-    ["robots", "export", "ur5e", "--urdf", "OUT"],
-    ["convert", "in.motion", "in.naoqi.json", "--send-script", "OUT"],
-    ["convert", "in.motion", "OUT", "--to", "csv"],
-    ["convert", "in.motion", "OUT", "--to", "npz"],
-    ["convert", "in.motion", "OUT", "--to", "naoqi"],
-    ["convert", "in.motion", "OUT", "--to", "ros-trajectory"],
-    ["convert", "in.motion", "OUT", "--to", "rosbag"],
-]
 
 # Numbers no option may take: refused by its range, in one line.
 HUGE = [

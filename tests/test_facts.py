@@ -230,3 +230,18 @@ def test_the_step_without_a_robot_has_one_home() -> None:
         if isinstance(node.value, ast.Constant)
     ]
     assert [s.split(":")[0] for s in spelt] == ["motionfmt/player.py"], spelt
+
+
+def test_the_output_options_are_listed_once() -> None:
+    """Issue 38 item 4: dev/hostile.py and the special-output tests point every output option
+    at devices and FIFOs from one list, dev/writers.py (they had drifted apart)."""
+    for rel in ("dev/hostile.py", "tests/cli/test_special_outputs.py"):
+        tree = ast.parse((ROOT / rel).read_text(encoding="utf-8"))
+        spelt = [
+            node.lineno
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Assign | ast.AnnAssign)
+            and isinstance(node.value, ast.List)
+            and "OUT" in ast.unparse(node.value)
+        ]
+        assert not spelt, f"{rel}:{spelt}: use dev/writers.py's WRITERS"

@@ -8,14 +8,17 @@ needs root, which CI has): never the machine's own ``/dev/null`` or ``/dev/full`
 
 from __future__ import annotations
 
+import importlib.util
 import os
 import stat
 import subprocess
 import sys
 import threading
 from pathlib import Path
+from typing import Any
 
 import pytest
+from conftest import ROOT
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -26,31 +29,19 @@ SCRIPT = str(Path(sys.executable).parent / "motiontool")
 
 HEAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:160,Pose2,0.2,0.1\n"
 
-# Every option that writes one file: (command line with OUT where the output goes).
-WRITERS = [
-    ["validate", "in.motion", "-o", "OUT"],
-    ["sample", "in.motion", "-o", "OUT"],
-    ["play", "in.motion", "--headless", "--json", "OUT"],
-    ["play", "in.motion", "--headless", "--rrd", "OUT"],
-    ["play", "in.motion", "--headless", "--bag", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--json", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--junit", "OUT"],
-    ["batch", "in.motion", "--no-cache", "--markdown", "OUT"],
-    ["diff", "other.motion", "in.motion", "--plot", "OUT"],
-    ["plot", "in.motion", "-o", "OUT"],
-    ["expect", "--infer", "in.motion", "-o", "OUT"],
-    ["generate", "ur5e-jog", "-o", "OUT"],
-    ["resample", "in.motion", "--step", "20", "-o", "OUT"],
-    ["retime", "in.motion", "--speed", "2", "-o", "OUT"],
-    ["mirror", "in.motion", "-o", "OUT"],
-    ["concat", "in.motion", "other.motion", "-o", "OUT"],
-    ["trim", "in.motion", "--from", "0", "--to", "80", "-o", "OUT"],
-    ["scale", "in.motion", "-k", "0.5", "-o", "OUT"],
-    ["robots", "export", "model.xml", "--mjcf", "OUT"],
-    ["robots", "export", "model.xml", "--urdf", "OUT"],
-    ["convert", "in.motion", "in.naoqi.json", "--send-script", "OUT"],
-]
-IDS = [f"{c[0]} {c[-2]}" if c[0] != "robots" else f"robots {c[-2]}" for c in WRITERS]
+
+def _writers() -> Any:
+    """dev/writers.py, the one list of output options (dev/hostile.py reads it too)."""
+    spec = importlib.util.spec_from_file_location("writers", ROOT / "dev" / "writers.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_WRITERS_MODULE = _writers()
+WRITERS: list[list[str]] = _WRITERS_MODULE.WRITERS
+IDS = [" ".join(a for a in c if a not in ("in.motion", "OUT")) for c in WRITERS]
 
 
 def invoke(*args: str) -> tuple[int, str, str]:
@@ -98,12 +89,12 @@ def test_writers_cover_every_output_option() -> None:
         for p in cmd.params:
             if p.name and p.opts[0] in written | folders:
                 found.add(p.opts[0])
-            elif p.opts[0] in ("--config", "--joint-map", "--world"):  # files read, never written
+            elif p.opts[0] in ("--config", "--joint-map", "--world", "--after"):  # files read
                 continue
             elif "path" in f"{p.type} {p.type.name}".lower() and p.opts[0].startswith("--"):
                 pytest.fail(f"{cmd.name} {p.opts[0]}: a path option this test does not know")
     assert found == written | folders
-    assert {c[-2] if c[-2] != "-o" else "--output" for c in WRITERS} == written
+    assert {_WRITERS_MODULE.written_option(c) for c in WRITERS} == written | {"OUT"}
 
 
 @pytest.mark.parametrize("line", WRITERS, ids=IDS)
