@@ -167,22 +167,13 @@ def test_the_cli_words_reach_the_library_as_one_object() -> None:
 
 def test_errors_and_extras_live_at_the_top_level() -> None:
     """Every layer raises motiontool's errors and needs its extras helper: they live in
-    ``motiontool.errors`` and ``motiontool.extras``; ``motionfmt``'s modules of those names only
-    keep 0.1's import paths, and nothing of motiontool's own imports them."""
-    import motiontool.errors
-    import motiontool.extras
-    import motiontool.motionfmt.errors as old_errors
-    import motiontool.motionfmt.extras as old_extras
-
-    for name in old_errors.__all__:
-        assert getattr(old_errors, name) is getattr(motiontool.errors, name)
-    for name in old_extras.__all__:
-        assert getattr(old_extras, name) is getattr(motiontool.extras, name)
-    shims = {"motionfmt/errors.py", "motionfmt/extras.py"}
+    ``motiontool.errors`` and ``motiontool.extras`` alone (``motionfmt``'s shims of those names,
+    kept for a 0.1 that was never released, are gone)."""
+    assert not (ROOT / "motionfmt" / "errors.py").exists()
+    assert not (ROOT / "motionfmt" / "extras.py").exists()
     stray = [
         f"{rel}:{node.lineno}"
         for rel, tree in sources()
-        if rel not in shims
         for node in ast.walk(tree)
         if isinstance(node, ast.ImportFrom)
         and node.module in ("motiontool.motionfmt.errors", "motiontool.motionfmt.extras")
