@@ -184,9 +184,8 @@ def batch_command(
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
-    """Play every file headless on every robot and perturbation sample; exit 1 if any run is not
-    clean (fell, collided, simulator warning, an expectation not met, error, crash or
-    timeout)."""
+    """Play every file headless on every robot and perturbation sample; exit 1 if any run is
+    not clean: fell, collided, simulator warning, expectation not met, error, crash, timeout."""
     resolver = Resolver(config=config, isolated=isolated)
     files = _inputs(paths, resolver, executor=executor, ray=(ray_address, ray_runtime_env))
     outputs = {"--json": json_out, "--markdown": markdown, "--junit": junit, "--rrd-dir": rrd_dir}
@@ -197,11 +196,9 @@ def batch_command(
         roots=[p for p in paths if is_folder(p)],
         robot=robot,
         timestep=timestep,
-        physics=(profile, physics_step, friction, self_collision),
-        world=(world, robot_node),
+        physics=(profile, physics_step, friction, self_collision, world, robot_node),
         sampling=(perturb or [], samples, seed, robustness, strict),
-        sidecar=(expect or [], start, not no_sidecar),
-        chain=(start_pose, after),
+        sidecar=(expect or [], start, not no_sidecar, start_pose, after),
         rrd_dir=rrd_dir,
     )
     _run_and_report(
@@ -308,34 +305,30 @@ def _plan(
     roots: list[Path],
     robot: list[str] | None,
     timestep: int | None,
-    physics: tuple[Profile, float | None, float | None, bool | None],
-    world: tuple[Path | None, str | None],
+    physics: tuple[Profile, float | None, float | None, bool | None, Path | None, str | None],
     sampling: tuple[list[str], int, int, int | None, bool],
-    sidecar: tuple[list[str], Start | None, bool],
-    chain: tuple[str | None, Path | None],
+    sidecar: tuple[list[str], Start | None, bool, str | None, Path | None],
     rrd_dir: Path | None,
 ) -> list[RunSpec]:
     """Every run of the batch (:func:`motiontool.sim.batch.plan_batch`): the options parsed,
     each file's robots and time step from the configuration unless given; ``physics`` is the
-    profile, physics step (ms), friction and self-collision, ``world`` the Webots world and its
-    robot node (:func:`motiontool.sim.world_run.world_run_options`: its basicTimeStep wins over the
-    configuration's), ``sampling`` the perturbations, the samples, the seed, ``--robustness``
-    and ``--strict`` (each run's members follow the runs:
-    :func:`motiontool.cli.robustness.with_robustness`), ``sidecar`` the expectations, the start
-    and whether each motion's sidecar is read, ``chain`` --start-pose (:func:`_chain_options`)
-    and --after. A bad option, robot, expectation, sidecar, world or physics step:
-    exit 2 before anything runs."""
+    profile, physics step (ms), friction, self-collision, and the Webots world and its robot
+    node (:func:`_in_world`), ``sampling`` the perturbations, the samples, the seed,
+    ``--robustness`` and ``--strict`` (each run's members follow the runs:
+    :func:`motiontool.cli.robustness.with_robustness`), ``sidecar`` the expectations, the start,
+    whether each motion's sidecar is read, --start-pose (:func:`_chain_options`) and --after. A
+    bad option, robot, expectation, sidecar, world or physics step: exit 2 before anything runs."""
     from motiontool.sim.batch import check_robots, parse_perturbation, plan_batch
     from motiontool.sim.physics import physics_run_options
 
     perturb, samples, seed, robustness, strict = sampling
-    expect, start, read_sidecar = sidecar
+    expect, start, read_sidecar, start_pose, after = sidecar
     perturbations = [parse_perturbation(p) for p in perturb]
-    profile, physics_step, friction, self_collision = physics
+    profile, physics_step, friction, self_collision, world, robot_node = physics
     options = {
         "timestep_ms": timestep,
         **physics_run_options(profile.value, physics_step, friction, self_collision),
-        **_chain_options(chain[0]),
+        **_chain_options(start_pose),
     }
     settings = {f: resolver.for_file(f) for f in files}
     robots = {f: robot or [settings[f].robot_for(f)] for f in files}
@@ -353,11 +346,11 @@ def _plan(
         perturbations=perturbations,
         samples=samples,
         seed=seed,
-        after=chain[1],
+        after=after,
     )
     _check_physics(specs, profile, physics_step, friction)
     by_path = {str(f): s for f, s in settings.items()}
-    in_world = _in_world(specs, *world, by_path, timestep_given=timestep is not None)
+    in_world = _in_world(specs, world, robot_node, by_path, timestep_given=timestep is not None)
     perturbed = bool(perturb) or samples > 1
     return with_robustness(in_world, robustness, seed=seed, perturbed=perturbed, strict=strict)
 

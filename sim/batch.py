@@ -194,8 +194,7 @@ def plan_batch(
 ) -> list[RunSpec]:
     """Every run of a batch (:func:`plan`), file by file, each with what its sidecar and the
     caller ask of it (:func:`motiontool.sim.session.plan_motion`: the sidecar's expectations,
-    then ``expect``; ``start``, else the sidecar's; the sidecar's ``after``, else ``after``: a
-    chain), and its recording's name.
+    then ``expect``; ``start`` or the sidecar's; its ``after`` or ``after``), and its recording.
 
     Args:
         robots: the robots each file is played on; timesteps: each file's control step, ms
@@ -203,9 +202,8 @@ def plan_batch(
         options: play options of every run (:func:`plan`); a lying start is added per file.
         sidecar: read each motion's sidecar; roots: the batch's folders, where the search for
             a sidecar stops (:func:`motiontool.sim.sidecar.search_boundary`).
-        rrd_dir: the folder of the runs' recordings (None: no recording); not made here (the
-            caller makes it once it has checked the plan: ``batch`` refuses a report where a
-            recording goes before anything is written).
+        rrd_dir: the folder of the runs' recordings (None: none), not made here: the caller
+            makes it once it has checked the plan (no report where a recording goes).
 
     Raises:
         ExpectationError: an expectation of ``expect`` does not parse (before any sidecar is
