@@ -17,9 +17,15 @@ import typer
 
 from motiontool import exit_codes
 from motiontool.cli.chain_options import StartPoseOption, start_pose_options
+from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
 from motiontool.cli.options import output_option
 from motiontool.cli.output import emit, refuse_overwrite, say_wrote
-from motiontool.cli.physics_options import RobotNodeOption, SelfCollisionOption, WorldOption
+from motiontool.cli.physics_options import (
+    RobotNodeOption,
+    SelfCollisionOption,
+    WorldOption,
+    chosen_world,
+)
 from motiontool.cli.robustness import (
     ExecutorOption,
     JobsOption,
@@ -90,6 +96,8 @@ def expect_command(
     jobs: JobsOption = 2,
     executor: ExecutorOption = "local",
     no_cache: NoCacheOption = False,
+    config: ConfigOption = None,
+    isolated: IsolatedOption = False,
 ) -> None:
     """Propose expectations (a motions.toml sidecar) from motion names, for people to review:
     Forwards -> dx>0, TurnLeft60 -> yaw=60±9, SideStepRight -> dy<0, StandUpFromFront ->
@@ -97,9 +105,10 @@ def expect_command(
     -> feet-planted, else upright; a X_Start/X_Loop/X_Stop family is a chain (after). For a
     file, its robot counts too (an arm gets no-self-collision), and a stand-up that does not
     say front or back is played from both to find the start it needs: in --world (each
-    proposal then plays there: world, robot-node), from --start-pose, and with --robustness N
-    over play's ensemble (a start is proposed only where every member agrees; fragile: a
-    comment and a warning, exit 1 with --strict). Review it."""
+    proposal then plays there: world, robot-node; else the configuration's world), from
+    --start-pose, and with --robustness N over play's ensemble (a start is proposed only
+    where every member agrees; fragile: a comment and a warning, exit 1 with --strict).
+    Review it."""
     if not infer:
         raise MotionToolError("expect needs --infer (propose expectations from the names)")
     if robot_node is not None and world is None:
@@ -111,9 +120,9 @@ def expect_command(
     inputs = [f for _name, f in entries if f is not None]
     refuse_overwrite(output, [*inputs, *([world] if world is not None else [])], "--output")
     robots = {f: _robot(f) for f in inputs}  # every file read before anything plays
-    _check_world(world, robot_node, {r.name for r in robots.values() if r is not None})
+    where = _where((world, robot_node), robots, Resolver(config=config, isolated=isolated))
     options = {"seed": seed, "self_collision": self_collision, **start_pose_options(start_pose)}
-    probe = _Probe((world, robot_node), options, (robustness, executor, jobs, no_cache))
+    probe = _Probe(where, options, (robustness, executor, jobs, no_cache))
     inferences = [_infer(name, file, robots, probe) for name, file in entries]
     propose_chains(inferences)
     folder = _sidecar_folder(output, inputs)
@@ -161,15 +170,33 @@ def _infer(
     return inference
 
 
-def _check_world(world: Path | None, robot_node: str | None, robots: set[str]) -> None:
-    """The world can be played in by each robot of the files (by its robot node), or, for
-    bare names, read: one line, exit 2, before anything plays (as ``play``)."""
-    if world is None:
-        return
+_Where = tuple[Path | None, str | None, int | None]
+"""Where and how a file's probes play: the world, its robot node, the control step (ms)."""
+
+
+def _where(
+    given: tuple[Path | None, str | None],
+    robots: dict[Path, RobotSpec | None],
+    resolver: Resolver,
+) -> dict[Path, _Where]:
+    """Where each file's probes play, as ``play`` would play it: ``--world`` (``given``), else
+    its configuration's ``world``; outside a world, at its configuration's control step. Each
+    world is read for the robot of the files (for bare names, read): one line, exit 2, before
+    anything plays."""
     from motiontool.sim.world import read_world
 
-    for robot in sorted(robots) or [""]:
-        read_world(world, robot_node, robot)
+    out: dict[Path, _Where] = {}
+    checked = set()
+    for path, robot in robots.items():
+        settings = resolver.for_file(path)
+        world, node = chosen_world(given, (None, None), settings)
+        out[path] = (world, node, None if world is not None else settings.timestep)
+        if world is not None and robot is not None and (world, node, robot.name) not in checked:
+            read_world(world, node, robot.name)
+            checked.add((world, node, robot.name))
+    if given[0] is not None and not any(w == given[0] for w, _n, _r in checked):
+        read_world(given[0], given[1], "")
+    return out
 
 
 def _sidecar_folder(output: Path | None, inputs: list[Path]) -> Path:
@@ -229,18 +256,18 @@ def _fragile_exit(fragile: list[Inference], strict: bool) -> int:
 
 class _Probe:
     """A stand-up played from a lying start as ``play`` plays it
-    (:data:`motiontool.sim.infer_start.Probe`): in the world (``world``: its file and robot
-    node), with ``options`` (:class:`~motiontool.sim.play.PlayOptions` keywords), judged
-    ``upright``, replayed over ``--robustness`` members (``robust``: N, executor, jobs,
-    --no-cache) when asked."""
+    (:data:`motiontool.sim.infer_start.Probe`): where ``where`` says (each file's world, robot
+    node and control step, :func:`_where`), with ``options``
+    (:class:`~motiontool.sim.play.PlayOptions` keywords), judged ``upright``, replayed over
+    ``--robustness`` members (``robust``: N, executor, jobs, --no-cache) when asked."""
 
     def __init__(
         self,
-        world: tuple[Path | None, str | None],
+        where: dict[Path, _Where],
         options: dict[str, Any],
         robust: tuple[int | None, str, int, bool],
     ) -> None:
-        self.world, self.options, self.robust = world, options, robust
+        self.where, self.options, self.robust = where, options, robust
 
     def __call__(self, path: Path, robot: RobotSpec, start: StartState) -> ProbeResult:
         from motiontool.cli.robustness import robustness_of
@@ -248,11 +275,11 @@ class _Probe:
         from motiontool.sim.play_options import PlayOptions
         from motiontool.sim.session import plan_play
 
-        world, node = self.world
+        world, node, timestep = self.where[path]
         planned = plan_play(
             [path], expect=[UPRIGHT], start=start, sidecar=False, world=world, robot_node=node
         )
-        options = PlayOptions(**self.options)
+        options = PlayOptions(timestep_ms=timestep, **self.options)
         result = planned.run(robot=robot.name, options=options)
         if result.report is None:
             assert result.error is not None, "a result without a report has an error"

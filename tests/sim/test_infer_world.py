@@ -95,6 +95,34 @@ def test_the_probes_play_in_the_world_and_the_proposal_plays_there_in_batch(
 
 
 @pytest.mark.slow
+def test_the_configuration_world_is_where_the_probes_play_when_no_world_is_given(
+    wrestling: Path, tmp_path: Path
+) -> None:
+    """As play: the configuration's world (its path from the configuration's folder) where
+    --world names none, else its control step; the proposal leaves the world to the
+    configuration; --isolated reads none (the Nao's 20 ms)."""
+    (wrestling / "motiontool.toml").write_text(
+        'timestep = 40\nworld = "worlds/wrestling.wbt"\nrobot-node = "opponent"\n',
+        encoding="utf-8",
+    )
+    steps = tmp_path / "steps.toml"  # no world: the configuration's control step
+    steps.write_text("timestep = 40\n", encoding="utf-8")
+    get_up = wrestling / "controllers" / "motions" / "GetUp.motion"
+    cases = [([], 10, "opponent"), (["--config", str(steps)], 40, None), (["--isolated"], 20, None)]
+    for args, step, node in cases:
+        cache = tmp_path / f"cache{step}"
+        result = expect(get_up, "--robustness", "1", *args, env={"XDG_CACHE_HOME": str(cache)})
+        assert result.exit_code == 0, result.output
+        assert "\nworld = " not in result.stdout  # the configuration says it to batch too
+        members = [json.loads(p.read_text()) for p in cache.rglob("*.json")]
+        assert len(members) == 2  # one member from each lying start
+        for member in members:
+            assert member["report"]["stamps"]["control_step_ms"] == step
+            played_in = member["report"]["world"]
+            assert (played_in and played_in["robot_node"]["name"]) == node
+
+
+@pytest.mark.slow
 def test_a_fragile_start_is_not_proposed_warned_and_strict_fails_the_same_way_each_time(
     tmp_path: Path,
 ) -> None:
