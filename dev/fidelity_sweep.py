@@ -1,4 +1,4 @@
-"""How the Webots walks move with the floor friction and the physics step (docs/play.md, *Fidelity*).
+"""How the Webots walks move with the floor friction and the physics step (docs/play.md).
 
 Plays motions of the Webots corpus (``tests/data/corpus/webots/``) on the Nao from the standing
 zero pose, through the library (:func:`motiontool.sim.play`), at every floor friction x physics

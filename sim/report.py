@@ -17,8 +17,8 @@ JSON schema (every number carries its unit in its key or in the ``unit`` next to
       "physics": {"timestep_ms", "friction",                     # as the compiled model has them
                   "profile" ("default"|"webots"),
                   "profile_note"},                               # webots only: not what makes
-                                                                 #   walks match (docs/play.md); with
-                                                                 #   --friction / --physics-step:
+                                                                 #   walks match (docs/play.md);
+                                                                 #   with --friction/--physics-step:
                                                                  #   what ran instead
       "world": null | {"path", "sha256", "version",              # play --world FILE.wbt
                 "robot_node": {"name", "def", "type"},           # the node that played
