@@ -3,18 +3,17 @@
 from __future__ import annotations
 
 import json
-import os
 import shutil
 import socket
 import subprocess
 import sys
-import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
 from conftest import ROOT
+from raycluster import free_port, ray_cluster
 from rrds import rrd_rows
 
 from motiontool.cli.batch_progress import in_flight
@@ -28,46 +27,12 @@ pytest.importorskip(
 )
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
 def ray_head(one_ray: None) -> Iterator[str]:
     """A two-node cluster on loopback, as ``ray start`` makes one: a head and a worker node,
-    each started from a folder of its own (their workers' working folders), one CPU each; in
-    a short folder of its own (Ray's sockets live under it, and a Unix socket's path holds at
-    most 107 bytes: pytest's temporary folders under xdist are longer)."""
-    ray_bin = shutil.which("ray", path=str(Path(sys.executable).parent))
-    assert ray_bin, "the 'ray' command is not installed next to this Python"
-    port = _free_port()
-    temp = Path(tempfile.mkdtemp(prefix="mtray"))
-    head, worker = temp / "head", temp / "worker"
-    head.mkdir()
-    worker.mkdir()
-    # Hermetic: `ray start` turns token auth on when it finds ~/.ray/auth_token (left by an earlier
-    # local Ray); this cluster gets a home of its own, so it runs without auth like the driver.
-    env = {**os.environ, "HOME": str(temp)}
-    address = f"127.0.0.1:{port}"
-    common = ["--node-ip-address=127.0.0.1", "--num-cpus=1", "--disable-usage-stats"]
-    try:
-        subprocess.run(
-            [ray_bin, "start", "--head", f"--port={port}", "--include-dashboard=false",
-             f"--temp-dir={temp}", *common],
-            check=True, capture_output=True, timeout=120, env=env, cwd=head,
-        )  # fmt: skip
-        subprocess.run(
-            [ray_bin, "start", f"--address={address}", *common],
-            check=True, capture_output=True, timeout=120, env=env, cwd=worker,
-        )  # fmt: skip
+    each started from a folder of its own (their workers' working folders), one CPU each."""
+    with ray_cluster(nodes=2) as address:
         yield address
-    finally:
-        subprocess.run(
-            [ray_bin, "stop", "--force"], capture_output=True, timeout=120, check=False, env=env
-        )
-        shutil.rmtree(temp, ignore_errors=True)
 
 
 @pytest.mark.slow
@@ -149,7 +114,7 @@ def test_an_unreachable_cluster_is_one_line(tmp_path: Path) -> None:
     (tmp_path / "motions").mkdir()
     shutil.copy(ROOT / "motions" / "nao" / "bow.motion", tmp_path / "motions")
     shutil.copy(ROOT / "motions" / "nao" / "head_no.motion", tmp_path / "motions")
-    done = _batch(tmp_path, "--executor", "ray", "--ray-address", f"127.0.0.1:{_free_port()}")
+    done = _batch(tmp_path, "--executor", "ray", "--ray-address", f"127.0.0.1:{free_port()}")
     assert done.returncode == 2
     assert done.stderr.startswith("motiontool: error: cannot reach the Ray cluster at")
     assert len(done.stderr.splitlines()) == 1, done.stderr
