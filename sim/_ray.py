@@ -191,8 +191,8 @@ def _setup_error(exc: Exception) -> ClusterSetupError | None:
     import ray
 
     text = str(exc)
-    ip = re.search(r"\bip=([^\s,)]+)", text)
-    host = ip.group(1) if ip else "a worker"
+    ip = re.search(r"\bip=([^\s,)]+)|\[Node ([^\]\s]+)\]", text)
+    host = next((g for g in ip.groups() if g), "a worker") if ip else "a worker"
     if isinstance(exc, ray.exceptions.RuntimeEnvSetupError):
         last = [line.strip() for line in text.splitlines() if line.strip()][-1]
         return ClusterSetupError(
