@@ -4,9 +4,9 @@ report's ``world`` object that says so, field by field.
 Applied: ``basicTimeStep`` as the control step (unless ``--timestep``), with MuJoCo's finer
 physics step kept (the largest of at most 2 ms that divides it, or ``--physics-step``: ODE steps
 at ``basicTimeStep`` in Webots, which makes the walks fall in MuJoCo, docs/simulation.md);
-``gravity``; for each support (``Floor``, static boxes and planes) the ``coulombFriction`` and
-``bounce`` of the ``ContactProperties`` between the robot's feet and its material (Webots'
-defaults when none matches; ``--friction`` wins); the robot's ``translation`` (x, y; it is set
+``gravity``; for each support (``Floor``, static boxes and planes) the ``coulombFriction`` of
+the ``ContactProperties`` between the robot's feet and its material (Webots' defaults when none
+matches; ``--friction`` wins); the robot's ``translation`` (x, y; it is set
 on the surface below it) and ``rotation`` (about the vertical: the start yaw). The whole scene
 is lowered so that the surface the robot starts on is at z = 0: heights in the report are
 measured from it.
@@ -15,8 +15,10 @@ The robot's ``selfCollision`` turns self-collision physics on or off (unless
 ``--[no-]self-collision``; :func:`motiontool.sim._mujoco.probe.collide_self`).
 
 Not applied, and said: ``ERP``, ``CFM``, ``softCFM``, ``softERP`` and ``bounceVelocity`` (MuJoCo's
-contacts and constraints are set by solref / solimp, not ODE's numbers), a rotation that is not
-about the vertical, and the nodes the reader skipped.
+contacts and constraints are set by solref / solimp, not ODE's numbers), ``bounce`` (ODE bounces
+only impacts faster than ``bounceVelocity``; MuJoCo's damping ratio would make every contact
+ring, resting feet included: the world's contacts are critically damped, docs/simulation.md),
+a rotation that is not about the vertical, and the nodes the reader skipped.
 
 Pure Python: the MuJoCo side takes :class:`Ground` and the start position.
 """
@@ -35,9 +37,6 @@ from motiontool.sim.world import ContactProps, Support, World, read_world
 
 __all__ = ["Ground", "WorldRun", "world_of", "world_run", "world_run_options"]
 
-MAX_RESTITUTION = 0.99
-"""The largest ``bounce`` applied: a restitution of 1 is an undamped contact spring."""
-
 
 @dataclass(frozen=True)
 class Ground:
@@ -48,7 +47,6 @@ class Ground:
         kind: ``plane`` or ``box``.
         center, size, yaw_rad: as :class:`motiontool.sim.world.Support`'s, lowered.
         friction: robot-ground Coulomb friction coefficient.
-        bounce: restitution of the robot-ground contact, 0..1.
     """
 
     name: str
@@ -57,7 +55,6 @@ class Ground:
     size: tuple[float, float, float]
     yaw_rad: float
     friction: float
-    bounce: float
 
 
 @dataclass(frozen=True)
@@ -98,7 +95,6 @@ class WorldRun:
                 g.size,
                 g.yaw_rad,
                 (g.friction if given is None else given) * scale,
-                g.bounce,
             )
             for g in self.ground
         )
@@ -173,11 +169,13 @@ class WorldRun:
             said.not_applied(*friction, f"a friction was given: it wins ({source})")
         else:
             said.applied(*friction, f"robot-{self.surface[0]} friction, pyramidal cone ({source})")
-        said.applied(
+        said.not_applied(
             "ContactProperties.bounce",
             contact.bounce,
             None,
-            f"restitution of the robot-ground contacts ({source})",
+            "ODE bounces only impacts faster than bounceVelocity; a MuJoCo contact's damping "
+            "ratio acts on every contact, resting feet included: critically damped "
+            f"(docs/simulation.md) ({source})",
         )
         for key, value, unit in (
             ("bounceVelocity", contact.bounce_velocity, "m/s"),
@@ -282,7 +280,6 @@ def world_run(world: World) -> WorldRun:
                 s.size,
                 s.yaw_rad,
                 props.coulomb_friction,
-                min(max(props.bounce, 0.0), MAX_RESTITUTION),
             )
         )
     contact = world.contact(surface.material if surface is not None else "default")

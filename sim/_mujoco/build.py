@@ -85,6 +85,15 @@ contactProperties bounce 0.3), realised as the damping ratio of MuJoCo's contact
 walks are insensitive to it, measured). Webots' bounceVelocity (3 mm/s) has no MuJoCo equivalent."""
 
 
+WORLD_DAMPING_RATIO = 1.0
+"""Damping ratio of the contacts with a world's supports: critical (MuJoCo's default), not one
+made of the world's ``bounce``. ODE (Webots) reverses only impacts faster than ``bounceVelocity``
+(0.01 m/s by default), once, and its resting contacts are overdamped (``softERP`` 0.2,
+``softCFM`` 0.001); a MuJoCo damping ratio acts on every contact at every step: at the 0.22 of
+Webots' default bounce 0.5 the standing feet ring on the wrestling ring, HandWave's feet creep
+8 mm in 61 s and SideStepRightLoop falls (docs/simulation.md, *Contact damping in a world*)."""
+
+
 FLOOR_TIMECONST_S = 0.02
 """Time constant of the floor contacts, s (MuJoCo's default; 0.005 to 0.05 walk the same)."""
 
@@ -133,7 +142,7 @@ def build_scene(
         p_gain: P gain of the position controller, 1/s.
         ground: what the robot stands on, from a Webots world
             (:func:`motiontool.sim.world_run.world_run`); empty: a floor plane at z = 0 with
-            ``floor_friction``. Each keeps its own friction and bounce.
+            ``floor_friction``. Each keeps its own friction; their contacts are critically damped.
         gravity: m/s², z up (None: MuJoCo's default, -9.81 m/s² on z).
         start_xy: where a free-flying robot starts, m.
         self_collision: whether the robot's parts collide with each other (Webots'
@@ -272,8 +281,8 @@ def _add_floor(spec: MjSpec, friction: float) -> None:
 
 
 def _add_ground(spec: MjSpec, ground: Sequence[Ground]) -> None:
-    """The supports of a world: planes and boxes whose friction and bounce win over the robot's
-    (the first plane is the ``floor`` geom)."""
+    """The supports of a world: planes and boxes whose friction and critically damped contacts
+    win over the robot's (the first plane is the ``floor`` geom)."""
     mujoco = mj()
     kinds = {"plane": mujoco.mjtGeom.mjGEOM_PLANE, "box": mujoco.mjtGeom.mjGEOM_BOX}
     for g in ground:
@@ -291,7 +300,7 @@ def _add_ground(spec: MjSpec, ground: Sequence[Ground]) -> None:
         )
         geom.friction = [g.friction, *FLOOR_SPIN_ROLL_FRICTION]
         geom.priority = 1
-        geom.solref = [FLOOR_TIMECONST_S, _damping_ratio(g.bounce)]
+        geom.solref = [FLOOR_TIMECONST_S, WORLD_DAMPING_RATIO]
         geom.contype = 1
         geom.conaffinity = 1
 
