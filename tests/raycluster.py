@@ -57,21 +57,30 @@ def ray_cluster(nodes: int = 2, python: Path | None = None) -> Iterator[str]:
         shutil.rmtree(temp, ignore_errors=True)
 
 
-def python_without_motiontool(folder: Path) -> Path:
+def python_without_motiontool(folder: Path, hide: tuple[str, ...] = ()) -> Path:
     """A virtual environment in ``folder`` whose Python imports this one's packages (Ray,
     MuJoCo, NumPy...) but not motiontool (this checkout is installed in editable mode, through
-    a ``.pth`` file that a path added by another ``.pth`` file does not run); its python."""
+    a ``.pth`` file that a path added by another ``.pth`` file does not run), nor the packages
+    ``hide`` names (each entry of this site-packages linked in a folder of its own, but
+    theirs); its python."""
     subprocess.run(
         [sys.executable, "-m", "venv", "--without-pip", str(folder)], check=True, timeout=120
     )
-    ours = sysconfig.get_paths()["purelib"]
+    ours = Path(sysconfig.get_paths()["purelib"])
+    if hide:
+        view = folder / "view"
+        view.mkdir()
+        for entry in ours.iterdir():
+            if not entry.name.lower().startswith(hide):
+                (view / entry.name).symlink_to(entry)
+        ours = view
     (theirs,) = (folder / "lib").glob("python3*/site-packages")
     (theirs / "ours.pth").write_text(f"{ours}\n")
     python = folder / "bin" / "python"
+    names = ("motiontool", *hide)
+    code = f"import ray\nfor n in {names!r}:\n try: __import__(n)\n except ImportError: print(n)"
     probe = subprocess.run(
-        [str(python), "-c", "import ray, mujoco\ntry:\n import motiontool\nexcept ImportError:"
-         " print('without')"],
-        capture_output=True, text=True, timeout=120, cwd=folder,
-    )  # fmt: skip
-    assert probe.stdout.strip() == "without", probe.stdout + probe.stderr
+        [str(python), "-c", code], capture_output=True, text=True, timeout=120, cwd=folder
+    )
+    assert probe.stdout.split() == list(names), probe.stdout + probe.stderr
     return python

@@ -49,6 +49,17 @@ def _batch(cwd: Path, *args: str) -> subprocess.CompletedProcess[str]:
     )  # fmt: skip
 
 
+def _shipped(tmp_path: Path) -> str:
+    """A JSON file of a runtime environment that ships this checkout's package folder as
+    ``py_modules`` (a copy named ``motiontool``, as an installed package's folder is)."""
+    package = tmp_path / "ship" / "motiontool"
+    skip = shutil.ignore_patterns(".*", "build", "tests", "dev", "docs", "benchmarks", "*.egg-info")
+    shutil.copytree(ROOT, package, ignore=skip)
+    env = tmp_path / "env.json"
+    env.write_text(json.dumps({"py_modules": [str(package)]}))
+    return str(env)
+
+
 @pytest.mark.slow
 def test_a_cluster_without_motiontool_is_one_line(bare_head: str, tmp_path: Path) -> None:
     done = _batch(tmp_path, "--ray-address", bare_head)
@@ -68,12 +79,7 @@ def test_a_cluster_without_motiontool_is_one_line(bare_head: str, tmp_path: Path
 def test_a_runtime_env_ships_motiontool_to_it(bare_head: str, tmp_path: Path) -> None:
     """The package folder as ``py_modules`` (a copy named ``motiontool``, as an installed
     package's folder is), from a JSON file: every run plays on the cluster."""
-    package = tmp_path / "ship" / "motiontool"
-    skip = shutil.ignore_patterns(".*", "build", "tests", "dev", "docs", "benchmarks", "*.egg-info")
-    shutil.copytree(ROOT, package, ignore=skip)
-    env = tmp_path / "env.json"
-    env.write_text(json.dumps({"py_modules": [str(package)]}))
-    done = _batch(tmp_path, "--ray-address", bare_head, "--ray-runtime-env", str(env))
+    done = _batch(tmp_path, "--ray-address", bare_head, "--ray-runtime-env", _shipped(tmp_path))
     assert done.returncode == 0, done.stdout + done.stderr
     runs = json.loads((tmp_path / "report.json").read_text())["runs"]
     assert [r["status"] for r in runs] == ["clean", "clean"]
@@ -105,3 +111,23 @@ def test_a_bad_runtime_env_is_one_line(tmp_path: Path, given: str, said: str) ->
     assert done.returncode == 2
     assert len(done.stderr.splitlines()) == 1, done.stderr
     assert said in done.stderr
+
+
+@pytest.mark.slow
+def test_a_cluster_without_mujoco_is_one_line(one_ray: None, tmp_path: Path) -> None:
+    """motiontool shipped, but the nodes' Python has no MuJoCo: the same one line."""
+    folder = Path(tempfile.mkdtemp(prefix="mtenv"))
+    try:
+        python = python_without_motiontool(folder, hide=("mujoco",))
+        with ray_cluster(nodes=1, python=python) as address:
+            done = _batch(
+                tmp_path, "--ray-address", address, "--ray-runtime-env", _shipped(tmp_path)
+            )
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+    assert done.returncode == 2, done.stdout + done.stderr
+    error = done.stderr.splitlines()[-1]
+    assert "cannot import motiontool or its simulation libraries (No module named 'mujoco'" in error
+    assert error.endswith(
+        "install motiontool[sim] in the cluster's image or pass --ray-runtime-env (docs/ray.md)"
+    )
