@@ -16,12 +16,17 @@ from pathlib import Path
 from motiontool.cli.config import Resolver, Selection, Settings
 from motiontool.cli.gitignore import git_ignored
 from motiontool.errors import MissingExtraError
-from motiontool.kinematics.checks import DEFAULT_CHECKS, RobotChecks, parse_checks
+from motiontool.kinematics.checks import (
+    CHECK_REGISTRY,
+    DEFAULT_CHECKS,
+    RobotChecks,
+    parse_checks,
+)
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
-from motiontool.motionfmt.fixes import RobotPlanner
+from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
     FileReport,
@@ -345,8 +350,10 @@ def _settle(
     return spec
 
 
-_FIXED_BY_CHECK = {"MT302": "limits", "MT303": "velocity"}
-"""The robot fixes, by the check that finds what they fix."""
+_FIXED_BY_CHECK = {
+    code: check.name for check in CHECK_REGISTRY for code in check.codes if code in ROBOT_CODES
+}
+"""The robot fixes, by the check that finds what they fix (a code's fix runs with its check)."""
 
 
 def _planner(

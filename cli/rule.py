@@ -14,7 +14,7 @@ from motiontool.cli.options import TextOrJson, TextOrJsonOption
 from motiontool.cli.rules import RULES, Example, Rule, rule
 from motiontool.motionfmt.diagnostics import CODES
 
-__all__ = ["rule_command", "rules_markdown"]
+__all__ = ["checks_table", "codes_table", "rule_command", "rules_markdown"]
 
 _WIDTH = 100
 _SHOWN = 60
@@ -90,6 +90,42 @@ def rules_markdown() -> str:
         " `cli/rules_robot.py`) by\n`python dev/rules_doc.py`: edit those, not this file.\n"
     )
     return head + "".join(f"\n## {e.code}\n\n```text\n{_text(e)}```\n" for e in RULES.values())
+
+
+def codes_table() -> str:
+    """The codes table of docs/commands.md (Markdown): one row per :attr:`Rule.row`, with the
+    codes that share it and their severities; written by ``python dev/rules_doc.py``."""
+    groups: list[list[Rule]] = []
+    for entry in RULES.values():
+        if entry.row is None and groups:
+            groups[-1].append(entry)
+        else:
+            groups.append([entry])
+    out = ["| code | severity | what |", "|---|---|---|"]
+    for group in groups:
+        ids = [e.code for e in group]
+        label = ids[0] if len(ids) == 1 else ", ".join(ids) if len(ids) == 2 else ""
+        label = label or f"{ids[0]}–{ids[-1]}"
+        severities: list[str] = []
+        for info in (CODES[i] for i in ids):
+            for sev in (info.severity, info.also):
+                if sev is not None and str(sev) not in severities:
+                    severities.append(str(sev))
+        out.append(f"| {label} | {' / '.join(severities)} | {group[0].row} |")
+    return "\n".join(out) + "\n"
+
+
+def checks_table() -> str:
+    """The robot checks table of docs/commands.md (Markdown), one row per entry of
+    :data:`~motiontool.kinematics.checks.registry.CHECK_REGISTRY`."""
+    from motiontool.kinematics.checks import CHECK_REGISTRY
+
+    out = ["| check | default | needs | codes | what |", "|---|---|---|---|---|"]
+    for c in CHECK_REGISTRY:
+        needs = "core" if c.extra is None else f"`motiontool[{c.extra}]`"
+        default = "yes" if c.default else "no"
+        out.append(f"| `{c.name}` | {default} | {needs} | {', '.join(c.codes)} | {c.summary} |")
+    return "\n".join(out) + "\n"
 
 
 def _show(data: bytes) -> str:

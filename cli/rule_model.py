@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from motiontool.motionfmt.fixes import ROBOT_CODES, SAFE_CODES, UNSAFE_CODES
+from motiontool.motionfmt.diagnostics import CODES, FixKind
 
 __all__ = ["Example", "Rule"]
 
@@ -52,6 +52,8 @@ class Rule:
         fixed: ``example``'s file fixed (``validate`` with the same options no longer reports
             the code), or None where the fix is not an edit of the file (install a library,
             name a robot).
+        row: what the code is about, in the codes table of docs/commands.md (Markdown); None:
+            the code shares the row of the code before it (MT101 to MT110 share MT100's).
     """
 
     code: str
@@ -59,11 +61,13 @@ class Rule:
     example: Example
     fix: str
     fixed: bytes | None = None
+    row: str | None = None
 
     @property
     def autofix(self) -> str | None:
         """``safe`` (``validate --fix`` fixes it), ``unsafe`` (only with ``--unsafe-fixes``)
         or None (no automatic fix: see :attr:`fix`)."""
-        if self.code in SAFE_CODES:
-            return "safe"
-        return "unsafe" if self.code in UNSAFE_CODES | ROBOT_CODES else None
+        kind = CODES[self.code].fix
+        if kind is None:
+            return None
+        return "safe" if kind is FixKind.SAFE else "unsafe"

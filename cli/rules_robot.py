@@ -30,6 +30,10 @@ ROBOT_RULES = (
         Example(b"#WEBOTS_MOTION,V1.0,HeadYaw,HedPitch\n00:00:000,P1,0,0\n", args=NAO),
         "spell the motor as the robot names it (the hint gives the closest name)",
         b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P1,0,0\n",
+        row=(
+            "a joint that is not a motor of the robot (Webots ignores the column), with a "
+            "did-you-mean"
+        ),
     ),
     Rule(
         "MT302",
@@ -39,6 +43,10 @@ ROBOT_RULES = (
         "keep the value within the joint's limits (motiontool robots show ROBOT lists them; "
         "'validate --fix --unsafe-fixes' clamps it to the limit, where the motor stops anyway)",
         RSR + b"00:01:000,P2,0.3\n",
+        row=(
+            "a position outside the joint's limits (Webots clamps it): value, bound and excess "
+            "in the joint's unit"
+        ),
     ),
     Rule(
         "MT303",
@@ -48,6 +56,7 @@ ROBOT_RULES = (
         "give the move more time ('motiontool retime --fit-limits', or 'validate --fix "
         "--unsafe-fixes', stretches every segment that is too fast)",
         RSR + b"00:00:200,P2,-1.2\n",
+        row="a keyframe segment faster than maxVelocity: how many ms the motor falls behind",
     ),
     Rule(
         "MT304",
@@ -56,6 +65,10 @@ ROBOT_RULES = (
         Example(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n500,B,*\n1000,C,1\n2000,D,1.4\n", args=NAO),
         "write values instead of '*' so that the joint moves there gradually",
         b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,0\n500,B,0.5\n1000,C,1\n2000,D,1.4\n",
+        row=(
+            "the command stream at the controller time step is faster than maxVelocity (e.g. a "
+            "jump after `*`)"
+        ),
     ),
     Rule(
         "MT305",
@@ -65,6 +78,10 @@ ROBOT_RULES = (
         Example(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,1.5,0.4\n", args=NAO_V5),
         "pitch the head less at that yaw (the hint gives the range)",
         b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,1.5,0.2\n",
+        row=(
+            "`nao-v5` only: the real robot's HeadYaw-dependent HeadPitch range; LHipYawPitch = "
+            "RHipYawPitch (one motor)"
+        ),
     ),
     Rule(
         "MT306",
@@ -84,6 +101,10 @@ ROBOT_RULES = (
         ),
         "move the limbs apart in that pose (here: the forearm folded into the belly)",
         ARM + b"00:01:000,P2,1.4,0.3,0.5\n00:02:000,P3,0,0,0\n",
+        row=(
+            "self-collision at a keyframe or segment midpoint (Pinocchio + coal on the model's "
+            "collision shapes; overlaps under 15 mm ignored, `--collision-tolerance`)"
+        ),
     ),
     Rule(
         "MT308",
@@ -96,6 +117,7 @@ ROBOT_RULES = (
         "keep the centre of mass over the feet (here: bend the knees and ankles with the hips, "
         "a squat)",
         LEGS + b"00:01:000,P2,-0.5,-0.5,1,1,-0.5,-0.5\n",
+        row="opt-in static balance: the centre of mass leaves the support polygon (margin in mm)",
     ),
     Rule(
         "MT309",
@@ -109,6 +131,11 @@ ROBOT_RULES = (
         ),
         "write the true mirror: 'motiontool mirror WaveRight.motion -o WaveLeft.motion'",
         LEFT_MIRRORED,
+        row=(
+            "a `*Left*`/`*Right*` file equals its sibling in the same folder (the other side, or "
+            "no side: `HandWaveLeft` beside `HandWave`) with the L/R columns swapped but some "
+            "roll/yaw joint not negated: an unmirrored copy"
+        ),
     ),
     Rule(
         "MT901",
@@ -117,6 +144,10 @@ ROBOT_RULES = (
         "tie), so the robot checks were skipped.",
         Example(b"#WEBOTS_MOTION,V1.0,Hip,Knee\n00:00:000,P1,0,0\n", args=("--robot", "auto")),
         "name the robot with --robot (a built-in one, a .urdf or .xml model, erd:NAME)",
+        row=(
+            "robot checks skipped: no built-in robot has half of the file's joints or more, or "
+            "two tie (name one with `--robot`)"
+        ),
     ),
     Rule(
         "MT902",
@@ -128,5 +159,10 @@ ROBOT_RULES = (
             missing=("pinocchio",),
         ),
         "pip install 'motiontool[kinematics]' (or leave the check out with --checks)",
+        row=(
+            "a check skipped because a library it needs is not installed (collision and balance "
+            "without Pinocchio: `pip install 'motiontool[kinematics]'`), once a run; the other "
+            "checks still run"
+        ),
     ),
 )

@@ -18,6 +18,13 @@ SYNTAX_RULES = (
         Example(b""),
         "write the header and at least one pose",
         H + P0,
+        row=(
+            "what makes Webots reject the file: empty file, header (`#WEBOTS_MOTION`, `V1.0`, a "
+            "BOM, lower case), no joint, no pose, invalid time (spaces, signs, dots, a third "
+            'colon, a `#` "comment", a line of spaces), times not strictly increasing, missing '
+            "pose name, a value that is not a number or `*` (`' * '`, `abc`, `infinit`), too few "
+            "/ too many values (with a decimal-comma hint)"
+        ),
     ),
     Rule(
         "MT101",
@@ -109,6 +116,9 @@ SYNTAX_RULES = (
         Example(H + b"00:00:000,P1," + b"0" * 4100 + b"\n"),
         "keep every line under 4095 bytes (fewer joints per file, shorter numbers)",
         H + P0,
+        row=(
+            "a line of 4095 bytes or more: Webots' `fgets` cuts it and reads the rest as a new line"
+        ),
     ),
     Rule(
         "MT112",
@@ -118,6 +128,7 @@ SYNTAX_RULES = (
         Example(H + P0 + b"4294967396,P2,0.5\n"),
         "write times under 2147483647 ms",
         H + P0 + b"00:00:100,P2,0.5\n",
+        row="a pose time past 2³¹−1 ms: Webots' `int` wraps",
     ),
     Rule(
         "MT113",
@@ -126,6 +137,7 @@ SYNTAX_RULES = (
         Example(H + P0 + b"00:00:500,P2,nan\n"),
         "write a finite number, or '*' for no command",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="`nan` / `inf`: Webots sends it to the motor",
     ),
     Rule(
         "MT114",
@@ -133,6 +145,7 @@ SYNTAX_RULES = (
         Example(H + P0 + b"00:00:500,P2,0.5\x00 head up\n"),
         "remove the NUL byte (and what follows it, which Webots never read)",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="a NUL byte: the rest of the line is lost",
     ),
     Rule(
         "MT115",
@@ -144,5 +157,10 @@ SYNTAX_RULES = (
         ),
         "end the motion well before 2147483647 ms (24.8 days), or use a smaller time step",
         H + P0 + b"00:01:000,P2,1\n",
+        row=(
+            "at the `--timestep` given (else the robot's step), the playback time (a C `int` of "
+            "ms) passes 2³¹−1 before the motion ends: it wraps negative, Webots sends the first "
+            "pose again and the motion may never end"
+        ),
     ),
 )

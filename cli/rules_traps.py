@@ -20,6 +20,7 @@ TRAP_RULES = (
         Example(H + P0 + b"\n00:00:500,P2,0.5\n"),
         "remove the blank line (or the poses after it, if the motion is meant to end there)",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="a blank line silently ends the motion: everything after it is ignored",
     ),
     Rule(
         "MT202",
@@ -32,6 +33,7 @@ TRAP_RULES = (
         "write '*' in the empty cell: ',*,' (no command for that joint)",
         b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch,LShoulderPitch\n"
         b"00:00:000,P1,0,0,0\n00:00:500,P2,0.1,*,0.5\n",
+        row="`,,`: Webots skips the empty cell and every later value shifts one joint left",
     ),
     Rule(
         "MT203",
@@ -40,6 +42,7 @@ TRAP_RULES = (
         Example(H + P0 + b"00:00:500,P2,0.5rad\n"),
         "write the number alone, in radians (metres for a linear joint)",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="trailing garbage after a number (`2rad` reads as 2.0, `1.5.3` as 1.5)",
     ),
     Rule(
         "MT204",
@@ -48,6 +51,7 @@ TRAP_RULES = (
         Example(H2 + P0_2 + b"00:00:500,P2,0.5,-9999999.9\n"),
         "write '*' if no command is meant, else the position",
         H2 + P0_2 + b"00:00:500,P2,0.5,*\n",
+        row='the number −9999999.9, Webots\' internal "no value": the cell reads as `*`',
     ),
     Rule(
         "MT205",
@@ -56,6 +60,7 @@ TRAP_RULES = (
         Example(b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw\n00:00:000,P1,0,0\n00:00:500,P2,0.5,0.5\n"),
         "keep one column per joint (or rename the one meant for another joint)",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="a joint named twice: the later column wins",
     ),
     Rule(
         "MT206",
@@ -64,6 +69,7 @@ TRAP_RULES = (
         Example(H + b"00:00:500,P1,0.5\n00:01:000,P2,0\n"),
         "start the motion at 0 ms (a first pose from where the robot stands)",
         H + b"00:00:000,P0,0\n00:00:500,P1,0.5\n00:01:000,P2,0\n",
+        row="first pose at t > 0: the robot jumps to it at t = 0",
     ),
     Rule(
         "MT207",
@@ -72,6 +78,10 @@ TRAP_RULES = (
         Example(H2 + P0_2 + b"00:00:500,P2,*,0.2\n00:01:000,P3,0.5,0.4\n"),
         "write the values the joint should pass through instead of '*'",
         H2 + P0_2 + b"00:00:500,P2,0.25,0.2\n00:01:000,P3,0.5,0.4\n",
+        row=(
+            "`*` leaves a joint uncommanded over whole segments (it holds its previous target; "
+            "`*` does not interpolate)"
+        ),
     ),
     Rule(
         "MT208",
@@ -80,6 +90,7 @@ TRAP_RULES = (
         Example(H + b"00:00:000,Pos\xe9,0\n"),
         "save the file as UTF-8 (or ASCII)",
         H + b"00:00:000,Pose,0\n",
+        row="bytes that are not UTF-8",
     ),
     Rule(
         "MT209",
@@ -91,6 +102,10 @@ TRAP_RULES = (
         ),
         "put pose times on multiples of the time step",
         H + P0 + b"00:00:060,P2,0.2\n00:01:000,P3,0\n",
+        row=(
+            "at `--timestep` (else the robot's step: Nao 20 ms, UR5e 8 ms): a pose time the "
+            "controller never reaches exactly"
+        ),
     ),
     Rule(
         "MT210",
@@ -99,6 +114,7 @@ TRAP_RULES = (
         Example(b"#WEBOTS_MOTION,V1.0, HeadYaw\n" + P0),
         "remove the spaces around the name",
         H + P0,
+        row="a joint name with leading or trailing white space",
     ),
     Rule(
         "MT211",
@@ -106,5 +122,6 @@ TRAP_RULES = (
         Example(H2 + b"00:00:000,P1,0,*\n00:00:500,P2,0.5,*\n"),
         "remove the column, or give the joint values",
         H + P0 + b"00:00:500,P2,0.5\n",
+        row="a joint that is `*` in every pose",
     ),
 )

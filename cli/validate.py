@@ -40,6 +40,7 @@ from motiontool.cli.text import plural
 from motiontool.cli.validate_report import Shown, print_report
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import (
+    CHECKS,
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
     CheckUnavailableError,
@@ -88,7 +89,7 @@ _Checks = Annotated[
     str | None,
     typer.Option(
         _CHECKS_OPTION,
-        help="Robot checks, comma-separated: limits, velocity, collision, balance (or all). "
+        help=f"Robot checks, comma-separated: {', '.join(CHECKS)} (or all). "
         f"Default: {','.join(DEFAULT_CHECKS)}, each skipped with a note where the library "
         "it needs is not installed; a check named here fails the run instead.",
         show_default=False,

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
+from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fit_limits import fit_limits
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
@@ -35,8 +36,8 @@ if TYPE_CHECKING:
 
 __all__ = ["Planner", "clamp_count", "clamp_fixes", "planner", "stretch_fixes"]
 
-CLAMP_TITLE = ROBOT_FIX_TITLES["MT302"]
-STRETCH_TITLE = ROBOT_FIX_TITLES["MT303"]
+CLAMP_TITLE = ROBOT_FIX_TITLES[BEYOND_LIMITS]
+STRETCH_TITLE = ROBOT_FIX_TITLES[TOO_FAST]
 _CELLS = 1 << 16
 """Clamped cells whose numbers become Python objects at a time (a file of random values has
 millions)."""
@@ -136,7 +137,7 @@ def clamp_fixes(
                 title = f"{CLAMP_TITLE}: {name} = {bound!r} {spec.joint(name).unit}"
                 said[j, bound] = (name, repr(bound).encode(), title)
             name, text, title = said[j, bound]
-            fixes[i] = Fix("MT302", line, start, end, text, False, title, name)
+            fixes[i] = Fix(BEYOND_LIMITS, line, start, end, text, False, title, name)
     return cast("list[Fix]", fixes)  # every entry was set
 
 
@@ -173,7 +174,7 @@ def stretch_fixes(
         result.cell_spans(moved, cells), doc.result.cell_spans(moved, cells), strict=True
     ):
         text = new_lines[line - 1][a - 1 : b - 1]
-        fixes.append(Fix("MT303", line, start, end, text, False, STRETCH_TITLE))
+        fixes.append(Fix(TOO_FAST, line, start, end, text, False, STRETCH_TITLE))
     return fixes
 
 
@@ -194,24 +195,24 @@ class Planner:
         return self._clamps(result) + self.stretch(data, result)
 
     def _clamps(self, result: ReadResult) -> list[Fix]:
-        return clamp_fixes(result, self.spec) if "MT302" in self.codes else []
+        return clamp_fixes(result, self.spec) if BEYOND_LIMITS in self.codes else []
 
     def clamps(
         self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
     ) -> list[Fix]:
-        if "MT302" not in self.codes:
+        if BEYOND_LIMITS not in self.codes:
             return []
         return clamp_fixes(result, self.spec, joint=joint, lines=lines, past=past)
 
     def clamp_count(
         self, result: ReadResult, joint: str, lines: tuple[int, int], past: float | None
     ) -> int:
-        if "MT302" not in self.codes:
+        if BEYOND_LIMITS not in self.codes:
             return 0
         return clamp_count(result, self.spec, joint=joint, lines=lines, past=past)
 
     def stretch(self, data: bytes, result: ReadResult) -> list[Fix]:
-        if "MT303" not in self.codes:
+        if TOO_FAST not in self.codes:
             return []
         return stretch_fixes(data, self.path, result, self.spec, self.step_ms)
 

@@ -17,7 +17,26 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 
-__all__ = ["CODES", "Code", "Diagnostic", "PoseFinding", "Related", "Run", "Severity", "Worst"]
+__all__ = [
+    "BEYOND_LIMITS",
+    "BLANK_LINE_ENDS",
+    "CODES",
+    "CUT_LINE",
+    "EMPTY_CELL",
+    "JOINT_TWICE",
+    "NO_VALUE_CELL",
+    "NUL_BYTE",
+    "TOO_FAST",
+    "TRAILING_CHARACTERS",
+    "Code",
+    "Diagnostic",
+    "FixKind",
+    "PoseFinding",
+    "Related",
+    "Run",
+    "Severity",
+    "Worst",
+]
 
 
 class Severity(enum.IntEnum):
@@ -31,6 +50,18 @@ class Severity(enum.IntEnum):
         return self.name.lower()
 
 
+class FixKind(enum.Enum):
+    """What ``validate``'s fix of a code is (:mod:`motiontool.motionfmt.fixes`)."""
+
+    SAFE = "safe"
+    """What Webots does stays bit for bit the same."""
+    UNSAFE = "unsafe"
+    """What the robot does changes, to what the author evidently meant."""
+    ROBOT = "robot"
+    """Unsafe, and planned with the robot's limits (a
+    :data:`~motiontool.motionfmt.fixes.RobotPlanner`)."""
+
+
 @dataclass(frozen=True)
 class Code:
     """A diagnostic code: its identifier, default severity and a one-line title.
@@ -41,12 +72,22 @@ class Code:
     instead: MT112 (a pose time that overflows a C int) rejects the file only when the wrapped
     time is invalid to Webots; otherwise Webots reads the wrapped time. Its entry says False and
     the reader says which of its findings reject.
+
+    ``fix``: what ``validate``'s fix of it is, or None (no automatic fix). ``also``: another
+    severity some of its findings have (MT207's trailing runs are notes), or None.
+
+    A code's other facts live elsewhere, keyed by its id, where the layers put them: the check
+    that finds it (:data:`motiontool.kinematics.checks.registry.CHECK_REGISTRY`), and its
+    explanation, example and documentation row (:data:`motiontool.cli.rules.RULES`), which
+    name the command line's options. docs/architecture.md, *To add a code*, says what to write.
     """
 
     id: str
     severity: Severity
     title: str
     rejects: bool = False
+    fix: FixKind | None = None
+    also: Severity | None = None
 
 
 def _codes(*codes: Code) -> dict[str, Code]:
@@ -54,6 +95,18 @@ def _codes(*codes: Code) -> dict[str, Code]:
 
 
 E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO  # noqa: E741
+SAFE, UNSAFE, ROBOT = FixKind.SAFE, FixKind.UNSAFE, FixKind.ROBOT
+
+# The codes library modules compare findings and fixes with, by name (one spelling each).
+CUT_LINE = "MT111"
+NUL_BYTE = "MT114"
+BLANK_LINE_ENDS = "MT201"
+EMPTY_CELL = "MT202"
+TRAILING_CHARACTERS = "MT203"
+NO_VALUE_CELL = "MT204"
+JOINT_TWICE = "MT205"
+BEYOND_LIMITS = "MT302"
+TOO_FAST = "MT303"
 
 CODES: dict[str, Code] = _codes(
     # Webots rejects the file, or reads it otherwise than it is written.
@@ -68,28 +121,37 @@ CODES: dict[str, Code] = _codes(
     Code("MT108", E, "invalid value: expected a number or '*'", rejects=True),
     Code("MT109", E, "too few values on a pose line", rejects=True),
     Code("MT110", E, "too many values on a pose line", rejects=True),
-    Code("MT111", E, "line of 4095 bytes or more: Webots cuts it into pieces"),
+    Code(CUT_LINE, E, "line of 4095 bytes or more: Webots cuts it into pieces"),
     # MT112 rejects only where the wrapped time is invalid: the reader decides per finding.
     Code("MT112", E, "pose time out of range: Webots' int milliseconds overflow"),
     Code("MT113", E, "value is nan or infinite"),
-    Code("MT114", E, "NUL byte: Webots stops reading the line there"),
+    Code(NUL_BYTE, E, "NUL byte: Webots stops reading the line there"),
     Code("MT115", E, "playback time overflows Webots' int at this time step: the motion replays"),
     # Webots accepts the file but plays something else than it seems to say.
-    Code("MT201", W, "a blank line ends the motion: every later line is ignored"),
-    Code("MT202", W, "empty cell between commas: the following values shift left"),
-    Code("MT203", W, "trailing characters after a number are ignored"),
-    Code("MT204", W, "-9999999.9 is Webots' marker for 'no value': it reads as '*'"),
-    Code("MT205", W, "joint named twice: the later column wins"),
+    Code(
+        BLANK_LINE_ENDS, W, "a blank line ends the motion: every later line is ignored", fix=UNSAFE
+    ),
+    Code(EMPTY_CELL, W, "empty cell between commas: the following values shift left", fix=UNSAFE),
+    Code(TRAILING_CHARACTERS, W, "trailing characters after a number are ignored", fix=SAFE),
+    Code(
+        NO_VALUE_CELL, W, "-9999999.9 is Webots' marker for 'no value': it reads as '*'", fix=SAFE
+    ),
+    Code(JOINT_TWICE, W, "joint named twice: the later column wins", fix=SAFE),
     Code("MT206", W, "first pose after t = 0: the robot jumps to it at once"),
-    Code("MT207", W, "'*' leaves a joint uncommanded over whole segments"),
+    Code("MT207", W, "'*' leaves a joint uncommanded over whole segments", also=I),
     Code("MT208", W, "bytes that are not UTF-8"),
     Code("MT209", W, "pose time is not a multiple of the controller time step"),
     Code("MT210", W, "joint name with leading or trailing white space"),
     Code("MT211", W, "a joint is never commanded: every cell is '*'"),
     # Robot checks (motiontool.kinematics.checks).
     Code("MT301", W, "joint is not a motor of the robot: Webots ignores the column"),
-    Code("MT302", E, "position outside the joint's limits: the motor is clamped"),
-    Code("MT303", W, "segment faster than the joint's maxVelocity: the motor falls behind"),
+    Code(BEYOND_LIMITS, E, "position outside the joint's limits: the motor is clamped", fix=ROBOT),
+    Code(
+        TOO_FAST,
+        W,
+        "segment faster than the joint's maxVelocity: the motor falls behind",
+        fix=ROBOT,
+    ),
     Code("MT304", W, "command stream faster than maxVelocity at the controller time step"),
     Code("MT305", E, "HeadPitch outside the real robot's HeadYaw-dependent range"),
     Code("MT306", E, "joints one motor drives on the real robot differ"),

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, overload
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.motionfmt.cscan import scan_double
+from motiontool.motionfmt.diagnostics import CUT_LINE
 from motiontool.motionfmt.reader import NO_VALUE_MARKER, ReadResult, read_bytes, token_spans
 from motiontool.motionfmt.writer import TimeStyle, format_time, format_value, pose_lines
 
@@ -39,7 +40,7 @@ class MotionDocument:
         result = read_bytes(data, path)
         if not result.accepted:
             result.motion  # raises the error where Webots stops  # noqa: B018
-        cut = [d for d in result.diagnostics if d.code == "MT111"]
+        cut = [d for d in result.diagnostics if d.code == CUT_LINE]
         if cut:
             d = cut[0]
             raise MotionSyntaxError(d.message + " [MT111]", d.path, d.line, d.column)

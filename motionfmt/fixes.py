@@ -31,7 +31,20 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from motiontool.motionfmt.diagnostics import Diagnostic
+from motiontool.motionfmt.diagnostics import (
+    BEYOND_LIMITS,
+    BLANK_LINE_ENDS,
+    CODES,
+    CUT_LINE,
+    EMPTY_CELL,
+    JOINT_TWICE,
+    NO_VALUE_CELL,
+    NUL_BYTE,
+    TOO_FAST,
+    TRAILING_CHARACTERS,
+    Diagnostic,
+    FixKind,
+)
 from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
 
 __all__ = [
@@ -51,16 +64,21 @@ __all__ = [
     "same_stream",
 ]
 
-SAFE_CODES = frozenset({"MT203", "MT204", "MT205"})
-"""Codes a safe fix covers (the command stream stays bit-identical)."""
-UNSAFE_CODES = frozenset({"MT201", "MT202"})
+
+def _fixed(kind: FixKind) -> frozenset[str]:
+    return frozenset(c.id for c in CODES.values() if c.fix is kind)
+
+
+SAFE_CODES = _fixed(FixKind.SAFE)
+"""Codes a safe fix covers (the command stream stays bit-identical): their records say so."""
+UNSAFE_CODES = _fixed(FixKind.UNSAFE)
 """Codes an unsafe fix covers (what the robot does changes, to what was evidently meant)."""
-ROBOT_CODES = frozenset({"MT302", "MT303"})
+ROBOT_CODES = _fixed(FixKind.ROBOT)
 """Codes whose (unsafe) fix needs the robot's limits: a :data:`RobotPlanner` plans it."""
 
 ROBOT_FIX_TITLES = {
-    "MT302": "clamp the value to the joint's limit (where the motor stops anyway)",
-    "MT303": "stretch the segments too fast for maxVelocity, as retime fits a motion",
+    BEYOND_LIMITS: "clamp the value to the joint's limit (where the motor stops anyway)",
+    TOO_FAST: "stretch the segments too fast for maxVelocity, as retime fits a motion",
 }
 """What the fix of each of :data:`ROBOT_CODES` does, for people."""
 
@@ -129,16 +147,16 @@ def fixable(d: Diagnostic, *, unsafe: bool = False) -> bool:
 
 def _cell_fixes(d: Diagnostic, lines: Sequence[bytes]) -> list[Fix]:
     end = d.end_column
-    if d.code == "MT203" and end is not None:
+    if d.code == TRAILING_CHARACTERS and end is not None:
         kept = lines[d.line - 1][: d.column - 1].rsplit(b",", 1)[-1].strip()
         text = kept.decode("utf-8", "replace")
-        return [Fix("MT203", d.line, d.column, end, b"", True, f"write '{text}'")]
-    if d.code == "MT204" and end is not None:
-        return [Fix("MT204", d.line, d.column, end, b"*", True, "write '*' (no command)")]
-    if d.code == "MT202":
-        return [Fix("MT202", d.line, d.column, d.column, b"*", False, "write '*' in the cell")]
-    if d.code == "MT201" and d.column == 1 and not lines[d.line - 1].strip():
-        return [Fix("MT201", d.line, 1, None, None, False, "remove the blank line")]
+        return [Fix(TRAILING_CHARACTERS, d.line, d.column, end, b"", True, f"write '{text}'")]
+    if d.code == NO_VALUE_CELL and end is not None:
+        return [Fix(NO_VALUE_CELL, d.line, d.column, end, b"*", True, "write '*' (no command)")]
+    if d.code == EMPTY_CELL:
+        return [Fix(EMPTY_CELL, d.line, d.column, d.column, b"*", False, "write '*' in the cell")]
+    if d.code == BLANK_LINE_ENDS and d.column == 1 and not lines[d.line - 1].strip():
+        return [Fix(BLANK_LINE_ENDS, d.line, 1, None, None, False, "remove the blank line")]
     return []
 
 
@@ -159,7 +177,7 @@ def plan_fixes(
     for d in result.diagnostics:  # one pass (a file's findings may be read back from disk)
         codes.add(d.code)
         fixes.extend(finding_fixes(d, result, lines, unsafe=unsafe))
-    if "MT205" in codes and result.accepted:
+    if JOINT_TWICE in codes and result.accepted:
         fixes.extend(merge_fixes(result, lines, codes))
     return sorted(fixes, key=lambda f: (f.line, f.column))
 
@@ -173,7 +191,7 @@ def finding_fixes(
     cell (``,,``) that may be why it is rejected, with ``unsafe``: no fix is made over a
     syntax error it does not cover."""
     if not result.accepted:
-        return _cell_fixes(d, lines) if unsafe and d.code == "MT202" else []
+        return _cell_fixes(d, lines) if unsafe and d.code == EMPTY_CELL else []
     return _cell_fixes(d, lines) if fixable(d, unsafe=unsafe) else []
 
 
@@ -181,7 +199,7 @@ def merge_fixes(result: ReadResult, lines: Sequence[bytes], codes: set[str]) -> 
     """MT205: one column per joint, each pose's cell as Webots' merge leaves it; none where a
     pose line is not plain (an empty cell, a cut line: ``codes``, those of the file's findings)
     or the proof would be too long."""
-    if codes & {"MT202", "MT111", "MT114"}:
+    if codes & {EMPTY_CELL, CUT_LINE, NUL_BYTE}:
         return []
     joints = list(result.joints)
     n = len(result.times_ms)
@@ -196,7 +214,7 @@ def merge_fixes(result: ReadResult, lines: Sequence[bytes], codes: set[str]) -> 
             keep[name] = j
     commanded = result.motion.commanded
     header = _remove_cells(lines[0], [j + 2 for j in drop])  # + 2: the two header tokens
-    fixes = [Fix("MT205", 1, 1, None, header, True, "merge the columns of a joint named twice")]
+    fixes = [Fix(JOINT_TWICE, 1, 1, None, header, True, "merge the columns of a joint named twice")]
     for k in range(n):
         row = lines[k + 1]
         spans = token_spans(row.rstrip(b"\r"))
@@ -207,7 +225,7 @@ def merge_fixes(result: ReadResult, lines: Sequence[bytes], codes: set[str]) -> 
             if commanded[k, later]:
                 cells[earlier + 2] = cells[later + 2]
         merged = _remove_cells(_with_cells(row, spans, cells), [j + 2 for j in drop])
-        fixes.append(Fix("MT205", k + 2, 1, None, merged, True, "merge the columns"))
+        fixes.append(Fix(JOINT_TWICE, k + 2, 1, None, merged, True, "merge the columns"))
     return fixes
 
 
@@ -275,10 +293,15 @@ def _apply(data: bytes, fixes: Sequence[Fix]) -> bytes:
     return b"\n".join(line for line in lines if line is not None)
 
 
-_ROUNDS = (("MT203", "MT204"), ("MT205",), ("MT202",), ("MT201",))
+_ROUNDS = (
+    (TRAILING_CHARACTERS, NO_VALUE_CELL),
+    (JOINT_TWICE,),
+    (EMPTY_CELL,),
+    (BLANK_LINE_ENDS,),
+)
 """Fixes are applied a group of codes at a time, each group planned on the bytes the previous
 one left (a merge rewrites whole lines; a removed line moves the ones after it)."""
-_ROBOT_ROUNDS = (("MT302",), ("MT303",))
+_ROBOT_ROUNDS = ((BEYOND_LIMITS,), (TOO_FAST,))
 """The robot's rounds, last: on the file as Webots then reads it (values, then times)."""
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.diagnostics import JOINT_TWICE, NUL_BYTE
 from motiontool.motionfmt.lines import Piece, decode_name, separator_hint, show, token_spans
 
 if TYPE_CHECKING:
@@ -26,7 +27,7 @@ def read_header(state: ReadState, piece: Piece) -> bool:
     tokens = [raw[a:b] for a, b in spans]
     nul = raw.find(b"\0")
     if nul >= 0:
-        state.report("MT114", piece.line, nul + 1, "NUL byte in the header: Webots stops there")
+        state.report(NUL_BYTE, piece.line, nul + 1, "NUL byte in the header: Webots stops there")
     if not tokens:
         state.report(
             "MT101",
@@ -133,7 +134,7 @@ def _joint_names(state: ReadState, line: int, spans: list[tuple[int, int]]) -> N
             )
         if tok in seen:
             state.report(
-                "MT205",
+                JOINT_TWICE,
                 line,
                 a + 1,
                 f"joint {show(tok)} is named twice (columns {seen[tok] + 1} and {j + 1});"

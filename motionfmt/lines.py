@@ -14,6 +14,8 @@ from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.diagnostics import CUT_LINE
+
 if TYPE_CHECKING:
     from typing import Any
 
@@ -169,7 +171,7 @@ def fgets_pieces(state: ReadState) -> Iterator[Piece]:
             yield Piece(i + 1, 0, content)
             continue
         state.report(
-            "MT111",
+            CUT_LINE,
             i + 1,
             FGETS_PIECE + 1,
             f"line is {len(content)} bytes long; Webots reads at most {FGETS_PIECE - 1} bytes"

@@ -9,6 +9,7 @@ import itertools
 import re
 from typing import TYPE_CHECKING
 
+from motiontool.motionfmt.diagnostics import EMPTY_CELL, NUL_BYTE
 from motiontool.motionfmt.lines import Piece, PoseLine, decode_name, show
 from motiontool.motionfmt.pose_time import pose_time
 from motiontool.motionfmt.pose_values import pose_values
@@ -51,7 +52,7 @@ def _pose_nul(state: ReadState, pose: PoseLine) -> None:
     nul = pose.raw.find(b"\0")
     if nul >= 0:
         state.report(
-            "MT114",
+            NUL_BYTE,
             pose.line,
             pose.c0 + nul,
             "NUL byte: Webots' C strings end there, so the rest of the line is lost",
@@ -67,7 +68,7 @@ def _empty_cells(state: ReadState, pose: PoseLine) -> None:
         if gap.count(b",") > 1:
             where = spans[k - 1][1] + gap.index(b",") + 1
             state.report(
-                "MT202",
+                EMPTY_CELL,
                 pose.line,
                 c0 + where,
                 "empty cell: Webots skips ',,' so every value after it moves one joint left",

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.motionfmt.cscan import PLAIN_DECIMAL as _PLAIN
 from motiontool.motionfmt.cscan import scan_double
+from motiontool.motionfmt.diagnostics import NO_VALUE_CELL, TRAILING_CHARACTERS
 from motiontool.motionfmt.lines import PoseLine, show
 
 if TYPE_CHECKING:
@@ -76,7 +77,7 @@ def cell_value(
     if value == NO_VALUE_MARKER:
         message = f"{joint} = {show(tok)} is Webots' 'no value' marker: the cell reads as '*'"
         _report_cell(
-            state, pose, j, time_ms, "MT204", 0, message, "write '*' if no command is meant"
+            state, pose, j, time_ms, NO_VALUE_CELL, 0, message, "write '*' if no command is meant"
         )
         state.star_seen = True
         return _NAN, False
@@ -109,7 +110,7 @@ def _trailing_text(
         else f"write {show(tok[:end].strip())}"
     )
     message = f"{joint} = {show(tok)} reads as {value!r}: Webots ignores {show(rest)}"
-    _report_cell(state, pose, j, time_ms, "MT203", end, message, hint)
+    _report_cell(state, pose, j, time_ms, TRAILING_CHARACTERS, end, message, hint)
 
 
 def _report_cell(

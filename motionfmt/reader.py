@@ -30,7 +30,7 @@ from array import array
 from collections.abc import Iterator
 
 from motiontool.motionfmt._read_state import ReadState
-from motiontool.motionfmt.diagnostics import Related
+from motiontool.motionfmt.diagnostics import BLANK_LINE_ENDS, Related
 from motiontool.motionfmt.header import HEADER, VERSION, read_header
 from motiontool.motionfmt.lines import (
     FGETS_PIECE,
@@ -235,7 +235,7 @@ class _Reader(ReadState):
         stable = f"{what}: Webots ignores everything after it"
         ignored = f"the first of {len(later)} lines" if len(later) > 1 else "the line"
         self.report(
-            "MT201",
+            BLANK_LINE_ENDS,
             piece.line,
             piece.col0 + 1,
             f"{stable} ({where})",

@@ -6,7 +6,7 @@ import itertools
 import statistics
 from dataclasses import dataclass
 
-from motiontool.motionfmt.diagnostics import Severity
+from motiontool.motionfmt.diagnostics import BLANK_LINE_ENDS, Severity
 from motiontool.motionfmt.reader import read_bytes
 
 __all__ = ["MotionSummary", "summarize"]
@@ -71,7 +71,7 @@ def summarize(data: bytes, path: str) -> MotionSummary:
         line_ends=line_ends,
         final_newline=data.endswith(b"\n"),
         ignored_after_line=read.end_line
-        if any(d.code == "MT201" for d in read.diagnostics)
+        if any(d.code == BLANK_LINE_ENDS for d in read.diagnostics)
         else None,
         errors=sum(d.severity is Severity.ERROR for d in read.diagnostics),
         warnings=sum(d.severity is Severity.WARNING for d in read.diagnostics),

@@ -12,6 +12,7 @@ many files a run has; what a second pass costs is time.
 
 from __future__ import annotations
 
+import difflib
 import functools
 import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -20,7 +21,14 @@ from pathlib import Path
 from typing import overload
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import (
+    BEYOND_LIMITS,
+    CODES,
+    JOINT_TWICE,
+    TOO_FAST,
+    Diagnostic,
+    Severity,
+)
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import (
@@ -94,7 +102,7 @@ class FileReport:
         """The fixes of one of the reader's findings, ``d`` (those the file alone gives; made
         for the finding when a report reaches it, never all held): a duplicated joint's are
         the file's merge."""
-        if d.code == "MT205":
+        if d.code == JOINT_TWICE:
             return self._merges
         return tuple(finding_fixes(d, self.read, self._lines, unsafe=True))
 
@@ -119,7 +127,7 @@ class FileReport:
         """An MT302 finding's edits are its joint's clamps on its lines (a grouped finding's
         run of lines), planned for it alone; the whole retiming belongs to the file's first
         MT303 finding (one retiming fixes every segment, and a report stays linear in size)."""
-        if d.code == "MT303":
+        if d.code == TOO_FAST:
             return self._stretch if self._is_first_stretch(d) else ()
         if d.joint is None:
             return ()
@@ -137,7 +145,7 @@ class FileReport:
     def fix_count(self, d: Diagnostic) -> int:
         """How many edits :meth:`fix_of` gives for finding ``d``; a grouped clamp (thousands
         of cells) is counted without making them."""
-        if d.code == "MT302" and self.robot_fixes is not None and d.joint is not None:
+        if d.code == BEYOND_LIMITS and self.robot_fixes is not None and d.joint is not None:
             return self.robot_fixes.clamp_count(self.read, d.joint, *self._clamped(d))
         return len(self.fix_of(d))
 
@@ -145,7 +153,7 @@ class FileReport:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
         not planned for it (a report that only names them stays cheap)."""
         if d.code in ROBOT_CODES:
-            if self.robot_fixes is None or (d.code == "MT303" and not self._is_first_stretch(d)):
+            if self.robot_fixes is None or (d.code == TOO_FAST and not self._is_first_stretch(d)):
                 return None
             return False, ROBOT_FIX_TITLES[d.code]
         if d.code not in SAFE_CODES | UNSAFE_CODES:
@@ -157,11 +165,11 @@ class FileReport:
     def _first_stretch(self) -> tuple[int, int] | None:
         """(line, column) of the first MT303 finding, in file order: it carries the retiming
         that fixes them all."""
-        first = next((d for d in self.diagnostics if d.code == "MT303"), None)
+        first = next((d for d in self.diagnostics if d.code == TOO_FAST), None)
         return None if first is None else (first.line, first.column)
 
     def _is_first_stretch(self, d: Diagnostic) -> bool:
-        return d.code == "MT303" and (d.line, d.column) == self._first_stretch
+        return d.code == TOO_FAST and (d.line, d.column) == self._first_stretch
 
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""
@@ -349,12 +357,14 @@ class ValidationReport:
 
 
 def check_codes(codes: Iterable[str]) -> frozenset[str]:
-    """The codes of ``codes`` (stripped, upper case), or an error naming those not known."""
+    """The codes of ``codes`` (stripped, upper case), each a key of :data:`CODES`, or an error
+    naming the first one that is not, with the closest code."""
     codes = frozenset(c.strip().upper() for c in codes if c.strip())
-    unknown = sorted(c for c in codes if c not in CODES and not c.startswith("MT3"))
-    if unknown:
+    for code in sorted(c for c in codes if c not in CODES):
+        close = difflib.get_close_matches(code, list(CODES), n=1)
+        hint = f"did you mean '{close[0]}'? " if close else ""
         raise MotionToolError(
-            f"unknown diagnostic code {', '.join(unknown)}; codes are listed by 'motiontool codes'"
+            f"unknown diagnostic code '{code}'; {hint}codes are listed by 'motiontool codes'"
         )
     return codes
 

@@ -5,7 +5,8 @@
 :class:`RobotChecks` picks the robot per file (``robot='auto'``) or uses a named one. One check
 per module: :mod:`.joints` (MT301), :mod:`.limits` (MT302, MT305, MT306), :mod:`.velocity`
 (MT303, MT304), :mod:`.self_collision` (MT307), :mod:`.balance` (MT308); the unmirrored-copy note
-(MT309) is :mod:`motiontool.kinematics.mirror_check`; :mod:`.runner` picks and runs them.
+(MT309) is :mod:`motiontool.kinematics.mirror_check`; :mod:`.registry` lists them with the codes
+each reports, :mod:`.runner` picks and runs them.
 
 How a motion is read here (the Webots player, ``docs/webots-format.md``):
 
@@ -31,9 +32,13 @@ from motiontool.kinematics.checks._table import EPS
 from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import COUPLING_TOLERANCE, Limits
-from motiontool.kinematics.checks.runner import (
+from motiontool.kinematics.checks.registry import (
+    CHECK_REGISTRY,
     CHECKS,
     DEFAULT_CHECKS,
+    CheckEntry,
+)
+from motiontool.kinematics.checks.runner import (
     CheckUnavailableError,
     RobotChecks,
     parse_checks,
@@ -48,12 +53,14 @@ from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 
 __all__ = [
     "CHECKS",
+    "CHECK_REGISTRY",
     "COUPLING_TOLERANCE",
     "DEFAULT_CHECKS",
     "DEFAULT_PENETRATION_TOLERANCE_MM",
     "EPS",
     "PLAIN_WORDING",
     "Balance",
+    "CheckEntry",
     "CheckUnavailableError",
     "Collision",
     "Limits",

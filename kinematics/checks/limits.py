@@ -23,7 +23,13 @@ from motiontool.kinematics.checks._table import (
     pose_runs,
 )
 from motiontool.kinematics.robots import JointSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
+from motiontool.motionfmt.diagnostics import (
+    BEYOND_LIMITS,
+    Diagnostic,
+    PoseFinding,
+    Severity,
+    Worst,
+)
 from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.grouping import group_findings, run_finding
 from motiontool.motionfmt.reader import ReadResult
@@ -94,7 +100,7 @@ class Limits(GroupingCheck):
         name = fmt_name(joint.name)
         return cell(
             table,
-            "MT302",
+            BEYOND_LIMITS,
             Severity.ERROR,
             pose,
             table.col(pose, k),

@@ -11,20 +11,20 @@ from collections.abc import Callable, Iterable, Sequence
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import install_hint
 from motiontool.kinematics.checks._table import Groupable, header_diagnostic, settle_tables
-from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.findings_cache import (
     MAX_BYTES,
     MAX_FINDINGS,
     FindingsCache,
     findings_key,
 )
-from motiontool.kinematics.checks.joints import UnknownJoints
-from motiontool.kinematics.checks.limits import Limits
-from motiontool.kinematics.checks.self_collision import (
-    DEFAULT_PENETRATION_TOLERANCE_MM,
-    Collision,
+from motiontool.kinematics.checks.registry import (
+    ALWAYS,
+    CHECK_REGISTRY,
+    CHECKS,
+    DEFAULT_CHECKS,
+    CheckOptions,
 )
-from motiontool.kinematics.checks.velocity import Velocity
+from motiontool.kinematics.checks.self_collision import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robots import (
@@ -49,11 +49,6 @@ __all__ = [
     "parse_checks",
     "robot_checks",
 ]
-
-#: Every check name, in the order they run.
-CHECKS = ("limits", "velocity", "collision", "balance")
-#: What ``validate`` runs unless told otherwise (balance is opt-in).
-DEFAULT_CHECKS = ("limits", "velocity", "collision")
 
 _Check = Callable[[ReadResult], Sequence[Diagnostic]]
 
@@ -137,19 +132,9 @@ def robot_checks(
             f"robot {spec.name} has no feet: the balance check needs a humanoid model with "
             "sole geometries (nao, nao-v5)",
         )
-    out: list[_Check] = [
-        UnknownJoints(spec, wording),
-        UnmirroredCopy(spec, wording),
-    ]  # MT309 is a note
-    if "limits" in names:
-        out.append(Limits(spec))
-    if "velocity" in names:
-        out.append(Velocity(spec, timestep_ms))
-    if "collision" in names:
-        out.append(Collision(spec, penetration_tolerance_mm))
-    if "balance" in names:
-        out.append(Balance(spec))
-    return out
+    options = CheckOptions(timestep_ms, penetration_tolerance_mm, wording)
+    chosen = [c for c in CHECK_REGISTRY if c.name in names]
+    return [c.make(spec, options) for c in (*ALWAYS, *chosen)]
 
 
 class RobotChecks(Groupable):
@@ -321,7 +306,7 @@ _LIVE = (UnmirroredCopy,)
 """The checks whose findings depend on files other than the one checked (MT309 reads its
 siblings): run every time, never taken from :attr:`RobotChecks.cache`."""
 
-_CHECK_NAMES: dict[type, str] = {Collision: "collision", Balance: "balance"}
+_CHECK_NAMES: dict[type, str] = {c.kind: c.name for c in CHECK_REGISTRY if c.extra is not None}
 """The checks that need an extra (Pinocchio), by class: skipped with MT902 when it is missing."""
 
 

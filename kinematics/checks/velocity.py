@@ -20,7 +20,13 @@ from motiontool.kinematics.checks._table import (
     pose_runs,
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity, Worst
+from motiontool.motionfmt.diagnostics import (
+    TOO_FAST,
+    Diagnostic,
+    PoseFinding,
+    Severity,
+    Worst,
+)
 from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.grouping import group_findings, run_finding
 from motiontool.motionfmt.player import Held, commands_at, hold_targets
@@ -217,7 +223,7 @@ class Velocity(GroupingCheck):
         speed, need_ms, over, need = Velocity._move(joint, delta, t1 - t0)
         return cell(
             table,
-            "MT303",
+            TOO_FAST,
             Severity.WARNING,
             seg + 1,
             col,
