@@ -20,6 +20,7 @@ from typing import Any
 __all__ = [
     "ESCAPED_BYTES",
     "HOLE",
+    "JsonList",
     "dumps",
     "dumps_around",
     "escape_undecodable",
@@ -247,9 +248,27 @@ def text_after(
 def list_pieces(texts: Iterator[str], level: int) -> Iterator[str]:
     """The pieces of a JSON list at nesting ``level`` whose items are ``texts`` (each an
     indented document of its own): exactly what :func:`json.dumps` writes for the list."""
-    pad = "\n" + "  " * (level + 1)
-    first = True
+    items = JsonList(level)
     for text in texts:
-        yield ("[" if first else ",") + pad + text.replace("\n", pad)
-        first = False
-    yield "[]" if first else "\n" + "  " * level + "]"
+        yield items.item(text)
+    yield items.close()
+
+
+class JsonList:
+    """A JSON list at nesting ``level`` written an item at a time, as :func:`list_pieces`
+    writes it, for items handed over one by one."""
+
+    def __init__(self, level: int) -> None:
+        self.level = level
+        self.pad = "\n" + "  " * (level + 1)
+        self.first = True
+
+    def item(self, text: str) -> str:
+        """The piece for the next item, ``text`` (an indented document of its own)."""
+        piece = ("[" if self.first else ",") + self.pad + text.replace("\n", self.pad)
+        self.first = False
+        return piece
+
+    def close(self) -> str:
+        """The end of the list."""
+        return "[]" if self.first else "\n" + "  " * self.level + "]"

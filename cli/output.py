@@ -30,6 +30,7 @@ __all__ = [
     "emit_pieces",
     "emit_stderr",
     "in_blocks",
+    "piece_sink",
     "refuse_overwrite",
     "refuse_shared_outputs",
     "require_folder",
@@ -88,30 +89,63 @@ def emit_pieces(
     color: bool = False,
     before_writing: Callable[[], None] | None = None,
 ) -> None:
-    """Write text made in pieces (a report that streams its findings) as they come, a block of
-    about 64 KiB at a time, to ``output`` as :func:`emit` writes (a regular file is whole or
-    untouched) or to stdout; ``color``: to a terminal through Click, which keeps the ANSI
-    colours. ``before_writing`` is called once, before the first block is written (a progress
-    display on the same terminal ends there)."""
-    blocks = in_blocks(pieces)
-    if before_writing is not None:
-        blocks = _after(before_writing, blocks)
+    """Write text made in pieces (a report that streams its findings) as they come, as
+    :func:`piece_sink` writes them."""
+    with piece_sink(output, color=color, before_writing=before_writing) as write:
+        for piece in pieces:
+            write(piece)
+
+
+@contextlib.contextmanager
+def piece_sink(
+    output: Path | None,
+    *,
+    color: bool = False,
+    before_writing: Callable[[], None] | None = None,
+) -> Iterator[Callable[[str], None]]:
+    """A ``write(piece)`` for text handed over in pieces as it is made (a report that streams
+    its findings), written a block of about 64 KiB at a time, to ``output`` as :func:`emit`
+    writes (a regular file is whole or untouched) or to stdout; ``color``: to a terminal
+    through Click, which keeps the ANSI colours. ``before_writing`` is called once, before the
+    first block is written (a progress display on the same terminal ends there)."""
     if color and output is None:
-        for block in blocks:
-            typer.echo(block, nl=False, color=True)
+        blocks = _Blocks(lambda block: typer.echo(block, nl=False, color=True), before_writing)
+        yield blocks.write
+        blocks.close()
         return
     with open_output(STDOUT if output is None else output) as sink:
-        for block in blocks:
-            sink.write(block.encode("utf-8", "surrogateescape"))
+        blocks = _Blocks(lambda b: sink.write(b.encode("utf-8", "surrogateescape")), before_writing)
+        yield blocks.write
+        blocks.close()
 
 
-def _after(call: Callable[[], None], blocks: Iterator[str]) -> Iterator[str]:
-    """``blocks``, with ``call()`` made once the first is ready (or there is none)."""
-    first = next(blocks, None)
-    call()
-    if first is not None:
-        yield first
-        yield from blocks
+class _Blocks:
+    """Pieces of text joined into blocks of about ``size`` characters, each handed to
+    ``put``; ``before`` is called once, before the first block (or at the end if none)."""
+
+    def __init__(
+        self, put: Callable[[str], object], before: Callable[[], None] | None, size: int = 1 << 16
+    ) -> None:
+        self.put, self.before, self.size = put, before, size
+        self.held: list[str] = []
+        self.n = 0
+
+    def write(self, piece: str) -> None:
+        self.held.append(piece)
+        self.n += len(piece)
+        if self.n >= self.size:
+            self._flush()
+
+    def close(self) -> None:
+        self._flush()
+
+    def _flush(self) -> None:
+        if self.before is not None:
+            self.before()
+            self.before = None
+        if self.held:
+            self.put("".join(self.held))
+            self.held, self.n = [], 0
 
 
 def in_blocks(pieces: Iterable[AnyStr], size: int = 1 << 16) -> Iterator[AnyStr]:

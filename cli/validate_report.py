@@ -4,7 +4,10 @@ as ``--statistics``) where it goes, for people or machines."""
 
 from __future__ import annotations
 
+import functools
+import itertools
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -12,17 +15,28 @@ from typing import Any
 from motiontool.cli.color import color_enabled
 from motiontool.cli.config import Settings
 from motiontool.cli.lint_run import Checked, LintRun
-from motiontool.cli.output import emit_pieces, emit_stderr, say_wrote
+from motiontool.cli.output import emit_stderr, piece_sink, say_wrote
 from motiontool.cli.progress import Step
-from motiontool.cli.reports import REPORTS, Context, FormatName, Order, render_pieces, summary
-from motiontool.cli.reports.statistics import render_statistics, render_statistics_json
+from motiontool.cli.reports import (
+    PLAIN,
+    REPORTS,
+    Context,
+    FormatName,
+    Order,
+    Totals,
+    Writer,
+    summary,
+)
+from motiontool.cli.reports.statistics import StatisticsJsonWriter, StatisticsWriter
 from motiontool.cli.text import plural
 from motiontool.extras import install_hint
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.validate import ValidationReport
+from motiontool.motionfmt.diagnostics import Severity
+from motiontool.motionfmt.findings import Findings
+from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
-__all__ = ["Shown", "print_report"]
+__all__ = ["Shown", "Tally", "print_report", "render", "render_pieces", "report_pieces"]
 
 
 def _robots_used(checker: Checked) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
@@ -152,7 +166,9 @@ class Shown:
 def print_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> None:
     """The report of ``run`` as ``shown``, in color where the format has colors and the
     terminal takes them; ``strict`` and ``robot`` as given, else the ``project``'s settings;
-    the progress display (``step``) ends before the first byte written to a terminal."""
+    the progress display (``step``) ends before the first byte written to a terminal. Each
+    file is checked here and handed to the report's writer (:func:`report_pieces`), whose
+    pieces are written as they come."""
     run.report.limit = project.max_findings  # the others are counted, not shown
     output, fmt = shown.output, shown.format.value
     to_stdout = output is None or str(output) == "-"
@@ -162,25 +178,134 @@ def print_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> N
         color=color,
         order=shown.sort,
         strict=shown.strict if shown.strict is not None else project.strict,
-        robot_line=lambda: _robot_line(run.surveyed(), run.report),
-        robot_json=lambda: _robot_json(run.surveyed(), requested, run.report),
+        robot_line=lambda: _robot_line(run.checked, run.report),
+        robot_json=lambda: _robot_json(run.checked, requested, run.report),
         quiet=shown.quiet,
     )
-    report = run.report
-    if shown.statistics:
-        render = render_statistics_json if fmt == "json" else render_statistics
-        pieces = iter((render(report, context),))
-    else:
-        pieces = render_pieces(report, fmt, context)
+    writer = _writer(shown, context)
+    if writer.robots_first:
+        run.surveyed()  # every file's robot, before the head names them
+    tally = Tally(run.report)
     if shown.to_stderr:
         step.stop()
-        emit_stderr("".join(pieces))
+        emit_stderr("".join(report_pieces(run.report, writer, tally)))
         return
     before_writing = step.stop if _to_terminal(output) else None
-    emit_pieces(pieces, output, color=color, before_writing=before_writing)
+    with piece_sink(output, color=color, before_writing=before_writing) as write:
+        for piece in report_pieces(run.report, writer, tally):
+            write(piece)
     label = "statistics" if shown.statistics else REPORTS[fmt].label
     if not shown.quiet:
-        say_wrote(output, f"{label} report of {summary(report).removeprefix('checked ')}")
+        checked = summary(tally.totals()).removeprefix("checked ")
+        say_wrote(output, f"{label} report of {checked}")
+
+
+def _writer(shown: Shown, context: Context) -> Writer:
+    """The writer of the report ``shown`` asks for (``--statistics``: counts per code)."""
+    if shown.statistics:
+        json = shown.format.value == "json"
+        return StatisticsJsonWriter(context) if json else StatisticsWriter(context)
+    return REPORTS[shown.format.value].writer(context)
+
+
+def report_pieces(report: ValidationReport, writer: Writer, tally: Tally) -> Iterator[str]:
+    """``report`` written by ``writer``, in pieces: each file is checked here
+    (``report.files[i]``: read and checked, or held from an earlier pass), then handed to
+    the writer with the findings the report shows of it (the first ``report.limit`` of the
+    run, in file order; ``tally`` counts them). A writer never reads or checks a file: an
+    error in a check comes from the check, and one file's report is handed over at a time.
+
+    The passes over the files are the writer's: one in file order; with ``order`` severity,
+    one to count every file, then one per severity (errors first) over the files that have
+    findings of it; a writer that ``counts_first`` is handed every file to count before its
+    head, then those with findings shown."""
+    files = report.files
+    if writer.counts_first:
+        for i in range(len(files)):
+            f = files[i]
+            writer.count(f, tally.shown(i, f))
+            tally.add(i, f)
+    yield from writer.head(tally.totals() if writer.counts_first else None)
+    if writer.order is Order.file:
+        for i in range(len(files)):
+            if writer.counts_first and not tally.limits[i]:
+                continue
+            f = files[i]
+            yield from writer.file(f, tally.shown(i, f))
+            tally.add(i, f)  # counted by the writer's pass over them, unless a limit cut it
+    else:
+        for i in range(len(files)):
+            tally.add(i, files[i])  # how many findings of each file are shown
+        for severity in sorted(Severity, reverse=True):
+            for i in range(len(files)):
+                if tally.counts[i][severity]:
+                    f = files[i]
+                    found = tally.shown(i, f)
+                    yield from writer.file(f, (d for d in found if d.severity is severity))
+    yield from writer.tail(tally.totals())
+
+
+class Tally:
+    """How many findings each file of ``report`` has, by severity, and how many of them a
+    report shows (the first ``report.limit`` of the run, in file order), counted as the files
+    are handed over in file order (a few ints a file: the reports are not held). Without a
+    limit a file is counted once its findings have been written (:meth:`add` after the
+    writer's pass: no pass of its own); with one, before (how many are shown)."""
+
+    def __init__(self, report: ValidationReport) -> None:
+        self.report = report
+        self.left = report.limit
+        self.limits: list[int] = []
+        self.counts: list[dict[Severity, int]] = []
+
+    def add(self, i: int, f: FileReport) -> None:
+        """Count the ``i``-th file, ``f`` (a pass over its findings, unless they are known)."""
+        if i < len(self.limits):
+            return
+        assert i == len(self.limits), "files are counted in file order"
+        counts = {s: f.diagnostics.count(s) for s in Severity}
+        total = sum(counts.values())
+        n = total if self.left is None else min(self.left, total)
+        if self.left is not None:
+            self.left -= n
+        self.limits.append(n)
+        self.counts.append(counts)
+
+    def shown(self, i: int, f: FileReport) -> Findings:
+        """The findings of the ``i``-th file, ``f``, that the report shows, made as they are
+        read (all of them without a limit: their first whole pass counts them)."""
+        found = f.diagnostics
+        if self.report.limit is None:
+            return found
+        self.add(i, f)
+        return Findings(functools.partial(itertools.islice, found, self.limits[i]))
+
+    def totals(self) -> Totals:
+        """The run's totals, once every file is counted."""
+        notes = self.report.notes
+        counts = {
+            s: sum(c[s] for c in self.counts) + sum(1 for d in notes if d.severity is s)
+            for s in Severity
+        }
+        found = sum(sum(c.values()) for c in self.counts)
+        limit = self.report.limit
+        hidden = 0 if limit is None else max(0, found - limit)
+        return Totals(len(self.report.files), counts, notes, hidden)
+
+
+def render_pieces(report: ValidationReport, fmt: str, context: Context = PLAIN) -> Iterator[str]:
+    """``report`` rendered as format ``fmt`` (a key of :data:`REPORTS`), in pieces made as
+    they are read: a report the library made (:func:`~motiontool.motionfmt.validate_paths`)."""
+    try:
+        entry = REPORTS[fmt]
+    except KeyError:
+        raise ValueError(f"unknown format {fmt!r}; choose one of {', '.join(REPORTS)}") from None
+    return report_pieces(report, entry.writer(context), Tally(report))
+
+
+def render(report: ValidationReport, fmt: str, context: Context = PLAIN) -> str:
+    """``report`` rendered as format ``fmt`` (a key of :data:`REPORTS`), whole."""
+    return "".join(render_pieces(report, fmt, context))
 
 
 def _to_terminal(output: Path | None) -> bool:

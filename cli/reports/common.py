@@ -6,10 +6,9 @@ from __future__ import annotations
 import enum
 import functools
 import hashlib
-import itertools
 import os
 from collections import Counter
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -17,9 +16,8 @@ from typing import TYPE_CHECKING, Any
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import Fix
-from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.motionfmt.validate import FileReport
 
 if TYPE_CHECKING:
     import sqlite3
@@ -30,14 +28,12 @@ __all__ = [
     "Fingerprints",
     "FixCounts",
     "Order",
-    "findings",
+    "Totals",
+    "Writer",
     "fix_json",
     "fix_summary",
-    "per_file",
     "project_root",
     "relative_path",
-    "shown_counts",
-    "shown_of",
     "summary",
     "text_column",
     "with_hint",
@@ -51,69 +47,74 @@ class Order(enum.StrEnum):
     severity = "severity"  # errors first, then warnings, then notes (each in file order)
 
 
-def summary(report: ValidationReport) -> str:
+def summary(totals: Totals) -> str:
     """``checked 3 files: 1 error, 2 warnings, 0 notes``, then every check skipped for a
     missing library (MT902): ``; collision check skipped: pip install 'motiontool[kinematics]'``."""
     skipped = "".join(
-        f"; {d.message.partition(':')[0]}: {d.hint}" for d in report.notes if d.code == "MT902"
+        f"; {d.message.partition(':')[0]}: {d.hint}" for d in totals.notes if d.code == "MT902"
     )
-    hidden = report.hidden
+    hidden = totals.hidden
     not_shown = f"; {plural(hidden, 'finding')} not shown (max-findings)" if hidden else ""
     return (
-        f"checked {plural(len(report.files), 'file')}: "
-        f"{plural(report.count(Severity.ERROR), 'error')}, "
-        f"{plural(report.count(Severity.WARNING), 'warning')}, "
-        f"{plural(report.count(Severity.INFO), 'note')}{skipped}{not_shown}"
+        f"checked {plural(totals.files, 'file')}: "
+        f"{plural(totals.count(Severity.ERROR), 'error')}, "
+        f"{plural(totals.count(Severity.WARNING), 'warning')}, "
+        f"{plural(totals.count(Severity.INFO), 'note')}{skipped}{not_shown}"
     )
 
 
-def findings(report: ValidationReport, order: Order) -> Iterator[tuple[FileReport, Diagnostic]]:
-    """The findings a report shows (the first :attr:`~ValidationReport.limit` in file order),
-    each with its file, made as they are read: in file order, or by severity (a pass over the
-    files per severity, errors first, each in file order; a file with none of a severity is
-    not read again for it, its counts are known)."""
-    if order is Order.file:
-        for f, shown in per_file(report):
-            for d in shown:
-                yield f, d
-        return
-    limits = list(shown_counts(report))  # an int a file: the reports are not held
-    for severity in sorted(Severity, reverse=True):
-        for i, n in enumerate(limits):
-            if not report.files.tally(i, severity):
-                continue
-            f = report.files[i]
-            yield from ((f, d) for d in shown_of(report, i, n) if d.severity is severity)
+@dataclass(frozen=True)
+class Totals:
+    """What a report says of the whole run once every file is checked: how many files, the
+    findings of each severity (shown or past ``max-findings``, the run's notes included),
+    the run's notes (about no file), and how many findings ``max-findings`` leaves out."""
+
+    files: int
+    counts: dict[Severity, int]
+    notes: list[Diagnostic]
+    hidden: int = 0
+
+    def count(self, severity: Severity) -> int:
+        return self.counts.get(severity, 0)
 
 
-def per_file(report: ValidationReport) -> Iterator[tuple[FileReport, Findings]]:
-    """Each file with the findings a report shows of it (all but those past
-    :attr:`~ValidationReport.limit`, the first ones in file order), made each time they are
-    read: for the formats that write a file's findings together (JSON, JUnit)."""
-    for i, n in enumerate(shown_counts(report)):
-        yield report.files[i], shown_of(report, i, n)
+class Writer:
+    """A report in one format, written from the files it is handed: a renderer never reads
+    or checks a file. The caller checks each file and hands it over
+    (:func:`motiontool.cli.validate_report.report_pieces`): :meth:`head`, then :meth:`file`
+    for each file in file order (with ``order`` severity: a pass over the files per severity,
+    errors first, each file handed with its findings of that severity), then :meth:`tail`
+    with the run's :class:`Totals`. A writer that ``counts_first`` (its head says how many)
+    is first handed every file to :meth:`count`, and its head gets the totals.
 
+    Attributes:
+        order: how the findings are handed (``context.order``; file order for a format that
+            writes a file's findings together).
+        counts_first: a pass over the files (:meth:`count`) before the head.
+        robots_first: the head names the robot of every file (the caller surveys them first).
+    """
 
-def shown_counts(report: ValidationReport) -> Iterator[int | None]:
-    """How many findings of each file a report shows (None: all of them), in file order: the
-    first :attr:`~ValidationReport.limit` of the run (each file counted once: the counts are
-    kept)."""
-    left = report.limit
-    for i in range(len(report.files)):
-        if left is None:
-            yield None
-            continue
-        n = min(left, report.files.total(i))
-        left -= n
-        yield n
+    counts_first = False
+    robots_first = False
 
+    def __init__(self, context: Context | None = None) -> None:
+        self.context = PLAIN if context is None else context
+        self.order = self.context.order
 
-def shown_of(report: ValidationReport, i: int, n: int | None) -> Findings:
-    """The first ``n`` findings (None: all) of the ``i``-th file, made as they are read."""
-    found = report.files[i].diagnostics
-    if n is None:
-        return found
-    return Findings(functools.partial(itertools.islice, found, n))
+    def count(self, f: FileReport, shown: Iterable[Diagnostic]) -> None:
+        """The first pass of a writer that :attr:`counts_first`."""
+
+    def head(self, totals: Totals | None) -> Iterator[str]:
+        """The text before the files (``totals``: known where :attr:`counts_first`)."""
+        return iter(())
+
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        """The text of file ``f`` and its findings ``shown`` (made as they are read)."""
+        raise NotImplementedError
+
+    def tail(self, totals: Totals) -> Iterator[str]:
+        """The text after the files."""
+        return iter(())
 
 
 class FixCounts:

@@ -5,16 +5,16 @@ from __future__ import annotations
 import functools
 import os
 from collections import Counter
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from motiontool.cli.jsontext import escape_undecodable
-from motiontool.cli.reports.common import PLAIN, Context, findings, summary, text_column, with_hint
+from motiontool.cli.reports.common import Context, Totals, Writer, summary, text_column, with_hint
 from motiontool.cli.text import plural, shown
-from motiontool.motionfmt.diagnostics import CODES, Severity
-from motiontool.motionfmt.validate import ValidationReport
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.validate import FileReport
 
-__all__ = ["SHOWN_PER_KIND", "render_github"]
+__all__ = ["SHOWN_PER_KIND", "GithubWriter"]
 
 
 def _gh_escape(text: str, *, prop: bool = False) -> str:
@@ -72,7 +72,7 @@ def _not_shown(counts: Counter[str]) -> str | None:
     )
 
 
-def render_github(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class GithubWriter(Writer):
     """GitHub Actions workflow commands: one annotation per diagnostic, written as they are
     made, then a summary.
 
@@ -83,29 +83,37 @@ def render_github(report: ValidationReport, context: Context = PLAIN) -> Iterato
     GitHub looks for them. Where a kind passes what GitHub shows (:data:`SHOWN_PER_KIND`), a
     closing notice says how many are not shown and where they are.
     """
-    counts: Counter[str] = Counter()
-    for f, d in findings(report, context.order):
-        raw = f.source_line(d.line)
-        col = text_column(raw, d.column, utf16=False)
-        path = _gh_escape(_workspace_path(d.path), prop=True)
-        props = [f"file={path}", f"line={d.line}", f"col={col}"]
-        if d.end_column and d.end_column >= d.column:
-            props.append(f"endColumn={text_column(raw, d.end_column, utf16=False)}")
-        title = f"{d.code} {CODES[d.code].title}" if d.code in CODES else d.code
-        props.append(f"title={_gh_escape(title, prop=True)}")
-        counts[_GH_COMMAND[d.severity]] += 1
-        message = _gh_escape(shown(with_hint(d)))
-        yield _utf8(f"::{_GH_COMMAND[d.severity]} {','.join(props)}::{message}\n")
-    out = []
-    for d in report.notes:  # about the run: an annotation without a file
-        title = _gh_escape(f"{d.code} {CODES[d.code].title}", prop=True)
-        counts[_GH_COMMAND[d.severity]] += 1
-        out.append(f"::{_GH_COMMAND[d.severity]} title={title}::{_gh_escape(shown(with_hint(d)))}")
-    closing = _not_shown(counts)
-    if closing is not None:
-        out.append(closing)
-    out.append(summary(report))
-    yield _utf8("\n".join(out) + "\n")
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        self.counts: Counter[str] = Counter()
+
+    def file(self, f: FileReport, shown_: Iterable[Diagnostic]) -> Iterator[str]:
+        for d in shown_:
+            raw = f.source_line(d.line)
+            col = text_column(raw, d.column, utf16=False)
+            path = _gh_escape(_workspace_path(d.path), prop=True)
+            props = [f"file={path}", f"line={d.line}", f"col={col}"]
+            if d.end_column and d.end_column >= d.column:
+                props.append(f"endColumn={text_column(raw, d.end_column, utf16=False)}")
+            title = f"{d.code} {CODES[d.code].title}" if d.code in CODES else d.code
+            props.append(f"title={_gh_escape(title, prop=True)}")
+            self.counts[_GH_COMMAND[d.severity]] += 1
+            message = _gh_escape(shown(with_hint(d)))
+            yield _utf8(f"::{_GH_COMMAND[d.severity]} {','.join(props)}::{message}\n")
+
+    def tail(self, totals: Totals) -> Iterator[str]:
+        out, counts = [], self.counts
+        for d in totals.notes:  # about the run: an annotation without a file
+            title = _gh_escape(f"{d.code} {CODES[d.code].title}", prop=True)
+            counts[_GH_COMMAND[d.severity]] += 1
+            text = _gh_escape(shown(with_hint(d)))
+            out.append(f"::{_GH_COMMAND[d.severity]} title={title}::{text}")
+        closing = _not_shown(counts)
+        if closing is not None:
+            out.append(closing)
+        out.append(summary(totals))
+        yield _utf8("\n".join(out) + "\n")
 
 
 def _utf8(text: str) -> str:

@@ -2,21 +2,21 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 
-from motiontool.cli.jsontext import escape_undecodable, indented, list_pieces
+from motiontool.cli.jsontext import JsonList, escape_undecodable, indented
 from motiontool.cli.reports.common import (
-    PLAIN,
     Context,
     Fingerprints,
-    findings,
+    Totals,
+    Writer,
     relative_path,
     with_hint,
 )
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
-from motiontool.motionfmt.validate import ValidationReport
+from motiontool.motionfmt.validate import FileReport
 
-__all__ = ["render_gitlab"]
+__all__ = ["GitlabWriter"]
 
 _SEVERITY = {Severity.ERROR: "major", Severity.WARNING: "minor", Severity.INFO: "info"}
 """GitLab's severities are info, minor, major, critical and blocker."""
@@ -37,7 +37,7 @@ def _lines(d: Diagnostic) -> dict[str, int]:
     return lines
 
 
-def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class GitlabWriter(Writer):
     """A JSON array of Code Quality issues: ``description``, ``check_name`` (the code),
     ``fingerprint``, ``severity`` and ``location`` (``path``, ``lines.begin``; ``lines.end``
     for a grouped finding), written as the findings are made.
@@ -46,23 +46,28 @@ def render_gitlab(report: ValidationReport, context: Context = PLAIN) -> Iterato
     (:class:`~motiontool.cli.reports.common.Fingerprints`: not its line). A run's notes (about
     no file) are left out: a Code Quality issue needs a location.
     """
-    yield from list_pieces(_issues(report, context), 0)
-    yield "\n"
 
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        self.issues = JsonList(0)
+        self.fingerprint = Fingerprints()
 
-def _issues(report: ValidationReport, context: Context) -> Iterator[str]:
-    fingerprint = Fingerprints()
-    for _file, d in findings(report, context.order):
-        title = CODES[d.code].title if d.code in CODES else d.code
-        issue = {
-            "type": "issue",
-            "description": f"{d.code} {with_hint(d)}",
-            "check_name": d.code,
-            "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
-            "content": {"body": title},
-            "fingerprint": fingerprint(d, context.order),
-            "severity": _SEVERITY[d.severity],
-            "location": {"path": _path(d.path), "lines": _lines(d)},
-        }
-        clean, _count = escape_undecodable(issue)  # a name that is not UTF-8: \xNN
-        yield indented(clean)
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        for d in shown:
+            title = CODES[d.code].title if d.code in CODES else d.code
+            issue = {
+                "type": "issue",
+                "description": f"{d.code} {with_hint(d)}",
+                "check_name": d.code,
+                "categories": ["Bug Risk" if d.severity is Severity.ERROR else "Style"],
+                "content": {"body": title},
+                "fingerprint": self.fingerprint(d, self.order),
+                "severity": _SEVERITY[d.severity],
+                "location": {"path": _path(d.path), "lines": _lines(d)},
+            }
+            clean, _count = escape_undecodable(issue)  # a name that is not UTF-8: \xNN
+            yield self.issues.item(indented(clean))
+
+    def tail(self, totals: Totals) -> Iterator[str]:
+        yield self.issues.close()
+        yield "\n"

@@ -14,12 +14,12 @@ from motiontool.cli.jsontext import (
     list_pieces,
     text_after,
 )
-from motiontool.cli.reports.common import PLAIN, Context, fix_json, per_file
+from motiontool.cli.reports.common import Context, Order, Totals, Writer, fix_json
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.motionfmt.validate import FileReport
 from motiontool.stamps import stamps
 
-__all__ = ["JSON_SCHEMA_VERSION", "render_json"]
+__all__ = ["JSON_SCHEMA_VERSION", "JsonWriter"]
 
 JSON_SCHEMA_VERSION = 1
 
@@ -66,35 +66,49 @@ def _note_json(d: Diagnostic) -> dict[str, Any]:
     return {"code": d.code, "severity": str(d.severity), "message": d.message, "hint": d.hint}
 
 
-def render_json(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class JsonWriter(Writer):
     """The versioned JSON report; its schema is documented in ``docs/json-report.md`` and
     shipped as ``motiontool/cli/schemas/validate.schema.json``. Written in one pass as the
     findings are made: the files first, then the summary and the run's notes, known once
     every file is validated; the same text as :func:`~motiontool.cli.jsontext.dumps` of the
     whole document."""
-    doc: dict[str, Any] = {
-        "schema": "motiontool.validate",
-        "schema_version": JSON_SCHEMA_VERSION,
-        "stamps": stamps(),
-        **context.robot_json(),
-        "files": HOLE,
-        "summary": {},
-        "notes": [],
-    }
-    yield dumps_around(doc, 0)[0]
-    counter = [0]
-    for i, (f, shown) in enumerate(per_file(report)):
-        yield ("[" if i == 0 else ",") + "\n    "
-        yield from _file(f, shown, counter)
-    yield "\n  ]" if report.files else "[]"
-    doc["summary"] = {
-        "files": len(report.files),
-        "errors": report.count(Severity.ERROR),
-        "warnings": report.count(Severity.WARNING),
-        "notes": report.count(Severity.INFO),
-    }
-    doc["notes"] = [_note_json(d) for d in report.notes]
-    yield text_after(doc, counter[0])
+
+    robots_first = True
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        self.order = Order.file
+        self.written = 0
+        self.escaped = [0]
+        self.doc: dict[str, Any] = {}
+
+    def head(self, totals: Totals | None) -> Iterator[str]:
+        self.doc = {
+            "schema": "motiontool.validate",
+            "schema_version": JSON_SCHEMA_VERSION,
+            "stamps": stamps(),
+            **self.context.robot_json(),
+            "files": HOLE,
+            "summary": {},
+            "notes": [],
+        }
+        yield dumps_around(self.doc, 0)[0]
+
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        yield ("[" if not self.written else ",") + "\n    "
+        self.written += 1
+        yield from _file(f, shown, self.escaped)
+
+    def tail(self, totals: Totals) -> Iterator[str]:
+        yield "\n  ]" if totals.files else "[]"
+        self.doc["summary"] = {
+            "files": totals.files,
+            "errors": totals.count(Severity.ERROR),
+            "warnings": totals.count(Severity.WARNING),
+            "notes": totals.count(Severity.INFO),
+        }
+        self.doc["notes"] = [_note_json(d) for d in totals.notes]
+        yield text_after(self.doc, self.escaped[0])
 
 
 def _file(f: FileReport, shown: Iterable[Diagnostic], escaped: list[int]) -> Iterator[str]:

@@ -10,20 +10,19 @@ from collections.abc import Iterable, Iterator
 
 from motiontool.cli.jsontext import escape_undecodable
 from motiontool.cli.reports.common import (
-    PLAIN,
     Context,
-    shown_counts,
-    shown_of,
+    Order,
+    Totals,
+    Writer,
     summary,
     with_hint,
 )
 from motiontool.cli.text import plural
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.findings import Findings
-from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.motionfmt.validate import FileReport
 from motiontool.stamps import stamps
 
-__all__ = ["render_junit"]
+__all__ = ["JunitWriter"]
 
 
 def _line(d: Diagnostic) -> str:
@@ -36,7 +35,9 @@ _MARK = "\x01" + os.urandom(8).hex()
 _PLACE = re.compile(_MARK + "([FO])(\\d+)\x01")
 
 
-def _case(suite: ET.Element, i: int, f: FileReport, shown: Findings, worst: Severity) -> bool:
+def _case(
+    suite: ET.Element, i: int, f: FileReport, shown: Iterable[Diagnostic], worst: Severity
+) -> bool:
     """The file's test case (its ``i``-th), with the findings ``shown`` of it: their lines are
     written later, where its placeholders are; True when it fails (a finding at ``worst`` or
     above)."""
@@ -70,40 +71,56 @@ def _lines(findings: Iterable[Diagnostic]) -> Iterator[str]:
         yield str(clean)
 
 
-def render_junit(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class JunitWriter(Writer):
     """One ``testcase`` per file (``name``: its path; no ``file`` attribute, which Jenkins
     xunit's ``junit-10.xsd`` refuses); a file with an error (a warning too with ``--strict``)
     fails, the failure's ``message`` counting them and its body listing each as
     ``file:line:col: severity CODE: message``. Other findings go to the case's
     ``system-out``, the run's notes and summary to the suite's; the stamps are properties.
 
-    The document is laid out by ElementTree with a placeholder for each case's lines, then
-    written with the lines made as they are read (a pass over a file's findings counts them
-    for the failure's message first)."""
-    worst = Severity.WARNING if context.strict else Severity.ERROR
-    suite = ET.Element("testsuite", name="motiontool validate")
-    properties = ET.SubElement(suite, "properties")
-    for key, value in context.robot_json().get("stamps", stamps()).items():
-        ET.SubElement(properties, "property", name=key, value="" if value is None else str(value))
-    limits = list(shown_counts(report))  # an int a file: the reports are not held
-    failures = sum(
-        _case(suite, i, report.files[i], shown_of(report, i, n), worst)
-        for i, n in enumerate(limits)
-    )
-    out = [f"{d.severity} {d.code}: {with_hint(d)}" for d in report.notes] + [summary(report)]
-    ET.SubElement(suite, "system-out").text = "\n".join(out) + "\n"
-    counts = {"tests": str(len(report.files)), "failures": str(failures), "errors": "0"}
-    suite.attrib.update(counts)
-    root = ET.Element("testsuites", name="motiontool validate")
-    root.attrib.update(counts)
-    root.append(suite)
-    ET.indent(root)
-    skeleton = ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
-    pieces = _PLACE.split(skeleton)  # text, kind, index, text, kind, index, ..., text
-    for k in range(0, len(pieces) - 1, 3):
-        yield str(escape_undecodable(pieces[k])[0])
-        kind, i = pieces[k + 1], int(pieces[k + 2])
-        found = shown_of(report, i, limits[i])
-        fails = kind == "F"
-        yield from _lines(d for d in found if (d.severity >= worst) == fails)
-    yield str(escape_undecodable(pieces[-1])[0])
+    The document is laid out by ElementTree with a placeholder for each case's lines (a first
+    pass over the files, :meth:`count`: how many fail), then written with the lines made as
+    they are read (a second pass over the files with findings)."""
+
+    counts_first = True
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        self.order = Order.file
+        self.worst = Severity.WARNING if self.context.strict else Severity.ERROR
+        self.suite = ET.Element("testsuite", name="motiontool validate")
+        self.properties = ET.SubElement(self.suite, "properties")  # filled in by the head
+        self.cases = self.failures = 0
+        self.pieces: list[str] = []
+        self.at = 0  # the piece written last
+
+    def count(self, f: FileReport, shown: Iterable[Diagnostic]) -> None:
+        self.failures += _case(self.suite, self.cases, f, shown, self.worst)
+        self.cases += 1
+
+    def head(self, totals: Totals | None) -> Iterator[str]:
+        assert totals is not None
+        for key, value in self.context.robot_json().get("stamps", stamps()).items():
+            value = "" if value is None else str(value)
+            ET.SubElement(self.properties, "property", name=key, value=value)
+        out = [f"{d.severity} {d.code}: {with_hint(d)}" for d in totals.notes]
+        ET.SubElement(self.suite, "system-out").text = "\n".join([*out, summary(totals)]) + "\n"
+        counts = {"tests": str(totals.files), "failures": str(self.failures), "errors": "0"}
+        self.suite.attrib.update(counts)
+        root = ET.Element("testsuites", name="motiontool validate")
+        root.attrib.update(counts)
+        root.append(self.suite)
+        ET.indent(root)
+        skeleton = ET.tostring(root, encoding="unicode", xml_declaration=True) + "\n"
+        self.pieces = _PLACE.split(skeleton)  # text, kind, index, text, kind, index, ..., text
+        yield str(escape_undecodable(self.pieces[0])[0])
+
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        """The lines of the next file with findings, where its placeholders are (failures,
+        then output), each followed by the document's text up to the next placeholder."""
+        pieces, first = self.pieces, self.at
+        while self.at + 2 < len(pieces) and pieces[self.at + 2] == pieces[first + 2]:
+            fails = pieces[self.at + 1] == "F"
+            yield from _lines(d for d in shown if (d.severity >= self.worst) == fails)
+            yield str(escape_undecodable(pieces[self.at + 3])[0])
+            self.at += 3

@@ -5,23 +5,23 @@ from __future__ import annotations
 import functools
 import os
 import urllib.parse
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
 from motiontool.cli.jsontext import (
     HOLE,
+    JsonList,
     dumps_around,
     escape_undecodable,
     indented,
-    list_pieces,
     text_after,
 )
 from motiontool.cli.reports.common import (
-    PLAIN,
     Context,
     Fingerprints,
-    findings,
+    Totals,
+    Writer,
     project_root,
     relative_path,
     text_column,
@@ -30,7 +30,7 @@ from motiontool.cli.reports.common import (
 from motiontool.cli.rules import RULES
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Related, Severity
 from motiontool.motionfmt.fixes import Fix
-from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.motionfmt.validate import FileReport
 from motiontool.stamps import stamps
 
 __all__ = [
@@ -38,8 +38,8 @@ __all__ = [
     "HOME_LABEL",
     "RULES_LABEL",
     "SARIF_SRCROOT",
+    "SarifWriter",
     "project_urls",
-    "render_sarif",
 ]
 
 SARIF_SRCROOT = "%SRCROOT%"
@@ -223,7 +223,7 @@ def _fixes(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> tuple[dict
     return {"fixes": [{"description": {"text": text}, "artifactChanges": [change]}]}, 0
 
 
-def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class SarifWriter(Writer):
     """SARIF 2.1.0, as GitHub code scanning and other CI dashboards read it, its results
     written as the findings are made.
 
@@ -233,52 +233,61 @@ def render_sarif(report: ValidationReport, context: Context = PLAIN) -> Iterator
     stamps); a run's notes into the invocation's ``toolExecutionNotifications``: both after
     the results, once every file is validated (one pass over the files).
     """
-    used = sorted(CODES)  # every code a finding may have: no pass over the findings for it
-    index = {code: i for i, code in enumerate(used)}
-    urls = project_urls()
-    driver: dict[str, Any] = {"name": "motiontool", "version": stamps()["motiontool"]}
-    if HOME_LABEL in urls:
-        driver["informationUri"] = urls[HOME_LABEL]
-    driver["rules"] = [_rule(code, urls.get(RULES_LABEL)) for code in used]
-    run: dict[str, Any] = {
-        "tool": {"driver": driver},
-        "originalUriBaseIds": {SARIF_SRCROOT: {"uri": project_root().as_uri().rstrip("/") + "/"}},
-        "columnKind": "utf16CodeUnits",
-        "results": HOLE,
-        "invocations": [],  # after the results: the run's notes and robots are known then
-        "properties": {},
-    }
-    doc: dict[str, Any] = {
-        "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
-        "version": "2.1.0",
-        "runs": [run],
-    }
-    yield dumps_around(doc, 0)[0]
-    counter = [0]
-    yield from list_pieces(_results(report, context, index, counter), 3)
-    notifications = [
-        {
-            "level": _SARIF_LEVEL[d.severity],
-            "message": {"text": with_hint(d)},
-            "descriptor": {"id": d.code, "index": index[d.code]},
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        used = sorted(CODES)  # every code a finding may have: no pass over the findings for it
+        self.index = {code: i for i, code in enumerate(used)}
+        self.used = used
+        self.results = JsonList(3)
+        self.escaped = 0
+        self.fingerprint = Fingerprints()
+        self.run: dict[str, Any] = {}
+        self.doc: dict[str, Any] = {}
+
+    def head(self, totals: Totals | None) -> Iterator[str]:
+        urls = project_urls()
+        driver: dict[str, Any] = {"name": "motiontool", "version": stamps()["motiontool"]}
+        if HOME_LABEL in urls:
+            driver["informationUri"] = urls[HOME_LABEL]
+        driver["rules"] = [_rule(code, urls.get(RULES_LABEL)) for code in self.used]
+        root = project_root().as_uri().rstrip("/") + "/"
+        self.run = {
+            "tool": {"driver": driver},
+            "originalUriBaseIds": {SARIF_SRCROOT: {"uri": root}},
+            "columnKind": "utf16CodeUnits",
+            "results": HOLE,
+            "invocations": [],  # after the results: the run's notes and robots are known then
+            "properties": {},
         }
-        for d in report.notes
-    ]
-    run["invocations"] = [
-        {"executionSuccessful": True, "toolExecutionNotifications": notifications}
-    ]
-    properties: dict[str, Any] = {"stamps": stamps(), **context.robot_json()}
-    run["properties"] = properties
-    yield text_after(doc, counter[0], count_in=properties)  # the count in the run's bag
+        self.doc = {
+            "$schema": "https://json.schemastore.org/sarif-2.1.0.json",
+            "version": "2.1.0",
+            "runs": [self.run],
+        }
+        yield dumps_around(self.doc, 0)[0]
 
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        """Each finding's result as JSON text, made as the findings are."""
+        for d in shown:
+            fingerprint = self.fingerprint(d, self.order)
+            clean, n = escape_undecodable(_result(f, d, self.index[d.code], fingerprint))
+            self.escaped += n
+            yield self.results.item(indented(clean))
 
-def _results(
-    report: ValidationReport, context: Context, index: dict[str, int], escaped: list[int]
-) -> Iterator[str]:
-    """Each finding's result as JSON text, made as the findings are; ``escaped[0]`` adds up
-    the undecodable bytes escaped."""
-    fingerprint = Fingerprints()
-    for f, d in findings(report, context.order):
-        clean, n = escape_undecodable(_result(f, d, index[d.code], fingerprint(d, context.order)))
-        escaped[0] += n
-        yield indented(clean)
+    def tail(self, totals: Totals) -> Iterator[str]:
+        yield self.results.close()
+        notifications = [
+            {
+                "level": _SARIF_LEVEL[d.severity],
+                "message": {"text": with_hint(d)},
+                "descriptor": {"id": d.code, "index": self.index[d.code]},
+            }
+            for d in totals.notes
+        ]
+        self.run["invocations"] = [
+            {"executionSuccessful": True, "toolExecutionNotifications": notifications}
+        ]
+        properties: dict[str, Any] = {"stamps": stamps(), **self.context.robot_json()}
+        self.run["properties"] = properties
+        yield text_after(self.doc, self.escaped, count_in=properties)  # the count in the bag

@@ -2,24 +2,25 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from typing import Any
 
 import typer
 
 from motiontool.cli.reports.common import (
-    PLAIN,
     Context,
     FixCounts,
-    findings,
+    Totals,
+    Writer,
     fix_summary,
     summary,
 )
-from motiontool.cli.text import escaped, shown
+from motiontool.cli.text import escaped
+from motiontool.cli.text import shown as shown_
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.validate import FileReport, ValidationReport
+from motiontool.motionfmt.validate import FileReport
 
-__all__ = ["render_text"]
+__all__ = ["TextWriter"]
 
 _COLORS = {Severity.ERROR: "red", Severity.WARNING: "yellow", Severity.INFO: "cyan"}
 _WINDOW = 100  # characters of a long source line shown around the column
@@ -73,33 +74,43 @@ def _mark(summary: tuple[bool, str] | None) -> str:
     return "[*] " if summary is not None and summary[0] else ""
 
 
-def render_text(report: ValidationReport, context: Context = PLAIN) -> Iterator[str]:
+class TextWriter(Writer):
     """The robot line, then compiler-style lines with the source line and a caret, a finding
     at a time as they are made; ANSI colours only with ``context.color`` (never for a file or
     a pipe, see :mod:`motiontool.cli.color`)."""
-    color, order = context.color, context.order
-    robot_line = "" if context.quiet else context.robot_line()
-    if robot_line:
-        yield robot_line.rstrip("\n") + "\n"
-    fixable = FixCounts()
-    for f, d in findings(report, order):
-        sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
-        fix = f.fix_summary(d)
-        out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {_mark(fix)}{shown(d.message)}"]
-        out.extend(_source_excerpt(f, d, color))
-        if d.hint:
-            out.append(f"   = hint: {shown(d.hint)}")
-        fixable.add(fix)
-        out.extend(_fix_line(fix))
-        out.append("")
-        yield "\n".join(out)
-    out = []
-    for d in report.notes:  # about the run, not about a place in a file
-        sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
-        out.append(f"{sev} {d.code}: {shown(d.message)}")
-        if d.hint:
-            out.append(f"   = hint: {shown(d.hint)}")
-    if not context.quiet:
-        out.append(summary(report) + fix_summary(fixable))
-    if out:
-        yield "\n".join(out) + "\n"
+
+    def __init__(self, context: Context | None = None) -> None:
+        super().__init__(context)
+        self.robots_first = not self.context.quiet
+        self.fixable = FixCounts()
+
+    def head(self, totals: Totals | None) -> Iterator[str]:
+        robot_line = "" if self.context.quiet else self.context.robot_line()
+        if robot_line:
+            yield robot_line.rstrip("\n") + "\n"
+
+    def file(self, f: FileReport, shown: Iterable[Diagnostic]) -> Iterator[str]:
+        color = self.context.color
+        for d in shown:
+            sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
+            fix = f.fix_summary(d)
+            out = [f"{d.path}:{d.line}:{d.column}: {sev} {d.code}: {_mark(fix)}{shown_(d.message)}"]
+            out.extend(_source_excerpt(f, d, color))
+            if d.hint:
+                out.append(f"   = hint: {shown_(d.hint)}")
+            self.fixable.add(fix)
+            out.extend(_fix_line(fix))
+            out.append("")
+            yield "\n".join(out)
+
+    def tail(self, totals: Totals) -> Iterator[str]:
+        color, out = self.context.color, []
+        for d in totals.notes:  # about the run, not about a place in a file
+            sev = _style(str(d.severity), color, fg=_COLORS[d.severity], bold=True)
+            out.append(f"{sev} {d.code}: {shown_(d.message)}")
+            if d.hint:
+                out.append(f"   = hint: {shown_(d.hint)}")
+        if not self.context.quiet:
+            out.append(summary(totals) + fix_summary(self.fixable))
+        if out:
+            yield "\n".join(out) + "\n"

@@ -15,7 +15,8 @@ import pytest
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
-from motiontool.cli.reports import REPORTS, render_pieces
+from motiontool.cli.reports import REPORTS
+from motiontool.cli.validate_report import render_pieces
 from motiontool.motionfmt import validate as validate_module
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.reader import ReadResult

@@ -125,7 +125,7 @@ def test_findings_made_on_demand_are_those_made_at_once() -> None:
 
 
 def test_the_text_and_json_reports_write_findings_as_they_are_made() -> None:
-    from motiontool.cli.reports import render, render_pieces
+    from motiontool.cli.validate_report import render, render_pieces
     from motiontool.motionfmt.validate import ValidationReport
 
     data = _random_file(1_000)
