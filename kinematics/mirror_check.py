@@ -26,7 +26,7 @@ from motiontool.kinematics.checks._table import header_diagnostic
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import UNMIRRORED_COPY, Diagnostic, Severity
 from motiontool.motionfmt.fileio import is_stdin
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
@@ -142,7 +142,7 @@ class UnmirroredCopy:
         return header_diagnostic(
             result,
             result.joints.index(joints[0]),
-            "MT309",
+            UNMIRRORED_COPY,
             Severity.INFO,
             f"looks like an unmirrored copy of {sibling.name}: {shown} without the sign flip a "
             f"left/right mirror needs ({self.spec.name}'s joint axes)",
@@ -156,7 +156,7 @@ class UnmirroredCopy:
             write = f"'{command}' writes the true mirror"
         else:
             write = f"the left/right mirror of {sibling} is the true one"
-        ignore = self.wording.ignore("MT309")
+        ignore = self.wording.ignore(UNMIRRORED_COPY)
         return f"{write}; if the motion is meant to be asymmetric, {ignore}"
 
 

@@ -20,14 +20,23 @@ from dataclasses import dataclass, field
 __all__ = [
     "BEYOND_LIMITS",
     "BLANK_LINE_ENDS",
+    "CHECK_SKIPPED",
     "CODES",
+    "COUPLED_JOINTS",
     "CUT_LINE",
     "EMPTY_CELL",
+    "HEAD_PITCH_RANGE",
     "JOINT_TWICE",
+    "NO_ROBOT",
     "NO_VALUE_CELL",
     "NUL_BYTE",
+    "OFF_BALANCE",
+    "SELF_COLLISION",
+    "STREAM_TOO_FAST",
     "TOO_FAST",
     "TRAILING_CHARACTERS",
+    "UNKNOWN_JOINT",
+    "UNMIRRORED_COPY",
     "Code",
     "Diagnostic",
     "FixKind",
@@ -107,6 +116,15 @@ NO_VALUE_CELL = "MT204"
 JOINT_TWICE = "MT205"
 BEYOND_LIMITS = "MT302"
 TOO_FAST = "MT303"
+UNKNOWN_JOINT = "MT301"
+STREAM_TOO_FAST = "MT304"
+HEAD_PITCH_RANGE = "MT305"
+COUPLED_JOINTS = "MT306"
+SELF_COLLISION = "MT307"
+OFF_BALANCE = "MT308"
+UNMIRRORED_COPY = "MT309"
+NO_ROBOT = "MT901"
+CHECK_SKIPPED = "MT902"
 
 CODES: dict[str, Code] = _codes(
     # Webots rejects the file, or reads it otherwise than it is written.
@@ -144,7 +162,7 @@ CODES: dict[str, Code] = _codes(
     Code("MT210", W, "joint name with leading or trailing white space"),
     Code("MT211", W, "a joint is never commanded: every cell is '*'"),
     # Robot checks (motiontool.kinematics.checks).
-    Code("MT301", W, "joint is not a motor of the robot: Webots ignores the column"),
+    Code(UNKNOWN_JOINT, W, "joint is not a motor of the robot: Webots ignores the column"),
     Code(BEYOND_LIMITS, E, "position outside the joint's limits: the motor is clamped", fix=ROBOT),
     Code(
         TOO_FAST,
@@ -152,15 +170,15 @@ CODES: dict[str, Code] = _codes(
         "segment faster than the joint's maxVelocity: the motor falls behind",
         fix=ROBOT,
     ),
-    Code("MT304", W, "command stream faster than maxVelocity at the controller time step"),
-    Code("MT305", E, "HeadPitch outside the real robot's HeadYaw-dependent range"),
-    Code("MT306", E, "joints one motor drives on the real robot differ"),
-    Code("MT307", W, "self-collision: two bodies of the robot overlap"),
-    Code("MT308", W, "static balance: centre of mass outside the support polygon"),
-    Code("MT309", I, "a Left/Right file looks like an unmirrored copy of its sibling"),
+    Code(STREAM_TOO_FAST, W, "command stream faster than maxVelocity at the controller time step"),
+    Code(HEAD_PITCH_RANGE, E, "HeadPitch outside the real robot's HeadYaw-dependent range"),
+    Code(COUPLED_JOINTS, E, "joints one motor drives on the real robot differ"),
+    Code(SELF_COLLISION, W, "self-collision: two bodies of the robot overlap"),
+    Code(OFF_BALANCE, W, "static balance: centre of mass outside the support polygon"),
+    Code(UNMIRRORED_COPY, I, "a Left/Right file looks like an unmirrored copy of its sibling"),
     # Notes about the validation itself.
-    Code("MT901", I, "robot checks skipped"),
-    Code("MT902", I, "check skipped: a library it needs is not installed"),
+    Code(NO_ROBOT, I, "robot checks skipped"),
+    Code(CHECK_SKIPPED, I, "check skipped: a library it needs is not installed"),
 )
 
 

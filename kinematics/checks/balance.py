@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from motiontool.extras import require
 from motiontool.kinematics.checks._table import RobotCheck, Table, cell, configurations, runs
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import OFF_BALANCE, Diagnostic, Severity
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = ["Balance"]
@@ -41,7 +41,7 @@ def _outside(table: Table, margins: list[float], run: list[int]) -> Diagnostic:
     )
     return cell(
         table,
-        "MT308",
+        OFF_BALANCE,
         Severity.WARNING,
         worst,
         None,

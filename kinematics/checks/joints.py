@@ -11,7 +11,7 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import UNKNOWN_JOINT, Diagnostic, Severity
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = ["UnknownJoints"]
@@ -46,4 +46,4 @@ class UnknownJoints(RobotCheck):
                 + ", ".join(spec.joint_names)
                 + f"; or {self.wording.name_robot('another')}"
             )
-        return header_diagnostic(result, j, "MT301", Severity.WARNING, message, hint)
+        return header_diagnostic(result, j, UNKNOWN_JOINT, Severity.WARNING, message, hint)

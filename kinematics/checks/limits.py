@@ -25,6 +25,8 @@ from motiontool.kinematics.checks._table import (
 from motiontool.kinematics.robots import JointSpec
 from motiontool.motionfmt.diagnostics import (
     BEYOND_LIMITS,
+    COUPLED_JOINTS,
+    HEAD_PITCH_RANGE,
     Diagnostic,
     PoseFinding,
     Severity,
@@ -235,7 +237,7 @@ class Limits(GroupingCheck):
         where = "below" if p < lo else "above"
         return cell(
             table,
-            "MT305",
+            HEAD_PITCH_RANGE,
             Severity.ERROR,
             pose,
             col,
@@ -331,7 +333,7 @@ class _Coupling:
             what = f"one motor drives {names} on the real robot"
         return cell(
             self.table,
-            "MT306",
+            COUPLED_JOINTS,
             severity,
             pose,
             self._column(pose, differing[0]),

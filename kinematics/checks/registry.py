@@ -21,7 +21,20 @@ from motiontool.kinematics.checks.velocity import Velocity
 from motiontool.kinematics.checks.wording import Wording
 from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robot_spec import RobotSpec
-from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST, Diagnostic
+from motiontool.motionfmt.diagnostics import (
+    BEYOND_LIMITS,
+    CHECK_SKIPPED,
+    COUPLED_JOINTS,
+    HEAD_PITCH_RANGE,
+    NO_ROBOT,
+    OFF_BALANCE,
+    SELF_COLLISION,
+    STREAM_TOO_FAST,
+    TOO_FAST,
+    UNKNOWN_JOINT,
+    UNMIRRORED_COPY,
+    Diagnostic,
+)
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = [
@@ -84,7 +97,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "limits",
         True,
         None,
-        (BEYOND_LIMITS, "MT305", "MT306"),
+        (BEYOND_LIMITS, HEAD_PITCH_RANGE, COUPLED_JOINTS),
         "positions within the joints' limits (and the real robot's rules, nao-v5)",
         lambda spec, _o: Limits(spec),
         Limits,
@@ -93,7 +106,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "velocity",
         True,
         None,
-        (TOO_FAST, "MT304"),
+        (TOO_FAST, STREAM_TOO_FAST),
         "segments and the command stream within maxVelocity",
         lambda spec, o: Velocity(spec, o.timestep_ms),
         Velocity,
@@ -102,7 +115,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "collision",
         True,
         "kinematics",
-        ("MT307",),
+        (SELF_COLLISION,),
         "no self-collision at the keyframes and segment midpoints",
         lambda spec, o: Collision(spec, o.penetration_tolerance_mm),
         Collision,
@@ -111,7 +124,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "balance",
         False,
         "kinematics",
-        ("MT308",),
+        (OFF_BALANCE,),
         "the centre of mass over the support polygon (robots with feet)",
         lambda spec, _o: Balance(spec),
         Balance,
@@ -124,7 +137,7 @@ ALWAYS: tuple[CheckEntry, ...] = (
         "joints",
         True,
         None,
-        ("MT301",),
+        (UNKNOWN_JOINT,),
         "every column a motor of the robot",
         lambda spec, o: UnknownJoints(spec, o.wording),
         UnknownJoints,
@@ -133,7 +146,7 @@ ALWAYS: tuple[CheckEntry, ...] = (
         "mirror",
         True,
         None,
-        ("MT309",),
+        (UNMIRRORED_COPY,),
         "a Left/Right file is no unmirrored copy of its sibling",
         lambda spec, o: UnmirroredCopy(spec, o.wording),
         UnmirroredCopy,
@@ -141,7 +154,7 @@ ALWAYS: tuple[CheckEntry, ...] = (
 )
 """The checks every robot run makes, whatever is selected (they run first)."""
 
-NOTE_CODES = ("MT901", "MT902")
+NOTE_CODES = (NO_ROBOT, CHECK_SKIPPED)
 """The robot run's notes about itself (a robot not found, a check skipped): the runner's."""
 
 #: Every check name, in the order they run.

@@ -35,7 +35,7 @@ from motiontool.kinematics.robots import (
     pick_robot,
     robot_choices,
 )
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import CHECK_SKIPPED, NO_ROBOT, Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.motion_checks import step_findings
 from motiontool.motionfmt.reader import ReadResult
@@ -242,7 +242,7 @@ class RobotChecks(Groupable):
         settle_tables()
         if "balance" in self.checks and not spec.feet:
             message = f"balance check skipped: robot {spec.name} has no feet"
-            parts.append([Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message)])
+            parts.append([Diagnostic(NO_ROBOT, Severity.INFO, result.path, 1, 1, message)])
         return Findings.merge(parts)
 
     def _of_the_file(
@@ -314,7 +314,7 @@ def _skipped_for_extra(name: str, exc: MissingExtraError) -> Diagnostic:
     """MT902, once a run and about no file: check ``name`` is skipped because its library is
     not installed."""
     return Diagnostic(
-        code="MT902",
+        code=CHECK_SKIPPED,
         severity=Severity.INFO,
         path="",
         line=0,
@@ -335,6 +335,6 @@ def _skipped(result: ReadResult, wording: Wording) -> Diagnostic:
     message = f"robot checks skipped: {why.detail}; checked at syntax level only"
     hint = f"{wording.name_robot()} ({robot_choices()})"
     if not joints:
-        return Diagnostic("MT901", Severity.INFO, result.path, 1, 1, message, hint)
+        return Diagnostic(NO_ROBOT, Severity.INFO, result.path, 1, 1, message, hint)
     where = why.missing[0] if why.missing else 0
-    return header_diagnostic(result, where, "MT901", Severity.INFO, message, hint)
+    return header_diagnostic(result, where, NO_ROBOT, Severity.INFO, message, hint)

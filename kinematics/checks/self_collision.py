@@ -16,7 +16,7 @@ from motiontool.kinematics.checks._table import (
     runs,
 )
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import SELF_COLLISION, Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings, in_order
 from motiontool.motionfmt.grouping import MAX_RUNS
 from motiontool.motionfmt.reader import ReadResult
@@ -136,7 +136,7 @@ class Collision(GroupingCheck):
         a, b = (_body(joints.get(body), body) for body in pair)
         return cell(
             table,
-            "MT307",
+            SELF_COLLISION,
             Severity.WARNING,
             (deepest + 1) // 2,
             None,

@@ -21,6 +21,7 @@ from motiontool.kinematics.checks._table import (
 )
 from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import (
+    STREAM_TOO_FAST,
     TOO_FAST,
     Diagnostic,
     PoseFinding,
@@ -391,7 +392,7 @@ class Velocity(GroupingCheck):
             hint = "spread the move over more time"
         return cell(
             table,
-            "MT304",
+            STREAM_TOO_FAST,
             Severity.WARNING,
             pose,
             col,
