@@ -113,7 +113,7 @@ def expect_command(
         raise MotionToolError("expect needs --infer (propose expectations from the names)")
     if robot_node is not None and world is None:
         raise MotionToolError("--robot-node names a robot node of --world: pass --world FILE.wbt")
-    check_ensemble(robustness, strict, (executor, start_pose))
+    check_ensemble(robustness, strict, executor)
     from motiontool.sim.infer import propose_chains, render_toml
 
     entries = _entries(names)

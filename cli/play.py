@@ -335,7 +335,7 @@ def play_command(
     is fragile (a warning; exit 1 with --strict) or fails.
     """
     inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
-    check_robustness(robustness, files, strict, (executor, start_pose))
+    check_robustness(robustness, files, strict, executor)
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
     planned, robot, options = _plan(
         files,

@@ -73,36 +73,26 @@ NoCacheOption = Annotated[
 ]
 
 
-def check_robustness(
-    n: int | None, files: list[Path], strict: bool, run: tuple[str, str | None]
-) -> None:
-    """``--robustness`` replays one motion file from the zero stance or a lying start (``run``:
-    the executor, which must exist, and ``--start-pose``, which members do not take yet);
-    ``--strict`` needs it: exit 2 before the run."""
-    check_ensemble(n, strict, run)
-    if n is not None and (len(files) != 1 or is_stdin(files[0])):
+def check_robustness(n: int | None, files: list[Path], strict: bool, executor: str) -> None:
+    """``--robustness`` replays motion files (a chain too), not standard input (its members
+    read the files again); ``executor`` must exist and ``--strict`` needs ``--robustness``:
+    exit 2 before the run."""
+    check_ensemble(n, strict, executor)
+    if n is not None and any(is_stdin(f) for f in files):
         raise MotionToolError(
-            "--robustness replays one motion file (not standard input): play one file, or "
-            "use batch --robustness"
+            "--robustness replays motion files, not standard input: play the file by its path"
         )
 
 
-def check_ensemble(n: int | None, strict: bool, run: tuple[str, str | None]) -> None:
-    """What ``play`` and ``expect`` check of ``--robustness``: the executor exists (``run``:
-    it and ``--start-pose``, which members do not take yet), ``--strict`` needs it: exit 2
-    before the run."""
-    executor, start_pose = run
+def check_ensemble(n: int | None, strict: bool, executor: str) -> None:
+    """What ``play`` and ``expect`` check of ``--robustness``: the executor exists,
+    ``--strict`` needs ``--robustness``: exit 2 before the run."""
     if executor not in EXECUTORS:
         raise typer.BadParameter(
             f"{executor!r}: choose {' or '.join(EXECUTORS)}", param_hint="--executor"
         )
     if strict and n is None:
         raise MotionToolError("--strict fails on a fragile verdict: pass --robustness N")
-    if n is not None and start_pose is not None:
-        raise MotionToolError(
-            "--robustness replays a run from the zero stance or --start lying-*, not from "
-            "--start-pose yet"
-        )
 
 
 def robustness_of(
@@ -114,30 +104,18 @@ def robustness_of(
     run: tuple[str, int, bool],
 ) -> Robustness | None:
     """The robustness of ``result``'s run over ``n`` members, each played as the run was
-    (``options``, the plan's start and world) on the batch executors (``run``: executor, jobs,
-    --no-cache: else batch's cache), judged as the run was; None without ``n`` or when the run
-    could not start."""
+    (``options``, the plan's start and world; a chain's elements, their loops, a start pose) on
+    the batch executors (``run``: executor, jobs, --no-cache: else batch's cache), judged as
+    the run was; None without ``n`` or when the run could not start."""
     report = result.report
     if report is None or n is None:
         return None
-    import hashlib
-
-    from motiontool.motionfmt.fileio import read_file
-    from motiontool.sim.batch import RunSpec, default_cache_dir, run_batch
+    from motiontool.sim.batch import default_cache_dir, run_batch
     from motiontool.sim.robustness import judge, member_specs
     from motiontool.sim.runs import run_spec
 
-    if len(planned.files) != 1:  # a sidecar's after: a chain
-        raise MotionToolError("--robustness replays one motion, not a chain")
     executor, jobs, no_cache = run
-    path = planned.files[0]
-    nominal = RunSpec(
-        str(path),
-        hashlib.sha256(read_file(path)).hexdigest(),
-        report.robot,
-        options=tuple(sorted(_member_options(planned, options, report.robot, report).items())),
-        expect=planned.motion.expect,
-    )
+    nominal = _nominal(planned, options, report)
     control_step = int(report.stamps["control_step_ms"])
     specs = member_specs(nominal, n, seed=options.seed, control_step_ms=control_step)
     batch = run_batch(
@@ -151,11 +129,33 @@ def robustness_of(
     return judge(report, batch.runs, seed=options.seed)
 
 
+def _nominal(planned: PlayPlan, options: PlayOptions, report: Any) -> RunSpec:
+    """The run as a batch run: its last motion, played after the others (a chain: ``--chain``,
+    a sidecar's ``after``, several files), each file's bytes hashed into its cache key."""
+    import hashlib
+
+    from motiontool.motionfmt.fileio import read_file
+    from motiontool.sim.batch import RunSpec
+
+    *before, last = planned.files
+    sha = [hashlib.sha256(read_file(p)).hexdigest() for p in planned.files]
+    return RunSpec(
+        str(last),
+        sha[-1],
+        report.robot,
+        options=tuple(sorted(_member_options(planned, options, report.robot, report).items())),
+        expect=planned.motion.expect,
+        chain=tuple(str(p) for p in before),
+        chain_sha256=tuple(sha[:-1]),
+    )
+
+
 def _member_options(
     planned: PlayPlan, options: PlayOptions, robot: str, report: Any
 ) -> dict[str, Any]:
     """The run's options as a batch run carries them (its cache key): the control step it ran
-    at, its start, physics, world and play options."""
+    at, its start (a lying start, a start pose's joints), physics, world, play and chain
+    options."""
     from motiontool.sim.physics import physics_run_options
     from motiontool.sim.world_run import world_run_options
 
@@ -168,8 +168,15 @@ def _member_options(
         "reverse": options.reverse,
         "hold_s": options.hold_s,
     }
+    if options.chain:
+        out["chain"] = True
+    if options.chain_loops:
+        out["chain_loops"] = options.chain_loops
     if planned.start.lying:
         out["start"] = str(planned.start)
+    if options.start_pose is not None:
+        out["start_pose"] = options.start_pose
+        out["start_pose_joints"] = options.start_pose_joints
     world, node = planned.world, planned.robot_node
     if world is None:
         world, node = planned.motion.world, planned.motion.robot_node

@@ -299,14 +299,19 @@ def with_members(
 def regroup(batch: BatchResult, *, seed: int) -> BatchResult:
     """``batch`` (of :func:`with_members`: its runs, sample 0, then their members, 1..n) as its
     runs, each with its :class:`Robustness` (:func:`judge`) over its members (those of the same
-    file and robot); the members count in the wall time only."""
-    members: dict[tuple[str, str], list[RunResult]] = {}
+    file, chain and robot); the members count in the wall time only."""
+    members: dict[tuple[str, tuple[str, ...], str], list[RunResult]] = {}
     for result in batch.runs:
         if result.spec.sample:
-            members.setdefault((result.spec.path, result.spec.robot), []).append(result)
+            members.setdefault(_run_of(result.spec), []).append(result)
     out = []
     for result in (r for r in batch.runs if not r.spec.sample):
-        mine = members.get((result.spec.path, result.spec.robot), [])
+        mine = members.get(_run_of(result.spec), [])
         robust = judge(result, mine, seed=seed) if mine else None
         out.append(replace(result, robustness=robust))
     return replace(batch, runs=out)
+
+
+def _run_of(spec: RunSpec) -> tuple[str, tuple[str, ...], str]:
+    """The run a member belongs to: its motion, the chain played before it, its robot."""
+    return spec.path, spec.chain, spec.robot

@@ -84,6 +84,8 @@ def _play_options(spec: RunSpec) -> Any:
         # sim.physics.physics_run_options; _PLAY: play --robustness's members
         if options.get(name) is not None:
             kwargs[name] = options[name]
+    if options.get("chain_loops"):  # play --robustness's members: a chain's --loop NAME=N
+        kwargs["chain_loops"] = tuple(int(n) for n in options["chain_loops"])
     return PlayOptions(**kwargs, seed=spec.sample)
 
 

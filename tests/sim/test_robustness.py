@@ -138,13 +138,42 @@ def test_members_in_a_world_play_at_steps_dividing_its_basic_time_step(head_no: 
     assert steps == {1, 2}  # 4 ms does not divide the wrestling world's 10 ms
 
 
+def _members(cache: Path) -> list[dict[str, Any]]:
+    """The members' reports in a batch cache, by sample."""
+    docs = [json.loads(p.read_text(encoding="utf-8")) for p in cache.rglob("*.json")]
+    return sorted((d["report"] for d in docs), key=lambda r: r["stamps"]["seed"])
+
+
+def test_members_replay_the_chain_and_start_pose_deterministically(
+    head_no: Path, tmp_path: Path
+) -> None:
+    second = tmp_path / "second.motion"
+    shutil.copyfile(head_no, second)
+    pose = ROOT / "motions" / "nao" / "bow.motion"  # its last pose: bent forward
+    args = [head_no, second, "--chain", "--loop", "second=2", "--start-pose", pose]
+    code, text, doc = play(*args, "--robustness", "2", cache=tmp_path / "one")
+    assert code == 0 and verdicts(doc)["clean"]["status"] == "holds", text
+    runs = [doc, *_members(tmp_path / "one" / "motiontool" / "batch")]
+    assert len(runs) == 3  # the run, then its 2 members
+    for report in runs:  # each member plays every element, from the start pose
+        assert [(Path(f["path"]).name, f["loops"]) for f in report["files"]] == [
+            ("head_no.motion", 1),
+            ("second.motion", 2),
+        ]
+        assert report["options"]["start_pose"] == str(pose)
+    assert runs[1]["stamps"]["seed"] == 1 and runs[1]["options"]["friction_scale"] != 1.0
+    # The same seed plays the same members: a second cache holds the same reports.
+    play(*args, "--robustness", "2", cache=tmp_path / "two")
+    again = _members(tmp_path / "two" / "motiontool" / "batch")
+    assert [r["base"] for r in again] == [r["base"] for r in runs[1:]]
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
         (["--strict"], "--strict fails on a fragile verdict: pass --robustness N"),
-        (["--robustness", "3", "SECOND"], "--robustness replays one motion file"),
+        (["--robustness", "3", "-"], "--robustness replays motion files, not standard input"),
         (["--robustness", "3", "--executor", "nope"], "'nope': choose local or ray"),
-        (["--robustness", "3", "--start-pose", "SECOND"], "not from --start-pose yet"),
     ],
 )
 def test_robustness_usage_errors_exit_2_in_one_line(
@@ -207,10 +236,13 @@ def test_members_on_ray_give_the_local_verdicts(
     head_no: Path, tmp_path: Path, one_ray: None
 ) -> None:
     pytest.importorskip("ray", reason="the Ray executor is an optional extra")
+    second = tmp_path / "second.motion"  # a chain from a start pose: its elements travel too
+    shutil.copyfile(head_no, second)
+    chain = [str(head_no), str(second), "--chain", "--start-pose", str(HEAD_NO)]
     docs = {}
     for executor in ("local", "ray"):
         out = tmp_path / f"{executor}.json"
-        argv = ["play", str(head_no), "--headless", "--hold", "0.2", "--expect", "max_tilt<=0.5"]
+        argv = ["play", *chain, "--headless", "--hold", "0.2", "--expect", "max_tilt<=0.5"]
         argv += ["--robustness", "3", "--no-cache", "--executor", executor, "--json", str(out)]
         home = tmp_path / "home"  # a local Ray of its own (no ~/.ray of an earlier one)
         env = {**os.environ, "HOME": str(home)}
