@@ -175,17 +175,23 @@ class Settings:
         """Whether a finding ``code`` in ``path`` is reported: this file's
         :attr:`selection`, then the command line's (``cli``), then ``per-file-ignores`` (a
         prefix such as ``MT2`` stands for every code that starts with it)."""
-        enabled = self.selection.decide(code, True)
-        if cli is not None:
-            enabled = cli.decide(code, enabled)
-        if not enabled:
-            return False
-        return not any(
-            code.startswith(c)
-            for pattern, codes in self.per_file_ignores
-            if self.matches(pattern, path)
-            for c in codes
-        )
+        return code not in self.unreported(path, (code,), cli)
+
+    def unreported(
+        self, path: Path, codes: Iterable[str], cli: Selection | None = None
+    ) -> frozenset[str]:
+        """Of ``codes``, those :meth:`reports` leaves out in ``path`` (its
+        ``per-file-ignores`` matched once for them all)."""
+        matched = [codes for pattern, codes in self.per_file_ignores if self.matches(pattern, path)]
+        ignored = tuple(c for prefixes in matched for c in prefixes)
+        left_out = set()
+        for code in codes:
+            enabled = self.selection.decide(code, True)
+            if cli is not None:
+                enabled = cli.decide(code, enabled)
+            if not enabled or code.startswith(ignored):
+                left_out.add(code)
+        return frozenset(left_out)
 
     def excluded(self, path: Path) -> bool:
         """Whether ``path`` (found by searching a folder, or named with ``force-exclude``)

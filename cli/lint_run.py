@@ -4,7 +4,8 @@ closest configuration file (``cli/config.py``), the command line over them.
 Files that share a robot, checks, time step and grouping (``group``: consecutive per-pose
 findings as one) share one set of robot checks; findings are then kept or left out per file
 (``select``, ``ignore``, ``per-file-ignores``), and ``strict`` applies per file. Each file is
-validated when the report reaches it, not all before it starts.
+read and checked when the command asks for it (:meth:`LintRun.check`), as its report is
+written, not all before it starts.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ from motiontool.kinematics.checks import (
 )
 from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
-from motiontool.motionfmt.diagnostics import Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
 from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
@@ -104,16 +105,29 @@ class Checked:
 
 @dataclass
 class LintRun:
-    """A run's report (its files validated as the report reads them), the robot checks of its
-    groups of files and the files whose warnings fail the run."""
+    """A run's files, each read and checked when the command asks (:meth:`check`), their
+    report (the first files' held), the robot checks of its groups of files and the files
+    whose warnings fail the run."""
 
     report: ValidationReport
     checkers: list[RobotChecks]
     strict_files: set[str]
+    sources: _Sources
+    _surveyed: bool = False
+
+    def check(self, i: int) -> FileReport:
+        """The ``i``-th file read and checked with its settings and its group's robot checks
+        (its report as held, where it is: see :class:`FileReports`)."""
+        files = self.report.files
+        held = files.held(i)
+        if held is not None:
+            return held
+        files.let_go()  # before the next is made: one report past the budget at a time
+        return files.hold(i, self.sources.make(i))
 
     @property
     def checked(self) -> Checked | None:
-        """The robot checks merged over the files validated so far (None: no file of the run
+        """The robot checks merged over the files checked so far (None: no file of the run
         is checked against a robot)."""
         if not self.checkers:
             return None
@@ -124,8 +138,21 @@ class LintRun:
 
     def surveyed(self) -> Checked | None:
         """:attr:`checked` once every file is known (which robot checks it, or none): what a
-        report that starts with the robots used needs (:meth:`FileReports.survey`)."""
-        self.report.files.survey()
+        report that starts with the robots used needs. The files whose reports are held are
+        checked (and held), and the first one past them too (the report reads it next); the
+        others are read for their robot, not checked. Once a run."""
+        if not self._surveyed:
+            self._surveyed = True
+            files, sizes = self.report.files, self.sources.inputs.sizes
+            past = False  # from the first file past the held bytes on, the others are read
+            for i in range(len(files)):
+                if files.known(i) is not None:  # checked, all its findings made
+                    continue
+                if past:
+                    self.sources.survey(i)
+                    continue
+                past = not files.fits(sizes[i])
+                self.check(i)
         return self.checked
 
     def failed(self) -> bool:
@@ -207,9 +234,10 @@ def lint(
     on_step: Callable[[str], None] | None = None,
     stdin_data: bytes | None = None,
 ) -> LintRun:
-    """Validate ``files``, each with its settings and ``overrides`` over them, as the report
-    reads them (:class:`~motiontool.motionfmt.validate.FileReports`: memory stays flat however
-    many files there are).
+    """The run that validates ``files``, each with its settings and ``overrides`` over them,
+    when the command asks for it (:meth:`LintRun.check`; the reports of the first files held,
+    :class:`~motiontool.motionfmt.validate.FileReports`: memory stays flat however many files
+    there are).
 
     ``make_checker(robot, checks, timestep)`` builds the robot checks of one group (the CLI
     words its hints); ``checks`` None means the default checks (skipped with a note where a
@@ -220,14 +248,14 @@ def lint(
     """
     sources = _Sources(files, resolver, overrides, make_checker, on_step, stdin_data)
     names = sources.names
-    reports = FileReports(names, sources.make, sizes=sources.inputs.sizes, survey=sources.survey)
+    reports = FileReports(names, sources.make)
     strict = {
         name
         for name, s in zip(names, sources.settings, strict=True)
         if (overrides.strict if overrides.strict is not None else s.strict)
     }
     checkers = [c for c in sources.checkers.values() if c is not None]
-    run = LintRun(ValidationReport(files=reports), checkers, strict)
+    run = LintRun(ValidationReport(files=reports), checkers, strict, sources)
     selection = overrides.selection
 
     def notes() -> list[Diagnostic]:
@@ -243,7 +271,7 @@ def lint(
 class _Sources:
     """The files of one run with their settings and robot checks (those of each group of
     files, built at once): each file validated (:meth:`make`) or only surveyed for its robot
-    (:meth:`survey`) when its report asks, read from its
+    (:meth:`survey`) when the run asks, read from its
     :class:`~motiontool.motionfmt.fileio.Inputs`."""
 
     def __init__(
@@ -283,20 +311,11 @@ class _Sources:
         return self.inputs.read(i)
 
     def make(self, i: int) -> FileReport:
-        """The ``i``-th file validated with its settings and its group's robot checks."""
-        f, key = self.named[i], self.keys[i]
-        _robot, checks, timestep, grouped = key
-        checker = self.checkers[key]
-        report = validate_bytes(
-            self.read(i),
-            self.names[i],
-            timestep_ms=timestep,
-            checks=[checker] if checker is not None else [],
-            group=grouped,
-            on_step=self.on_step,
-        )
-        _settle(report, f, self.settings[i], checker, checks, self.overrides, timestep)
-        return report
+        """The ``i``-th file read and checked with its settings and its group's robot checks."""
+        key = self.keys[i]
+        checker, settings, on_step = self.checkers[key], self.settings[i], self.on_step
+        data, name, path = self.read(i), self.names[i], self.named[i]
+        return _lint_one(data, name, path, settings, checker, key, self.overrides, on_step)[0]
 
     def survey(self, i: int) -> None:
         """Record the robot that checks the ``i``-th file, reading it without checking it."""
@@ -319,35 +338,39 @@ def lint_document(
     and grouping): what an editor shows for the text it holds (``motiontool server``). Also
     the robot it was checked against (None: syntax level only)."""
     settings = resolver.for_file(path)
-    robot, checks, timestep, grouped = _group_key(path, settings, overrides)
+    key = _group_key(path, settings, overrides)
+    robot, checks, timestep, _grouped = key
     checker = None if robot == NONE else make_checker(robot, checks, timestep)
-    report = validate_bytes(
-        data,
-        str(path),
-        timestep_ms=timestep,
-        checks=[checker] if checker is not None else [],
-        group=grouped,
-    )
-    return report, _settle(report, path, settings, checker, checks, overrides, timestep)
+    return _lint_one(data, str(path), path, settings, checker, key, overrides)
 
 
-def _settle(
-    report: FileReport,
+def _lint_one(
+    data: bytes,
+    name: str,
     path: Path,
     settings: Settings,
     checker: RobotChecks | None,
-    checks: tuple[str, ...] | None,
+    key: _Key,
     overrides: Overrides,
-    timestep: int | None,
-) -> RobotSpec | None:
-    """What the settings do to one file's report: leave out the findings they do not report,
-    plan the robot's fixes against the robot it was checked with (returned; None: none), at
-    the step it was checked at (``timestep`` ms; None: the robot's)."""
-    cli = overrides.selection
-    report.diagnostics = report.diagnostics.where(lambda d: settings.reports(d.code, path, cli))
+    on_step: Callable[[str], None] | None = None,
+) -> tuple[FileReport, RobotSpec | None]:
+    """One file's bytes (``data``, reported as ``name``, found at ``path``) read and checked
+    as its settings and the command line say: the findings they do not report are left out
+    as the library makes them, and the robot's fixes are planned against the robot the file
+    was checked with (returned too; None: none), at the step it was checked at."""
+    _robot, checks, timestep, grouped = key
+    report = validate_bytes(
+        data,
+        name,
+        timestep_ms=timestep,
+        checks=[checker] if checker is not None else [],
+        ignore=settings.unreported(path, CODES, overrides.selection),
+        group=grouped,
+        on_step=on_step,
+    )
     spec = None if checker is None else checker.used.get(report.path)
     report.robot_fixes = _planner(spec, path, settings, checks, overrides, timestep)
-    return spec
+    return report, spec
 
 
 _FIXED_BY_CHECK = {

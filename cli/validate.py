@@ -291,7 +291,7 @@ def validate_command(
     checker = partial(robot_checks, tolerance=collision_tolerance, cache=cache)
     to_stderr = stdin_fixed is not None and output is None  # stdout: the fixed text
     shown = Shown(format, sort, statistics, quiet, output, strict, robot, to_stderr)
-    with progress("validate") as step:  # the files are validated as the report is written
+    with progress("validate") as step:  # each file read and checked, then written in the report
         run = lint(files, resolver, overrides, checker, on_step=step, stdin_data=stdin_fixed)
         print_report(run, resolver.for_file(Path(stdin_filename or "-")), shown, step)
     if run.failed() and not exit_zero:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import functools
 import itertools
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -188,11 +188,11 @@ def print_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> N
     tally = Tally(run.report)
     if shown.to_stderr:
         step.stop()
-        emit_stderr("".join(report_pieces(run.report, writer, tally)))
+        emit_stderr("".join(report_pieces(run.report, writer, tally, run.check)))
         return
     before_writing = step.stop if _to_terminal(output) else None
     with piece_sink(output, color=color, before_writing=before_writing) as write:
-        for piece in report_pieces(run.report, writer, tally):
+        for piece in report_pieces(run.report, writer, tally, run.check):
             write(piece)
     label = "statistics" if shown.statistics else REPORTS[fmt].label
     if not shown.quiet:
@@ -208,38 +208,45 @@ def _writer(shown: Shown, context: Context) -> Writer:
     return REPORTS[shown.format.value].writer(context)
 
 
-def report_pieces(report: ValidationReport, writer: Writer, tally: Tally) -> Iterator[str]:
-    """``report`` written by ``writer``, in pieces: each file is checked here
-    (``report.files[i]``: read and checked, or held from an earlier pass), then handed to
-    the writer with the findings the report shows of it (the first ``report.limit`` of the
-    run, in file order; ``tally`` counts them). A writer never reads or checks a file: an
-    error in a check comes from the check, and one file's report is handed over at a time.
+def report_pieces(
+    report: ValidationReport,
+    writer: Writer,
+    tally: Tally,
+    check: Callable[[int], FileReport] | None = None,
+) -> Iterator[str]:
+    """``report`` written by ``writer``, in pieces: each file is checked here (``check(i)``:
+    the ``i``-th file read and checked, or its report held from an earlier pass; default
+    ``report.files[i]``, for a report the library made), then handed to the writer with the
+    findings the report shows of it (the first ``report.limit`` of the run, in file order;
+    ``tally`` counts them). A writer never reads or checks a file: an error in a check comes
+    from the check, and one file's report is handed over at a time.
 
     The passes over the files are the writer's: one in file order; with ``order`` severity,
     one to count every file, then one per severity (errors first) over the files that have
     findings of it; a writer that ``counts_first`` is handed every file to count before its
     head, then those with findings shown."""
-    files = report.files
+    files = range(len(report.files))
+    checked = report.files.__getitem__ if check is None else check
     if writer.counts_first:
-        for i in range(len(files)):
-            f = files[i]
+        for i in files:
+            f = checked(i)
             writer.count(f, tally.shown(i, f))
             tally.add(i, f)
     yield from writer.head(tally.totals() if writer.counts_first else None)
     if writer.order is Order.file:
-        for i in range(len(files)):
+        for i in files:
             if writer.counts_first and not tally.limits[i]:
                 continue
-            f = files[i]
+            f = checked(i)
             yield from writer.file(f, tally.shown(i, f))
             tally.add(i, f)  # counted by the writer's pass over them, unless a limit cut it
     else:
-        for i in range(len(files)):
-            tally.add(i, files[i])  # how many findings of each file are shown
+        for i in files:
+            tally.add(i, checked(i))  # how many findings of each file are shown
         for severity in sorted(Severity, reverse=True):
-            for i in range(len(files)):
+            for i in files:
                 if tally.counts[i][severity]:
-                    f = files[i]
+                    f = checked(i)
                     found = tally.shown(i, f)
                     yield from writer.file(f, (d for d in found if d.severity is severity))
     yield from writer.tail(tally.totals())

@@ -2,12 +2,11 @@
 
 A run over many files does not hold them all. A file's report holds its bytes, what the reader
 read (float64 values) and the robot checks' tables: about 4 times the file's size at syntax level,
-11 times with the robot checks. :class:`FileReports` validates each file when a report first
-reads it and holds the reports of the first files only, up to :data:`HELD_INPUT_BYTES` of
-input; a report past them is let go when the next one is read, and made again if a report reads
-it again (the JUnit report counts the findings before it writes them; ``--sort severity``
-reads a file again for each severity it has findings of). Memory stays flat however
-many files a run has; what a second pass costs is time.
+11 times with the robot checks. :class:`FileReports` holds the reports of the first files only,
+up to :data:`HELD_INPUT_BYTES` of input; a report past them is let go when the next one is made,
+and made again if a report needs it again (the JUnit report counts the findings before it
+writes them; ``--sort severity`` reads a file again for each severity it has findings of).
+Memory stays flat however many files a run has; what a second pass costs is time.
 """
 
 from __future__ import annotations
@@ -185,16 +184,14 @@ doc)."""
 
 
 class FileReports(Sequence[FileReport]):
-    """The files of one run, each validated when a report first reads it (see the module doc).
+    """The files of one run and the reports made of them (see the module doc).
 
-    ``make(i)`` validates the ``i``-th file (named ``paths[i]``). The reports of the first files
-    are held while their inputs add up to at most ``budget`` bytes (None:
-    :data:`HELD_INPUT_BYTES`); the others are let go when the next is read, and their counts by
-    severity are kept once a pass over their findings has made them all (a report made again
-    knows them: counting needs no pass, and :meth:`tally` makes none). ``survey(i)`` does for a
-    file that is not held what must be known of every file before a report starts (which robot
-    checks it), without validating it (:meth:`survey`); ``sizes``: each file's size, bytes, to
-    know which fit the budget.
+    A report is made by the caller (``validate``'s command checks each file, then holds it:
+    :meth:`hold`) or, indexing, by ``make(i)``, which validates the ``i``-th file (named
+    ``paths[i]``). The reports of the first files are held while their inputs add up to at most
+    ``budget`` bytes (None: :data:`HELD_INPUT_BYTES`); the others are let go when the next is
+    made, and their counts by severity are kept once a pass over their findings has made them
+    all (a report made again knows them: counting needs no pass, and :meth:`tally` makes none).
     """
 
     def __init__(
@@ -202,20 +199,15 @@ class FileReports(Sequence[FileReport]):
         paths: Sequence[str],
         make: Callable[[int], FileReport],
         *,
-        sizes: Sequence[int] | None = None,
-        survey: Callable[[int], None] | None = None,
         budget: int | None = None,
     ) -> None:
         self.paths = list(paths)
         self._make = make
-        self._sizes = sizes
-        self._survey = survey
         self._budget = HELD_INPUT_BYTES if budget is None else budget
         self._held: dict[int, FileReport] = {}
         self._held_bytes = 0
         self._last: tuple[int, FileReport] | None = None
         self._counts: dict[int, dict[Severity, int]] = {}
-        self._surveyed = survey is None
 
     @classmethod
     def of(cls, reports: Iterable[FileReport]) -> FileReports:
@@ -234,29 +226,46 @@ class FileReports(Sequence[FileReport]):
         if isinstance(index, slice):
             return [self[i] for i in range(len(self))[index]]
         i = range(len(self))[index]  # IndexError past either end
+        held = self.held(i)
+        if held is not None:
+            return held
+        self.let_go()
+        return self.hold(i, self._make(i))
+
+    def held(self, i: int) -> FileReport | None:
+        """The ``i``-th file's report where it is held (or is the last one made), else None."""
         held = self._held.get(i)
         if held is not None:
             return held
         if self._last is not None and self._last[0] == i:
             return self._last[1]
-        self._let_go()
-        report = self._make(i)
+        return None
+
+    def hold(self, i: int, report: FileReport) -> FileReport:
+        """Keep ``report``, the ``i``-th file's, just made (by the caller after
+        :meth:`let_go`, or by ``make``): held while the budget lasts, else until the next one
+        is made; returned."""
         if i in self._counts:
             report.diagnostics.know(self._counts[i])
         size = len(report.data)
-        if self._held_bytes + size <= self._budget:
+        if self.fits(size):
             self._held[i] = report
             self._held_bytes += size
         else:
             self._last = (i, report)
         return report
 
+    def fits(self, size: int) -> bool:
+        """Whether a report of a file of ``size`` bytes would be held (within the budget)."""
+        return self._held_bytes + size <= self._budget
+
     def __iter__(self) -> Iterator[FileReport]:
         for i in range(len(self)):
             yield self[i]
 
-    def _let_go(self) -> None:
-        """Drop the last report made past the budget, keeping its counts if they are known."""
+    def let_go(self) -> None:
+        """Drop the last report made past the budget, keeping its counts if they are known
+        (before the next one is made: two are never held past the budget)."""
         if self._last is not None:
             i, report = self._last
             counts = report.diagnostics.counts
@@ -264,7 +273,8 @@ class FileReports(Sequence[FileReport]):
                 self._counts[i] = counts
             self._last = None
 
-    def _known(self, i: int) -> dict[Severity, int] | None:
+    def known(self, i: int) -> dict[Severity, int] | None:
+        """The ``i``-th file's counts by severity, where a whole pass made them (else None)."""
         if i in self._counts:
             return self._counts[i]
         report = self._held.get(i)
@@ -275,7 +285,7 @@ class FileReports(Sequence[FileReport]):
     def tally(self, i: int, severity: Severity) -> int:
         """How many findings of ``severity`` the ``i``-th file has (validated, and a pass over
         its findings, only where they were never counted)."""
-        counts = self._known(i)
+        counts = self.known(i)
         if counts is None:
             return self[i].count(severity)
         return counts[severity]
@@ -283,26 +293,6 @@ class FileReports(Sequence[FileReport]):
     def total(self, i: int) -> int:
         """How many findings the ``i``-th file has."""
         return sum(self.tally(i, s) for s in Severity)
-
-    def survey(self) -> None:
-        """Know what a report needs of every file before it starts: the files up to the
-        budget are validated (and held), and the first one past it too (the report reads it
-        next: it is not made twice), so that a check skipped for a missing library is known
-        however small the budget; ``survey`` is told about the others. Once a run."""
-        if self._surveyed:
-            return
-        self._surveyed = True
-        assert self._survey is not None
-        past = False  # from the first file past the budget on, the others are surveyed
-        for i in range(len(self)):
-            if self._known(i) is not None:  # validated, all its findings made
-                continue
-            size = self._sizes[i] if self._sizes is not None else 0
-            if past:
-                self._survey(i)
-                continue
-            past = self._held_bytes + size > self._budget
-            self[i]
 
 
 def _no_notes() -> list[Diagnostic]:
@@ -448,4 +438,4 @@ def validate_paths(
             on_step=on_step,
         )
 
-    return ValidationReport(files=FileReports(inputs.names, make, sizes=inputs.sizes))
+    return ValidationReport(files=FileReports(inputs.names, make))

@@ -101,27 +101,51 @@ def test_counting_a_file_once_is_enough(tmp_path: Path) -> None:
     assert files[0].diagnostics.counts is not None  # known without a pass
 
 
-def test_the_survey_validates_what_fits_and_only_surveys_the_rest(tmp_path: Path) -> None:
-    made: list[int] = []
-    surveyed: list[int] = []
+def test_the_survey_validates_what_fits_and_only_surveys_the_rest(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from motiontool.cli import lint_run
+    from motiontool.cli.config import Resolver
+    from motiontool.kinematics.checks import RobotChecks
 
-    def make(i: int) -> validate_module.FileReport:
-        made.append(i)
-        return validate_bytes(GOOD, f"f{i}")
+    made: list[str] = []
+    surveyed: list[str] = []
+    validate, read = lint_run.validate_bytes, lint_run.read_bytes
+    monkeypatch.setattr(
+        lint_run,
+        "validate_bytes",
+        lambda data, name, **kw: made.append(name) or validate(data, name, **kw),
+    )
+    monkeypatch.setattr(
+        lint_run,
+        "read_bytes",
+        lambda data, name, **kw: surveyed.append(name) or read(data, name, **kw),
+    )
+    paths = [tmp_path / f"f{i}.motion" for i in range(4)]
+    for p in paths:
+        p.write_bytes(GOOD)
+    names = [str(p) for p in paths]
 
-    size = len(GOOD)
-    names = ["f0", "f1", "f2", "f3"]
-    files = FileReports(names, make, sizes=[size] * 4, survey=surveyed.append, budget=2 * size)
-    files.survey()
-    files.survey()  # once a run
+    def checker(robot: str, checks: object, timestep: int | None) -> RobotChecks:
+        return RobotChecks(robot, ["limits"], timestep_ms=timestep)
+
+    def run_with(budget: int) -> lint_run.LintRun:
+        monkeypatch.setattr(validate_module, "HELD_INPUT_BYTES", budget)
+        made.clear()
+        surveyed.clear()
+        return lint_run.lint(
+            paths, Resolver(isolated=True), lint_run.Overrides(robot="nao"), checker
+        )
+
+    run = run_with(2 * len(GOOD))
+    run.surveyed()
+    run.surveyed()  # once a run
     # The two that fit, then the first past the budget (the report reads it next).
-    assert made == [0, 1, 2] and surveyed == [3]
-    assert [f.path for f in files] == names and made == [0, 1, 2, 3]  # none made twice
-    made.clear()
-    surveyed.clear()
-    files = FileReports(names, make, sizes=[size] * 4, survey=surveyed.append, budget=0)
-    files.survey()
-    assert made == [0] and surveyed == [1, 2, 3]
+    assert made == names[:3] and surveyed == names[3:]
+    assert [run.check(i).path for i in range(4)] == names and made == names  # none made twice
+    run = run_with(0)
+    run.surveyed()
+    assert made == names[:1] and surveyed == names[1:]
 
 
 @pytest.mark.parametrize(
