@@ -78,9 +78,11 @@ class CheckEntry:
             default check whose library is missing is skipped with an MT902 note.
         codes: the codes it reports (keys of
             :data:`~motiontool.motionfmt.diagnostics.CODES`).
-        summary: what it checks, in a few words (the ``--checks`` help and the docs).
+        summary: what it checks, in a few words (the docs' checks table).
         make: the check for one robot.
         kind: the class of what :attr:`make` returns.
+        needs_feet: it checks only a robot with feet (sole geometries): asked for by name of
+            a robot without, it is refused; picked per file (``auto``), skipped with a note.
     """
 
     name: str
@@ -90,6 +92,7 @@ class CheckEntry:
     summary: str
     make: Callable[[RobotSpec, CheckOptions], Check]
     kind: type
+    needs_feet: bool = False
 
 
 CHECK_REGISTRY: tuple[CheckEntry, ...] = (
@@ -128,6 +131,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "the centre of mass over the support polygon (robots with feet)",
         lambda spec, _o: Balance(spec),
         Balance,
+        needs_feet=True,
     ),
 )
 """The checks a run selects from, in the order they run."""

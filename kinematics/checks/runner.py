@@ -118,18 +118,19 @@ def robot_checks(
 
     Raises:
         MotionToolError: an unknown check name or a negative tolerance.
-        CheckUnavailableError: ``balance`` for a robot without feet.
+        CheckUnavailableError: a check that needs feet (``balance``) for a robot without.
     """
     names = parse_checks(list(checks))
     if not penetration_tolerance_mm >= 0:
         raise MotionToolError(
             f"the collision tolerance must be a depth >= 0 mm, got {penetration_tolerance_mm}"
         )
-    if "balance" in names and not spec.feet:
+    footed = [n for n in names if n in _FOOTED and not spec.feet]
+    if footed:
         raise CheckUnavailableError(
-            "balance",
+            footed[0],
             spec.name,
-            f"robot {spec.name} has no feet: the balance check needs a humanoid model with "
+            f"robot {spec.name} has no feet: the {footed[0]} check needs a humanoid model with "
             "sole geometries (nao, nao-v5)",
         )
     options = CheckOptions(timestep_ms, penetration_tolerance_mm, wording)
@@ -203,7 +204,7 @@ class RobotChecks(Groupable):
         if spec.name not in self._by_robot:
             names = self.checks
             if not strict and not spec.feet:
-                names = tuple(c for c in names if c != "balance")
+                names = tuple(c for c in names if c not in _FOOTED)
             self._specs[spec.name] = spec
             self._by_robot[spec.name] = robot_checks(
                 spec,
@@ -240,8 +241,8 @@ class RobotChecks(Groupable):
         own = [c for c in checks if not isinstance(c, _LIVE)]
         parts.append(self._of_the_file(spec, own, result, group=group))
         settle_tables()
-        if "balance" in self.checks and not spec.feet:
-            message = f"balance check skipped: robot {spec.name} has no feet"
+        for name in () if spec.feet else [c for c in self.checks if c in _FOOTED]:
+            message = f"{name} check skipped: robot {spec.name} has no feet"
             parts.append([Diagnostic(NO_ROBOT, Severity.INFO, result.path, 1, 1, message)])
         return Findings.merge(parts)
 
@@ -301,6 +302,9 @@ class RobotChecks(Groupable):
         (``path`` empty, ``line`` and ``column`` 0)."""
         return [_skipped_for_extra(name, exc) for name, exc in self.skipped.items()]
 
+
+_FOOTED = tuple(c.name for c in CHECK_REGISTRY if c.needs_feet)
+"""The checks only a robot with feet can have (balance)."""
 
 _LIVE = (UnmirroredCopy,)
 """The checks whose findings depend on files other than the one checked (MT309 reads its

@@ -15,11 +15,17 @@ from typer.testing import CliRunner
 
 from motiontool.cli import schemas
 from motiontool.cli.app import app
+from motiontool.cli.config import KEYS
 from motiontool.cli.lint_run import _FIXED_BY_CHECK
 from motiontool.cli.rule import checks_table, codes_table
 from motiontool.cli.rules import RULES
 from motiontool.errors import MotionToolError
-from motiontool.kinematics.checks import CHECKS, DEFAULT_CHECKS, robot_checks
+from motiontool.kinematics.checks import (
+    CHECKS,
+    DEFAULT_CHECKS,
+    CheckUnavailableError,
+    robot_checks,
+)
 from motiontool.kinematics.checks.registry import (
     ALWAYS,
     CHECK_REGISTRY,
@@ -144,6 +150,16 @@ def test_checks_help_and_messages_name_every_check() -> None:
     assert f"Default: {','.join(DEFAULT_CHECKS)}," in flat
     with pytest.raises(MotionToolError, match="choose from " + ", ".join(CHECKS) + " or all"):
         robot_checks(pick_robot("nao"), ["limitz"])
+    listed = ", ".join(f'"{name}"' for name in CHECKS)
+    assert KEYS["checks"][1] == f"a list of checks ({listed})"  # the configuration's message
+
+
+def test_a_check_that_needs_feet_is_refused_for_a_robot_without() -> None:
+    footed = [c.name for c in CHECK_REGISTRY if c.needs_feet]
+    assert footed == ["balance"]
+    for name in footed:
+        with pytest.raises(CheckUnavailableError, match=f"the {name} check needs a humanoid"):
+            robot_checks(pick_robot("ur5e"), [name])
 
 
 @pytest.mark.parametrize("code", ["MT399", "MT1000", "302", "MT3"])
