@@ -35,7 +35,7 @@ from motiontool.cli.physics_options import (
     WorldOption,
     chosen_world,
 )
-from motiontool.cli.play_bag import BagOption, check_bag, say_bag
+from motiontool.cli.play_bag import BagOption, BagStartOption, bag_target, check_bag, say_bag
 from motiontool.cli.progress import progress
 from motiontool.cli.robustness import (
     ExecutorOption,
@@ -56,6 +56,7 @@ from motiontool.motionfmt.fileio import is_stdout
 from motiontool.motionfmt.units import MM_PER_M
 
 if TYPE_CHECKING:
+    from motiontool.sim.bag import BagTarget
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.report import ContactSummary, PlayReport
     from motiontool.sim.robustness import Robustness
@@ -300,6 +301,7 @@ def play_command(
     json_path: _Json = None,
     rrd: _Rrd = None,
     bag: BagOption = None,
+    bag_start: BagStartOption = None,
     loop: LoopOption = None,
     chain: ChainOption = False,
     start_pose: StartPoseOption = None,
@@ -347,7 +349,7 @@ def play_command(
         playback=(timestep, reverse, hold, seed),
         physics=(profile, physics_step, friction, self_collision),
     )
-    result = _run(planned, robot, options, rrd=rrd, bag=bag)
+    result = _run(planned, robot, options, rrd=rrd, bag=bag_target(bag, bag_start))
     say_bag(result, bag)
     ensemble = robustness_of(result, planned, options, n=robustness, run=(executor, jobs, no_cache))
     _render(result, json_path, rrd, (ensemble, strict))
@@ -415,7 +417,7 @@ def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
 
 
 def _run(
-    planned: PlayPlan, robot: str, options: PlayOptions, *, rrd: Path | None, bag: Path | None
+    planned: PlayPlan, robot: str, options: PlayOptions, *, rrd: Path | None, bag: BagTarget | None
 ) -> PlayResult:
     """The run of ``planned``, its progress shown as it goes."""
     with progress("play") as step:

@@ -29,7 +29,7 @@ from motiontool.motionfmt import Motion, iter_commands, read_bytes, read_file
 from motiontool.motionfmt.fileio import open_output, source_name
 from motiontool.motionfmt.units import MS_PER_S
 from motiontool.sim.arm import ToolMeter
-from motiontool.sim.bag import RunBag
+from motiontool.sim.bag import BagTarget, RunBag, scene_bag
 from motiontool.sim.chain import ElementMeter, posed
 from motiontool.sim.commands import CommandChunks, command_matrix, command_stream, each_loops
 from motiontool.sim.markers import Marker, MarkerMeter
@@ -98,7 +98,7 @@ def play(
     options: PlayOptions | None = None,
     rrd: str | Path | None = None,
     stamps: Mapping[str, Any] | None = None,
-    bag: str | Path | None = None,
+    bag: str | Path | BagTarget | None = None,
     progress: Progress | None = None,
     world: WorldRun | None = None,
 ) -> PlayReport:
@@ -113,7 +113,7 @@ def play(
             (``auto``: the built-in robot the joints of all the motions fit).
         options: how to play (:class:`PlayOptions`).
         rrd: write a Rerun recording of the run there (also when the run fails).
-        bag: write the run there as a ROS 2 bag (:class:`motiontool.sim.bag.RunBag`).
+        bag: write the run there as a ROS 2 bag (:func:`motiontool.sim.bag.scene_bag`).
         stamps: versions to stamp the report and the recording with (tool, libraries, model
             hash; :func:`motiontool.stamps.stamps`); the time steps and seed are added.
         progress: called after each chunk of the run with the simulated seconds done and in
@@ -142,7 +142,7 @@ def play(
     with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
         events = _markers(scene, opts) if recorder else None
         takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
-        _simulate(scene, stream, (*takers, elements), record=recorder is not None)
+        _simulate(scene, stream, (*takers, elements), record=(recorder, run_bag) != (None, None))
         report = _report(meter, elements.files(), loaded, physics, all_stamps, stream.ignored)
         report.world = None if world is None else _world_doc(world, opts, timestep, physics)
         report.self_collision = _self_collision_doc(scene, opts, world, meter)
@@ -259,7 +259,8 @@ def _simulate(
     scene: Scene, stream: CommandChunks, takers: Sequence[_Measures | None], *, record: bool
 ) -> None:
     """Play ``stream`` in ``scene`` a chunk at a time, each given to the ``takers`` (but None)
-    as it comes (``record``: with every body's pose); nothing of a chunk is kept here."""
+    as it comes (``record``: with every body's pose, for a recording or a bag); nothing of a
+    chunk is kept here."""
     from motiontool.sim import _mujoco
 
     present = [m for m in takers if m is not None]
@@ -269,15 +270,17 @@ def _simulate(
 
 
 @contextlib.contextmanager
-def _bag(path: str | Path | None, scene: Scene) -> Iterator[RunBag | None]:
-    """The ROS 2 bag of the run, to ``path`` (None: no bag) (:class:`motiontool.sim.bag.RunBag`),
-    written as every output is (:func:`motiontool.motionfmt.fileio.open_output`): whole, or
-    not at all when the run fails to end."""
-    if path is None:
+def _bag(target: str | Path | BagTarget | None, scene: Scene) -> Iterator[RunBag | None]:
+    """The ROS 2 bag of the run, to ``target`` (None: no bag)
+    (:func:`motiontool.sim.bag.scene_bag`), written as every output is
+    (:func:`motiontool.motionfmt.fileio.open_output`): whole, or not at all when the run
+    fails to end."""
+    if target is None:
         yield None
         return
-    with open_output(path) as sink:
-        bag = RunBag(sink, scene.joints, floating_base=scene.floating)
+    target = target if isinstance(target, BagTarget) else BagTarget(target)
+    with open_output(target.path) as sink:
+        bag = scene_bag(sink, scene, target.start_ns)
         yield bag
         bag.finish()
 

@@ -28,6 +28,7 @@ from motiontool import exit_codes
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.fileio import is_stdin, source_name
+from motiontool.sim.bag import BagTarget
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
 from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
@@ -210,7 +211,7 @@ class PlayPlan:
         robot: str = AUTO,
         options: PlayOptions | None = None,
         rrd: Path | None = None,
-        bag: Path | None = None,
+        bag: Path | BagTarget | None = None,
         progress: Progress | None = None,
     ) -> PlayResult:
         """Read the files, resolve ``robot`` on their joints, play them with ``options`` (its

@@ -110,6 +110,7 @@ class Trace:
         velocity_cmd: (S, J) velocity command of the P controller, rad/s (m/s).
         torque: (S, J) motor torque at the end of each step, N·m (N).
         position: (S + 1, J) measured joint positions, rad (m).
+        velocity: (S + 1, J) measured joint velocities, rad/s (m/s).
         base_pos: (S + 1, 3) root body position, m.
         base_quat: (S + 1, 4) root body orientation (w, x, y, z).
         feet: names of the foot geometries (may be empty).
@@ -139,6 +140,7 @@ class Trace:
     velocity_cmd: npt.NDArray[np.float64]
     torque: npt.NDArray[np.float64]
     position: npt.NDArray[np.float64]
+    velocity: npt.NDArray[np.float64]
     base_pos: npt.NDArray[np.float64]
     base_quat: npt.NDArray[np.float64]
     feet: tuple[str, ...]
@@ -195,6 +197,7 @@ class Trace:
             velocity_cmd=self.velocity_cmd[:s],
             torque=self.torque[:s],
             position=self.position[: s + 1],
+            velocity=self.velocity[: s + 1],
             base_pos=self.base_pos[: s + 1],
             base_quat=self.base_quat[: s + 1],
             feet=self.feet,
@@ -240,6 +243,7 @@ def concatenate(chunks: Sequence[Trace]) -> Trace:
         velocity_cmd=steps("velocity_cmd"),
         torque=steps("torque"),
         position=frames("position"),
+        velocity=frames("velocity"),
         base_pos=frames("base_pos"),
         base_quat=frames("base_quat"),
         feet=first.feet,

@@ -13,9 +13,10 @@ the other library's reader.
 
 from __future__ import annotations
 
+import functools
 import io
 import tempfile
-from collections.abc import Iterable, Sequence
+from collections.abc import Collection, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -31,6 +32,7 @@ if TYPE_CHECKING:
 __all__ = [
     "JOINT_STATE",
     "JOINT_TRAJECTORY",
+    "LATCHED_QOS",
     "NS_PER_MS",
     "POSE_STAMPED",
     "BagTopic",
@@ -51,6 +53,16 @@ NS_PER_MS = 1_000_000
 """Nanoseconds in a millisecond: ROS stamps and bag times are integer ns."""
 
 _EXTRA = "ros"
+
+_INFINITE = "{sec: 9223372036, nsec: 854775807}"  # RMW_DURATION_INFINITE
+LATCHED_QOS = (
+    f"- history: 1\n  depth: 1\n  reliability: 1\n  durability: 1\n  deadline: {_INFINITE}\n"
+    f"  lifespan: {_INFINITE}\n  liveliness: 1\n  liveliness_lease_duration: {_INFINITE}\n"
+    "  avoid_ros_namespace_conventions: false"
+)
+"""The ``offered_qos_profiles`` of a latched topic (``/tf_static``, ``/robot_description``), as
+``ros2 bag record`` keeps it in the channel's metadata (Humble's integer form): keep last 1,
+reliable, transient local, so that ``ros2 bag play`` republishes it to late subscribers."""
 
 
 @dataclass(frozen=True)
@@ -103,16 +115,21 @@ class BagWriter:
     Args:
         topics: each topic's ROS 2 type, by topic name.
         what: what needs the libraries, for the missing-extra message (``a ROS 2 bag``).
+        latched: the topics offered as latched (:data:`LATCHED_QOS` in their channel's
+            metadata); the others carry no QoS (a player's default: reliable, volatile).
     """
 
-    def __init__(self, stream: Any, topics: dict[str, str], what: str) -> None:
+    def __init__(
+        self, stream: Any, topics: dict[str, str], what: str, latched: Collection[str] = ()
+    ) -> None:
         require("rosbags", _EXTRA, what)
         writer_module = require("mcap_ros2.writer", _EXTRA, what)
         typesys = require("rosbags.typesys", _EXTRA, what)
         self._store = typesys.get_typestore(typesys.Stores.ROS2_HUMBLE)
         self._out = _Counted(stream)
-        self._writer = writer_module.Writer(self._out)
+        self._writer = _qos_writer(writer_module.Writer)(self._out)
         self._types = topics
+        self._latched = set(latched)
         self._schemas: dict[str, Any] = {}
         self._sequence: dict[str, int] = {}
 
@@ -122,6 +139,9 @@ class BagWriter:
         if schema is None:
             text, _ = self._store.generate_msgdef(self._types[topic], ros_version=2)
             schema = self._schemas[topic] = self._writer.register_msgdef(self._types[topic], text)
+            if topic in self._latched:
+                qos = {"offered_qos_profiles": LATCHED_QOS}
+                self._writer.register_channel(topic, schema.id, qos)
         k = self._sequence.get(topic, 0)
         self._sequence[topic] = k + 1
         self._writer.write_message(topic, schema, message, log_time=ns, publish_time=ns, sequence=k)
@@ -133,6 +153,20 @@ class BagWriter:
     def finish(self) -> None:
         """Write the bag's summary: the file is complete."""
         self._writer.finish()
+
+
+@functools.cache
+def _qos_writer(base: type[Any]) -> type[Any]:
+    """mcap-ros2-support's ``Writer`` (``base``), able to register a channel ahead of its first
+    message with the channel's metadata (its own registers each channel bare)."""
+
+    class QosWriter(base):  # type: ignore[misc]
+        def register_channel(self, topic: str, schema_id: int, metadata: dict[str, str]) -> None:
+            self._channel_ids[topic] = self._writer.register_channel(
+                topic=topic, message_encoding="cdr", schema_id=schema_id, metadata=metadata
+            )
+
+    return QosWriter
 
 
 class _Counted(Sink):

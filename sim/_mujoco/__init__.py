@@ -37,6 +37,7 @@ from motiontool.sim._mujoco.scene import TOOL_SITE_PATTERN, GeomClass, Scene
 from motiontool.sim._mujoco.shapes import scene_shapes
 from motiontool.sim._mujoco.start import SPAWN_CLEARANCE_M
 from motiontool.sim._mujoco.stepping import run, run_chunks, tool_poses
+from motiontool.sim._mujoco.topology import link_tree
 
 __all__ = [
     "BOX_HEIGHT_M",
@@ -47,6 +48,7 @@ __all__ = [
     "GeomClass",
     "Scene",
     "build_scene",
+    "link_tree",
     "mujoco_version",
     "run",
     "run_chunks",

@@ -91,7 +91,7 @@ def run_chunks(
 
 def _carry(before: Trace, trace: Trace) -> None:
     """Frame 0 of the chunk ``trace``: the last frame of the chunk ``before``."""
-    for name in ("position", "base_pos", "base_quat", "foot_pos", "foot_contact"):
+    for name in ("position", "velocity", "base_pos", "base_quat", "foot_pos", "foot_contact"):
         getattr(trace, name)[0] = getattr(before, name)[-1]
     if trace.body_pos.shape[0]:
         trace.body_pos[0] = before.body_pos[-1]
@@ -126,6 +126,7 @@ def _new_trace(
         velocity_cmd=np.zeros((steps, n_joints)),
         torque=np.zeros((steps, n_joints)),
         position=np.zeros((n_frames, n_joints)),
+        velocity=np.zeros((n_frames, n_joints)),
         base_pos=np.zeros((n_frames, 3)),
         base_quat=np.zeros((n_frames, 4)),
         feet=tuple(scene.geom_name(int(g)) for g in feet),
@@ -145,19 +146,22 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
     """A function that measures the state of ``scene.data`` into frame ``frame`` of ``trace``:
     positions, poses, contacts, self-collisions."""
     mujoco = mj()  # once, not every frame
-    data, feet, bodies = scene.data, scene.foot_geoms, scene.robot_bodies
+    model, data, feet, bodies = scene.model, scene.data, scene.foot_geoms, scene.robot_bodies
     qpos_adr, root = scene.qpos_adr, scene.root_body
+    dof_adr = _motor_dofs(scene)
     read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
 
     def observe(frame: int) -> None:
         trace.position[frame] = data.qpos[qpos_adr]
+        trace.velocity[frame] = data.qvel[dof_adr]
         if read_tool is not None:
             read_tool(frame)
         trace.base_pos[frame] = data.xpos[root]
         trace.base_quat[frame] = data.xquat[root]
         if len(feet):
             trace.foot_pos[frame] = data.geom_xpos[feet]
-        if record_bodies:
+        if record_bodies:  # the poses of the joints measured (mj_step leaves those before)
+            mujoco.mj_kinematics(model, data)  # positions only: the next mj_step redoes them
             trace.body_pos[frame] = data.xpos[bodies]
             trace.body_quat[frame] = data.xquat[bodies]
         if data.ncon:
@@ -166,6 +170,16 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
             _self_collisions(mujoco, scene, data, trace.first_frame + frame, trace)
 
     return observe
+
+
+def _motor_dofs(scene: Scene) -> npt.NDArray[np.intp]:
+    """(J,) the qvel address of each motor joint (a hinge or a slide: one dof each)."""
+    import numpy as np
+
+    model = scene.model
+    joint_at = {int(a): j for j, a in enumerate(model.jnt_qposadr.tolist())}
+    dofs = [int(model.jnt_dofadr[joint_at[int(a)]]) for a in scene.qpos_adr]
+    return np.array(dofs, dtype=np.intp)
 
 
 def _tool_reader(

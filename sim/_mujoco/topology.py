@@ -91,6 +91,22 @@ def tool_frame(
         body = children[0]
 
 
+def link_tree(
+    model: MjModel, bodies: npt.NDArray[np.intp], floating: bool
+) -> tuple[tuple[int, ...], tuple[bool, ...]]:
+    """The robot's bodies as a tree of links, for ROS's ``/tf``: for each body of ``bodies``
+    (in that order), the index in ``bodies`` of its parent body (-1: it hangs from the world,
+    or from a scene body such as the UR5e's box, which stands still), and whether it moves
+    against its parent (a joint between them; the root of a ``floating`` robot)."""
+    index = {int(b): i for i, b in enumerate(bodies.tolist())}
+    parents = tuple(index.get(int(model.body_parentid[b]), -1) for b in bodies.tolist())
+    moving = tuple(
+        int(model.body_jntnum[b]) > 0 or (floating and parent < 0)
+        for b, parent in zip(bodies.tolist(), parents, strict=True)
+    )
+    return parents, moving
+
+
 def adjacency(model: MjModel, with_geometry: set[int]) -> Callable[[int, int], bool]:
     """Whether two bodies are adjacent: one is the other's parent, bodies without geometry
     (``with_geometry`` has the others) skipped."""
