@@ -3,10 +3,10 @@
 :func:`robot_checks` builds the :data:`~motiontool.motionfmt.validate.Check` callables that
 :func:`motiontool.motionfmt.validate_paths` runs on every file Webots accepts;
 :class:`RobotChecks` picks the robot per file (``robot='auto'``) or uses a named one. One check
-per module: :mod:`.joints` (MT301), :mod:`.limits` (MT302, MT305, MT306), :mod:`.velocity`
-(MT303, MT304), :mod:`.self_collision` (MT307), :mod:`.balance` (MT308); the unmirrored-copy note
-(MT309) is :mod:`motiontool.kinematics.mirror_check`; :mod:`.registry` lists them with the codes
-each reports, :mod:`.runner` picks and runs them.
+per module (:mod:`.joints`, :mod:`.limits`, :mod:`.velocity`, :mod:`.self_collision`,
+:mod:`.balance`; the unmirrored-copy note is :mod:`motiontool.kinematics.mirror_check`);
+:mod:`.registry` lists them with the codes each reports (:data:`CHECK_REGISTRY`),
+:mod:`.runner` picks and runs them.
 
 How a motion is read here (the Webots player, ``docs/webots-format.md``):
 
