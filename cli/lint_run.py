@@ -164,7 +164,15 @@ class LintRun:
                 path in self.strict_files and files.tally(i, Severity.WARNING)
             ):
                 return True
-        return any(d.severity >= Severity.ERROR for d in self.report.notes)
+        return any(d.severity >= Severity.ERROR for d in self.notes())
+
+    def notes(self) -> list[Diagnostic]:
+        """The run's notes (about no file: a check skipped for a missing library) that the
+        command line's selection reports, from the files checked so far."""
+        checked, selection = self.checked, self.sources.overrides.selection
+        return (
+            [] if checked is None else [n for n in checked.notes if selection.decide(n.code, True)]
+        )
 
 
 def collect(
@@ -256,15 +264,7 @@ def lint(
     }
     checkers = [c for c in sources.checkers.values() if c is not None]
     run = LintRun(ValidationReport(files=reports), checkers, strict, sources)
-    selection = overrides.selection
-
-    def notes() -> list[Diagnostic]:
-        checked = run.checked
-        return (
-            [] if checked is None else [n for n in checked.notes if selection.decide(n.code, True)]
-        )
-
-    run.report.run_notes = notes
+    run.report.run_notes = run.notes
     return run
 
 

@@ -31,7 +31,7 @@ from motiontool.cli.reports.statistics import StatisticsJsonWriter, StatisticsWr
 from motiontool.cli.text import plural
 from motiontool.extras import install_hint
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.diagnostics import Severity
+from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
@@ -185,7 +185,7 @@ def print_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> N
     writer = _writer(shown, context)
     if writer.robots_first:
         run.surveyed()  # every file's robot, before the head names them
-    tally = Tally(run.report)
+    tally = Tally(run.report, run.notes)
     if shown.to_stderr:
         step.stop()
         emit_stderr("".join(report_pieces(run.report, writer, tally, run.check)))
@@ -257,10 +257,16 @@ class Tally:
     report shows (the first ``report.limit`` of the run, in file order), counted as the files
     are handed over in file order (a few ints a file: the reports are not held). Without a
     limit a file is counted once its findings have been written (:meth:`add` after the
-    writer's pass: no pass of its own); with one, before (how many are shown)."""
+    writer's pass: no pass of its own); with one, before (how many are shown). ``notes()``:
+    the run's notes, once every file is checked (default: the report's)."""
 
-    def __init__(self, report: ValidationReport) -> None:
+    def __init__(
+        self, report: ValidationReport, notes: Callable[[], list[Diagnostic]] | None = None
+    ) -> None:
         self.report = report
+        self.notes: Callable[[], list[Diagnostic]] = (
+            (lambda: report.notes) if notes is None else notes
+        )
         self.left = report.limit
         self.limits: list[int] = []
         self.counts: list[dict[Severity, int]] = []
@@ -289,7 +295,7 @@ class Tally:
 
     def totals(self) -> Totals:
         """The run's totals, once every file is counted."""
-        notes = self.report.notes
+        notes = self.notes()
         counts = {
             s: sum(c[s] for c in self.counts) + sum(1 for d in notes if d.severity is s)
             for s in Severity

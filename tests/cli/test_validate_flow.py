@@ -5,8 +5,14 @@ checks a file, and an error in a check comes from the check, not from the report
 from __future__ import annotations
 
 import re
+import sys
 import traceback
+from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
+from types import FrameType
+from typing import Any
 
 import pytest
 from typer.testing import CliRunner
@@ -122,3 +128,75 @@ def test_a_file_past_the_held_bytes_is_read_again_by_the_command(
     assert calls[:2] == ["a.motion", "b.motion"] and len(calls) > 2
     lines = [x for x in result.stdout.splitlines() if x.startswith("::error")]
     assert len(lines) == 2 and "a.motion" in lines[0] and "b.motion" in lines[1]
+
+
+def _layer(frame: FrameType) -> str | None:
+    name = str(frame.f_globals.get("__name__", ""))
+    if not name.startswith("motiontool."):
+        return None
+    return "cli" if name.startswith("motiontool.cli.") else "library"
+
+
+@contextmanager
+def _calls_back() -> Iterator[Counter[str]]:
+    """Every call from the library (motionfmt, kinematics, sim) into ``motiontool.cli`` while
+    the block runs, counted by the cli function called."""
+    back: Counter[str] = Counter()
+
+    def profile(frame: FrameType, event: str, arg: Any) -> None:
+        if event != "call" or _layer(frame) != "cli":
+            return
+        caller = frame.f_back
+        while caller is not None and _layer(caller) is None:
+            caller = caller.f_back
+        if caller is not None and _layer(caller) == "library":
+            back[f"{frame.f_globals['__name__']}.{frame.f_code.co_qualname}"] += 1
+
+    sys.setprofile(profile)
+    try:
+        yield back
+    finally:
+        sys.setprofile(None)
+
+
+def test_validate_goes_to_the_library_and_back_once_per_file(two_files: list[str]) -> None:
+    """The library calls the command back only to say how far it is (the progress display):
+    never to read, check or settle a file."""
+    with _calls_back() as back:
+        result = runner.invoke(
+            app, ["validate", *two_files, "--robot", "nao", "--no-cache", "-f", "json"]
+        )
+    assert result.exit_code == 1, result.output
+    assert set(back) == {"motiontool.cli.progress.Step.__call__"}, back
+    # each file: 'read', 'checks', then one line per robot check (limits, velocity, ...)
+    assert back["motiontool.cli.progress.Step.__call__"] % len(two_files) == 0
+
+
+def test_play_rrd_goes_to_the_library_and_back_once_per_chunk(tmp_path: Path) -> None:
+    """``play --rrd`` (plan, run, report): the run calls the command back once a chunk, to
+    say how far it is; the recording takes each chunk in the library."""
+    pytest.importorskip("mujoco", reason="needs motiontool[sim]")
+    pytest.importorskip("rerun", reason="needs motiontool[sim]")
+    from motiontool.sim import commands
+    from motiontool.sim.recording import RunRecorder
+
+    motion = tmp_path / "wave.motion"
+    lines = [f"00:{k // 10:02d}:{k % 10 * 100:03d},P{k},{0.1 * (k % 3)},0" for k in range(80)]
+    motion.write_text("#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n" + "\n".join(lines) + "\n")
+    chunks = []
+    add = RunRecorder.add
+
+    def recorded(self: RunRecorder, chunk: Any) -> None:
+        chunks.append(chunk)
+        add(self, chunk)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(RunRecorder, "add", recorded)
+        mp.setattr(commands, "CHUNK_STEPS", 256)  # a few chunks of a short run
+        with _calls_back() as back:
+            args = ["play", str(motion), "--headless", "--robot", "nao", "--loop", "3"]
+            result = runner.invoke(app, [*args, "--rrd", str(tmp_path / "run.rrd")])
+    assert result.exit_code == 0, result.output
+    assert len(chunks) >= 3 and (tmp_path / "run.rrd").stat().st_size > 0
+    # the progress display, told once a chunk how far the run is; nothing else
+    assert back == Counter({"motiontool.cli.play._run.<locals>.simulated": len(chunks)}), back
