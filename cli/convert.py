@@ -50,6 +50,7 @@ from motiontool.motionfmt.convert.base import (
     Imported,
     ImportOptions,
     Recording,
+    Sampled,
 )
 from motiontool.motionfmt.convert.joint_map import parse_joint_map
 from motiontool.motionfmt.fileio import (
@@ -63,7 +64,11 @@ from motiontool.motionfmt.units import MS_PER_S
 
 __all__ = ["convert_command"]
 
-_NAMES = ", ".join(f.name for f in FORMATS)
+_NAMES = {
+    can: ", ".join(f.name for f in FORMATS if getattr(f, can) is not None)
+    for can in ("read", "write")
+}
+"""The formats convert can read (``--from``) and write (``--to``)."""
 
 
 def _format(path: Path, given: str | None, option: str, can: str) -> Format:
@@ -71,16 +76,17 @@ def _format(path: Path, given: str | None, option: str, can: str) -> Format:
     (``read`` or ``write``)."""
     found = format_named(given) if given else None
     if given and found is None:
-        raise MotionToolError(f"{option} {given!r}: unknown format; choose one of {_NAMES}")
+        raise MotionToolError(f"{option} {given!r}: unknown format; choose one of {_NAMES[can]}")
     if found is None and not (is_stdin(path) or is_stdout(path)):
         found = format_of(str(path))
     if found is None:
         raise MotionToolError(
-            f"cannot tell the format of '{path}' from its name; give {option} ({_NAMES})"
+            f"cannot tell the format of '{path}' from its name; give {option} ({_NAMES[can]})"
         )
     if getattr(found, can) is None:
-        able = ", ".join(f.name for f in FORMATS if getattr(f, can) is not None)
-        raise MotionToolError(f"motiontool convert cannot {can} {found.name}; it can {can} {able}")
+        raise MotionToolError(
+            f"motiontool convert cannot {can} {found.name}; it can {can} {_NAMES[can]}"
+        )
     return found
 
 
@@ -145,6 +151,38 @@ def _recording(r: Recording, poses: int) -> list[str]:
     return lines
 
 
+def _sampled(s: Sampled, poses: int) -> list[str]:
+    """What an imported animation of curves held, and the motion's worst deviation from it."""
+    d = s.deviation
+    return [
+        f"read {plural(s.keys, 'key')} of {plural(s.curves, 'joint curve')} ({s.what}); its "
+        f"first key, at {s.start_s:g} s, is the motion's 0 ms",
+        *(f"  {note}" for note in s.notes),
+        f"sampled every {s.step_ms} ms ({plural(s.samples, 'time')}); keyframes: {poses}, "
+        f"reduced within {num(s.max_error_rad)} rad (as resample --max-error reduces them)",
+        f"worst deviation from the curves: {num(d.max_rad)} rad ({d.joint} at {d.at_ms} ms)",
+        f"  compared: {d.compared}",
+    ]
+
+
+def _reading(
+    fmt_in: Format,
+    topic: str | None,
+    pairs: tuple[tuple[str, str], ...],
+    max_error: float | None,
+    timestep: int | None,
+    robot: str | None,
+) -> ImportOptions:
+    """What the reader is given. An animation of curves is sampled at ``--timestep``, else the
+    named robot's control step, else that of the robot the format is for (ms)."""
+    step = timestep or DEFAULT_TIMESTEP_MS
+    if timestep is None and "timestep_ms" in fmt_in.uses:
+        name = robot if robot not in (None, AUTO, NONE) else fmt_in.default_robot
+        step = resolve_robot(name).default_timestep_ms if name else DEFAULT_TIMESTEP_MS
+    error = DEFAULT_MAX_ERROR_RAD if max_error is None else max_error
+    return ImportOptions(topic or DEFAULT_JOINT_STATE_TOPIC, pairs, error, step)
+
+
 def _report(
     exported: Exported,
     spec: RobotSpec | None,
@@ -157,6 +195,8 @@ def _report(
     lines = []
     if imported.recording is not None:
         lines += _recording(imported.recording, imported.motion.n_poses)
+    if imported.sampled is not None:
+        lines += _sampled(imported.sampled, imported.motion.n_poses)
     if spec is None and robot == NONE:
         lines += [f"not checked against a robot: {ROBOT_OPTION} {NONE} ({UNCHECKED})", *notes]
     elif spec is None:
@@ -187,17 +227,18 @@ _Target = Annotated[
 ]
 _To = Annotated[
     str | None,
-    typer.Option("--to", help=f"Output format ({_NAMES}); default: from OUT's ending."),
+    typer.Option("--to", help=f"Output format ({_NAMES['write']}); default: from OUT's ending."),
 ]
 _From = Annotated[
     str | None,
-    typer.Option("--from", help=f"Input format ({_NAMES}); default: from IN's ending."),
+    typer.Option("--from", help=f"Input format ({_NAMES['read']}); default: from IN's ending."),
 ]
 _Robot = Annotated[
     str | None,
     robot_option(
-        "Robot the export is checked against (default: the format's own: nao-v5 for naoqi, "
-        "ur5e for urscript; else auto)",
+        "Robot the export is checked against (default: the format's own: nao-v5 for naoqi "
+        "and choregraphe-py, ur5e for urscript; else auto); reading Choregraphe, its control "
+        "step is the sampling step",
         none="no checks, for any format: what is written says 'unchecked'",
     ),
 ]
@@ -244,8 +285,9 @@ _MaxError = Annotated[
         "--max-error",
         min=0.0,
         callback=finite,
-        help="rosbag to motion: keep keyframes within this many rad of the recording, as "
-        f"resample --max-error (default: {DEFAULT_MAX_ERROR_RAD:g}).",
+        help="rosbag, choregraphe, choregraphe-py to motion: keep keyframes within this many "
+        "rad of the recording or of the curves sampled at the control step, as resample "
+        f"--max-error (default: {DEFAULT_MAX_ERROR_RAD:g}).",
     ),
 ]
 
@@ -360,13 +402,15 @@ def convert_command(
     max_error: _MaxError = None,
     send_script: _SendScript = None,
 ) -> None:
-    """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ
-    or a bag's recorded joint states back to a motion.
+    """Convert a motion to CSV, NPZ, NAOqi (JSON or Choregraphe's Python), URScript, a ROS 2
+    trajectory or bag; or a CSV, NPZ, a bag's recorded joint states, a Choregraphe timeline
+    (.xar) or Python export back to a motion.
 
     The output is checked against the robot first (validate's limit, velocity and joint
     checks, and what a robot format sends); nothing is written if it fails (exit 1). The
     command stream Webots plays is kept bit-identical through CSV and NPZ; a robot format says
-    how far it is from it (rad), a recording how far the motion made of it is from it (rad).
+    how far it is from it (rad), a recording or Choregraphe's curves how far the motion made of
+    them is from them (rad).
     """
     fmt_in = _format(source, from_ or ("motion" if is_stdin(source) else None), "--from", "read")
     fmt_out = _format(target, to, "--to", "write")
@@ -379,13 +423,11 @@ def convert_command(
     _refuse_unused(given, fmt_in, fmt_out)
     refuse_overwrite(target, [source], "OUT", "write to another file")
     pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
-    topic = topic or DEFAULT_JOINT_STATE_TOPIC
-    reading = ImportOptions(topic, pairs, DEFAULT_MAX_ERROR_RAD if max_error is None else max_error)
+    reading = _reading(fmt_in, topic, pairs, max_error, timestep, robot)
     imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
     spec = _robot(robot, fmt_out, imported.motion.joints)
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
-    # The robot a format drives (nao-v5 for NAOqi) says which joints one motor drives there,
-    # whichever robot the export is checked against.
+    # The robot a format drives (nao-v5 for NAOqi) says which joints one motor drives there.
     real = resolve_robot(fmt_out.default_robot) if fmt_out.default_robot else spec
     options = ExportOptions(
         timestep_ms=step,
@@ -398,7 +440,7 @@ def convert_command(
         target_name=_target_name(target, send_script),
         script_name=None if send_script is None else send_script.name,
         joint_map=pairs,
-        topic=topic,
+        topic=reading.topic,
     )
     notes = _checked(imported, spec, fmt_out, robot, options)
     exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]

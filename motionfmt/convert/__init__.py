@@ -7,6 +7,10 @@
   lossless.
 * :mod:`.naoqi`: a real NAO: ``ALMotion.angleInterpolationBezier``'s arguments as JSON and a
   script that sends them.
+* :mod:`.choregraphe_xml`: Choregraphe's timelines (``.xar``): the curves of their keys,
+  sampled at the control step and reduced within the maximum error (:mod:`.choregraphe`).
+* :mod:`.choregraphe_py`: the Python Choregraphe exports (``names``, ``times``, ``keys`` for
+  ``angleInterpolationBezier``), read as literals (never run); written from the NAOqi keys.
 * :mod:`.urscript`: a real UR arm: ``servoj`` at every control step (or ``movej`` per keyframe).
 * :mod:`.ros_trajectory`: a robot under ros2_control: a ``FollowJointTrajectory`` goal (YAML).
 * :mod:`.rosbag`: ROS 2 bags (MCAP): the command stream as ``sensor_msgs/JointState`` and the
@@ -24,6 +28,11 @@ by :mod:`._ros` alone. Import each format from its module.
 from __future__ import annotations
 
 from motiontool.motionfmt.convert.base import Format
+from motiontool.motionfmt.convert.choregraphe_py import (
+    read_choregraphe_py,
+    write_choregraphe_py,
+)
+from motiontool.motionfmt.convert.choregraphe_xml import read_timeline
 from motiontool.motionfmt.convert.motion_file import read_motion_file, write_motion_file
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
@@ -64,6 +73,25 @@ FORMATS: tuple[Format, ...] = (
         for_robot=True,
         default_robot="nao-v5",
         uses=frozenset({"script_name", "lead_in_ms"}),
+    ),
+    Format(
+        "choregraphe",
+        (".xar", ".pml"),
+        "a Choregraphe timeline (behavior.xar): its joint curves, sampled at the control step",
+        read=read_timeline,
+        default_robot="nao-v5",
+        uses=frozenset({"max_error_rad", "timestep_ms"}),
+    ),
+    Format(
+        "choregraphe-py",
+        (".py",),
+        "a Choregraphe Python export: names, times, keys for angleInterpolationBezier "
+        "(read as literals, never run)",
+        read=read_choregraphe_py,
+        write=write_choregraphe_py,
+        for_robot=True,
+        default_robot="nao-v5",
+        uses=frozenset({"max_error_rad", "timestep_ms", "lead_in_ms"}),
     ),
     Format(
         "urscript",

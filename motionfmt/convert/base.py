@@ -34,6 +34,7 @@ __all__ = [
     "Imported",
     "Recording",
     "RobotStream",
+    "Sampled",
     "StreamChunk",
     "WorstError",
     "robot_check",
@@ -114,11 +115,14 @@ class ImportOptions:
             recorded ROS name becomes the motion's joint.
         max_error_rad: how far the reduced keyframes may stray from the recording, rad (m for
             linear joints); 0 keeps every sample that is not exactly on a line.
+        timestep_ms: the control step a keyframe animation (Choregraphe's curves) is sampled
+            at, ms: the robot's.
     """
 
     topic: str = DEFAULT_JOINT_STATE_TOPIC
     joint_map: tuple[tuple[str, str], ...] = ()
     max_error_rad: float = DEFAULT_MAX_ERROR_RAD
+    timestep_ms: int = WEBOTS_DEFAULT_TIMESTEP_MS
 
 
 @dataclass(frozen=True)
@@ -244,6 +248,36 @@ class Recording:
 
 
 @dataclass(frozen=True)
+class Sampled:
+    """What an imported animation of curves (Choregraphe's keys) held, and how far the motion
+    made of it is from its curves.
+
+    Attributes:
+        what: the file's kind, for a report (``a Choregraphe timeline at 25 fps``).
+        keys: how many keys it held, of ``curves`` joints.
+        curves: how many joint curves.
+        start_s: the time of its earliest key, s: the motion's 0 ms (what comes before it is the
+            robot reaching the first keys from its posture, not the animation).
+        step_ms: the control step the curves were sampled at, ms.
+        samples: how many times each curve was sampled at.
+        max_error_rad: the bound the keyframes were reduced within, rad.
+        deviation: the motion (straight lines between its keyframes) against the curves at
+            every sampled time, rad.
+        notes: what the reading assumed, one line each.
+    """
+
+    what: str
+    keys: int
+    curves: int
+    start_s: float
+    step_ms: int
+    samples: int
+    max_error_rad: float
+    deviation: Deviation
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
 class Imported:
     """A motion read from a file.
 
@@ -257,6 +291,8 @@ class Imported:
         header: the 1-based column of each joint's name on line 1, int64 (J,), with ``cells``.
         recording: for a recording (a ROS 2 bag), what it held and the motion's deviation
             from it; None otherwise.
+        sampled: for an animation of curves (Choregraphe), what it held and the motion's
+            deviation from its curves; None otherwise.
     """
 
     motion: Motion
@@ -265,6 +301,7 @@ class Imported:
     cells: npt.NDArray[np.int64] | None = None
     header: npt.NDArray[np.int64] | None = None
     recording: Recording | None = None
+    sampled: Sampled | None = None
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionToolError
@@ -51,7 +52,7 @@ if TYPE_CHECKING:
 
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["naoqi_names", "write_naoqi"]
+__all__ = ["BezierCurves", "bezier_curves", "naoqi_names", "write_naoqi"]
 
 
 def naoqi_names(coupled_joints: Sequence[tuple[str, str]]) -> dict[str, str]:
@@ -149,10 +150,34 @@ def _deviation(
     return Deviation(worst, joint, at, what)
 
 
-def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
-    """The JSON of ``angleInterpolationBezier``'s arguments, with its script as a companion.
-    Webots' stream is made a chunk of steps at a time, three times (the keys, the deviation,
-    the stream for the robot checks): never held whole, whatever the motion's duration."""
+@dataclass(frozen=True)
+class BezierCurves:
+    """``angleInterpolationBezier``'s arguments for a motion, and what they make the robot do.
+
+    Attributes:
+        names: the NAOqi joints.
+        times: each joint's key times, s (Webots' playback time plus the lead-in).
+        keys: each joint's keys: angle (rad; a hand 0 to 1), handle before, handle after.
+        deviation: NAOqi's curves (as modelled) against Webots' command stream.
+        stream: what they send, for the robot checks.
+    """
+
+    names: list[str]
+    times: list[list[float]]
+    keys: list[list[Key]]
+    deviation: Deviation
+    stream: RobotStream
+
+    @property
+    def n_keys(self) -> int:
+        """How many keys, of every joint."""
+        return sum(len(t) for t in self.times)
+
+
+def bezier_curves(motion: Motion, options: ExportOptions) -> BezierCurves:
+    """The keys that reproduce Webots' command stream (see the module). Webots' stream is made
+    a chunk of steps at a time, three times (the keys, the deviation, the stream for the robot
+    checks): never held whole, whatever the motion's duration."""
     import numpy as np
 
     if options.lead_in_ms <= 0:
@@ -171,10 +196,6 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
         curves[name] = ([float(x) for x in t_s], _keys(t_s, values))
     names = list(curves)
     deviation = _deviation(motors, chunks, curves, options.lead_in_ms, renamed)
-    times, keys = [c[0] for c in curves.values()], [c[1] for c in curves.values()]
-    doc = _document(options, names, times, keys, deviation)
-    data = (json.dumps(doc, indent=1) + "\n").encode("utf-8", "surrogateescape")
-    n_keys = sum(len(t) for t in times)
 
     def stream() -> Iterator[StreamChunk]:
         for elapsed, _targets in chunks():
@@ -185,12 +206,21 @@ def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
     sent = RobotStream(
         tuple(motors[k] for k in columns.values()), empty, np.zeros((0, len(names))), stream
     )
+    times, keys = [c[0] for c in curves.values()], [c[1] for c in curves.values()]
+    return BezierCurves(names, times, keys, deviation, sent)
+
+
+def write_naoqi(motion: Motion, options: ExportOptions) -> Exported:
+    """The JSON of ``angleInterpolationBezier``'s arguments, with its script as a companion."""
+    curves = bezier_curves(motion, options)
+    doc = _document(options, curves.names, curves.times, curves.keys, curves.deviation)
+    data = (json.dumps(doc, indent=1) + "\n").encode("utf-8", "surrogateescape")
     detail = (
-        f"{n_keys} keys of {len(names)} NAOqi joints for angleInterpolationBezier, "
-        f"times + {options.lead_in_ms} ms lead-in"
+        f"{curves.n_keys} keys of {len(curves.names)} NAOqi joints for "
+        f"angleInterpolationBezier, times + {options.lead_in_ms} ms lead-in"
     )
     companion = (SCRIPT_SUFFIX, script(options.target_name, options.script_name).encode())
-    return Exported(data, n_keys, detail, deviation, (companion,), sent)
+    return Exported(data, curves.n_keys, detail, curves.deviation, (companion,), curves.stream)
 
 
 def _document(

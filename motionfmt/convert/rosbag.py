@@ -48,8 +48,9 @@ from motiontool.motionfmt.convert.ros_trajectory import (
     trajectory,
     trajectory_message,
 )
+from motiontool.motionfmt.convert.sampled import deviation_at, reduced
 from motiontool.motionfmt.cscan import INT_MAX
-from motiontool.motionfmt.writer import check_name, pose_name
+from motiontool.motionfmt.writer import check_name
 
 if TYPE_CHECKING:
     import numpy as np
@@ -177,59 +178,10 @@ def read_rosbag(data: bytes, path: str, options: ImportOptions | None = None) ->
         check_name(joint, "joint")
     t_ms, q = _samples(states, order, path)
     q = q[:, columns]
-    motion, merged = _reduced(joints, t_ms, q, opts.max_error_rad, path)
-    worst = _deviation(motion, t_ms, q)
+    motion, merged = reduced(joints, t_ms, q, opts.max_error_rad, path)
+    compared = f"{q.size} recorded positions ({q.shape[0]} messages), each at its own stamp"
+    worst = deviation_at(motion, t_ms, q, compared)
     recording = Recording(
         opts.topic, len(states.names), round(float(t_ms[-1])), merged, opts.max_error_rad, worst
     )
     return Imported(motion, path, recording=recording)
-
-
-def _reduced(
-    joints: tuple[str, ...],
-    t_ms: npt.NDArray[np.float64],
-    q: npt.NDArray[np.float64],
-    max_error: float,
-    path: str,
-) -> tuple[Motion, int]:
-    """The recording on whole ms (the first sample of each ms), its keyframes reduced as
-    ``resample --max-error`` reduces them; (motion, samples left out on a shared ms)."""
-    import numpy as np
-
-    from motiontool.motionfmt.document import loads
-    from motiontool.motionfmt.motion import Motion
-    from motiontool.motionfmt.resample import resample
-    from motiontool.motionfmt.writer import format_motion
-
-    ms = np.rint(t_ms).astype(np.int64)
-    keep = np.concatenate(([True], np.diff(ms) > 0))
-    times = ms[keep]
-    values = q[keep]
-    full = Motion(
-        joints,
-        tuple(pose_name(int(t)) for t in times),
-        times,
-        values,
-        np.ones(values.shape, dtype=bool),
-    )
-    doc = loads(format_motion(full).encode("utf-8", "surrogateescape"), path)
-    return resample(doc, max_error=max_error).document.motion, int((~keep).sum())
-
-
-def _deviation(
-    motion: Motion, t_ms: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
-) -> Deviation:
-    """The motion's straight lines at every recorded stamp against the recorded positions."""
-    import numpy as np
-
-    key_t = motion.times_ms.astype(np.float64)
-    err = np.empty_like(q)
-    for j in range(q.shape[1]):
-        err[:, j] = np.abs(np.interp(t_ms, key_t, motion.values[:, j]) - q[:, j])
-    at = np.unravel_index(int(np.argmax(err)), err.shape)
-    return Deviation(
-        float(err[at]),
-        motion.joints[int(at[1])],
-        round(float(t_ms[int(at[0])])),
-        f"{err.size} recorded positions ({q.shape[0]} messages), each at its own stamp",
-    )

@@ -122,6 +122,7 @@ def _build(typename: str, values: Any) -> Any:
 # --------------------------------------------------------------------------- the goal YAML
 
 
+@pytest.mark.needs("ros")
 @pytest.mark.parametrize("path", [*UR, NAO], ids=lambda p: p.name)
 def test_goal_yaml_is_what_send_goal_takes_and_gives_webots_stream(
     path: Path, tmp_path: Path
@@ -175,6 +176,7 @@ def test_a_joint_without_a_first_target_is_refused(tmp_path: Path) -> None:
 # --------------------------------------------------------------------------- bags, written
 
 
+@pytest.mark.needs("ros")
 def test_bag_holds_the_stream_bit_for_bit_and_the_trajectory(tmp_path: Path) -> None:
     out = tmp_path / "sorting.mcap"
     code, err = _run(SORTING, out)
@@ -204,6 +206,7 @@ def test_bag_holds_the_stream_bit_for_bit_and_the_trajectory(tmp_path: Path) -> 
         )
 
 
+@pytest.mark.needs("ros")
 def test_motion_to_bag_to_motion_keeps_the_stream(tmp_path: Path) -> None:
     path = ROOT / "motions" / "ur5e" / "jog.motion"
     assert _run(path, tmp_path / "jog.mcap")[0] == 0
@@ -265,6 +268,7 @@ def _recording(
     return folder / f"{folder.name}.mcap", stamps, q
 
 
+@pytest.mark.needs("ros")
 def test_a_recording_becomes_a_motion_reduced_as_resample_reduces(tmp_path: Path) -> None:
     bag, stamps, q = _recording(tmp_path / "arm")
     out = tmp_path / "arm.motion"
@@ -295,6 +299,7 @@ def test_a_recording_becomes_a_motion_reduced_as_resample_reduces(tmp_path: Path
     assert "checked against robot ur5e: clean" in err
 
 
+@pytest.mark.needs("ros")
 def test_joint_map_names_both_ways(tmp_path: Path) -> None:
     ros = tuple(f"arm_{j}" for j in range(6))
     table = tmp_path / "map.toml"
@@ -320,8 +325,18 @@ def test_joint_map_names_both_ways(tmp_path: Path) -> None:
             "{d}/m.toml:2:1: HeadPitch: the ROS name must",
         ),
         ("HeadYaw = \n", "m.toml", "{d}/m.toml:1:11: Invalid value"),
-        ("HeadYaw: a\n  HeadPitch: [b\n", "m.yaml", "{d}/m.yaml:2:12: not YAML: "),
-        ("- a\n", "m.yaml", "{d}/m.yaml:1:1: a joint map is a table"),
+        pytest.param(  # YAML is read by ruamel.yaml, of the ros extra
+            "HeadYaw: a\n  HeadPitch: [b\n",
+            "m.yaml",
+            "{d}/m.yaml:2:12: not YAML: ",
+            marks=pytest.mark.needs("ros"),
+        ),
+        pytest.param(
+            "- a\n",
+            "m.yaml",
+            "{d}/m.yaml:1:1: a joint map is a table",
+            marks=pytest.mark.needs("ros"),
+        ),
         ("a = 1\n", "m.json", "'{d}/m.json': a joint map is a .toml or a .yaml (.yml) file"),
     ],
 )
@@ -336,6 +351,7 @@ def test_a_bad_joint_map_is_one_located_error(
     assert not (tmp_path / "w.trajectory.yaml").exists()
 
 
+@pytest.mark.needs("ros")
 def test_bad_recordings_are_one_line_each(tmp_path: Path) -> None:
     bag, _, _ = _recording(tmp_path / "ok", seconds=0.1)
     code, err = _run(bag, tmp_path / "x.motion", "--topic", "/nope")
@@ -360,6 +376,7 @@ def test_bad_recordings_are_one_line_each(tmp_path: Path) -> None:
     assert not (tmp_path / "x.motion").exists()
 
 
+@pytest.mark.needs("ros")
 def test_a_topic_of_another_type_is_refused(tmp_path: Path) -> None:
     assert _run(SORTING, tmp_path / "s.mcap")[0] == 0
     code, err = _run(tmp_path / "s.mcap", tmp_path / "x.motion", "--topic", "/joint_trajectory")
@@ -374,10 +391,12 @@ def test_ros_options_are_refused_where_no_format_reads_them(tmp_path: Path) -> N
     code, err = _run(NAO, tmp_path / "w.csv", "--max-error", "0.1")
     assert (code, err) == (
         2,
-        "motiontool: error: --max-error applies to rosbag, not to motion -> csv\n",
+        "motiontool: error: --max-error applies to choregraphe, choregraphe-py, rosbag, not to "
+        "motion -> csv\n",
     )
 
 
+@pytest.mark.needs("ros", "sim")
 def test_library_round_trip_through_the_registry() -> None:
     motion = read_bytes(NAO.read_bytes(), "w.motion").motion
     fmt = format_named("rosbag")
@@ -405,7 +424,9 @@ def _hand_motion(path: Path, fingers: list[str] | None = None) -> Path:
     return path
 
 
-@pytest.mark.parametrize("ending", [".trajectory.yaml", ".mcap"])
+@pytest.mark.parametrize(
+    "ending", [".trajectory.yaml", pytest.param(".mcap", marks=pytest.mark.needs("ros"))]
+)
 def test_nao_fingers_become_naoqis_hand(tmp_path: Path, ending: str) -> None:
     # The README: the Nao's names are NAOqi's, which naoqi_driver publishes: one LHand.
     src = _hand_motion(tmp_path / "grip.motion")
@@ -441,6 +462,7 @@ def test_fingers_apart_are_refused_at_the_cell(tmp_path: Path) -> None:
     assert goal["joint_names"] == ["HeadYaw", "LHand", "LPhalanx7"]
 
 
+@pytest.mark.needs("ros")
 def test_joint_map_takes_many_to_one_where_the_columns_agree(tmp_path: Path) -> None:
     src = tmp_path / "m.csv"
     src.write_text("time_ms,HeadYaw,HeadPitch\n0,0.1,0.1\n500,0.2,0.2\n1000,0.2,0.3\n")
@@ -459,6 +481,7 @@ def test_joint_map_takes_many_to_one_where_the_columns_agree(tmp_path: Path) -> 
     assert goal["joint_names"] == ["head"]
 
 
+@pytest.mark.needs("ros")
 def test_a_real_naos_hand_reads_back_as_the_eight_phalanges(tmp_path: Path) -> None:
     # Both ways: naoqi_driver's one LHand is the Webots Nao's LPhalanx1..8, all at its value.
     bag, _, _ = _recording(tmp_path / "nao", names=("HeadYaw", "LHand"), seconds=0.5)
