@@ -402,9 +402,9 @@ def convert_command(
     max_error: _MaxError = None,
     send_script: _SendScript = None,
 ) -> None:
-    """Convert a motion to CSV, NPZ, NAOqi (JSON or Choregraphe's Python), URScript, a ROS 2
-    trajectory or bag; or a CSV, NPZ, a bag's recorded joint states, a Choregraphe timeline
-    (.xar) or Python export back to a motion.
+    """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ,
+    a bag's recorded joint states, a Choregraphe timeline (.xar) or Python export back to a
+    motion (and a motion to that Python: choregraphe-py).
 
     The output is checked against the robot first (validate's limit, velocity and joint
     checks, and what a robot format sends); nothing is written if it fails (exit 1). The
