@@ -122,6 +122,19 @@ def test_the_configuration_world_is_where_the_probes_play_when_no_world_is_given
             assert (played_in and played_in["robot_node"]["name"]) == node
 
 
+def test_robustness_members_start_from_the_start_pose(wrestling: Path, tmp_path: Path) -> None:
+    get_up = wrestling / "controllers" / "motions" / "GetUp.motion"
+    pose = f"{get_up}:Pose1"
+    cache = tmp_path / "cache"
+    result = expect(get_up, "--robustness", "1", "--start-pose", pose,
+                    env={"XDG_CACHE_HOME": str(cache)})  # fmt: skip
+    assert result.exit_code == 0, result.output
+    members = [json.loads(p.read_text()) for p in cache.rglob("*.json")]
+    assert len(members) == 2  # one member from each lying start, each from the pose
+    assert {m["report"]["options"]["start_pose"] for m in members} == {pose}
+    assert {m["report"]["options"]["start"] for m in members} == {"lying-front", "lying-back"}
+
+
 @pytest.mark.slow
 def test_a_fragile_start_is_not_proposed_warned_and_strict_fails_the_same_way_each_time(
     tmp_path: Path,
@@ -172,7 +185,6 @@ def test_the_start_pose_reaches_the_probes(wrestling: Path) -> None:
         (["--world", "WORLD", "--robot-node", "nobody"], "no robot node named 'nobody'"),
         (["--world", "missing.wbt"], "cannot read 'missing.wbt'"),
         (["--strict"], "--strict fails on a fragile verdict: pass --robustness N"),
-        (["--robustness", "2", "--start-pose", "POSE"], "not from --start-pose yet"),
         (["--start-pose", "BADPOSE"], "GetUp.motion:Nope: no pose 'Nope' (poses: Pose1, "),
     ],
 )
