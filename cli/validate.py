@@ -37,7 +37,7 @@ from motiontool.cli.output import refuse_overwrite, say_wrote
 from motiontool.cli.progress import progress
 from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, FormatName, Order
 from motiontool.cli.text import plural
-from motiontool.cli.validate_report import Shown, print_report
+from motiontool.cli.validate_report import Shown, check_and_report
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import (
     CHECKS,
@@ -291,9 +291,10 @@ def validate_command(
     checker = partial(robot_checks, tolerance=collision_tolerance, cache=cache)
     to_stderr = stdin_fixed is not None and output is None  # stdout: the fixed text
     shown = Shown(format, sort, statistics, quiet, output, strict, robot, to_stderr)
-    with progress("validate") as step:  # each file read and checked, then written in the report
+    with progress("validate") as step:
         run = lint(files, resolver, overrides, checker, on_step=step, stdin_data=stdin_fixed)
-        print_report(run, resolver.for_file(Path(stdin_filename or "-")), shown, step)
+        # each file read and checked, then handed to the report, which is written as it goes
+        check_and_report(run, resolver.for_file(Path(stdin_filename or "-")), shown, step)
     if run.failed() and not exit_zero:
         raise typer.Exit(exit_codes.FINDINGS)
 

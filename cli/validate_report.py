@@ -36,7 +36,7 @@ from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
 
-__all__ = ["Shown", "Tally", "print_report", "render", "render_pieces", "report_pieces"]
+__all__ = ["Shown", "Tally", "check_and_report", "render", "render_pieces", "report_pieces"]
 
 
 def _robots_used(checker: Checked) -> tuple[dict[str, tuple[RobotSpec, list[str]]], list[str]]:
@@ -163,12 +163,12 @@ class Shown:
     to_stderr: bool = False
 
 
-def print_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> None:
-    """The report of ``run`` as ``shown``, in color where the format has colors and the
-    terminal takes them; ``strict`` and ``robot`` as given, else the ``project``'s settings;
-    the progress display (``step``) ends before the first byte written to a terminal. Each
-    file is checked here and handed to the report's writer (:func:`report_pieces`), whose
-    pieces are written as they come."""
+def check_and_report(run: LintRun, project: Settings, shown: Shown, step: Step) -> None:
+    """Check each file of ``run`` and write its report as ``shown``: every file is read and
+    checked here, then handed to the report's writer (:func:`report_pieces`), whose pieces
+    are written as they come; in color where the format has colors and the terminal takes
+    them; ``strict`` and ``robot`` as given, else the ``project``'s settings; the progress
+    display (``step``) ends before the first byte written to a terminal."""
     run.report.limit = project.max_findings  # the others are counted, not shown
     output, fmt = shown.output, shown.format.value
     to_stdout = output is None or str(output) == "-"
