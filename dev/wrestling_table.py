@@ -5,9 +5,10 @@ Plays the wrestling motions vendored in ``tests/data/worlds/wrestling/controller
 through the CLI, as a user would: the get-ups and the turns in one ``motiontool batch
 --robustness 8 --seed 0 --jobs 2`` (their ``motions.toml`` there names the world, the robot node
 ``participant``, the lying start or the Stand played before, and ``expect --infer``'s
-expectations), the looped motions with ``motiontool play --loop N --robustness 8`` (batch has no
-loops). Prints a Markdown table: each target, what its run measured at the defaults and each
-verdict over the members (holds, fragile k/n with the members that disagree, fails). Not a test
+expectations), the looped motions with ``motiontool play --loop NAME=N --chain --robustness 8``
+(batch has no loops; a side-step loop plays after Stand, its sidecar's ``after``). Prints a
+Markdown table: each target, what its run measured at the defaults and each verdict over the
+members (holds, fragile k/n with the members that disagree, fails). Not a test
 (about a minute on 2 cores): run it by hand,
 
     .venv/bin/python dev/wrestling_table.py              # --members 8 --seed 0 --jobs 2
@@ -53,7 +54,8 @@ LOOPED = (
     ("HandWave", 12, (*HAND_WAVE_WORLD, "--expect", "upright", "--expect", "feet-planted")),
 )
 """(motion, loops, extra play arguments): looped as the controller loops a *Loop motion
-(utils/motion_library.py) and as the opponent loops HandWave, 4 and 12 times (61 s)."""
+(utils/motion_library.py: after Stand, its sidecar's ``after``; ``--loop NAME=N`` loops it
+alone) and as the opponent loops HandWave, 4 and 12 times (61 s)."""
 
 
 def _run(args: list[str]) -> None:
@@ -98,10 +100,11 @@ def _verdicts(robustness: dict[str, Any]) -> str:
     return "; ".join(out)
 
 
-def _row(name: str, loops: int, report: dict[str, Any], robustness: dict[str, Any]) -> str:
-    files = " + ".join(Path(f["path"]).stem for f in report["files"])
-    times = f" ×{loops}" if loops > 1 else ""
-    return f"| {files}{times} | {_measured(report)} | {_verdicts(robustness)} |"
+def _row(report: dict[str, Any], robustness: dict[str, Any]) -> str:
+    names = [Path(f["path"]).stem + (f" ×{f['loops']}" if f["loops"] > 1 else "")
+             for f in report["files"]]  # fmt: skip
+    files = " + ".join(names)
+    return f"| {files} | {_measured(report)} | {_verdicts(robustness)} |"
 
 
 def main() -> None:
@@ -118,14 +121,14 @@ def main() -> None:
         files = [str(MOTIONS / f"{m}.motion") for m in BATCHED]
         _run(["batch", *files, *common, "--json", str(out)])
         runs = {Path(r["spec"]["path"]).stem: r for r in json.loads(out.read_text())["runs"]}
-        rows += [_row(m, 1, runs[m]["report"], runs[m]["robustness"]) for m in BATCHED]
+        rows += [_row(runs[m]["report"], runs[m]["robustness"]) for m in BATCHED]
         for name, loops, extra in LOOPED:
             out = Path(tmp) / f"{name}.json"
             motion = str(MOTIONS / f"{name}.motion")
-            _run(["play", "--headless", motion, "--loop", str(loops), *extra, *common,
-                  "--json", str(out)])  # fmt: skip
+            _run(["play", "--headless", motion, "--loop", f"{name}={loops}", "--chain", *extra,
+                  *common, "--json", str(out)])  # fmt: skip
             report = json.loads(out.read_text())
-            rows.append(_row(name, loops, report, report["robustness"]))
+            rows.append(_row(report, report["robustness"]))
     print(f"| motion | run (world's settings) | verdicts over {args.members} members "
           f"(seed {args.seed}) |")  # fmt: skip
     print("|---|---|---|")

@@ -16,8 +16,9 @@
   repeated name, ``--loop``) takes the worst of them.
 - a flag (:data:`FLAGS`): ``upright``, ``fell``, ``no-fall``, ``no-self-collision``,
   ``feet-planted``. ``upright`` is the play report's fall detector (the root below
-  ``fall_height_m`` or tilted past ``fall_tilt_deg``, :class:`motiontool.sim.play.PlayOptions`):
-  no fall and up at the end; a stance that leans 11 degrees by design is upright.
+  ``fall_height_m`` or tilted past ``fall_tilt_deg``, :class:`motiontool.sim.play.PlayOptions`,
+  up again a margin past both): no fall and up at the end; a stance that leans 11 degrees by
+  design is upright.
 
 Stdlib only: no simulator is imported here.
 """

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from motiontool.sim.measure import LIMIT_TOLERANCE, counted_contacts, down_frames
+from motiontool.sim.measure import LIMIT_TOLERANCE, DownFrames, counted_contacts
 
 if TYPE_CHECKING:
     import numpy as np
@@ -67,6 +67,7 @@ class MarkerMeter:
         self.limits, self.opts, self.floating = limits, opts, floating
         self.touches = touches  # Scene.touch_counts
         self._falls: tuple[list[Marker], list[Marker]] = ([], [])  # fell, upright
+        self._downs = DownFrames(opts)
         self._contacts: dict[str, dict[tuple[str, str], list[Marker]]] = {
             k: {} for k in _CONTACT_WORDS
         }
@@ -105,7 +106,7 @@ class MarkerMeter:
     def _fall_markers(self, trace: Trace, new: int) -> None:
         """Where the robot goes down and gets up again (not at the start)."""
         t = trace.time_s
-        down = down_frames(trace, self.opts)
+        down = self._downs.frames(trace, new)
         # the frame before this chunk's new ones (none at the run's start: neither down nor up)
         down_before = new == 1 and bool(down[0])
         up_before = new == 1 and not down[0]

@@ -29,10 +29,12 @@ if TYPE_CHECKING:
 
 __all__ = [
     "LIMIT_TOLERANCE",
+    "RECOVERY_MARGIN_DEG",
+    "RECOVERY_MARGIN_M",
     "TORQUE_CAP_FRACTION",
+    "DownFrames",
     "RunMeter",
     "counted_contacts",
-    "down_frames",
     "tilt_and_heading",
 ]
 
@@ -54,14 +56,46 @@ def tilt_and_heading(quat: npt.NDArray[np.float64]) -> tuple[Any, Any]:
     return np.degrees(np.arccos(r22)), np.degrees(np.arctan2(r10, r00))
 
 
-def down_frames(trace: Trace, opts: PlayOptions) -> npt.NDArray[np.bool_]:
-    """(N,) bool: the frames where the robot is down, its root lower than ``fall_height_m`` or
-    tilted more than ``fall_tilt_deg``."""
-    tilt, _heading = tilt_and_heading(trace.base_quat)
-    down: npt.NDArray[np.bool_] = (trace.base_pos[:, 2] < opts.fall_height_m) | (
-        tilt > opts.fall_tilt_deg
-    )
-    return down
+RECOVERY_MARGIN_M = 0.01
+"""How far above ``fall_height_m`` (m) a root that is down must rise to be up again."""
+
+RECOVERY_MARGIN_DEG = 5.0
+"""How far below ``fall_tilt_deg`` (degrees) a root that is down must straighten to be up again."""
+
+
+class DownFrames:
+    """Where the robot is down, a chunk at a time (:meth:`frames` each chunk in order), with
+    hysteresis: a robot that is up goes down when its root is lower than ``fall_height_m`` or
+    tilted more than ``fall_tilt_deg``; a robot that is down is up again only once its root is
+    :data:`RECOVERY_MARGIN_M` above that height and :data:`RECOVERY_MARGIN_DEG` below that tilt.
+    Between the two it keeps its state, so a root that rests at the threshold (a kneel whose
+    torso sits at 0.2 m, within the millimetres its contacts settle by) is not read as getting
+    up and falling again. The run's first frame is down only when it is low or tilted."""
+
+    def __init__(self, opts: PlayOptions) -> None:
+        self.opts = opts
+        self.last: bool | None = None  # the state at the last frame so far
+
+    def frames(self, trace: Trace, new: int) -> npt.NDArray[np.bool_]:
+        """(N,) bool: the frames of ``trace`` where the robot is down; its frames before
+        ``new`` are the last of the chunk before (their state is kept)."""
+        import numpy as np
+
+        tilt, _heading = tilt_and_heading(trace.base_quat)
+        height, opts = trace.base_pos[:, 2], self.opts
+        low = (height < opts.fall_height_m) | (tilt > opts.fall_tilt_deg)
+        high = (height >= opts.fall_height_m + RECOVERY_MARGIN_M) & (
+            tilt <= opts.fall_tilt_deg - RECOVERY_MARGIN_DEG
+        )
+        state = low.copy()
+        decided = low | high
+        if new and self.last is not None:
+            state[:new], decided[:new] = self.last, True
+        decided[0] = True  # the run's first frame: down only when low or tilted
+        latest = np.maximum.accumulate(np.where(decided, np.arange(len(state)), 0))
+        down: npt.NDArray[np.bool_] = state[latest]
+        self.last = bool(down[-1])
+        return down
 
 
 def _fall_direction_deg(quat: npt.NDArray[np.float64], heading_deg: float) -> float:
@@ -88,6 +122,7 @@ class _BaseMeter:
         self.fell_at: float | None = None
         self.direction: float | None = None
         self.end: tuple[npt.NDArray[np.float64], float, bool] | None = None
+        self.downs = DownFrames(opts)
 
     def add(self, trace: Trace, new: int) -> None:
         """Measure the frames of ``trace`` from its frame ``new`` on (those before were
@@ -95,7 +130,7 @@ class _BaseMeter:
         import numpy as np
 
         tilt, heading = tilt_and_heading(trace.base_quat)
-        down = down_frames(trace, self.opts)
+        down = self.downs.frames(trace, new)
         if self.start is None:
             self.start, self.started_down = trace.base_pos[0].copy(), bool(down[0])
         height = trace.base_pos[new:, 2]

@@ -41,8 +41,9 @@ class PlayOptions:
         start_noise_rad: standard deviation of random offsets added to the start joint
             positions, rad (drawn from ``seed``).
         seed: seed of every random draw (none without start noise).
-        fall_height_m, fall_tilt_deg: the robot is down while its root is lower than this (m)
-            or tilted more than this (degrees); the Nao's torso defaults.
+        fall_height_m, fall_tilt_deg: the robot goes down when its root is lower than this
+            (m) or tilted more than this (degrees), and is up again a margin past both
+            (:class:`motiontool.sim.measure.DownFrames`); the Nao's torso defaults.
         collision_tolerance_mm: interpenetrations of two robot bodies shallower than this (mm)
             are not self-collisions: the bounding primitives of Webots' robots overlap that
             much in the motions that ship with Webots (the same threshold as ``validate``,
