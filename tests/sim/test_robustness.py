@@ -218,6 +218,20 @@ def test_batch_robustness_reports_fragile_runs_in_every_format(
     assert "<failure" in out["xml"].read_text(encoding="utf-8")
 
 
+def test_batch_robustness_replays_an_after_chain(head_no: Path, tmp_path: Path) -> None:
+    before = tmp_path / "before.motion"
+    shutil.copyfile(head_no, before)
+    out = tmp_path / "batch.json"
+    argv = ["batch", str(head_no), "--after", str(before), "--robustness", "2", "--no-cache"]
+    result = runner.invoke(app, [*argv, "--json", str(out)])
+    assert result.exit_code == 0, result.output
+    (run,) = json.loads(out.read_text(encoding="utf-8"))["runs"]
+    assert run["spec"]["chain"] == [str(before)]
+    assert [Path(f["path"]).name for f in run["report"]["files"]] == [before.name, head_no.name]
+    assert run["robustness"]["members"] == 2
+    assert "before.motion + " in result.stdout and "holds    clean" in result.stdout
+
+
 def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
     result = runner.invoke(app, ["batch", str(head_no), "--robustness", "3", "--no-cache"])
     assert result.exit_code == 0, result.output
