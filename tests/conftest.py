@@ -4,18 +4,29 @@ The Webots corpus and the robot facts the tests need are vendored, unmodified, i
 (``corpus/webots`` with its MANIFEST.tsv and NOTICE, ``robot_facts`` with its README), so a fresh
 clone runs every test. Should they be missing, a test that needs them skips with the reason, except
 under ``CI=true``, where it fails: CI never passes by skipping.
+
+A test that needs an extra of the package says which: ``@pytest.mark.needs("sim")`` (or a
+module's ``pytestmark``). Where the extra's libraries do not import (a core-only install:
+``pip install -e .`` and the test tools), it skips with the extra's name and its ``pip install``;
+under ``CI=true`` it fails, as missing data does. Which libraries an extra brings is read from
+``motiontool.extras.EXTRAS``, the registry the commands' own messages use.
 """
 
 from __future__ import annotations
 
+import functools
+import importlib
 import os
 import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+from types import ModuleType
 from typing import NoReturn
 
 import pytest
+
+from motiontool.extras import EXTRAS, install_hint
 
 TESTS = Path(__file__).parent
 ROOT = TESTS.parent
@@ -42,6 +53,56 @@ def missing_data(reason: str) -> NoReturn:
     if IN_CI:
         pytest.fail(f"{reason} (CI=true: tests do not skip for missing data)", pytrace=False)
     pytest.skip(reason)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers", "needs(*extras): extras of motiontool the test needs (skipped without them)"
+    )
+
+
+@functools.cache
+def extra_missing(extra: str) -> str | None:
+    """Why ``extra`` is not usable here (``mujoco: No module named 'mujoco'``), or None.
+
+    Each of its libraries is imported, as the commands import it (a broken install, or a stub
+    that raises ImportError, counts as missing), once per test process."""
+    if extra not in EXTRAS:
+        raise pytest.UsageError(f"needs({extra!r}): no such extra (one of {', '.join(EXTRAS)})")
+    for module in EXTRAS[extra][0]:
+        try:
+            importlib.import_module(module)
+        except ImportError as exc:
+            return f"{module}: {exc}"
+    return None
+
+
+def skip_without(extra: str) -> None:
+    """Skip the current test (or, at collection, the module) where ``extra`` is missing, with the
+    extra's name and its ``pip install`` in the reason; fail under CI=true."""
+    why = extra_missing(extra)
+    if why is None:
+        return
+    reason = f"needs motiontool[{extra}]: {install_hint(extra)} ({why})"
+    if IN_CI:
+        pytest.fail(f"{reason} (CI=true: tests do not skip for a missing extra)", pytrace=False)
+    pytest.skip(reason, allow_module_level=True)
+
+
+def pytest_runtest_setup(item: pytest.Item) -> None:
+    """Skip a test marked ``needs(extra, ...)`` whose extra is missing (fail under CI=true)."""
+    for mark in item.iter_markers("needs"):
+        for extra in mark.args:
+            skip_without(extra)
+
+
+def import_extra(module: str, extra: str) -> ModuleType:
+    """``module`` (``lsprotocol.types``), for a test module that uses an extra's library at its
+    top level; where ``extra`` is missing, the test module is skipped (failed under CI=true).
+    Everywhere else ``@pytest.mark.needs(extra)`` says it, and the library is imported where
+    used."""
+    skip_without(extra)
+    return importlib.import_module(module)
 
 
 def require(path: Path, what: str) -> Path:

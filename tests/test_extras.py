@@ -76,25 +76,28 @@ def _write(tmp_path: Path, name: str, data: bytes) -> Path:
             ["play", "nao.motion", "--headless"],
             "motiontool play needs MuJoCo: pip install 'motiontool[sim]'",
         ),
-        (
+        pytest.param(
             ("rerun",),
             ["play", "nao.motion", "--headless", "--rrd", "run.rrd"],
             "motiontool play --rrd needs Rerun (rerun-sdk): pip install 'motiontool[rerun]'",
+            marks=pytest.mark.needs("sim"),
         ),
         (
             ("mujoco",),
             ["batch", "nao.motion"],
             "motiontool batch needs MuJoCo: pip install 'motiontool[sim]'",
         ),
-        (
+        pytest.param(
             ("junitparser",),
             ["batch", "nao.motion", "--junit", "r.xml"],
             "motiontool batch --junit needs junitparser: pip install 'motiontool[sim]'",
+            marks=pytest.mark.needs("sim"),
         ),
-        (
+        pytest.param(
             ("ray",),
             ["batch", "nao.motion", "--executor", "ray"],
             "motiontool batch --executor ray needs Ray: pip install 'motiontool[ray]'",
+            marks=pytest.mark.needs("sim"),
         ),
         (
             ("matplotlib",),
@@ -106,10 +109,11 @@ def _write(tmp_path: Path, name: str, data: bytes) -> Path:
             ["diff", "nao.motion", "nao.motion", "--plot", "d.png"],
             "motiontool diff --plot needs matplotlib: pip install 'motiontool[plot]'",
         ),
-        (
+        pytest.param(
             ("pinocchio",),
             ["validate", "--robot", "erd:ur5", "nao.motion"],
             "robot 'erd:ur5' (a URDF model) needs Pinocchio: pip install 'motiontool[kinematics]'",
+            marks=pytest.mark.needs("erd"),
         ),
         (
             ("pinocchio",),
@@ -132,20 +136,22 @@ def _write(tmp_path: Path, name: str, data: bytes) -> Path:
             ["convert", "nao.motion", "nao.mcap"],
             "a ROS 2 bag needs rosbags: pip install 'motiontool[ros]'",
         ),
-        (
+        pytest.param(
             ("mcap_ros2",),
             ["convert", "nao.motion", "nao.mcap"],
             "a ROS 2 bag needs mcap-ros2-support: pip install 'motiontool[ros]'",
+            marks=pytest.mark.needs("ros"),
         ),
         (
             ("rosbags",),
             ["convert", "rec.mcap", "back.motion"],
             "reading a ROS 2 bag needs rosbags: pip install 'motiontool[ros]'",
         ),
-        (
+        pytest.param(
             ("rosbags",),
             ["play", "nao.motion", "--headless", "--bag", "run.mcap"],
             "motiontool play --bag needs rosbags: pip install 'motiontool[ros]'",
+            marks=pytest.mark.needs("sim"),
         ),
     ],
 )
@@ -230,6 +236,7 @@ def test_a_run_note_is_not_pinned_to_a_file_in_sarif_or_github(tmp_path: Path) -
     assert "file=" not in first and "line=" not in first
 
 
+@pytest.mark.needs("kinematics")
 def test_the_json_report_lists_the_skipped_checks(tmp_path: Path) -> None:
     ok = _write(tmp_path, "ok.motion", NAO_OK)
     proc = _cli(["validate", "--format", "json", ok.name], tmp_path, ("pinocchio",))
@@ -384,3 +391,51 @@ def test_the_core_alone_validates_and_names_the_extras(tmp_path: Path) -> None:
         "motiontool: error: robot 'erd:ur5' needs example-robot-data: "
         "pip install 'motiontool[erd]'\n",
     )
+
+
+# --------------------------------------------------------------------------- the tests' own marker
+
+NEEDS_SIM = """
+import pytest
+
+@pytest.mark.needs("sim")
+def test_plays():
+    import mujoco
+
+def test_reads():
+    pass
+"""
+
+
+def _pytest_without_mujoco(tmp_path: Path, ci: bool) -> subprocess.CompletedProcess[str]:
+    """pytest on a test marked ``needs("sim")`` beside tests/conftest.py, MuJoCo stubbed out."""
+    (tmp_path / "conftest.py").write_bytes((ROOT / "tests" / "conftest.py").read_bytes())
+    (tmp_path / "test_needs.py").write_text(NEEDS_SIM)
+    env = {k: v for k, v in os.environ.items() if k not in ("CI", "PYTHONPATH")}
+    env["PYTHONPATH"] = str(_stubs(tmp_path, ("mujoco",)))
+    if ci:
+        env["CI"] = "true"
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-rs", "-q", "test_needs.py"],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+
+
+def test_a_test_that_needs_a_missing_extra_skips_with_the_extras_name(tmp_path: Path) -> None:
+    """Issue 38 item 6: with the core alone, a test of MuJoCo skips and says what to install."""
+    proc = _pytest_without_mujoco(tmp_path, ci=False)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "1 passed, 1 skipped" in proc.stdout
+    reason = "needs motiontool[sim]: pip install 'motiontool[sim]' (mujoco: mujoco stubbed out)"
+    assert reason in proc.stdout
+
+
+def test_a_test_that_needs_a_missing_extra_fails_under_ci(tmp_path: Path) -> None:
+    proc = _pytest_without_mujoco(tmp_path, ci=True)
+    assert proc.returncode == 1, proc.stdout + proc.stderr
+    assert "1 passed, 1 error" in proc.stdout and "skipped" not in proc.stdout  # at setup
+    assert "CI=true: tests do not skip for a missing extra" in proc.stdout

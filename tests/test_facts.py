@@ -123,10 +123,10 @@ def test_the_substep_slack_has_one_home() -> None:
     assert len(slack) == 1 and slack[0].startswith("sim/physics.py:"), slack
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize("control_ms", [8, 20, 25, 32, 40, 7])
 def test_the_scene_and_the_report_count_the_same_substeps(control_ms: int) -> None:
     """The physics profile and the MuJoCo scene split a control step by one rule."""
-    pytest.importorskip("mujoco")
     from motiontool.kinematics.robots import load_robot
     from motiontool.sim import _mujoco
     from motiontool.sim.physics import DEFAULT_PHYSICS_STEP_MS, resolve_physics

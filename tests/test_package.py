@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import ast
 import importlib
+import importlib.metadata
 import os
 import re
 import shutil
@@ -207,6 +209,7 @@ def test_the_build_prints_no_setuptools_warning(built: dict[str, Any]) -> None:
     assert warnings == [], "\n".join(warnings)
 
 
+@pytest.mark.needs("rerun")
 def test_the_sdist_holds_every_file_of_a_checkout(built: dict[str, Any]) -> None:
     with tarfile.open(built["sdist"]) as tar:
         names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
@@ -255,6 +258,7 @@ def test_the_version_has_one_home() -> None:
     assert literal == [], "read it from pyproject.toml / the package metadata"
 
 
+@pytest.mark.needs("rerun")
 def test_rerun_sdk_is_bounded_to_the_minor_the_recordings_are_tested_with() -> None:
     from importlib import metadata
 
@@ -586,3 +590,88 @@ def test_the_core_installs_and_runs_on_every_python_the_classifiers_name(
     assert resampled.returncode == 0, resampled.stderr
     back = run("diff", "motions/nao/wave_right.motion", str(out))
     assert back.returncode == 0, back.stdout + back.stderr
+
+
+def _test_tool_modules() -> set[str]:
+    """The top-level modules of the core's and ``[test]``'s own distributions (not its extras)."""
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    wanted = {
+        _dist_name(r).replace("_", "-")
+        for r in project["dependencies"] + project["optional-dependencies"]["test"]
+        if not r.startswith("motiontool[")
+    }
+    return {
+        module
+        for module, dists in importlib.metadata.packages_distributions().items()
+        if any(d.lower().replace("_", "-") in wanted for d in dists)
+    }
+
+
+def _needs(nodes: list[ast.expr]) -> set[str]:
+    """The extras named by ``pytest.mark.needs(...)`` calls among ``nodes`` (decorators, or
+    what a ``pytestmark`` holds)."""
+    return {
+        arg.value
+        for node in nodes
+        for call in ast.walk(node)
+        if isinstance(call, ast.Call) and getattr(call.func, "attr", None) == "needs"
+        for arg in call.args
+        if isinstance(arg, ast.Constant) and isinstance(arg.value, str)
+    }
+
+
+def test_every_test_that_imports_an_extra_says_it_needs_it() -> None:
+    """Issue 38 item 6: with the core and [test]'s tools alone, a test that needs an extra
+    skips with the extra's name (tests/conftest.py). So no test module imports an extra's
+    library (nor one no extra declares, nor a helper of tests/ that does) at its top, except
+    through ``import_extra``; a test that imports one in its body is marked ``needs`` that
+    extra, or its module is; and none calls ``pytest.importorskip``, which skips under CI."""
+    extra_of = {module: extra for extra, (modules, _) in EXTRAS.items() for module in modules}
+    allowed = set(sys.stdlib_module_names) | _test_tool_modules() | {"motiontool"}
+    allowed |= {p.stem for p in (ROOT / "tests").iterdir() if p.suffix == ".py" or p.is_dir()}
+    trees = {
+        path.relative_to(ROOT).as_posix(): ast.parse(path.read_text(encoding="utf-8"))
+        for path in sorted((ROOT / "tests").rglob("*.py"))
+    }
+    heavy_helpers = {
+        rel.removeprefix("tests/").removesuffix(".py")
+        for rel, tree in trees.items()
+        if "/" not in rel.removeprefix("tests/")
+        for _, name in _imports_of(*tree.body, top=True)
+        if name.partition(".")[0] not in allowed
+    }
+    wrong = []
+    for rel, tree in trees.items():
+        if not rel.rpartition("/")[2].startswith("test_"):
+            continue
+        for line, name in _imports_of(*tree.body, top=True):
+            if name.partition(".")[0] not in allowed - heavy_helpers:
+                wrong.append(f"{rel}:{line}: {name} at the top (import_extra, or in a test)")
+        wrong += [
+            f"{rel}:{node.lineno}: pytest.importorskip skips under CI too (mark needs)"
+            for node in ast.walk(tree)
+            if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "importorskip"
+        ]
+        marked = _needs([n.value for n in tree.body if isinstance(n, ast.Assign)])
+        for node in tree.body:
+            if isinstance(node, ast.FunctionDef) and node.name.startswith("test_"):
+                needed = marked | _needs(node.decorator_list)
+                for line, name in _imports_of(*node.body):
+                    extra = extra_of.get(name.partition(".")[0])
+                    if extra and extra not in needed:
+                        wrong.append(f"{rel}:{line}: {name} in {node.name}, not marked needs")
+    assert not wrong, "\n".join(wrong)
+
+
+def _imports_of(*nodes: ast.stmt, top: bool = False) -> list[tuple[int, str]]:
+    """The modules ``nodes`` import (with ``top``, not those in a function or class body)."""
+    found, todo = [], list(nodes)
+    while todo:
+        node = todo.pop()
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+            found.append((node.lineno, node.module))
+        if not (top and isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef | ast.ClassDef)):
+            todo += ast.iter_child_nodes(node)
+    return sorted(found)

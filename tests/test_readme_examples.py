@@ -312,6 +312,7 @@ def test_the_parse_check_refuses_synopsis() -> None:
     assert _parse(["robots", "show", "nao", "--fromat", "json"]) is not None
 
 
+@pytest.mark.needs("erd")
 def test_the_quick_examples_run_as_written(tmp_path: Path) -> None:
     """The read-only and file-writing examples of the Commands block run in a clone-like folder
     (the repository's motions and test data linked in): none is a usage or I/O error."""

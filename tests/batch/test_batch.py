@@ -64,6 +64,7 @@ def test_parse_perturbation() -> None:
         parse_perturbation("mass=1.1:0.9")
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("given", "message"),
     [
@@ -206,6 +207,7 @@ def test_a_spooled_batch_holds_memory_flat_in_its_runs(motions: list[Path], tmp_
     assert spooled < held / 5, (held, spooled)
 
 
+@pytest.mark.needs("sim")
 def test_reports(motions: list[Path], tmp_path: Path) -> None:
     specs = plan(motions, ["nao"])
     batch = run_batch(specs, runner, model_hash=lambda r: "h", jobs=2, cache_dir=None)
@@ -257,6 +259,7 @@ def test_recording_names_are_unique_and_keep_the_stem_when_they_can(tmp_path: Pa
     assert clash["x/a-wave.motion"].startswith("a-wave-")
 
 
+@pytest.mark.needs("sim")
 def test_batch_keeps_one_recording_per_motion_when_names_collide(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -279,6 +282,7 @@ def test_batch_keeps_one_recording_per_motion_when_names_collide(
     ]
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize("option", ["--json", "--markdown", "--junit"])
 def test_a_report_where_a_recording_goes_is_refused_before_any_run(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, option: str
@@ -347,6 +351,7 @@ def full_folder(tmp_path: Path) -> Iterator[Path]:
         subprocess.run(["umount", str(folder)], check=True)
 
 
+@pytest.mark.needs("sim")
 def test_recordings_on_a_full_disk_are_an_io_error_not_a_failed_run(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, full_folder: Path
 ) -> None:
@@ -369,6 +374,7 @@ def test_recordings_on_a_full_disk_are_an_io_error_not_a_failed_run(
     assert sorted(p.name for p in full_folder.rglob("*")) == ["filler", "rrd"]
 
 
+@pytest.mark.needs("sim")
 def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
     tmp_path: Path,
 ) -> None:
@@ -413,7 +419,7 @@ def test_a_file_without_a_robot_is_one_failed_run_and_the_others_are_reported(
 
 
 def test_speed_perturbation_retimes_as_retime_speed_does(tmp_path: Path) -> None:
-    from motiontool.motionfmt.transform import scale_times
+    from motiontool.motionfmt.retime import scale_times
     from motiontool.sim.runs import retimed
 
     src = tmp_path / "m.motion"
@@ -432,6 +438,7 @@ def test_speed_perturbation_retimes_as_retime_speed_does(tmp_path: Path) -> None
     assert (batch.joints, batch.pose_names) == (motion.joints, motion.pose_names)
 
 
+@pytest.mark.needs("sim")
 def test_a_cached_run_whose_recording_is_missing_runs_again(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

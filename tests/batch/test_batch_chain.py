@@ -15,6 +15,8 @@ from typer.testing import CliRunner
 from motiontool.cli import schemas
 from motiontool.cli.app import app
 
+pytestmark = pytest.mark.needs("sim")
+
 runner = CliRunner()
 
 NOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:300,B,0.6,-0.3\n00:00:600,C,0,0\n"

@@ -5,8 +5,6 @@ cluster in tests/batch/test_ray.py)."""
 
 from __future__ import annotations
 
-import importlib.util
-
 import pytest
 from typer.testing import CliRunner
 
@@ -22,12 +20,6 @@ def square(x: int) -> int:
     return x * x
 
 
-def _available(info: ExecutorInfo) -> bool:
-    if info.extra is None:
-        return True
-    return all(importlib.util.find_spec(m) is not None for m in EXTRAS[info.extra][0])
-
-
 @pytest.mark.parametrize("info", REGISTRY, ids=lambda i: i.name)
 def test_every_executor_is_offered_and_described(info: ExecutorInfo) -> None:
     assert info.extra is None or info.extra in EXTRAS
@@ -36,10 +28,15 @@ def test_every_executor_is_offered_and_described(info: ExecutorInfo) -> None:
     assert executor_info(info.name) is info and info.name in EXECUTORS
 
 
-@pytest.mark.parametrize("info", [i for i in REGISTRY if not i.takes_address], ids=lambda i: i.name)
+@pytest.mark.parametrize(
+    "info",
+    [
+        pytest.param(i, id=i.name, marks=pytest.mark.needs(*[i.extra] if i.extra else []))
+        for i in REGISTRY
+        if not i.takes_address
+    ],
+)
 def test_executors_without_a_cluster_give_the_pool_s_outcomes(info: ExecutorInfo) -> None:
-    if not _available(info):
-        pytest.skip(f"{info.name} needs motiontool[{info.extra}]")
     tasks = list(range(7))
     run = info.factory(None)
     got = sorted((o.index, o.status, o.value) for o in run(square, tasks, jobs=2, timeout_s=None))

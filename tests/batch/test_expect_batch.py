@@ -29,6 +29,7 @@ def batch(*args: str) -> tuple[int, str, str]:
     return result.exit_code, result.stdout, result.stderr
 
 
+@pytest.mark.needs("sim")
 def test_a_wrong_expectation_fails_with_its_reason_in_every_report(tmp_path: Path) -> None:
     motions = tmp_path / "motions"
     motions.mkdir()
@@ -80,6 +81,7 @@ def test_a_wrong_expectation_fails_with_its_reason_in_every_report(tmp_path: Pat
     assert code == 1 and "expected yaw > 5 deg, measured" in stdout
 
 
+@pytest.mark.needs("sim")
 def test_a_bad_sidecar_or_expect_exits_2_before_anything_runs(tmp_path: Path) -> None:
     (tmp_path / "nod.motion").write_bytes(NOD)
     (tmp_path / "motions.toml").write_text('[nod]\nexpect = ["upright"]\nstart = "lying"\n')
@@ -97,6 +99,7 @@ def test_a_bad_sidecar_or_expect_exits_2_before_anything_runs(tmp_path: Path) ->
     )
 
 
+@pytest.mark.needs("sim")
 def test_the_sidecar_start_reaches_the_run(tmp_path: Path) -> None:
     (tmp_path / "nod.motion").write_bytes(NOD)
     (tmp_path / "motions.toml").write_text('["n*"]\nstart = "lying-back"\n')
@@ -188,6 +191,7 @@ def test_expect_refuses_to_overwrite_an_input_and_needs_infer(tmp_path: Path) ->
 # ------------------------------------------------------------------------------- corpus
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 @pytest.mark.usefixtures("corpus")
 def test_inferred_expectations_pass_on_the_corpus_and_a_wrong_one_fails(tmp_path: Path) -> None:
@@ -217,6 +221,7 @@ def test_inferred_expectations_pass_on_the_corpus_and_a_wrong_one_fails(tmp_path
     assert "3 clean, 1 not clean, 4 from cache" in stdout
 
 
+@pytest.mark.needs("sim")
 def test_a_sidecar_after_makes_a_batch_run_a_chain_named_in_every_report(
     tmp_path: Path,
 ) -> None:

@@ -22,9 +22,7 @@ from motiontool.sim.batch import parse_perturbation, plan, run_batch
 from motiontool.sim.executor import DEFAULT_JOBS, Parallelism, session
 from motiontool.sim.runs import run_spec
 
-pytest.importorskip(
-    "ray", reason="the Ray executor is an optional extra: pip install 'motiontool[ray]'"
-)
+pytestmark = pytest.mark.needs("sim", "ray")
 
 
 @pytest.fixture(scope="module")

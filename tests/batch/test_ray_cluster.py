@@ -17,9 +17,7 @@ import pytest
 from conftest import ROOT
 from raycluster import python_without_motiontool, ray_cluster
 
-pytest.importorskip(
-    "ray", reason="the Ray executor is an optional extra: pip install 'motiontool[ray]'"
-)
+pytestmark = pytest.mark.needs("sim", "ray")
 
 _MOTIONS = ("head_no", "bow")
 

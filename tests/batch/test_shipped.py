@@ -39,6 +39,7 @@ def _spec(tmp_path: Path, rrd: Path) -> object:
     return parcel
 
 
+@pytest.mark.needs("sim")
 def test_a_worker_that_cannot_see_the_motion_plays_it_from_shipped_bytes(tmp_path: Path) -> None:
     rrd = tmp_path / "rrd"
     rrd.mkdir()
@@ -74,6 +75,7 @@ def test_a_worker_of_another_version_refuses_the_run(tmp_path: Path) -> None:
         open_parcel(run_spec, older, store=bytes)
 
 
+@pytest.mark.needs("sim")
 def test_a_world_and_its_local_protos_travel_with_the_run(tmp_path: Path) -> None:
     from motiontool.sim.world_run import world_run_options
 

@@ -37,6 +37,7 @@ def invoke(*args: str) -> tuple[int, str, str]:
     return result.exit_code, result.stdout, result.stderr
 
 
+@pytest.mark.needs("kinematics")
 def test_validate_clean_file_exits_0(files: Path) -> None:
     code, out, _ = invoke("validate", str(files / "good.motion"))
     assert code == 0
@@ -63,6 +64,7 @@ def test_validate_text_reads_like_a_compiler(files: Path) -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_validate_directory_recursively(files: Path) -> None:
     code, out, _ = invoke("validate", str(files))
     assert code == 1
@@ -75,6 +77,7 @@ def test_warnings_pass_unless_strict(files: Path) -> None:
     assert invoke("validate", "--strict", "--ignore", "MT206", str(files / "warn.motion"))[0] == 0
 
 
+@pytest.mark.needs("kinematics")
 def test_json_report(files: Path) -> None:
     code, out, _ = invoke("validate", "--format", "json", str(files))
     assert code == 1
@@ -252,6 +255,7 @@ def test_installed_script(tmp_path: Path) -> None:
     assert "Traceback" not in proc.stderr
 
 
+@pytest.mark.needs("plot")
 def test_plot_to_stdout_and_diff_plot_refuses_stdout(tmp_path: Path) -> None:
     path = tmp_path / "w.motion"
     path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n400,Q,1\n")

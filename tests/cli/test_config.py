@@ -93,6 +93,7 @@ def test_per_file_ignores_extend_ignore_and_select_prefix(repo: Path) -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_checks_timestep_exclude_and_max_findings(repo: Path) -> None:
     (repo / "motions" / "generated").mkdir()
     (repo / "motions" / "generated" / "g.motion").write_bytes(NAO)
@@ -172,6 +173,7 @@ def test_the_schema_ships_and_agrees_with_the_reader(repo: Path) -> None:
         jsonschema.validate({"strictt": True}, schema)
 
 
+@pytest.mark.needs("sim")
 def test_play_and_batch_read_the_same_configuration(repo: Path) -> None:
     pyproject(
         repo,

@@ -13,8 +13,8 @@ import sys
 from collections.abc import Iterator
 from pathlib import Path
 
-import click
 import pytest
+import typer.core
 import typer.main
 from typer.testing import CliRunner
 
@@ -114,6 +114,8 @@ READERS = [
     ["retime", "PATH", "--speed", "2", "-o", "r.motion"],
     ["play", "PATH", "--headless"],
 ]
+#: The extras a reader needs before it reads (a missing one is said first).
+NEEDS = {"plot": ("plot",), "play": ("sim",)}
 
 
 UNREADABLE = [
@@ -126,7 +128,7 @@ UNREADABLE = [
 @pytest.mark.parametrize(
     ("command", "path", "reason"),
     [
-        (command, path, reason)
+        pytest.param(command, path, reason, marks=pytest.mark.needs(*NEEDS.get(command[0], ())))
         for command in READERS
         for path, reason in UNREADABLE
         if not (command[0] == "validate" and path == "folder.motion")  # validate searches it
@@ -286,6 +288,7 @@ def test_debug_traceback_from_the_installed_script(here: Path) -> None:
 # --------------------------------------------------------------------------- '-': stdin
 
 
+@pytest.mark.needs("sim")
 def test_dash_reads_stdin_and_diagnostics_name_it(here: Path) -> None:
     bad = b"#WEBOTS_MOTION,V1.0,A\n0,a,abc\n"
     code, out, _ = invoke("validate", "--robot", "none", "-", stdin=bad)
@@ -325,11 +328,11 @@ def test_in_place_refuses_stdin(here: Path) -> None:
 SHORT = {"--robot": "-r", "--timestep": "-t", "--output": "-o", "--format": "-f"}
 
 
-def _commands() -> list[tuple[str, click.Command]]:
+def _commands() -> list[tuple[str, typer.core.TyperCommand | typer.core.TyperGroup]]:
     root = typer.main.get_command(app)
     found = []
 
-    def walk(command: click.Command, name: str) -> None:
+    def walk(command: typer.core.TyperCommand | typer.core.TyperGroup, name: str) -> None:
         for sub_name, sub in getattr(command, "commands", {}).items():
             walk(sub, f"{name} {sub_name}".strip())
         if name:

@@ -55,7 +55,9 @@ def no_check_may_run(monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(check, "_check", refuse)
 
 
-@pytest.mark.parametrize("fmt", ["text", "json", "sarif"])
+@pytest.mark.parametrize(
+    "fmt", [pytest.param("text", marks=pytest.mark.needs("kinematics")), "json", "sarif"]
+)
 def test_a_report_from_the_cache_is_the_report_checked_afresh(
     store: Path, fmt: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -93,6 +95,7 @@ def test_a_check_skipped_for_a_missing_library_is_noted_from_the_cache_too(
         assert validate(*files) == fresh
 
 
+@pytest.mark.needs("kinematics")
 def test_what_the_findings_depend_on_is_in_the_key(store: Path, tmp_path: Path) -> None:
     motion = tmp_path / "m.motion"
     shutil.copyfile(FILES[0], motion)
@@ -120,6 +123,7 @@ def test_what_the_findings_depend_on_is_in_the_key(store: Path, tmp_path: Path) 
     assert validate(motion) == fresh and " MT302: " in fresh[1] and " MT302: " not in seen[0]
 
 
+@pytest.mark.needs("kinematics")
 def test_an_edited_robot_model_is_a_new_key(store: Path, tmp_path: Path) -> None:
     model = tmp_path / "nao.xml"
     shutil.copyfile(Path(runner.__file__).parents[1] / "models" / "nao.xml", model)
@@ -135,6 +139,7 @@ def test_an_edited_robot_model_is_a_new_key(store: Path, tmp_path: Path) -> None
     assert validate(*args) == fresh and " MT302: " in fresh[1]
 
 
+@pytest.mark.needs("kinematics")
 def test_a_file_named_otherwise_takes_its_findings_with_its_new_name(
     store: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -103,6 +103,7 @@ def test_info_diff_and_sample_json_of_a_non_utf8_joint_name(
     assert doc["joints"] == [ESCAPED, "HeadPitch"] and doc["escaped_bytes"] == 1
 
 
+@pytest.mark.needs("sim")
 def test_play_json_of_a_non_utf8_joint_name(tmp_path: Path) -> None:
     motion = tmp_path / "odd.motion"
     motion.write_bytes(
@@ -384,6 +385,7 @@ def test_colour_on_a_terminal(
     assert (ESC in out) is coloured
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("env", "args", "coloured"),
     [({}, [], True), ({}, ["--no-color"], False), ({"NO_COLOR": "1"}, [], False)],

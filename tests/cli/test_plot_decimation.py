@@ -5,6 +5,7 @@ highest, its first break; every point where a span has at most four."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -53,6 +54,7 @@ def test_each_span_keeps_its_ends_extremes_and_a_break(
     assert kept.sum() <= 5 * len(np.unique(span))
 
 
+@pytest.mark.needs("plot")
 def test_a_dense_line_is_drawn_without_markers_and_a_sparse_one_with_them() -> None:
     from matplotlib.figure import Figure
 

@@ -101,10 +101,10 @@ def _lsp(*messages: dict[str, object]) -> bytes:
     return out
 
 
+@pytest.mark.needs("lsp")
 def test_the_server_exits_0_after_shutdown_and_exit(here: Path) -> None:
     """The LSP client's clean end: ``shutdown``, then ``exit``; the server closes its stdout
     itself before it returns."""
-    pytest.importorskip("pygls")
     talk = _lsp(
         {"id": 1, "method": "initialize", "params": {"capabilities": {}}},
         {"method": "initialized", "params": {}},
@@ -163,10 +163,10 @@ def test_a_signal_mid_write_removes_the_temporary_file(
     assert list((here / "tmp").iterdir()) == []
 
 
+@pytest.mark.needs("sim")
 def test_a_terminated_play_removes_its_temporary_recording(here: Path) -> None:
     """A recording is gathered in a temporary folder while the motion plays: SIGTERM then
     removes it."""
-    pytest.importorskip("mujoco")
     rows = "".join(f"{t},P,{t % 1000 / 2000},{t % 700 / 2000}\n" for t in range(0, 120000, 400))
     (here / "long.motion").write_text(f"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n{rows}")
     proc = subprocess.Popen(
@@ -195,6 +195,7 @@ def _running(pid: int) -> bool:
     return state != "Z"
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 @pytest.mark.parametrize("group", [False, True], ids=["parent", "group"])
 def test_a_terminated_batch_stops_its_workers_and_leaves_no_debris(here: Path, group: bool) -> None:
@@ -273,6 +274,7 @@ def test_a_long_name_is_capped_in_every_message(here: Path) -> None:
     assert max(len(line) for line in lines if "hint" not in line) < 200, lines
 
 
+@pytest.mark.needs("sim")
 def test_a_long_option_value_is_capped_in_the_error_line(here: Path) -> None:
     done = subprocess.run(
         [SCRIPT, "batch", "in.motion", "--expect", "a" * 5000], capture_output=True, check=False
@@ -314,8 +316,8 @@ def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.needs("sim")
 def test_a_joint_name_play_ignores_is_shown_escaped(here: Path) -> None:
-    pytest.importorskip("mujoco")
     (here / "esc.motion").write_bytes(
         b"#WEBOTS_MOTION,V1.0,HeadYaw,Bad\x1b[2JName\n0,P1,0,0\n160,P2,0.2,0\n"
     )

@@ -69,6 +69,7 @@ def test_a_spinner_on_a_terminal_and_nothing_in_a_pipe(
     assert title + b":" not in piped_err
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 def test_play_shows_it_is_running_on_a_terminal(tmp_path: Path) -> None:
     args = ["play", str(NOD), "--headless", "--robot", "nao"]

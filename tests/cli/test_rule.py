@@ -14,6 +14,7 @@ from typer.testing import CliRunner
 from motiontool.cli import schemas
 from motiontool.cli.app import app
 from motiontool.cli.rules import RULES, Example
+from motiontool.kinematics.checks.registry import check_of_code
 from motiontool.motionfmt.diagnostics import CODES
 from motiontool.motionfmt.fixes import ROBOT_CODES, SAFE_CODES, UNSAFE_CODES
 
@@ -44,7 +45,14 @@ def test_every_code_has_an_explanation_and_nothing_else_does() -> None:
         assert entry.code == code and entry.webots and entry.fix
 
 
-@pytest.mark.parametrize("code", list(CODES))
+def _needs_its_check_extra(code: str) -> object:
+    """``code``, marked ``needs`` the extra of the check that reports it (if any)."""
+    check = check_of_code(code)
+    extras = [check.extra] if check is not None and check.extra is not None else []
+    return pytest.param(code, marks=pytest.mark.needs(*extras))
+
+
+@pytest.mark.parametrize("code", [_needs_its_check_extra(code) for code in CODES])
 def test_the_example_produces_its_code_and_the_fixed_example_does_not(
     code: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

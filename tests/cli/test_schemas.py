@@ -157,6 +157,7 @@ def test_diff_json_conforms(files: Path) -> None:
     assert errors(doc, "diff") == []
 
 
+@pytest.mark.needs("sim")
 def test_play_json_conforms(files: Path) -> None:
     result = runner.invoke(
         app,
@@ -176,6 +177,7 @@ def test_play_json_conforms(files: Path) -> None:
     assert errors(doc, "play")
 
 
+@pytest.mark.needs("sim")
 def test_play_json_physics_section_conforms(files: Path) -> None:
     result = runner.invoke(
         app,
@@ -198,6 +200,7 @@ def test_play_json_physics_section_conforms(files: Path) -> None:
     assert errors(broken, "play")
 
 
+@pytest.mark.needs("sim")
 def test_play_json_of_an_arm_conforms(files: Path) -> None:
     # A fixed-base arm's report has an end_effector section (keyframes, lags, the tool trail).
     Path("arm.motion").write_bytes(
@@ -219,6 +222,7 @@ def test_play_json_of_an_arm_conforms(files: Path) -> None:
     assert errors(broken, "play")
 
 
+@pytest.mark.needs("sim")
 def test_batch_json_conforms(files: Path) -> None:
     result = runner.invoke(
         app, ["batch", "nod.motion", "--jobs", "1", "--no-cache", "--json", "batch.json"]
@@ -254,6 +258,7 @@ def _times(doc: Any, path: str = "") -> list[tuple[str, float]]:
     return []
 
 
+@pytest.mark.needs("sim")
 def test_play_and_batch_times_are_whole_ms_without_float_noise(files: Path) -> None:
     """201 control steps of 20 ms were written ``4.0200000000000005`` s (201 * 0.02): every
     time and duration of a play or batch report is its whole ms / 1000, so it reads as written

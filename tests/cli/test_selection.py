@@ -208,6 +208,7 @@ def test_ignore_select_and_extend_select_take_prefixes_as_ruff(repo: Path) -> No
 # Exit codes and output --------------------------------------------------------------------
 
 
+@pytest.mark.needs("kinematics")
 def test_exit_zero_and_quiet(repo: Path) -> None:
     one = "motions/a.motion"
     assert invoke("validate", one)[0] == 1
@@ -261,6 +262,7 @@ def test_fix_of_standard_input_prints_the_fixed_text(repo: Path) -> None:
     assert "<stdin>:3:14: error MT302" in result.stderr
 
 
+@pytest.mark.needs("kinematics")
 def test_statistics_as_json_conform_to_their_schema(repo: Path) -> None:
     code, out, _ = invoke("validate", "--statistics", "-f", "json", "motions/a.motion")
     doc = json.loads(out)

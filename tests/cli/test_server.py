@@ -18,16 +18,14 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import pre_commit_env
+from conftest import import_extra, pre_commit_env
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 
-pytest.importorskip("pygls")
-
-from lsprotocol import types as lsp
-from pygls.lsp.client import LanguageClient
-from pygls.uris import from_fs_path
+lsp = import_extra("lsprotocol.types", "lsp")
+LanguageClient = import_extra("pygls.lsp.client", "lsp").LanguageClient
+from_fs_path = import_extra("pygls.uris", "lsp").from_fs_path
 
 MOTION = (
     "#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n"

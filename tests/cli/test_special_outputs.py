@@ -44,6 +44,23 @@ WRITERS: list[list[str]] = _WRITERS_MODULE.WRITERS
 IDS = [" ".join(a for a in c if a not in ("in.motion", "OUT")) for c in WRITERS]
 
 
+def extras_of(line: list[str]) -> list[str]:
+    """The extras a writer's command line needs beyond the core (tests/conftest.py skips it
+    without them)."""
+    by_command = {"play": "sim", "batch": "sim", "plot": "plot", "generate": "kinematics"}
+    by_word = {"--rrd": "rerun", "--bag": "ros", "--plot": "plot", "--urdf": "kinematics"}
+    by_word["rosbag"] = "ros"
+    found = {by_command[line[0]]} if line[0] in by_command else set()
+    return sorted(found | {extra for word, extra in by_word.items() if word in line})
+
+
+#: One parameter per writer, marked with the extras it needs.
+WRITER_PARAMS = [
+    pytest.param(line, id=name, marks=pytest.mark.needs(*extras_of(line)))
+    for line, name in zip(WRITERS, IDS, strict=True)
+]
+
+
 def invoke(*args: str) -> tuple[int, str, str]:
     result = runner.invoke(app, list(args))
     return result.exit_code, result.stdout, result.stderr
@@ -97,7 +114,7 @@ def test_writers_cover_every_output_option() -> None:
     assert {_WRITERS_MODULE.written_option(c) for c in WRITERS} == written | {"OUT"}
 
 
-@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+@pytest.mark.parametrize("line", WRITER_PARAMS)
 def test_a_character_device_is_written_through_not_replaced(here: Path, line: list[str]) -> None:
     null = make_device(here / "null", 3)
     code, _, err = invoke(*command(line, "null"))
@@ -106,7 +123,7 @@ def test_a_character_device_is_written_through_not_replaced(here: Path, line: li
     assert not [p.name for p in here.iterdir() if p.name.startswith(".null.")]
 
 
-@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+@pytest.mark.parametrize("line", WRITER_PARAMS)
 def test_a_full_device_is_a_full_disk(here: Path, line: list[str]) -> None:
     full = make_device(here / "full", 7)
     code, _, err = invoke(*command(line, "full"))
@@ -115,7 +132,7 @@ def test_a_full_device_is_a_full_disk(here: Path, line: list[str]) -> None:
     assert err.count("\n") == 1 and stat.S_ISCHR(full.lstat().st_mode)
 
 
-@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+@pytest.mark.parametrize("line", WRITER_PARAMS)
 def test_a_symlink_stays_a_link_and_its_target_gets_the_data(here: Path, line: list[str]) -> None:
     (here / "sub").mkdir()
     target = here / "sub" / "target"
@@ -136,7 +153,7 @@ def test_a_dangling_symlink_creates_its_target(here: Path) -> None:
     assert (here / "link").is_symlink() and (here / "made" / "report.json").read_bytes()
 
 
-@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+@pytest.mark.parametrize("line", WRITER_PARAMS)
 def test_a_fifo_is_written_through_to_its_reader(here: Path, line: list[str]) -> None:
     fifo = here / "fifo"
     os.mkfifo(fifo)
@@ -149,6 +166,7 @@ def test_a_fifo_is_written_through_to_its_reader(here: Path, line: list[str]) ->
     assert stat.S_ISFIFO(fifo.lstat().st_mode) and got and got[0]
 
 
+@pytest.mark.needs("kinematics")
 def test_dash_is_stdout_everywhere(here: Path) -> None:
     code, out, _ = invoke("validate", "in.motion", "-f", "json", "-o", "-")
     assert code == 0 and out.startswith("{")
@@ -248,6 +266,7 @@ def test_conflicting_outputs_are_refused_before_anything_runs(
     assert not (here / "X").exists()
 
 
+@pytest.mark.needs("sim")
 def test_two_outputs_may_share_a_device(here: Path) -> None:
     make_device(here / "null", 3)
     code, _, err = invoke(
@@ -256,6 +275,7 @@ def test_two_outputs_may_share_a_device(here: Path) -> None:
     assert code == 0, err
 
 
+@pytest.mark.needs("sim")
 def test_play_json_on_stdout_moves_the_text_report_to_stderr(here: Path) -> None:
     code, out, err = invoke("play", "in.motion", "--headless", "--json", "-")
     assert code == 0, err
@@ -315,7 +335,11 @@ def test_float_options_are_found() -> None:
             ["sample", "in.motion", "-t", "99999999999999999999"],
             "not in the range 1<=x<=2147483647",
         ),
-        (["play", "in.motion", "--headless", "--loop", "99999999999999999999"], "not in the range"),
+        pytest.param(
+            ["play", "in.motion", "--headless", "--loop", "99999999999999999999"],
+            "not in the range",
+            marks=pytest.mark.needs("sim"),
+        ),
         (["batch", "in.motion", "--timeout", "1e9"], "more than 604800 s (a week)"),
         (["batch", "in.motion", "--timeout", "inf"], "inf is not a finite number"),
         (["diff", "in.motion", "other.motion", "--tolerance", "nan"], "nan is not a finite"),
@@ -335,6 +359,7 @@ def test_info_and_robots_show_offer_only_what_they_accept() -> None:
         assert "csv" not in invoke(*line)[1]
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 def test_ctrl_c_in_batch_exits_130_without_a_traceback(here: Path) -> None:
     """Ctrl-C reaches the whole process group: the parent says 'interrupted' once and exits
@@ -390,7 +415,7 @@ def test_a_read_only_folder_is_refused_before_anything_runs(here: Path) -> None:
         subprocess.run(["umount", str(ro)], check=True)
 
 
-@pytest.mark.parametrize("line", WRITERS, ids=IDS)
+@pytest.mark.parametrize("line", WRITERS, ids=IDS)  # refused before any extra is used
 def test_an_empty_path_is_a_usage_error(here: Path, line: list[str]) -> None:
     # '' is no file (pathlib reads it as '.'): one line, exit 2, nothing written.
     code, _, err = invoke(*command(line, ""))

@@ -11,6 +11,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 import typer
 
 from motiontool.cli.app import _COMMANDS, app
@@ -88,6 +89,7 @@ def test_help_lists_every_command_without_importing_one(tmp_path: Path) -> None:
         assert f"  {name} " in out
 
 
+@pytest.mark.needs("kinematics")
 def test_validate_imports_neither_other_commands_nor_pinocchio_once_the_tables_are_stored(
     tmp_path: Path,
 ) -> None:

@@ -159,6 +159,7 @@ def _calls_back() -> Iterator[Counter[str]]:
         sys.setprofile(None)
 
 
+@pytest.mark.needs("kinematics")
 def test_validate_goes_to_the_library_and_back_once_per_file(two_files: list[str]) -> None:
     """The library calls the command back only to say how far it is (the progress display):
     never to read, check or settle a file."""
@@ -172,11 +173,10 @@ def test_validate_goes_to_the_library_and_back_once_per_file(two_files: list[str
     assert back["motiontool.cli.progress.Step.__call__"] % len(two_files) == 0
 
 
+@pytest.mark.needs("sim", "rerun")
 def test_play_rrd_goes_to_the_library_and_back_once_per_chunk(tmp_path: Path) -> None:
     """``play --rrd`` (plan, run, report): the run calls the command back once a chunk, to
     say how far it is; the recording takes each chunk in the library."""
-    pytest.importorskip("mujoco", reason="needs motiontool[sim]")
-    pytest.importorskip("rerun", reason="needs motiontool[sim]")
     from motiontool.sim import commands
     from motiontool.sim.recording import RunRecorder
 

@@ -38,6 +38,7 @@ def test_salute_with_twelve_values_is_rejected() -> None:
     assert out.endswith("checked 1 file: 1 error, 0 warnings, 0 notes\n")
 
 
+@pytest.mark.needs("kinematics")
 def test_fixed_salute_passes_on_the_webots_nao() -> None:
     code, out, _ = invoke("validate", "--robot", "nao", str(FIXED))
     assert code == 0
@@ -55,6 +56,7 @@ def test_fixed_salute_passes_on_the_webots_nao() -> None:
     assert lines[-1] == "checked 1 file: 0 errors, 2 warnings, 0 notes"
 
 
+@pytest.mark.needs("kinematics")
 def test_fixed_salute_breaks_the_real_nao_elbow_limit_at_line_3() -> None:
     code, out, _ = invoke("validate", "--robot", "nao-v5", str(FIXED))
     assert code == 1
@@ -125,6 +127,7 @@ def test_files_webots_rejects_are_listed_as_unchecked(tmp_path: Path) -> None:
     assert doc["robot"]["robots"][0]["files"] == [str(tmp_path / "a.motion")]
 
 
+@pytest.mark.needs("kinematics")
 def test_json_report_stamps_the_robot_and_its_model_hash() -> None:
     code, out, _ = invoke("validate", "--robot", "nao-v5", "--format", "json", str(FIXED))
     assert code == 1
@@ -156,6 +159,7 @@ def test_json_report_stamps_the_robot_and_its_model_hash() -> None:
     )
 
 
+@pytest.mark.needs("kinematics")
 def test_sarif_carries_the_robot_too(tmp_path: Path) -> None:
     out_file = tmp_path / "r.sarif"
     code, _, _ = invoke(
@@ -168,6 +172,7 @@ def test_sarif_carries_the_robot_too(tmp_path: Path) -> None:
     assert {r["ruleId"] for r in run["results"]} == {"MT206", "MT307"}
 
 
+@pytest.mark.needs("kinematics")
 def test_robot_none_is_syntax_only_and_collision_tolerance_is_an_option() -> None:
     code, out, _ = invoke("validate", "--robot", "none", str(FIXED))
     assert code == 0
@@ -185,6 +190,7 @@ def test_timestep_sets_the_command_stream_step(tmp_path: Path) -> None:
     assert "(10 ms controller step" in out.splitlines()[0]
 
 
+@pytest.mark.needs("kinematics")
 @pytest.mark.parametrize(
     ("robot", "step"),
     [("nao", "20"), ("auto", "20"), ("ur5e", "8")],
@@ -308,6 +314,7 @@ def test_mt309_hint_names_the_mirror_command_and_ignore_option() -> None:
     ) in out
 
 
+@pytest.mark.needs("kinematics")
 def test_robots_export_writes_model_files(tmp_path: Path) -> None:
     mjcf, urdf = tmp_path / "ur5e.xml", tmp_path / "ur5e.urdf"
     code, out, err = invoke("robots", "export", "ur5e", "--mjcf", str(mjcf), "--urdf", str(urdf))
@@ -342,6 +349,7 @@ def test_installed_script_lists_robots_and_validates_with_one() -> None:
     assert proc.returncode == 0 and proc.stdout.startswith("nao ")
 
 
+@pytest.mark.needs("kinematics")
 def test_self_collision_hint_names_the_robot_in_use(tmp_path: Path) -> None:
     fold = tmp_path / "fold.motion"
     fold.write_bytes(b"#WEBOTS_MOTION,V1.0,elbow_joint\n0,A,0\n1000,B,3.0\n")

@@ -69,6 +69,7 @@ def test_every_authoring_command_says_the_motion_it_wrote(
     assert out.startswith("#WEBOTS_MOTION") and lines == {}
 
 
+@pytest.mark.needs("kinematics")
 def test_generate_sample_expect_diff_plot_and_export_say_what_they_wrote(here: Path) -> None:
     assert wrote(["generate", "ur5e-jog", "-o", "jog.motion"])[1] == {
         "jog.motion": "122 poses, 8.952 s"
@@ -93,6 +94,7 @@ def test_generate_sample_expect_diff_plot_and_export_say_what_they_wrote(here: P
         assert (here / name).stat().st_size > 0
 
 
+@pytest.mark.needs("sim")
 def test_play_says_its_report_and_recording(here: Path) -> None:
     out, lines = wrote(
         ["play", "--headless", "--hold", "0", "nod.motion", "--json", "r.json", "--rrd", "r.rrd"]
@@ -106,6 +108,7 @@ def test_play_says_its_report_and_recording(here: Path) -> None:
     assert lines == {}
 
 
+@pytest.mark.needs("sim")
 def test_play_that_cannot_start_says_its_report(here: Path) -> None:
     (here / "bad.motion").write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,abc\n")
     result = runner.invoke(app, ["play", "--headless", "bad.motion", "--json", "r.json"])
@@ -115,6 +118,7 @@ def test_play_that_cannot_start_says_its_report(here: Path) -> None:
     )
 
 
+@pytest.mark.needs("sim")
 def test_batch_says_each_report_and_its_recordings(here: Path) -> None:
     _, lines = wrote(
         [
@@ -131,6 +135,7 @@ def test_batch_says_each_report_and_its_recordings(here: Path) -> None:
     assert len(list((here / "rrd").glob("*.rrd"))) == 2
 
 
+@pytest.mark.needs("kinematics")
 def test_validate_says_the_report_it_wrote(here: Path) -> None:
     """Issue 36 item 22: ``validate -o FILE`` said nothing; now its line names the format and
     the counts, and ``--diff -o FILE`` the patch."""

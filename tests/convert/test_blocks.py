@@ -122,6 +122,7 @@ def test_trajectory_deviation_in_blocks_is_the_deviation_in_one() -> None:
     assert one.max_rad > 0.0  # type: ignore[attr-defined]
 
 
+@pytest.mark.needs("ros", "sim")
 def test_a_bag_is_written_from_messages_made_as_it_goes(tmp_path: Path) -> None:
     """The JointState messages are made while the bag is written (a generator): the bag
     holds one per step, in order (its bytes are checked by tests/convert/test_ros.py)."""

@@ -141,7 +141,13 @@ ENDINGS = {"motion": ".motion", "csv": ".csv", "npz": ".npz", "naoqi": ".naoqi.j
 ENDINGS |= {"ros-trajectory": ".trajectory.yaml", "rosbag": ".mcap"}
 
 
-@pytest.mark.parametrize("fmt", sorted(ENDINGS))
+@pytest.mark.parametrize(
+    "fmt",
+    [
+        pytest.param(f, marks=pytest.mark.needs("ros")) if f == "rosbag" else f
+        for f in sorted(ENDINGS)
+    ],
+)
 def test_robot_none_is_one_rule_and_the_file_says_unchecked(tmp_path: Path, fmt: str) -> None:
     # --robot none: no robot checks, for every format; what has a place for it says so.
     out = tmp_path / f"wave{ENDINGS[fmt]}"
@@ -184,7 +190,15 @@ def test_convert_shows_validates_findings_of_the_file(tmp_path: Path) -> None:
     assert line.replace("MT205: ", "MT205: [*] ") in validated
 
 
-@pytest.mark.parametrize("ending", [".mcap", ".trajectory.yaml", ".naoqi.json", ".npz"])
+@pytest.mark.parametrize(
+    "ending",
+    [
+        pytest.param(".mcap", marks=pytest.mark.needs("ros")),
+        ".trajectory.yaml",
+        ".naoqi.json",
+        ".npz",
+    ],
+)
 def test_an_unknown_joint_is_one_input_error_for_every_robot_export(
     tmp_path: Path, ending: str
 ) -> None:

@@ -85,6 +85,7 @@ def test_naoqi_exports_a_stream_longer_than_one_may_hold(monkeypatch: pytest.Mon
     assert isinstance(out.stream, RobotStream) and out.stream.made is not None
 
 
+@pytest.mark.needs("ros", "sim")
 @pytest.mark.parametrize("path", NAO_FILES[:2], ids=lambda p: p.stem)
 def test_ros_formats_are_the_same_whatever_the_chunk_size(
     path: Path, monkeypatch: pytest.MonkeyPatch

@@ -118,6 +118,7 @@ def test_position_limits_name_joint_time_value_bound_and_excess() -> None:
     )
 
 
+@pytest.mark.needs("kinematics")
 def test_star_cells_are_not_checked_and_the_later_duplicate_column_wins() -> None:
     # Where the later HeadYaw column sends a command it wins (MT205): the earlier one's 5 rad
     # never reaches the motor.
@@ -130,6 +131,7 @@ def test_star_cells_are_not_checked_and_the_later_duplicate_column_wins() -> Non
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_the_earlier_duplicate_column_is_checked_where_the_later_sends_nothing() -> None:
     # Webots sends both HeadYaw columns in column order: at 500 ms the later one is '*', so the
     # earlier one's 2.5 rad reaches the motor (clamped, with a warning).
@@ -150,6 +152,7 @@ def test_the_earlier_duplicate_column_is_checked_where_the_later_sends_nothing()
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_a_value_exactly_at_a_limit_passes() -> None:
     data = b"#WEBOTS_MOTION,V1.0,HeadPitch,RElbowRoll\n0,P1,0.514872,0\n1000,P2,-0.671952,1.54462\n"
     assert robot_findings(data) == []
@@ -158,6 +161,7 @@ def test_a_value_exactly_at_a_limit_passes() -> None:
 # --------------------------------------------------------------------------- velocity
 
 
+@pytest.mark.needs("kinematics")
 def test_segment_faster_than_max_velocity_says_how_late_the_motor_is() -> None:
     data = b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P1,0\n100,P2,1\n200,P3,1\n"
     # 1 rad in 100 ms = 10 rad/s > 8.26797 rad/s: 1 / 8.26797 s = 120.9 ms, 20.9 ms late.
@@ -168,6 +172,7 @@ def test_segment_faster_than_max_velocity_says_how_late_the_motor_is() -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_command_stream_jump_after_a_star_stretch_is_one_warning() -> None:
     # '*' at 500 ms: no command from 20 ms until 1000 ms (both segments touch the '*'), then
     # at 1020 ms the target jumps from the held 0 to 1 + 20 * 0.4 / 1000 = 1.008 rad within
@@ -183,6 +188,7 @@ def test_command_stream_jump_after_a_star_stretch_is_one_warning() -> None:
     assert "at 1005 ms, within one 5 ms controller step: 200.4 rad/s" in only
 
 
+@pytest.mark.needs("kinematics")
 def test_infinite_targets_are_limit_errors_not_velocity_findings() -> None:
     # An 'inf' cell is sent and clamped: MT302 says so; its infinite speed is no MT303/MT304
     # (this used to crash the velocity check with an OverflowError).
@@ -193,6 +199,7 @@ def test_infinite_targets_are_limit_errors_not_velocity_findings() -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_uncommanded_joint_is_not_checked_where_it_is_not_commanded() -> None:
     # HeadYaw holds 0 while '*'; the file never asks it to move fast, and it stays put.
     data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,A,0,0\n40,B,*,0.2\n80,C,*,0.1\n"
@@ -432,6 +439,7 @@ def arm_motions(draw: st.DrawFn) -> bytes:
     return ("\n".join(lines) + "\n").encode()
 
 
+@pytest.mark.needs("kinematics")
 @settings(max_examples=40, deadline=None)
 @given(arm_motions(), st.integers(1, 5), st.integers(0, 3), st.booleans())
 def test_the_checks_read_in_blocks_find_what_one_block_finds(
@@ -460,6 +468,7 @@ def test_the_checks_read_in_blocks_find_what_one_block_finds(
         assert found() == whole
 
 
+@pytest.mark.needs("kinematics")
 def test_a_cycle_met_again_is_not_scanned_again(monkeypatch: pytest.MonkeyPatch) -> None:
     # A motion repeating one cycle over 6 blocks of poses, the right hand into the hip at its
     # first two poses: its configurations are scanned in the first block only, and the
@@ -507,6 +516,7 @@ def test_limits_and_velocity_match_a_plain_loop_oracle(data: bytes, step: int) -
 # --------------------------------------------------------------------------- unknown joints
 
 
+@pytest.mark.needs("kinematics")
 def test_unknown_joint_points_at_the_header_token_with_did_you_mean() -> None:
     data = b"#WEBOTS_MOTION,V1.0,HeadYw,HeadPitch\n0,P1,0,0\n"
     report = validate_bytes(data, "t.motion", checks=robot_checks(_NAO))
@@ -518,6 +528,7 @@ def test_unknown_joint_points_at_the_header_token_with_did_you_mean() -> None:
     assert d.hint == "Webots ignores this column (with a warning); rename it 'HeadYaw'"
 
 
+@pytest.mark.needs("kinematics")
 def test_unknown_joint_without_a_close_name_lists_the_motors() -> None:
     (d,) = validate_bytes(
         b"#WEBOTS_MOTION,V1.0,wheel_left\n0,P,0\n", "t", checks=robot_checks(load_robot("ur5e"))
@@ -527,6 +538,7 @@ def test_unknown_joint_without_a_close_name_lists_the_motors() -> None:
     assert (d.hint or "").endswith("; or name another robot explicitly")  # no CLI flag
 
 
+@pytest.mark.needs("kinematics")
 def test_hints_name_the_callers_robot_option() -> None:
     # The CLI says how its user names a robot; the library only passes it on.
     data = b"#WEBOTS_MOTION,V1.0,wheel_left\n0,P,0\n"
@@ -584,6 +596,7 @@ ARM_IN_TORSO = (
 )
 
 
+@pytest.mark.needs("kinematics")
 def test_self_collision_names_bodies_time_and_depth_once_per_run() -> None:
     # The right forearm and hand folded across the belly sink into the torso's capsule.
     assert robot_findings(ARM_IN_TORSO) == [
@@ -598,6 +611,7 @@ def test_self_collision_names_bodies_time_and_depth_once_per_run() -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_a_pair_that_collides_in_many_runs_is_one_finding_when_grouped() -> None:
     """The arm folded into the belly 12 times, unfolded between: 12 runs of r_hand in the
     torso. Grouped (more than MAX_RUNS runs) one finding for the pair at its deepest; not
@@ -617,6 +631,7 @@ def test_a_pair_that_collides_in_many_runs_is_one_finding_when_grouped() -> None
     assert len(each.diagnostics) == 12
 
 
+@pytest.mark.needs("kinematics")
 def test_collision_at_a_segment_midpoint_only() -> None:
     # Both poses are clear; halfway, the elbow turning over brings the hand into the belly.
     data = (
@@ -631,6 +646,7 @@ def test_collision_at_a_segment_midpoint_only() -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_out_of_range_values_are_clamped_before_the_collision_check() -> None:
     # LShoulderRoll -0.5 is past its -0.314159 limit (MT302); Webots stops the arm at the
     # limit, where the raised arm clears the head by more than the tolerance.
@@ -652,6 +668,7 @@ def test_out_of_range_values_are_clamped_before_the_collision_check() -> None:
     ]
 
 
+@pytest.mark.needs("kinematics")
 def test_balance_is_opt_in_and_reports_the_margin_in_mm() -> None:
     data = (
         b"#WEBOTS_MOTION,V1.0,LHipPitch,RHipPitch\n0,P1,0,0\n1000,P2,-1.5,-1.5\n2000,P3,-1.5,-1.5\n"
@@ -674,6 +691,7 @@ def test_salute_of_the_lesson_is_rejected_for_its_twelve_values() -> None:
     assert "expected 11 values (one per joint), found 12" in d.message
 
 
+@pytest.mark.needs("kinematics")
 def test_fixed_salute_passes_nao_and_breaks_the_real_robots_elbow_limit() -> None:
     path = DATA / "robots" / "salute_fixed.motion"
     nao = validate_paths([path], checks=[RobotChecks("nao")])
@@ -749,6 +767,7 @@ def test_unknown_robot_names_the_choices() -> None:
         RobotChecks("nao5")
 
 
+@pytest.mark.needs("kinematics")
 def test_limits_and_velocity_do_not_load_pinocchio_but_collision_does(tmp_path: Path) -> None:
     motion = tmp_path / "m.motion"
     motion.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n100,Q,3\n")

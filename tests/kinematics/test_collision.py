@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import import_extra
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -16,7 +17,7 @@ from motiontool.kinematics._pinocchio import BOX, SPHERE
 from motiontool.kinematics.collision import geometry_poses, scan_self_collisions
 from motiontool.kinematics.overlap_bound import overlap_bound
 
-pin = pytest.importorskip("pinocchio")
+pin = import_extra("pinocchio", "kinematics")
 
 
 def _random(spec_name: str, n: int, seed: int = 0) -> tuple[RobotSpec, np.ndarray]:

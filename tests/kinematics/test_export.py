@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import import_extra
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics import load_robot, models_dir
@@ -18,7 +19,7 @@ from motiontool.kinematics.erd import from_pinocchio
 from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
 from motiontool.kinematics.robot_spec import RobotSpec
 
-pin = pytest.importorskip("pinocchio")
+pin = import_extra("pinocchio", "kinematics")
 
 
 @pytest.mark.parametrize("robot", [r for r in BUILTIN_ROBOTS if r.overrides is None], ids=str)
@@ -26,6 +27,7 @@ def test_builtin_mjcf_is_the_model_file(robot: BuiltinRobot) -> None:
     assert mjcf_bytes(load_robot(robot.name)) == (models_dir() / robot.model).read_bytes()
 
 
+@pytest.mark.needs("sim")
 def test_nao_v5_mjcf_carries_the_real_robots_limits(tmp_path: Path) -> None:
     path = tmp_path / "nao-v5.xml"
     path.write_bytes(mjcf_bytes(load_robot("nao-v5")))
@@ -34,7 +36,8 @@ def test_nao_v5_mjcf_carries_the_real_robots_limits(tmp_path: Path) -> None:
     assert reread.joints != load_robot("nao").joints
     text = path.read_text()
     assert "LHipYawPitch = RHipYawPitch" in text
-    mujoco = pytest.importorskip("mujoco")
+    import mujoco
+
     model = mujoco.MjModel.from_xml_path(str(path))
     elbow = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "RElbowRoll")
     assert model.jnt_range[elbow].tolist() == pytest.approx([0.0349066, 1.54462])
@@ -117,6 +120,7 @@ def _nao_v5_from(tmp_path: Path, edit: Callable[[str], str]) -> RobotSpec:
     return dataclasses.replace(load_robot("nao-v5"), model_path=model)
 
 
+@pytest.mark.needs("sim")
 def test_nao_v5_limits_are_written_whatever_the_attribute_order(tmp_path: Path) -> None:
     # Any valid spelling of the element: name not first, other spacing, single quotes.
     spec = _nao_v5_from(
@@ -130,7 +134,8 @@ def test_nao_v5_limits_are_written_whatever_the_attribute_order(tmp_path: Path) 
     )
     path = tmp_path / "nao-v5.xml"
     path.write_bytes(mjcf_bytes(spec))
-    mujoco = pytest.importorskip("mujoco")
+    import mujoco
+
     model = mujoco.MjModel.from_xml_path(str(path))
     v5 = load_robot("nao-v5").joint("RElbowRoll")
     elbow = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, "RElbowRoll")

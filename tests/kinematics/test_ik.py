@@ -67,6 +67,7 @@ def random_configurations(n: int, seed: int) -> np.ndarray:
 # --------------------------------------------------------------------------- IK
 
 
+@pytest.mark.needs("kinematics")
 def test_flange_frame_is_the_tool_slot_0_1_m_along_wrist_3_y() -> None:
     q = q_of(random_configurations(1, 3)[0])
     wrist = forward_pose(UR5E, q, "wrist_3_link")
@@ -78,6 +79,7 @@ def test_flange_frame_is_the_tool_slot_0_1_m_along_wrist_3_y() -> None:
     np.testing.assert_allclose(zero.position, [0.817, 0.234, 0.063], atol=1e-6)
 
 
+@pytest.mark.needs("kinematics")
 @pytest.mark.parametrize("index", range(24))
 def test_ik_round_trips_forward_kinematics(index: int) -> None:
     q_true = random_configurations(24, 2024)[index]
@@ -96,6 +98,7 @@ def test_ik_round_trips_forward_kinematics(index: int) -> None:
         assert joint.lower <= solution.q_by_joint[joint.name] <= joint.upper
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_stays_on_the_seed_branch() -> None:
     """Seeded next to a configuration, IK returns that configuration, not another branch."""
     for q_true in random_configurations(8, 7):
@@ -104,6 +107,7 @@ def test_ik_stays_on_the_seed_branch() -> None:
         np.testing.assert_allclose(solution.values(NAMES), q_true, atol=1e-4)
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_fails_cleanly_on_an_unreachable_pose() -> None:
     far = Pose([1.5, 0.0, 0.5], np.eye(3))  # the arm reaches about 1 m
     with pytest.raises(MotionToolError) as info:
@@ -116,6 +120,7 @@ def test_ik_fails_cleanly_on_an_unreachable_pose() -> None:
     assert float(message.split("still ")[1].split(" mm")[0]) > 300
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_respects_joint_limits() -> None:
     """An elbow limited to [0.5, 1.0] rad: the solver stays inside, and a target that needs
     the elbow at 1.5 rad is out of reach."""
@@ -140,6 +145,7 @@ def test_ik_respects_joint_limits() -> None:
     assert solve_ik(UR5E, beyond, q_of(q_true), frame=FLANGE_FRAME).iterations == 0
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_solves_with_a_joint_resting_on_its_limit() -> None:
     """The target needs wrist_3 exactly at its (narrowed) upper limit; the seed's other motors
     are off, so steps keep pushing wrist_3 outward: it must stay on the limit, not block."""
@@ -158,6 +164,7 @@ def test_ik_solves_with_a_joint_resting_on_its_limit() -> None:
     np.testing.assert_allclose(solution.values(NAMES), q_true, atol=1e-4)
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_moves_only_the_chosen_joints() -> None:
     q_true = np.array([0.2, -1.0, 1.2, -1.5, -1.2, 0.3])
     target = forward_pose(UR5E, q_of(q_true), FLANGE_FRAME)
@@ -172,6 +179,7 @@ def test_ik_moves_only_the_chosen_joints() -> None:
         solve_ik(UR5E, target, q_of(seed), frame=FLANGE_FRAME, joints=arm)
 
 
+@pytest.mark.needs("kinematics")
 def test_ik_errors_name_the_choices() -> None:
     target = Pose([0.4, 0.1, 0.4], np.eye(3))
     with pytest.raises(MotionToolError, match=r"no frame 'flange'; choose one of .*tool_slot"):
@@ -191,6 +199,7 @@ def _rotation_vector(rotation: np.ndarray) -> np.ndarray:
     return angle * np.array([skew[2, 1], skew[0, 2], skew[1, 0]])
 
 
+@pytest.mark.needs("kinematics")
 @pytest.mark.parametrize("index", range(4))
 def test_frame_jacobian_matches_finite_differences(index: int) -> None:
     q = random_configurations(4, 11)[index]
@@ -207,6 +216,7 @@ def test_frame_jacobian_matches_finite_differences(index: int) -> None:
     np.testing.assert_allclose(jac, numeric, atol=1e-7)
 
 
+@pytest.mark.needs("kinematics")
 def test_residual_jacobian_matches_finite_differences() -> None:
     """The Jacobian the solver steps with is the derivative of its log6 residual."""
     import pinocchio as pin
@@ -256,6 +266,7 @@ def test_segment_ms_is_the_shortest_step_multiple_within_the_margin() -> None:
     assert segment_ms([0], [1.0], [6.28], margin=1.0, min_ms=0, step_ms=1) == 160
 
 
+@pytest.mark.needs("kinematics")
 def test_sorting_waypoints_reach_their_cartesian_targets(sorting: Motion) -> None:
     plan = sorting_plan()
     spots = sorting_spots()
@@ -271,6 +282,7 @@ def test_sorting_waypoints_reach_their_cartesian_targets(sorting: Motion) -> Non
         assert flange_pose(UR5E, q_of(row)).rotation[:, 1] == pytest.approx([0, 0, -1], abs=1e-5)
 
 
+@pytest.mark.needs("kinematics")
 def test_sorting_sorts_rusty_left_and_galvanized_right(sorting: Motion) -> None:
     places = [i for i, n in enumerate(sorting.pose_names) if n.startswith("place_")]
     ys = [flange_pose(UR5E, q_of(sorting.values[i])).position[1] for i in places]
@@ -283,6 +295,7 @@ def test_sorting_sorts_rusty_left_and_galvanized_right(sorting: Motion) -> None:
         assert sorting.times_ms[i] - sorting.times_ms[i - 1] == ur5e_tasks.GRASP_MS
 
 
+@pytest.mark.needs("kinematics")
 @pytest.mark.parametrize("name", ["sorting", "jog"])
 def test_segments_within_the_speed_margin_and_the_limits(
     name: str, request: pytest.FixtureRequest
@@ -300,6 +313,7 @@ def test_segments_within_the_speed_margin_and_the_limits(
     assert ((motion.values >= lower) & (motion.values <= upper)).all()
 
 
+@pytest.mark.needs("kinematics")
 def test_sorting_moves_are_as_short_as_the_margin_allows(sorting: Motion) -> None:
     limits = [UR5E.joint(n).max_velocity for n in NAMES]
     plan = [None, *sorting_plan()]  # pose 0 is the start pose, before the plan's home
@@ -316,6 +330,7 @@ def test_sorting_moves_are_as_short_as_the_margin_allows(sorting: Motion) -> Non
             assert (delta / shorter > ur5e_tasks.SPEED_MARGIN * np.array(limits)).any()
 
 
+@pytest.mark.needs("kinematics")
 def test_tool_stays_above_the_table_except_at_pick_and_place(sorting: Motion) -> None:
     """The 8 ms command stream: the flange never goes below the grasp/release heights, and
     below travel height only straight above the pick-up point or a bin."""
@@ -340,6 +355,7 @@ def test_tool_stays_above_the_table_except_at_pick_and_place(sorting: Motion) ->
     assert lowest == pytest.approx(PLACE_Z_M, abs=1e-5)  # it does go down to the bins
 
 
+@pytest.mark.needs("kinematics")
 def test_sorting_waypoints_are_free_of_self_collision(sorting: Motion) -> None:
     from motiontool.kinematics._pinocchio import self_collisions
 
@@ -347,6 +363,7 @@ def test_sorting_waypoints_are_free_of_self_collision(sorting: Motion) -> None:
         assert self_collisions(UR5E, q_of(row)) == []
 
 
+@pytest.mark.needs("kinematics")
 def test_jog_follows_the_keyboard_rule(jog: Motion) -> None:
     steps = ur5e_tasks.JOG_STEPS
     assert jog.pose_names[0] == "start"
@@ -369,6 +386,7 @@ def test_jog_follows_the_keyboard_rule(jog: Motion) -> None:
         assert block.max() == pytest.approx(steps * 0.01)
 
 
+@pytest.mark.needs("kinematics")
 @pytest.mark.parametrize("task", list(Task))
 def test_committed_motions_are_what_the_generators_write(task: Task) -> None:
     path = MOTIONS / f"{task.value.removeprefix('ur5e-')}.motion"
@@ -382,6 +400,7 @@ def test_committed_motions_validate_clean() -> None:
     assert [d for f in report.files for d in f.diagnostics] == []
 
 
+@pytest.mark.needs("kinematics")
 def test_generate_command_writes_the_file_and_reports(tmp_path: Path) -> None:
     runner = CliRunner()
     out = tmp_path / "jog.motion"
@@ -398,6 +417,7 @@ def test_generate_command_writes_the_file_and_reports(tmp_path: Path) -> None:
     assert bad.exit_code == 2 and "ur5e-sorting" in bad.stderr
 
 
+@pytest.mark.needs("kinematics")
 def test_generate_rejects_unknown_tasks_and_items() -> None:
     with pytest.raises(MotionToolError, match="choose one of ur5e-sorting, ur5e-jog"):
         generate("dance")

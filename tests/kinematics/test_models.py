@@ -50,7 +50,9 @@ def _json(name: str) -> dict:
 
 
 def _mujoco():
-    return pytest.importorskip("mujoco")
+    import mujoco
+
+    return mujoco
 
 
 # --------------------------------------------------------------------------- generator
@@ -116,6 +118,7 @@ def test_every_motor_matches_the_json(robot):
         assert (got.kind, got.unit) == ("hinge", "rad")
 
 
+@pytest.mark.needs("sim")
 @needs_data
 @pytest.mark.parametrize("robot", OWN_MODEL)
 def test_every_body_mass_matches_the_json(robot):
@@ -152,6 +155,7 @@ def test_nao_v5_overrides_are_the_real_robot_limits():
 # --------------------------------------------------------------------------- MuJoCo / Pinocchio
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(("robot", "nq", "nv", "nu"), [("nao", 47, 46, 40), ("ur5e", 6, 6, 6)])
 def test_mujoco_compiles_and_rests_without_contacts(robot, nq, nv, nu):
     mujoco = _mujoco()
@@ -166,6 +170,7 @@ def test_mujoco_compiles_and_rests_without_contacts(robot, nq, nv, nu):
         assert model.body_mass.sum() == pytest.approx(NAO_TOTAL_MASS_KG, abs=5e-5)
 
 
+@pytest.mark.needs("sim")
 def test_mujoco_velocity_actuators_carry_the_limits():
     mujoco = _mujoco()
     model = mujoco.MjModel.from_xml_path(str(models_dir() / "nao.xml"))
@@ -180,6 +185,7 @@ def test_mujoco_velocity_actuators_carry_the_limits():
         assert tuple(model.jnt_actfrcrange[jid]) == (-joint.max_torque, joint.max_torque)
 
 
+@pytest.mark.needs("sim")
 def test_mujoco_zero_pose_torso_height():
     mujoco = _mujoco()
     model = mujoco.MjModel.from_xml_path(str(models_dir() / "nao.xml"))
@@ -197,6 +203,7 @@ def test_mujoco_zero_pose_torso_height():
     assert lowest == pytest.approx(0.0, abs=1e-9)  # spawned standing on z = 0
 
 
+@pytest.mark.needs("kinematics", "sim")
 @pytest.mark.parametrize(("robot", "nq", "nv"), [("nao", 47, 46), ("ur5e", 6, 6)])
 def test_pinocchio_loads(robot, nq, nv):
     model, geoms = kin.build_model(load_robot(robot))
@@ -208,6 +215,7 @@ def test_pinocchio_loads(robot, nq, nv):
         assert total == pytest.approx(NAO_TOTAL_MASS_KG, abs=5e-5)
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_pinocchio_zero_pose_torso_height():
     soles = kin.sole_heights(load_robot("nao"), {})
     assert sorted(soles) == ["LFsr", "RFsr"]
@@ -215,6 +223,7 @@ def test_pinocchio_zero_pose_torso_height():
         assert -z == pytest.approx(ZERO_POSE_TORSO_HEIGHT_M, abs=1e-9)
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize("robot", builtin_robots())
 def test_mujoco_and_pinocchio_agree_on_forward_kinematics(robot):
     mujoco = _mujoco()
@@ -287,9 +296,8 @@ def test_head_pitch_envelope_interpolates():
     assert v5.head_pitch_limits(10.0) == pytest.approx(rows[-1][1:])
 
 
+@pytest.mark.needs("erd", "kinematics")
 def test_load_robot_from_example_robot_data():
-    if "ur5" not in kin.erd_robot_names():
-        pytest.skip("example-robot-data is not installed")
     spec = load_robot("erd:ur5")
     assert spec.name == "erd:ur5" and spec.model_format == "urdf"
     assert spec.joint_names[0] == "shoulder_pan_joint" and len(spec.joints) == 6
@@ -327,6 +335,7 @@ URDF = """\
 """
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_load_robot_from_a_urdf_file(tmp_path):
     path = tmp_path / "tiny.urdf"
     path.write_text(URDF, encoding="utf-8")
@@ -353,6 +362,7 @@ MJCF = """\
 """
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_load_robot_from_an_mjcf_file(tmp_path):
     path = tmp_path / "pendulum.xml"
     path.write_text(MJCF, encoding="utf-8")
@@ -385,6 +395,7 @@ def test_load_robot_errors(spec, message):
     assert str(info.value) == message
 
 
+@pytest.mark.needs("kinematics")
 def test_load_robot_errors_on_unknown_erd_and_broken_files(tmp_path):
     if kin.erd_robot_names():
         with pytest.raises(MotionToolError, match=r"did you mean 'erd:ur5'\?"):
@@ -395,6 +406,7 @@ def test_load_robot_errors_on_unknown_erd_and_broken_files(tmp_path):
         load_robot(str(broken))
 
 
+@pytest.mark.needs("kinematics")
 def test_unknown_joint_names_the_closest_motor():
     with pytest.raises(
         MotionToolError, match=r"unknown joint 'HeadYw' for robot nao; did you mean 'HeadYaw'\?"
@@ -485,11 +497,13 @@ def test_pick_robot_is_optional() -> None:
 # --------------------------------------------------------------------------- collisions, balance
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_no_self_collision_at_zero_pose():
     assert kin.self_collisions(load_robot("nao"), {}) == []
     assert kin.self_collisions(load_robot("ur5e"), {}) == []
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_arm_pushed_into_the_torso_collides():
     nao = load_robot("nao")
     pairs = kin.self_collisions(nao, ARM_IN_TORSO)
@@ -501,17 +515,20 @@ def test_arm_pushed_into_the_torso_collides():
     assert kin.self_collisions(load_robot("nao-v5"), ARM_IN_TORSO) == pairs
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_folded_ur5e_collides_with_itself():
     assert ("forearm_link", "shoulder_link") in kin.self_collisions(
         load_robot("ur5e"), {"elbow_joint": 3.0}
     )
 
 
+@pytest.mark.needs("kinematics")
 def test_self_collision_rejects_non_finite_positions():
     with pytest.raises(MotionToolError, match="not a position"):
         kin.self_collisions(load_robot("nao"), {"HeadYaw": math.nan})
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_zero_pose_is_statically_stable():
     com_xy, polygon, margin_mm = kin.com_and_support(load_robot("nao"), {})
     assert com_xy.shape == (2,) and polygon.shape == (6, 2)
@@ -520,6 +537,7 @@ def test_zero_pose_is_statically_stable():
     assert margin_mm == pytest.approx((0.0935 - com_xy[0]) * 1000, abs=0.01)
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_standing_on_one_foot_moves_the_support():
     pose = {"LHipPitch": -0.6, "LKneePitch": 1.2, "LAnklePitch": -0.6}
     balance = kin.com_and_support(load_robot("nao"), pose)
@@ -527,6 +545,7 @@ def test_standing_on_one_foot_moves_the_support():
     assert balance.margin_mm < 0  # centre of mass still between the feet
 
 
+@pytest.mark.needs("kinematics")
 def test_balance_needs_feet():
     with pytest.raises(MotionToolError, match="has no feet"):
         kin.com_and_support(load_robot("ur5e"), {})

@@ -18,7 +18,7 @@ from motiontool.kinematics import collision as collision_module
 from motiontool.kinematics.collision import geometry_poses, scan_self_collisions
 from motiontool.kinematics.overlap_bound import _projected_overlap
 
-pytest.importorskip("pinocchio")
+pytestmark = pytest.mark.needs("kinematics")
 
 
 def _overlap_along_first_directions(

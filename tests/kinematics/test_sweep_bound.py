@@ -17,7 +17,7 @@ from motiontool.kinematics import distinct_rows as distinct_module
 from motiontool.kinematics.collision import forward_kinematics, scan_self_collisions
 from motiontool.kinematics.sweep_bound import SWEEP_BLOCK, cleared_groups
 
-pytest.importorskip("pinocchio")
+pytestmark = pytest.mark.needs("kinematics")
 
 
 def _joint_gaps(tables: _pinocchio.KinematicTables, q: np.ndarray) -> np.ndarray:

@@ -29,6 +29,7 @@ def _same(a: tables_cache.KinematicTables, b: tables_cache.KinematicTables) -> N
             assert x == y and type(x) is type(y), name
 
 
+@pytest.mark.needs("kinematics", "sim")
 @pytest.mark.parametrize("robot", ["nao", "nao-v5", "ur5e"])
 def test_stored_tables_read_back_equal_to_the_built_ones(robot: str, cache: Path) -> None:
     spec = load_robot(robot)
@@ -44,6 +45,7 @@ def test_robots_and_code_have_their_own_key() -> None:
     assert tables_cache.tables_key(nao) != tables_cache.tables_key(v5)  # overrides differ
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_an_unreadable_file_is_built_again(cache: Path) -> None:
     spec = load_robot("ur5e")
     cache.mkdir(parents=True)
@@ -53,6 +55,7 @@ def test_an_unreadable_file_is_built_again(cache: Path) -> None:
     assert path.read_bytes().startswith(b"PK")  # stored again, whole
 
 
+@pytest.mark.needs("kinematics", "sim")
 def test_collisions_are_the_same_from_stored_tables(cache: Path) -> None:
     spec = load_robot("nao")
     rng = np.random.default_rng(7)

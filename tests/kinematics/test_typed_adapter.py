@@ -57,6 +57,7 @@ def test_mypy_rejects_any_in_kinematics() -> None:
     }
 
 
+@pytest.mark.needs("kinematics", "sim")
 @pytest.mark.parametrize("robot", ["nao", "ur5e"])
 def test_the_protocols_match_the_real_pinocchio(robot: str) -> None:
     pin = api.pin_module()

@@ -24,7 +24,7 @@ from motiontool.motionfmt import (
     sample,
 )
 from motiontool.motionfmt.compare import compare_motions, held_targets
-from motiontool.motionfmt.transform import resample
+from motiontool.motionfmt.resample import resample
 
 NAN_FILE = b"#WEBOTS_MOTION,V1.0,A,B,C,D\n0,P1,nan,inf,*,1\n100,P2,1,inf,-9999999.9,2\n"
 

@@ -22,7 +22,7 @@ from motiontool.motionfmt.ops.concat import concat
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.motionfmt.ops.scale import scale
 from motiontool.motionfmt.ops.trim import trim
-from motiontool.motionfmt.transform import resample
+from motiontool.motionfmt.resample import resample
 
 #: The first bad cell, pose by pose, then column by column: B = -inf on line 3 (line 2 has no
 #: command for B, and A = nan comes after B).

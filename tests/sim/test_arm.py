@@ -66,6 +66,7 @@ def arm_run(arm_motion: Path, tmp_path_factory: pytest.TempPathFactory) -> tuple
     return report, rrd
 
 
+@pytest.mark.needs("sim")
 def test_keyframe_poses_are_the_forward_kinematics_of_the_targets(
     arm_run: tuple[PlayReport, Path],
 ) -> None:
@@ -101,6 +102,7 @@ def test_keyframe_poses_are_the_forward_kinematics_of_the_targets(
     assert 0.0 < ee.max_deviation_at_s <= report.simulated_s
 
 
+@pytest.mark.needs("sim")
 def test_the_report_round_trips_through_json_and_the_batch_judges_ee_from_it(
     arm_run: tuple[PlayReport, Path],
 ) -> None:
@@ -114,6 +116,7 @@ def test_the_report_round_trips_through_json_and_the_batch_judges_ee_from_it(
     assert judged["exit_code"] == 1
 
 
+@pytest.mark.needs("sim")
 def test_ee_expectations_pass_or_fail_with_their_reason(arm_run: tuple[PlayReport, Path]) -> None:
     report, _rrd = arm_run
     ee = report.end_effector
@@ -169,6 +172,7 @@ def test_ee_point_is_in_metres_and_the_tolerance_unit_is_its_own() -> None:
     assert parse_expectation("ee_lag<0.2s").value == 200.0  # ee_lag is in ms
 
 
+@pytest.mark.needs("sim")
 def test_recording_logs_the_tool_trail_as_the_report_has_it(
     arm_run: tuple[PlayReport, Path],
 ) -> None:
@@ -189,6 +193,7 @@ def test_recording_logs_the_tool_trail_as_the_report_has_it(
     assert len(points) == report.control_steps + 1  # every frame
 
 
+@pytest.mark.needs("sim")
 def test_cli_prints_the_keyframe_table_and_the_schema_takes_the_json(
     arm_motion: Path, tmp_path: Path
 ) -> None:
@@ -211,6 +216,7 @@ def test_cli_prints_the_keyframe_table_and_the_schema_takes_the_json(
     jsonschema.validate(doc, schemas.load("play"))
 
 
+@pytest.mark.needs("sim")
 def test_a_floating_base_has_no_end_effector_and_ee_is_not_measured(tmp_path: Path) -> None:
     nod = tmp_path / "nod.motion"
     nod.write_bytes(NOD)
@@ -250,6 +256,7 @@ ONE_SITE = """<mujoco model="arm2">
 """
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("site", "tool"),
     [
@@ -269,6 +276,7 @@ def test_the_tool_of_a_generic_arm(tmp_path: Path, site: str, tool: tuple[str, s
     np.testing.assert_allclose(pos[:, :2], [[reach, 0.0], [0.0, reach]], atol=1e-9)
 
 
+@pytest.mark.needs("sim")
 def test_the_sorting_demo_reaches_every_pick_and_place() -> None:
     # motions.toml states them as kinematics/ur5e_tasks.py does.
     sidecar = tomllib.loads((ROOT / "motions" / "motions.toml").read_text())
@@ -289,6 +297,7 @@ def test_the_sorting_demo_reaches_every_pick_and_place() -> None:
     assert not wrong[0].passed and "1100" in wrong[0].reason
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize("motion", ["sorting", "jog"])
 def test_the_largest_deviation_is_at_least_every_keyframe_error(motion: str) -> None:
     # A keyframe's error is the tool against its commanded pose at its frame: the deviation from
@@ -301,6 +310,7 @@ def test_the_largest_deviation_is_at_least_every_keyframe_error(motion: str) -> 
     assert ee.max_deviation_mm >= worst.position_error_mm > 10.0
 
 
+@pytest.mark.needs("sim")
 def test_keyframe_times_follow_loops_and_reverse(arm_motion: Path) -> None:
     # A cycle of the 800 ms motion at 8 ms is ceil(800 / 8) + 1 = 101 steps: the second loop
     # starts at 0.808 s (elapsed_steps); reversed, 'turn' comes first.
@@ -331,6 +341,7 @@ def test_keyframe_times_follow_loops_and_reverse(arm_motion: Path) -> None:
     assert first.position_error_mm > 50  # the arm starts at zero, the motion at 'turn'
 
 
+@pytest.mark.needs("sim")
 def test_a_folded_keyframe_is_the_worst_of_its_visits_and_the_report_does_not_grow(
     arm_motion: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -357,6 +368,7 @@ def test_a_folded_keyframe_is_the_worst_of_its_visits_and_the_report_does_not_gr
     assert abs(sizes[12] - sizes[3]) < 200  # the same entries, a few digits apart
 
 
+@pytest.mark.needs("sim")
 def test_a_folded_keyframe_is_judged_by_its_worst_visit(
     arm_motion: Path,
 ) -> None:

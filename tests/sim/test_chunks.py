@@ -13,11 +13,11 @@ from typing import Any
 import numpy as np
 import pytest
 
-pytest.importorskip("mujoco")
-
 from motiontool.sim import PlayOptions, _mujoco, commands, play
 from motiontool.sim.start import StartState
 from motiontool.sim.trace import Trace, concatenate
+
+pytestmark = pytest.mark.needs("sim")
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data" / "corpus" / "webots"
@@ -140,14 +140,13 @@ def test_memory_of_a_run_does_not_grow_with_its_duration(monkeypatch: pytest.Mon
     ],
     ids=["nao", "ur5e", "nao-fall"],
 )
+@pytest.mark.needs("rerun", "ros")
 def test_recording_and_bag_logged_a_chunk_at_a_time_hold_what_one_chunk_does(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path, motion: Path | str, robot: str, steps: int
 ) -> None:
     """Every entity and column of the recording holds the same rows (events, limits and the
     base's whole path included: a fall and the contacts with the floor too), and the bag the
     same messages, whatever the chunks."""
-    pytest.importorskip("rerun")
-    pytest.importorskip("mcap_ros2")
     from bags import read_bag
     from rrds import rrd_rows
 
@@ -186,12 +185,14 @@ def test_a_run_of_more_steps_than_a_run_simulates_is_refused_before_it_starts(
         play([motion], robot="nao", options=PlayOptions(loops=3))
 
 
+@pytest.mark.needs("rerun")
 def test_a_recording_whose_temporary_file_fails_is_one_error_and_no_file(
     monkeypatch: pytest.MonkeyPatch, tmp_path: Path
 ) -> None:
     """Rerun's file sink stops on a full disk (its flush raises): one MotionToolError naming
     the recording, nothing at the destination, no temporary file left."""
-    rr = pytest.importorskip("rerun")
+    import rerun as rr
+
     from motiontool.errors import MotionToolError
 
     def full(self: Any, *args: Any, **kwargs: Any) -> None:

@@ -14,7 +14,7 @@ from conftest import CORPUS, missing_data
 
 from motiontool.sim import PlayOptions, PlayReport, play
 
-pytestmark = [pytest.mark.slow, pytest.mark.usefixtures("corpus")]
+pytestmark = [pytest.mark.slow, pytest.mark.needs("sim"), pytest.mark.usefixtures("corpus")]
 
 WALKS = {  # name: (dx band m, dy band m), None = not bounded
     "Forwards50": ((0.35, 0.55), (-0.05, 0.05)),
@@ -133,6 +133,7 @@ def test_stand_up_from_front_ends_standing(runs: Runs) -> None:
     assert base.final_tilt_deg < 15.0
 
 
+@pytest.mark.needs("rerun")
 def test_fall_falls_and_the_recording_says_when(runs: Runs) -> None:
     report = runs("Fall", rrd=True)
     assert report.base is not None and report.base.fell

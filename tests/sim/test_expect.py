@@ -108,6 +108,7 @@ def test_bad_expectations_are_one_line_errors(text: str, message: str) -> None:
 # ------------------------------------------------------------------------------- judging
 
 
+@pytest.mark.needs("sim")
 def test_a_real_run_is_judged_with_units_and_one_line_reasons(nod_report: PlayReport) -> None:
     base = nod_report.base
     assert base is not None
@@ -162,6 +163,7 @@ def test_a_real_run_is_judged_with_units_and_one_line_reasons(nod_report: PlayRe
     }
 
 
+@pytest.mark.needs("sim")
 def test_a_failed_expectation_fails_the_run_and_an_expected_fall_passes(
     nod_report: PlayReport,
 ) -> None:
@@ -188,6 +190,7 @@ def test_a_failed_expectation_fails_the_run_and_an_expected_fall_passes(
     assert apply_expectations(fallen, ["no-fall"])["reason"] == "expected no fall, fell at 0.50 s"
 
 
+@pytest.mark.needs("sim")
 def test_fall_direction_takes_the_short_way_round_and_says_why_it_is_not_measured(
     nod_report: PlayReport,
 ) -> None:
@@ -211,11 +214,13 @@ def test_fall_direction_takes_the_short_way_round_and_says_why_it_is_not_measure
     )
 
 
+@pytest.mark.needs("sim")
 def test_report_json_round_trips(nod_report: PlayReport) -> None:
     doc = nod_report.to_json()
     assert PlayReport.from_json(doc).to_json() == doc
 
 
+@pytest.mark.needs("sim")
 def test_heading_frame_follows_the_start_yaw(nod: Path) -> None:
     report = play([nod], robot="nao", options=PlayOptions(hold_s=0.1, start_yaw_deg=90.0))
     assert report.base is not None
@@ -224,6 +229,7 @@ def test_heading_frame_follows_the_start_yaw(nod: Path) -> None:
     assert left == pytest.approx(-report.base.dx_m, abs=1e-12)
 
 
+@pytest.mark.needs("sim")
 def test_fixed_base_robots_say_why_base_quantities_are_not_measured() -> None:
     from conftest import ROOT
 
@@ -254,6 +260,7 @@ def schema_errors(doc: Any, name: str) -> list[str]:
     return [f"{list(e.absolute_path)}: {e.message}" for e in validator.iter_errors(doc)]
 
 
+@pytest.mark.needs("sim")
 def test_play_with_a_wrong_expectation_exits_1_with_the_reason(nod: Path, tmp_path: Path) -> None:
     out = tmp_path / "run.json"
     result = runner.invoke(
@@ -285,6 +292,7 @@ def test_play_with_a_wrong_expectation_exits_1_with_the_reason(nod: Path, tmp_pa
     assert doc["expectations"][0]["measured"]["unit"] == "m"
 
 
+@pytest.mark.needs("sim")
 def test_play_reads_the_sidecar_and_a_bad_one_exits_2(nod: Path, tmp_path: Path) -> None:
     motion = tmp_path / "nod.motion"
     motion.write_bytes(NOD)
@@ -306,6 +314,7 @@ def test_play_reads_the_sidecar_and_a_bad_one_exits_2(nod: Path, tmp_path: Path)
 # ------------------------------------------------------------------------------- lying-back
 
 
+@pytest.mark.needs("sim")
 def test_lying_back_starts_face_up_and_lying_front_face_down() -> None:
     from motiontool.kinematics.robots import load_robot
     from motiontool.sim import _mujoco
@@ -318,6 +327,7 @@ def test_lying_back_starts_face_up_and_lying_front_face_down() -> None:
         assert abs(torso[2, 2]) < 1e-9  # the torso lies flat
 
 
+@pytest.mark.needs("sim")
 def test_a_run_started_lying_back_starts_down(nod: Path) -> None:
     report = play([nod], robot="nao", options=PlayOptions(start="lying-back", hold_s=0.2))
     base = report.base

@@ -87,6 +87,7 @@ def test_falls_expect_the_named_side_and_kicks_no_fall(name: str, expect: list[s
     assert proposal(name) == (expect, None)
 
 
+@pytest.mark.needs("sim")
 def test_a_dive_to_the_left_is_judged_by_the_side_it_fell_to(tmp_path: Path) -> None:
     folder = tmp_path / "dives"
     folder.mkdir()
@@ -138,6 +139,7 @@ def test_stand_up_variants_get_the_lying_start_they_need(
     assert infer("HandsUp").expect == ["upright", "feet-planted"]  # 'up' alone is no stand-up
 
 
+@pytest.mark.needs("sim")
 def test_a_stand_up_that_does_not_say_front_or_back_is_played_from_both(
     tmp_path: Path,
 ) -> None:
@@ -185,6 +187,7 @@ def test_walks_expect_progress(name: str, expect: list[str]) -> None:
     assert proposal(name) == (expect, None)
 
 
+@pytest.mark.needs("sim")
 def test_upright_is_the_fall_detector_not_a_tilt_bound(tmp_path: Path) -> None:
     lean = tmp_path / "LeanForward.motion"
     lean.write_bytes(hips(pitch=-0.2))

@@ -51,6 +51,7 @@ def expect(*args: str | Path, env: dict[str, str] | None = None) -> Result:
     return runner.invoke(app, ["expect", "--infer", *map(str, args)], env=env)
 
 
+@pytest.mark.needs("sim")
 def test_the_probes_play_in_the_world_and_the_proposal_plays_there_in_batch(
     wrestling: Path, tmp_path: Path
 ) -> None:
@@ -94,6 +95,7 @@ def test_the_probes_play_in_the_world_and_the_proposal_plays_there_in_batch(
     assert [r["passed"] for r in run["report"]["expectations"]] == [True]
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 def test_the_configuration_world_is_where_the_probes_play_when_no_world_is_given(
     wrestling: Path, tmp_path: Path
@@ -122,6 +124,7 @@ def test_the_configuration_world_is_where_the_probes_play_when_no_world_is_given
             assert (played_in and played_in["robot_node"]["name"]) == node
 
 
+@pytest.mark.needs("sim")
 def test_robustness_members_start_from_the_start_pose(wrestling: Path, tmp_path: Path) -> None:
     get_up = wrestling / "controllers" / "motions" / "GetUp.motion"
     pose = f"{get_up}:Pose1"
@@ -135,6 +138,7 @@ def test_robustness_members_start_from_the_start_pose(wrestling: Path, tmp_path:
     assert {m["report"]["options"]["start"] for m in members} == {"lying-front", "lying-back"}
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.slow
 def test_a_fragile_start_is_not_proposed_warned_and_strict_fails_the_same_way_each_time(
     tmp_path: Path,
@@ -165,6 +169,7 @@ def test_a_fragile_start_is_not_proposed_warned_and_strict_fails_the_same_way_ea
     assert "(--strict: exit 1)" in strict.stderr
 
 
+@pytest.mark.needs("sim")
 def test_the_start_pose_reaches_the_probes(wrestling: Path) -> None:
     motions = wrestling / "controllers" / "motions"
     pose = f"{motions / 'GetUp.motion'}:Pose1"
@@ -203,6 +208,7 @@ def test_a_bad_world_or_option_is_one_line_exit_2_and_nothing_written(
     assert not sidecar.exists()
 
 
+@pytest.mark.needs("sim")
 def test_a_proposed_start_loop_stop_chain_is_named_whole_in_every_batch_report(
     tmp_path: Path,
 ) -> None:

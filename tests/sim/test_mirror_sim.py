@@ -13,7 +13,7 @@ from motiontool.motionfmt import loads
 from motiontool.motionfmt.ops.mirror import mirror
 from motiontool.sim import PlayReport, play
 
-pytestmark = [pytest.mark.slow, pytest.mark.usefixtures("corpus")]
+pytestmark = [pytest.mark.slow, pytest.mark.needs("sim"), pytest.mark.usefixtures("corpus")]
 
 SIDE_STEP = CORPUS / "projects/robots/softbank/dancing_nao/motions/SideStepLeft.motion"
 TURN = CORPUS / "projects/robots/softbank/nao/motions/TurnLeft60.motion"

@@ -61,6 +61,7 @@ def test_velocity_command_is_clipped_p_law() -> None:
     assert velocity_command(limits, target, position).tolist() == pytest.approx([1.0, 5.0, -5.0])
 
 
+@pytest.mark.needs("sim")
 def test_p_controller_shrinks_the_error_by_1_minus_pT_every_step(tmp_path: Path) -> None:
     # Webots: the joint moves at Vc = P e for one step T, so e_next = (1 - P T) e = 0.8 e.
     scene = mj.build_scene(arm(tmp_path, vertical=True, max_velocity=5.0, max_torque=10.0), 20)
@@ -69,6 +70,7 @@ def test_p_controller_shrinks_the_error_by_1_minus_pT_every_step(tmp_path: Path)
     assert error[1:] / error[:-1] == pytest.approx(np.full(8, 0.8), abs=2e-3)
 
 
+@pytest.mark.needs("sim")
 def test_speed_is_capped_at_max_velocity(tmp_path: Path) -> None:
     scene = mj.build_scene(arm(tmp_path, vertical=True, max_velocity=2.0, max_torque=10.0), 20)
     trace = mj.run(scene, *hold(1.0, 10))
@@ -78,6 +80,7 @@ def test_speed_is_capped_at_max_velocity(tmp_path: Path) -> None:
     assert speed[0] == pytest.approx(2.0, rel=0.02)  # the first step accelerates
 
 
+@pytest.mark.needs("sim")
 def test_motor_holds_a_load_below_max_torque(tmp_path: Path) -> None:
     scene = mj.build_scene(arm(tmp_path, vertical=False, max_velocity=5.0, max_torque=2.0), 20)
     trace = mj.run(scene, *hold(0.0, 10))
@@ -85,6 +88,7 @@ def test_motor_holds_a_load_below_max_torque(tmp_path: Path) -> None:
     assert abs(trace.position[-1, 0]) < 1e-3
 
 
+@pytest.mark.needs("sim")
 def test_motor_torque_saturates_at_max_torque(tmp_path: Path) -> None:
     scene = mj.build_scene(arm(tmp_path, vertical=False, max_velocity=5.0, max_torque=0.5), 20)
     trace = mj.run(scene, *hold(0.0, 10))
@@ -92,6 +96,7 @@ def test_motor_torque_saturates_at_max_torque(tmp_path: Path) -> None:
     assert trace.position[-1, 0] < -0.5  # gravity wins: the arm sags
 
 
+@pytest.mark.needs("sim")
 def test_joint_range_is_not_a_hard_stop(tmp_path: Path) -> None:
     # Webots' PROTOs have no stops: a load pushes a joint past its motor limits.
     robot = arm(tmp_path, vertical=False, max_velocity=5.0, max_torque=0.1)
@@ -150,6 +155,7 @@ def test_command_matrix_later_duplicate_column_wins_where_it_has_a_value() -> No
     assert not math.isnan(targets[0, 0])
 
 
+@pytest.mark.needs("sim")
 def test_the_control_loop_sends_the_motor_laws_command(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -187,6 +193,7 @@ def _small_arena_arm(tmp_path: Path) -> RobotSpec:
     return RobotSpec("arm", path, hashlib.sha256(path.read_bytes()).hexdigest(), (joint,), 20)
 
 
+@pytest.mark.needs("sim")
 def test_a_mujoco_error_stops_the_run_and_the_trace_says_why(tmp_path: Path) -> None:
     scene = mj.build_scene(_small_arena_arm(tmp_path), 20)
     trace = mj.run(scene, *hold(0.0, 50))
@@ -196,6 +203,7 @@ def test_a_mujoco_error_stops_the_run_and_the_trace_says_why(tmp_path: Path) -> 
     assert len(trace.position) == trace.steps_done + 1
 
 
+@pytest.mark.needs("sim")
 def test_a_bug_in_our_own_contact_code_is_raised_not_reported_as_a_stopped_run(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -209,6 +217,7 @@ def test_a_bug_in_our_own_contact_code_is_raised_not_reported_as_a_stopped_run(
         mj.run(scene, *hold(0.0, 50))
 
 
+@pytest.mark.needs("sim")
 def test_a_mujoco_error_in_a_later_chunk_stops_the_run_where_one_chunk_does(
     tmp_path: Path,
 ) -> None:

@@ -34,6 +34,7 @@ def nod(tmp_path: Path) -> Path:
     return path
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("friction", "step_ms"), [(0.5, 4.0), (3.0, 1.0), (7.0, 20.0)], ids=["0.5@4", "3@1", "7@20"]
 )
@@ -53,6 +54,7 @@ def test_friction_and_step_reach_the_compiled_model(friction: float, step_ms: fl
     assert read_back(scene) == pytest.approx((step_ms, friction), rel=1e-12)
 
 
+@pytest.mark.needs("sim")
 def test_play_reports_the_physics_it_compiled(nod: Path) -> None:
     default = play([nod], robot="nao", options=PlayOptions(hold_s=0.0))
     assert default.physics == {"timestep_ms": 2.0, "friction": 1.0, "profile": "default"}
@@ -64,6 +66,7 @@ def test_play_reports_the_physics_it_compiled(nod: Path) -> None:
     assert report.stamps["physics_step_ms"] == 4.0
 
 
+@pytest.mark.needs("sim")
 def test_the_webots_profile_uses_webots_numbers_and_says_it_is_not_what_matches(
     nod: Path,
 ) -> None:
@@ -145,6 +148,7 @@ def test_play_options_refuse_bad_physics_before_anything_runs(nod: Path) -> None
         play([nod], robot="nao", options=PlayOptions(physics_step_ms=3.0))
 
 
+@pytest.mark.needs("sim")
 def test_cli_play_physics_options_text_and_json(nod: Path, tmp_path: Path) -> None:
     out = tmp_path / "run.json"
     result = runner.invoke(
@@ -185,6 +189,7 @@ def test_cli_play_physics_options_text_and_json(nod: Path, tmp_path: Path) -> No
     assert f"note: {doc['physics']['profile_note']}\n" in result.stdout
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -204,6 +209,7 @@ def test_cli_bad_physics_values_exit_2_with_one_line(
     assert len(lines) == 1 and lines[0].startswith(f"motiontool: error: {message}"), lines
 
 
+@pytest.mark.needs("sim")
 def test_batch_friction_perturbation_multiplies_the_given_friction(nod: Path) -> None:
     from motiontool.sim.runs import run_spec
 
@@ -217,6 +223,7 @@ def test_batch_friction_perturbation_multiplies_the_given_friction(nod: Path) ->
     assert physics_run_options() == {}  # the defaults leave the cache key as it was
 
 
+@pytest.mark.needs("sim")
 def test_cli_batch_prints_the_webots_note(nod: Path, tmp_path: Path) -> None:
     result = runner.invoke(
         app,

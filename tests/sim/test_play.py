@@ -39,6 +39,7 @@ def column(batches: list[Any], name: str) -> list[Any]:
     return values
 
 
+@pytest.mark.needs("sim")
 def test_same_inputs_give_the_same_report_bit_for_bit(nod: Path) -> None:
     first = play([nod], robot="nao").to_json()
     second = play([nod], robot="nao").to_json()
@@ -46,6 +47,7 @@ def test_same_inputs_give_the_same_report_bit_for_bit(nod: Path) -> None:
     assert first["clean"] and first["exit_code"] == 0
 
 
+@pytest.mark.needs("sim")
 def test_report_of_a_head_nod(nod: Path) -> None:
     report = play([nod], options=PlayOptions(hold_s=0.5), stamps={"motiontool": "x"})
     assert report.robot == "nao"
@@ -66,6 +68,7 @@ def test_report_of_a_head_nod(nod: Path) -> None:
     assert [f.name for f in report.feet] == ["LFsr", "RFsr"]
 
 
+@pytest.mark.needs("sim")
 def test_clipped_targets_and_ignored_joints_are_reported(tmp_path: Path) -> None:
     path = tmp_path / "clip.motion"
     path.write_bytes(OUT_OF_RANGE)
@@ -112,12 +115,14 @@ def test_a_simulator_warning_makes_a_run_unclean_and_an_error_exits_2() -> None:
     assert stopped.exit_code == 2 and stopped.to_json()["error"].endswith("boom")
 
 
+@pytest.mark.needs("sim")
 def test_sequence_plays_files_one_after_another(nod: Path) -> None:
     report = play([nod, nod], options=PlayOptions(hold_s=0.0))
     assert [(f.start_s, f.steps) for f in report.files] == [(0.0, 31), (pytest.approx(0.62), 31)]
     assert report.simulated_s == pytest.approx(1.24)
 
 
+@pytest.mark.needs("sim")
 def test_ur5e_stands_on_its_box_and_plays_clean() -> None:
     report = play([UR5E_MOTION], robot="ur5e", options=PlayOptions(hold_s=0.0))
     assert report.base is None and report.feet == []
@@ -126,6 +131,7 @@ def test_ur5e_stands_on_its_box_and_plays_clean() -> None:
     assert max(j.rms_error for j in report.joints) < 0.5
 
 
+@pytest.mark.needs("sim")
 def test_ur5e_arm_swung_into_its_box_is_a_scene_contact(tmp_path: Path) -> None:
     # At zero the UR5e's arm is stretched out horizontally; +2 rad of shoulder lift swings it
     # down through the top of the 0.6 m box it stands on.
@@ -140,6 +146,7 @@ def test_ur5e_arm_swung_into_its_box_is_a_scene_contact(tmp_path: Path) -> None:
     assert lift.torque_cap_s > 0.5  # pushing against the box at maxTorque
 
 
+@pytest.mark.needs("sim")
 def test_ur5e_folding_onto_itself_is_a_self_collision(tmp_path: Path) -> None:
     # Webots' UR5e collides with itself (selfCollision TRUE): its links touch, they do not
     # pass through each other, so any depth counts (no tolerance as for the Nao's overlaps).
@@ -154,6 +161,7 @@ def test_ur5e_folding_onto_itself_is_a_self_collision(tmp_path: Path) -> None:
     assert report.scene_contacts == [] and report.exit_code == 1
 
 
+@pytest.mark.needs("sim")
 def test_lying_front_needs_a_free_flying_robot() -> None:
     from motiontool.motionfmt import MotionToolError
 
@@ -167,6 +175,7 @@ def test_cli_without_headless_says_so_and_exits_2(nod: Path) -> None:
     assert "only headless playback exists" in result.stderr
 
 
+@pytest.mark.needs("sim", "rerun")
 def test_cli_writes_json_and_rrd(nod: Path, tmp_path: Path) -> None:
     json_path, rrd_path = tmp_path / "run.json", tmp_path / "run.rrd"
     result = runner.invoke(
@@ -211,6 +220,7 @@ def test_cli_writes_json_and_rrd(nod: Path, tmp_path: Path) -> None:
     assert RrdReader(rrd_path).blueprints(), "no blueprint in the recording"
 
 
+@pytest.mark.needs("sim")
 def test_cli_json_and_rrd_are_written_when_the_file_is_rejected(tmp_path: Path) -> None:
     bad = tmp_path / "bad.motion"
     bad.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,A,abc\n")
@@ -226,6 +236,7 @@ def test_cli_json_and_rrd_are_written_when_the_file_is_rejected(tmp_path: Path) 
     assert "bad.motion:2:" in events[0]
 
 
+@pytest.mark.needs("sim")
 def test_cli_unknown_robot_lists_choices(nod: Path) -> None:
     result = runner.invoke(app, ["play", str(nod), "--headless", "--robot", "nao7"])
     assert result.exit_code == 2
@@ -236,6 +247,7 @@ def test_cli_unknown_robot_lists_choices(nod: Path) -> None:
 DARWIN = b"#WEBOTS_MOTION,V1.0,ShoulderR,ArmUpperR\n0,A,0,0\n200,B,0.3,0.2\n"
 
 
+@pytest.mark.needs("sim")
 def test_a_motion_with_no_motor_of_the_robot_is_not_a_clean_run(tmp_path: Path) -> None:
     path = tmp_path / "darwin.motion"
     path.write_bytes(DARWIN)
@@ -258,6 +270,7 @@ def test_a_motion_with_no_motor_of_the_robot_is_not_a_clean_run(tmp_path: Path) 
     assert report.clean and report.unplayed_files == [] and report.ignored_joints == ["ArmUpperR"]
 
 
+@pytest.mark.needs("sim")
 def test_warning_names_come_from_mujoco_itself() -> None:
     import mujoco
 
@@ -277,6 +290,7 @@ def test_warning_names_come_from_mujoco_itself() -> None:
     assert list(report.warnings) == list(labels.values())
 
 
+@pytest.mark.needs("sim")
 def test_ur5e_joints_are_grouped_as_arm_and_wrist(tmp_path: Path) -> None:
     from motiontool.cli._plotting import limb_groups
     from motiontool.kinematics import load_robot
@@ -303,6 +317,7 @@ def test_ur5e_joints_are_grouped_as_arm_and_wrist(tmp_path: Path) -> None:
     ]
 
 
+@pytest.mark.needs("sim")
 def test_play_takes_motion_objects_and_reports_them_as_the_files(nod: Path) -> None:
     from motiontool.sim import read_playable
 
@@ -318,6 +333,7 @@ def test_play_takes_motion_objects_and_reports_them_as_the_files(nod: Path) -> N
         play([motion, motion], names=["a"], robot="nao")
 
 
+@pytest.mark.needs("sim")
 def test_cli_warns_once_per_ignored_joint(tmp_path: Path) -> None:
     # A subprocess: in-process, pytest's log capture hides the library's log line, which Python
     # printed on stderr too (before: the warning twice, once from the log, once from the CLI).
@@ -338,6 +354,7 @@ def test_cli_warns_once_per_ignored_joint(tmp_path: Path) -> None:
     assert "ignored (not motors of the robot): NotAJoint" in proc.stdout
 
 
+@pytest.mark.needs("sim")
 def test_geoms_are_classed_with_an_enum(nod: Path) -> None:
     from motiontool.kinematics import load_robot
     from motiontool.sim._mujoco import GeomClass, build_scene

@@ -25,6 +25,7 @@ def test_play_refuses_a_nan_cell_at_its_line_and_column(tmp_path: Path) -> None:
     assert str(info.value).startswith(f"{path}:3:12: HeadPitch = nan is not a finite number")
 
 
+@pytest.mark.needs("sim")
 def test_cli_play_of_a_nan_cell_is_one_line_and_exit_2(tmp_path: Path) -> None:
     path = tmp_path / "nan.motion"
     path.write_bytes(NAN_FILE)

@@ -20,6 +20,8 @@ from motiontool.kinematics import resolve_robot
 from motiontool.sim import _mujoco
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES
 
+pytestmark = pytest.mark.needs("sim")
+
 runner = CliRunner()
 
 # The left arm hangs with the elbow bent across the belly, then its shoulder rolls inward to

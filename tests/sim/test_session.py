@@ -65,6 +65,7 @@ def test_a_bad_expectation_or_sidecar_stops_the_plan_before_anything_is_read(
         plan_play([never_read])
 
 
+@pytest.mark.needs("sim")
 def test_the_run_is_judged_and_stamped(nod: Path) -> None:
     result = plan_play([nod], start="standing").run(robot="nao", options=QUICK)
     report = result.report

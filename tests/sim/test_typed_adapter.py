@@ -54,6 +54,7 @@ def test_only_the_api_module_meets_the_untyped_mujoco() -> None:
     assert imports_of(ROOT / "sim", ("mujoco",), ROOT) == []
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize("robot", ["nao", "ur5e"])
 def test_the_protocols_match_the_real_mujoco(robot: str) -> None:
     import mujoco
@@ -115,6 +116,7 @@ def test_the_protocol_check_sees_a_missing_member() -> None:
     assert "nbody" not in missing(Partial(), api.MjModel)
 
 
+@pytest.mark.needs("rerun")
 def test_rerun_is_typed_by_its_own_annotations(tmp_path: Path) -> None:
     import rerun as rr
 
@@ -131,10 +133,8 @@ def test_rerun_is_typed_by_its_own_annotations(tmp_path: Path) -> None:
     assert (tmp_path / "typed.rrd").stat().st_size > 0
 
 
+@pytest.mark.needs("ray")
 def test_ray_is_typed_by_its_own_annotations() -> None:
-    pytest.importorskip(
-        "ray", reason="the Ray executor is an optional extra: pip install 'motiontool[ray]'"
-    )
     import ray
 
     spec = importlib.util.find_spec("ray")

@@ -185,6 +185,7 @@ def _by_field(entries: list[dict]) -> dict[str, dict]:  # type: ignore[type-arg]
     return {e["field"]: e for e in entries}
 
 
+@pytest.mark.needs("sim")
 def test_play_in_the_wrestling_world_applies_it_and_says_so(wrestling: Path) -> None:
     world = wrestling / "worlds" / "wrestling.wbt"
     doc, text = _play(wrestling, "--world", str(world), "--robot-node", "WRESTLER_RED")
@@ -225,6 +226,7 @@ def test_play_in_the_wrestling_world_applies_it_and_says_so(wrestling: Path) -> 
     assert "applied: Nao 'participant'.selfCollision TRUE" in text
 
 
+@pytest.mark.needs("sim")
 def test_another_world_changes_what_is_applied(wrestling: Path) -> None:
     world = wrestling / "worlds" / "wrestling.wbt"
     text = world.read_text(encoding="utf-8").replace(
@@ -256,6 +258,7 @@ def test_another_world_changes_what_is_applied(wrestling: Path) -> None:
     assert not_applied["ContactProperties.coulombFriction"]["value"] == 0.5
 
 
+@pytest.mark.needs("sim")
 def test_a_bad_world_on_the_command_line_is_one_line_exit_2(
     wrestling: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -274,6 +277,7 @@ def test_a_bad_world_on_the_command_line_is_one_line_exit_2(
     assert "--robot-node names a robot node of --world" in result.stderr
 
 
+@pytest.mark.needs("sim")
 def test_the_world_step_wins_over_the_configuration_and_timestep_over_both(
     wrestling: Path,
 ) -> None:
@@ -293,6 +297,7 @@ def test_the_world_step_wins_over_the_configuration_and_timestep_over_both(
 # -- batch in a world
 
 
+@pytest.mark.needs("sim")
 def test_batch_plays_every_run_in_the_world_and_caches_by_its_content(
     wrestling: Path, tmp_path: Path
 ) -> None:
@@ -404,6 +409,7 @@ Nao { }
 # -- the world of a motion, in its motions.toml
 
 
+@pytest.mark.needs("sim")
 def test_a_sidecar_names_the_world_of_its_motions(wrestling: Path, tmp_path: Path) -> None:
     """``world`` and ``robot-node`` in motions.toml (the world's path from the sidecar's
     folder): play and batch use them; --world on the command line wins."""
@@ -426,6 +432,7 @@ def test_a_sidecar_names_the_world_of_its_motions(wrestling: Path, tmp_path: Pat
     assert doc["world"]["robot_node"]["name"] == "participant"  # the command line wins
 
 
+@pytest.mark.needs("sim")
 def test_a_sidecar_world_that_is_not_there_is_its_line(
     wrestling: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

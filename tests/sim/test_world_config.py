@@ -13,6 +13,8 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 
+pytestmark = pytest.mark.needs("sim")
+
 runner = CliRunner()
 MOTION = Path("controllers", "motions", "HandWave.motion")
 

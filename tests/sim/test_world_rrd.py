@@ -17,6 +17,8 @@ from typer.testing import CliRunner
 
 from motiontool.cli.app import app
 
+pytestmark = pytest.mark.needs("sim")
+
 runner = CliRunner()
 
 

@@ -24,7 +24,7 @@ from motiontool.motionfmt.ops.scale import _respelt, scale
 from motiontool.motionfmt.ops.trim import trim
 from motiontool.motionfmt.player import commands_at
 from motiontool.motionfmt.reader import read_bytes
-from motiontool.motionfmt.transform import ROUNDING_RAD
+from motiontool.motionfmt.resample import ROUNDING_RAD
 from motiontool.motionfmt.validate import validate_bytes
 from motiontool.motionfmt.writer import format_value, format_values
 

@@ -1,4 +1,4 @@
-"""Library properties of resample and retime (motiontool.motionfmt.transform)."""
+"""Library properties of resample and retime (motiontool.motionfmt.resample, motiontool.motionfmt.retime)."""
 
 from __future__ import annotations
 
@@ -16,14 +16,12 @@ from motiontool.errors import MotionToolError
 from motiontool.motionfmt import loads, read_file, sample
 from motiontool.motionfmt.compare import compare_motions
 from motiontool.motionfmt.motion import Motion
-from motiontool.motionfmt.transform import (
+from motiontool.motionfmt.resample import ROUNDING_RAD, grid_times, resample
+from motiontool.motionfmt.retime import (
     MAX_TIME_MS,
-    ROUNDING_RAD,
     TimeOverflowError,
     fit_duration,
     fit_limits,
-    grid_times,
-    resample,
     scale_times,
 )
 
@@ -323,7 +321,7 @@ def test_fit_limits_never_violates_and_is_idempotent(
     again = fit_limits(r.times_ms, joints, values, limits, margin=margin, max_acceleration=accel)
     assert again.times_ms == r.times_ms and again.stretches == ()
     if accel is not None:
-        from motiontool.motionfmt.fit_limits import _accel_ratio
+        from motiontool.motionfmt.retime import _accel_ratio
 
         cols = [j for j, name in enumerate(joints) if name in limits]
         if len(times) > 1 and cols:
@@ -394,7 +392,7 @@ def test_fitting_velocities_in_numpy_is_fitting_them_segment_by_segment(
     names the joint, that its segment-by-segment loop does."""
     from unittest.mock import patch
 
-    from motiontool.motionfmt import fit_limits as fl
+    from motiontool.motionfmt import retime as fl
 
     gaps = draw.draw(st.lists(st.integers(1, 300), min_size=n_poses - 1, max_size=n_poses - 1))
     old = [int(t) for t in np.cumsum([0, *gaps])]
@@ -417,7 +415,7 @@ def test_fitting_velocities_mends_the_rounding_of_its_first_guess_and_names_the_
     """ceil(delta / vmax) in ms can be one too many (0.0003 rad at 0.1 rad/s: 4 ms, where
     3 ms keep within it, as the division decides); of two joints that need as long, the first
     is named. Both paths agree on it."""
-    from motiontool.motionfmt import fit_limits as fl
+    from motiontool.motionfmt import retime as fl
 
     v = np.array([[0.0, 0.0, 0.0], [0.00030000000000000003, 0.00030000000000000003, 0.0]])
     vlim = np.array([0.1, 0.1, 1.0])
@@ -431,16 +429,17 @@ def test_fitting_velocities_mends_the_rounding_of_its_first_guess_and_names_the_
 @SETTINGS
 @given(data=motion_files(), speed=st.sampled_from([0.3, 0.7, 1.0, 2.5]), lines=st.integers(1, 3))
 def test_retimed_blocks_write_what_set_times_makes(data: bytes, speed: float, lines: int) -> None:
-    """``retime --speed`` streams its result (``ops.retimed``): the bytes of the document whose
+    """``retime --speed`` streams its result (``retimed_blocks``): the bytes of the document whose
     times ``set_times`` set, in blocks of any size; every line keeps its own end."""
     from unittest.mock import patch
 
-    from motiontool.motionfmt.ops import _cells, retimed
+    from motiontool.motionfmt import retime
+    from motiontool.motionfmt.ops import _cells
 
     doc = loads(data, "m.motion")
     times = list(scale_times([int(t) for t in doc.motion.times_ms], speed).times_ms)
     edited = doc.copy()
     edited.set_times(times)
     with patch.object(_cells, "BLOCK_LINES", lines):
-        blocks = retimed.retimed_blocks(doc, range(doc.n_poses), times, ends_as_header=False)
+        blocks = retime.retimed_blocks(doc, range(doc.n_poses), times, ends_as_header=False)
         assert b"".join(blocks) == edited.to_bytes()

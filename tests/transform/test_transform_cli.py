@@ -122,6 +122,7 @@ def test_diff_errors_exit_2(here: Path) -> None:
     assert code == 2 and "cannot read 'missing.motion'" in err
 
 
+@pytest.mark.needs("plot")
 def test_diff_plot(here: Path) -> None:
     code, _, _ = invoke("diff", "head.motion", "changed.motion", "--plot", "d.png")
     assert code == 1
@@ -132,6 +133,7 @@ def test_diff_plot(here: Path) -> None:
     assert (here / "head.motion").read_bytes() == HEAD
 
 
+@pytest.mark.needs("plot")
 def test_diff_plot_of_motions_playing_for_hours(here: Path) -> None:
     """10 hours at 1 ms are 36 million steps: the plot draws the steps that shape the lines
     (held_pair), not all of them, so it is drawn rather than refused."""
@@ -270,7 +272,7 @@ def test_a_move_too_long_for_any_time_is_one_error_and_validate_still_reports_it
 
 def test_retime_library_raises_time_overflow_for_every_caller() -> None:
     from motiontool.errors import MotionToolError
-    from motiontool.motionfmt.transform import (
+    from motiontool.motionfmt.retime import (
         MAX_TIME_MS,
         TimeOverflowError,
         fit_duration,
@@ -398,6 +400,7 @@ def test_input_is_never_modified_without_in_place(here: Path, command: list[str]
 # --------------------------------------------------------------------------- plot
 
 
+@pytest.mark.needs("plot")
 def test_plot_is_deterministic_and_reports(here: Path) -> None:
     code, out, err = invoke("plot", "fast.motion", "-o", "a.png")
     assert code == 0
@@ -419,6 +422,7 @@ def test_plot_is_deterministic_and_reports(here: Path) -> None:
     assert (here / "head.motion").read_bytes() == HEAD
 
 
+@pytest.mark.needs("plot")
 @pytest.mark.parametrize(
     ("raw", "shown"),
     [
@@ -484,6 +488,7 @@ def test_plot_draws_a_held_span_over_star_but_not_over_a_nan_command() -> None:
     assert xb.tolist() == [0.0, 0.1] and yb.tolist() == [0.0, 0.0]  # B holds 0 from 0 s on
 
 
+@pytest.mark.needs("plot")
 def test_help_and_non_plot_commands_do_not_import_matplotlib(here: Path) -> None:
     code = (
         "import sys\nfrom motiontool.cli.app import app\n"
@@ -528,6 +533,7 @@ def test_corpus_resample_retime_diff(path: Path, tmp_path: Path) -> None:
     assert read_file(source) == before
 
 
+@pytest.mark.needs("plot")
 def test_plot_draws_every_fast_segment_of_a_joint_as_one_artist() -> None:
     """A file of random values has millions of segments above maxVelocity: one line each took
     the plot of the 26 MB benchmark file past 20 GB; one broken line per joint draws them in
