@@ -5,6 +5,7 @@ self-collisions); the tool's forward kinematics (:func:`tool_poses`)."""
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
@@ -150,6 +151,7 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
     qpos_adr, root = scene.qpos_adr, scene.root_body
     dof_adr = _motor_dofs(scene)
     read_tool = _tool_reader(scene, data, trace.tool_pos, trace.tool_quat)
+    geoms = _GeomLookup.of(scene)
 
     def observe(frame: int) -> None:
         trace.position[frame] = data.qpos[qpos_adr]
@@ -165,9 +167,9 @@ def _observer(scene: Scene, trace: Trace, record_bodies: bool) -> Callable[[int]
             trace.body_pos[frame] = data.xpos[bodies]
             trace.body_quat[frame] = data.xquat[bodies]
         if data.ncon:
-            _contacts(scene, data, frame, trace)
+            _contacts(scene, geoms, data, frame, trace)
         if scene.probe is not None:
-            _self_collisions(mujoco, scene, data, trace.first_frame + frame, trace)
+            _self_collisions(mujoco, scene, geoms, data, trace.first_frame + frame, trace)
 
     return observe
 
@@ -244,41 +246,71 @@ def tool_poses(
     return pos, quat
 
 
-def _contacts(scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
+@dataclass(frozen=True)
+class _GeomLookup:
+    """What the contact bookkeeping asks of each geom, as Python lists read once per chunk:
+    indexing NumPy arrays per contact, and comparing their scalars with :class:`GeomClass`
+    members (NumPy looks up its protocol attributes on the enum class each time), cost more
+    than the physics step when the robot's parts touch."""
+
+    cls: list[int]
+    """:class:`GeomClass` of each geom, as an int."""
+    body: list[int]
+    """Body id of each geom."""
+    foot: dict[int, int]
+    """Index in :attr:`Scene.foot_geoms` of each foot geom."""
+
+    @classmethod
+    def of(cls, scene: Scene) -> _GeomLookup:
+        return cls(
+            cls=[int(c) for c in scene.geom_class.tolist()],
+            body=[int(b) for b in scene.model.geom_bodyid.tolist()],
+            foot={int(g): i for i, g in enumerate(scene.foot_geoms.tolist())},
+        )
+
+
+_ROBOT = frozenset(int(c) for c in ROBOT_CLASSES)
+_FOOT, _FLOOR = int(GeomClass.FOOT), int(GeomClass.FLOOR)
+
+
+def _contacts(scene: Scene, geoms: _GeomLookup, data: MjData, frame: int, trace: Trace) -> None:
     """Foot-floor contacts into ``foot_contact`` (``frame``: of the trace); every other robot
     contact into events."""
-    cls = scene.geom_class
+    cls = geoms.cls
     seen: dict[tuple[str, str, str], float] = {}
     for (g1, g2), d in zip(data.contact.geom.tolist(), data.contact.dist.tolist(), strict=True):
-        if cls[g1] not in ROBOT_CLASSES:
+        if cls[g1] not in _ROBOT:
             g1, g2 = g2, g1
-        if cls[g1] not in ROBOT_CLASSES:
+        if cls[g1] not in _ROBOT:
             continue  # scene-scene
-        if cls[g1] == GeomClass.FOOT and cls[g2] == GeomClass.FLOOR:
-            trace.foot_contact[frame, int((scene.foot_geoms == g1).argmax())] = True
+        if cls[g1] == _FOOT and cls[g2] == _FLOOR:
+            trace.foot_contact[frame, geoms.foot[g1]] = True
             continue
-        key = _contact_event_key(scene, g1, g2)
+        key = _contact_event_key(scene, geoms, g1, g2)
         seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
     at = trace.first_frame + frame
     for (kind, body, other), depth in seen.items():
         trace.events.append(ContactEvent(at, kind, body, other, depth))  # type: ignore[arg-type]
 
 
-def _contact_event_key(scene: Scene, robot_geom: int, other_geom: int) -> tuple[str, str, str]:
+def _contact_event_key(
+    scene: Scene, geoms: _GeomLookup, robot_geom: int, other_geom: int
+) -> tuple[str, str, str]:
     """(kind, robot body, other) of a contact between a robot geom and another geom that is not
     a foot on the floor (see :class:`~motiontool.sim.trace.ContactEvent`)."""
-    model = scene.model
-    body = scene.body_name(int(model.geom_bodyid[robot_geom]))
-    other_class = scene.geom_class[other_geom]
-    if other_class in ROBOT_CLASSES:  # the model collides the robot with itself (Webots' UR5e)
-        other = scene.body_name(int(model.geom_bodyid[other_geom]))
+    body = scene.body_name(geoms.body[robot_geom])
+    other_class = geoms.cls[other_geom]
+    if other_class in _ROBOT:  # the robot touches itself (self-collision physics, the UR5e)
+        other = scene.body_name(geoms.body[other_geom])
         return "touch", min(body, other), max(body, other)
-    if other_class == GeomClass.FLOOR:
+    if other_class == _FLOOR:
         return ("scene" if not scene.floating else "ground"), body, "floor"
     return "scene", body, scene.geom_name(other_geom)
 
 
-def _self_collisions(mujoco: MuJoCo, scene: Scene, data: MjData, frame: int, trace: Trace) -> None:
+def _self_collisions(
+    mujoco: MuJoCo, scene: Scene, geoms: _GeomLookup, data: MjData, frame: int, trace: Trace
+) -> None:
     assert scene.probe is not None
     probe, probe_data = scene.probe
     probe_data.qpos[:] = data.qpos
@@ -290,8 +322,8 @@ def _self_collisions(mujoco: MuJoCo, scene: Scene, data: MjData, frame: int, tra
     for (g1, g2), d in zip(
         probe_data.contact.geom.tolist(), probe_data.contact.dist.tolist(), strict=True
     ):
-        a = scene.body_name(int(probe.geom_bodyid[g1]))
-        b = scene.body_name(int(probe.geom_bodyid[g2]))
+        a = scene.body_name(geoms.body[g1])  # the probe's geoms are the scene's
+        b = scene.body_name(geoms.body[g2])
         key = (a, b) if a < b else (b, a)
         seen[key] = max(seen.get(key, 0.0), max(0.0, -d))
     for (a, b), depth in seen.items():
