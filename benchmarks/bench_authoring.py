@@ -13,7 +13,7 @@ integers), resample (a 30 ms grid, its deviation compared at every ms) and diff
 Then the peak memory of each command as a whole process (``motiontool mirror big.motion -o
 out.motion``, ...; GNU time), against ``motiontool info big.motion`` (which reads the file) in
 the same run, and per MB of file. No target: ``trim`` and ``retime --speed`` hold the input
-and write their result a block of lines at a time (``motionfmt/ops/retimed.py``); ``mirror``,
+and write their result a block of lines at a time (``motionfmt/retime.py``, ``retimed_blocks``); ``mirror``,
 ``concat`` and ``scale`` hold the input and the result's bytes, read back for their checks
 (for the record; ``validate``, ``sample``, ``diff`` and ``plot`` are measured flat by
 ``bench_findings.py`` and ``bench_duration.py``).

@@ -37,7 +37,7 @@ from motiontool.kinematics.robots import AUTO, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.ops.concat import Concatenated, Transition, concat
-from motiontool.motionfmt.transform import DEFAULT_MARGIN
+from motiontool.motionfmt.retime import DEFAULT_MARGIN
 from motiontool.stamps import stamps
 
 if TYPE_CHECKING:

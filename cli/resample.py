@@ -29,7 +29,7 @@ from motiontool.cli.text import num, plural
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.compare import MotionDiff
 from motiontool.motionfmt.fileio import source_name
-from motiontool.motionfmt.transform import ROUNDING_RAD, Resampled, resample
+from motiontool.motionfmt.resample import ROUNDING_RAD, Resampled, resample
 
 __all__ = ["deviation_json", "deviation_text", "resample_command"]
 

@@ -41,12 +41,12 @@ from motiontool.motionfmt.diagnostics import Diagnostic
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fileio import source_name
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.ops.retimed import retimed_blocks
-from motiontool.motionfmt.transform import (
+from motiontool.motionfmt.retime import (
     DEFAULT_MARGIN,
     Retimed,
     fit_duration,
     fit_limits,
+    retimed_blocks,
     scale_times,
 )
 

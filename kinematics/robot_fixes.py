@@ -7,7 +7,7 @@ Both change what the robot does, to what the file evidently means on this robot:
   sent is the limit, not the value past it).
 - MT303: the segments too fast for a joint's maxVelocity are stretched to the shortest whole
   ms that is not, as ``retime`` fits a motion to its robot
-  (:func:`motiontool.motionfmt.fit_limits.fit_limits`, its default margin): later poses move
+  (:func:`motiontool.motionfmt.retime.fit_limits`, its default margin): later poses move
   later; values never change.
 
 Each is planned on the file's bytes as cell edits (:class:`~motiontool.motionfmt.fixes.Fix`),
@@ -25,10 +25,9 @@ from typing import TYPE_CHECKING, NamedTuple, cast
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST
 from motiontool.motionfmt.document import MotionDocument
-from motiontool.motionfmt.fit_limits import fit_limits
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes
-from motiontool.motionfmt.retime import TimeOverflowError
+from motiontool.motionfmt.retime import TimeOverflowError, fit_limits
 
 if TYPE_CHECKING:
     import numpy as np

@@ -34,10 +34,10 @@ _PLAY = ("loops", "reverse", "hold_s")
 
 def retimed(motion: Motion, speed: float) -> Motion:
     """``motion`` played ``speed`` times faster: pose times as ``retime --speed`` writes them
-    (:func:`motiontool.motionfmt.transform.scale_times`, whole ms); values unchanged."""
+    (:func:`motiontool.motionfmt.retime.scale_times`, whole ms); values unchanged."""
     import numpy as np
 
-    from motiontool.motionfmt.transform import scale_times
+    from motiontool.motionfmt.retime import scale_times
 
     times = scale_times(motion.times_ms.tolist(), speed).times_ms
     return replace(motion, times_ms=np.array(times, dtype=np.int64))

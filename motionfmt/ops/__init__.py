@@ -9,8 +9,6 @@ spelt canonically (shortest round-trip repr), so every value is the exact double
 * :mod:`~motiontool.motionfmt.ops.concat`: play motions one after another (``concat``).
 * :mod:`~motiontool.motionfmt.ops.trim`: keep a time window (``trim``).
 * :mod:`~motiontool.motionfmt.ops.scale`: scale the excursions (``scale``).
-* :mod:`~motiontool.motionfmt.ops.retimed`: new pose times, streamed (what ``trim`` and
-  ``retime --speed`` / ``--duration`` write).
 
 What they share: :mod:`~motiontool.motionfmt.ops._cells` (lines and cells as bytes) and
 :mod:`~motiontool.motionfmt.ops._permute` (negating and rearranging cells as text, for mirror).

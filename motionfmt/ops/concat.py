@@ -2,7 +2,7 @@
 
 :func:`concat` joins motions with a transition from one's last pose to the next one's first pose
 that is the shortest duration within maxVelocity x margin, in whole controller steps
-(:func:`~motiontool.motionfmt.transform.fit_limits`, the logic of ``retime --fit-limits``), or a
+(:func:`~motiontool.motionfmt.retime.fit_limits`, the logic of ``retime --fit-limits``), or a
 given one. The inputs' pose lines keep their spelling, but for their times.
 """
 
@@ -28,7 +28,7 @@ from motiontool.motionfmt.ops._cells import (
     write_lines,
 )
 from motiontool.motionfmt.ops._result import ReadOnUse
-from motiontool.motionfmt.transform import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
+from motiontool.motionfmt.retime import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
 from motiontool.motionfmt.writer import TimeStyle, format_time
 
 if TYPE_CHECKING:

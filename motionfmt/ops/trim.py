@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.nonfinite import refuse_non_finite
-from motiontool.motionfmt.ops.retimed import retimed_blocks
+from motiontool.motionfmt.retime import retimed_blocks
 from motiontool.motionfmt.writer import TimeStyle, pose_lines, pose_name
 
 if TYPE_CHECKING:
