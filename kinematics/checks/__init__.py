@@ -4,7 +4,7 @@
 :func:`motiontool.motionfmt.validate_paths` runs on every file Webots accepts;
 :class:`RobotChecks` picks the robot per file (``robot='auto'``) or uses a named one. One check
 per module (:mod:`.joints`, :mod:`.limits`, :mod:`.velocity`, :mod:`.self_collision`,
-:mod:`.balance`; the unmirrored-copy note is :mod:`motiontool.kinematics.mirror_check`);
+:mod:`.balance`, and :mod:`.unmirrored` for the unmirrored-copy note);
 :mod:`.registry` lists them with the codes each reports (:data:`CHECK_REGISTRY`),
 :mod:`.runner` picks and runs them.
 

@@ -17,9 +17,9 @@ from motiontool.kinematics.checks.balance import Balance
 from motiontool.kinematics.checks.joints import UnknownJoints
 from motiontool.kinematics.checks.limits import Limits
 from motiontool.kinematics.checks.self_collision import Collision
+from motiontool.kinematics.checks.unmirrored import UnmirroredCopy
 from motiontool.kinematics.checks.velocity import Velocity
 from motiontool.kinematics.checks.wording import Wording
-from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.diagnostics import (
     BEYOND_LIMITS,

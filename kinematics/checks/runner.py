@@ -25,8 +25,8 @@ from motiontool.kinematics.checks.registry import (
     CheckOptions,
 )
 from motiontool.kinematics.checks.self_collision import DEFAULT_PENETRATION_TOLERANCE_MM
+from motiontool.kinematics.checks.unmirrored import UnmirroredCopy
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
-from motiontool.kinematics.mirror_check import UnmirroredCopy
 from motiontool.kinematics.robots import (
     AUTO,
     NONE,

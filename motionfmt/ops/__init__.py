@@ -10,8 +10,9 @@ spelt canonically (shortest round-trip repr), so every value is the exact double
 * :mod:`~motiontool.motionfmt.ops.trim`: keep a time window (``trim``).
 * :mod:`~motiontool.motionfmt.ops.scale`: scale the excursions (``scale``).
 
-What they share: :mod:`~motiontool.motionfmt.ops._cells` (lines and cells as bytes) and
-:mod:`~motiontool.motionfmt.ops._permute` (negating and rearranging cells as text, for mirror).
+What they share: :mod:`~motiontool.motionfmt.ops._cells` (lines and cells as bytes, and what an
+operation gives back); mirror's arithmetic on text (negating and rearranging cells) is in
+:mod:`~motiontool.motionfmt.ops.mirror`.
 
 Import each operation from its module (``from motiontool.motionfmt.ops.mirror import mirror``):
 this package re-exports nothing, so that ``ops.mirror`` is always the module, never the

@@ -6,11 +6,13 @@ a line is plain (the fast path), with Webots' tokenizer
 (:func:`~motiontool.motionfmt.reader.token_spans`) where it is not (empty cells, a NUL, a stray
 ``\r``). :func:`repair` is the safety net under the textual edits: it re-spells any cell that
 does not read as intended. :func:`refuse_duplicates` is the check every column-wise edit makes
-first.
+first, :func:`odd_start` the test for cells that take the slow path, and :class:`ReadOnUse` what
+an operation gives back.
 """
 
 from __future__ import annotations
 
+import functools
 import io
 import math
 from collections.abc import Iterator, Mapping
@@ -18,6 +20,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
+from motiontool.motionfmt.document import MotionDocument, loads
 from motiontool.motionfmt.reader import token_spans
 from motiontool.motionfmt.writer import format_value
 
@@ -25,17 +28,19 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
-    from motiontool.motionfmt.document import MotionDocument
 
 __all__ = [
     "BLOCK_LINES",
+    "ODD_STARTS",
     "PoseLines",
+    "ReadOnUse",
     "cell_columns",
     "cell_tokens",
     "header_eol",
     "join_columns",
     "lf_block",
     "lf_span",
+    "odd_start",
     "pose_block",
     "pose_line_blocks",
     "refuse_duplicates",
@@ -266,3 +271,27 @@ def repair(
     for p, j in np.argwhere(~same).tolist():
         doc.set_value(p, j, float(values[p, j]) if commanded[p, j] else math.nan)
     return doc
+
+
+#: What a finite number's cell can start with, besides '-', '.' and a digit, in a file Webots
+#: accepts: white space (sscanf skips it) and '+'.
+ODD_STARTS = (b", ", b",+", b",\t", b",\x0b", b",\x0c")
+
+
+def odd_start(block: bytes) -> bool:
+    """Whether a cell of ``block`` (after the first of its line) starts with white space or
+    '+' (a few ``in`` scans: a regex over a 26 MB file costs more than all of them)."""
+    return any(odd in block for odd in ODD_STARTS)
+
+
+class ReadOnUse:
+    """A mixin for an operation's (frozen) result dataclass that has ``data`` (the result's
+    bytes) and ``path`` (its name)."""
+
+    data: bytes
+    path: str
+
+    @functools.cached_property
+    def document(self) -> MotionDocument:
+        """The result, read as a document (on first use)."""
+        return loads(self.data, self.path)

@@ -19,6 +19,7 @@ from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.ops._cells import (
     PoseLines,
+    ReadOnUse,
     cell_columns,
     cell_tokens,
     join_columns,
@@ -27,7 +28,6 @@ from motiontool.motionfmt.ops._cells import (
     with_eol,
     write_lines,
 )
-from motiontool.motionfmt.ops._result import ReadOnUse
 from motiontool.motionfmt.retime import DEFAULT_MARGIN, MAX_TIME_MS, fit_limits
 from motiontool.motionfmt.writer import TimeStyle, format_time
 

@@ -22,6 +22,7 @@ from motiontool.motionfmt.ops._cells import (
     cell_tokens,
     header_eol,
     join_columns,
+    odd_start,
     pose_block,
     pose_line_blocks,
     repair,
@@ -29,7 +30,6 @@ from motiontool.motionfmt.ops._cells import (
     respell,
     write_lines,
 )
-from motiontool.motionfmt.ops._permute import odd_start
 from motiontool.motionfmt.writer import format_values
 
 if TYPE_CHECKING:

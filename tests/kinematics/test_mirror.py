@@ -12,8 +12,8 @@ from conftest import CORPUS
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks import RobotChecks, Wording
+from motiontool.kinematics.checks.unmirrored import sibling_paths
 from motiontool.kinematics.mirror import mirror_map, partner_name
-from motiontool.kinematics.mirror_check import sibling_paths
 from motiontool.kinematics.robots import JointSpec, RobotSpec, load_robot
 from motiontool.motionfmt import loads
 from motiontool.motionfmt.ops.mirror import mirror

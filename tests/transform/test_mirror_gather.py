@@ -16,9 +16,14 @@ from hypothesis import strategies as st
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt import loads
-from motiontool.motionfmt.ops import _permute
-from motiontool.motionfmt.ops._permute import permute_cells
-from motiontool.motionfmt.ops.mirror import _mirror_bytes, _mirror_gather, _mirror_plan, mirror
+from motiontool.motionfmt.ops import mirror as mirror_ops
+from motiontool.motionfmt.ops.mirror import (
+    _mirror_bytes,
+    _mirror_gather,
+    _mirror_plan,
+    mirror,
+    permute_cells,
+)
 
 Mapping = dict[str, tuple[str, int]]
 
@@ -234,7 +239,7 @@ def test_the_gather_in_blocks_of_a_few_bytes_writes_the_same_bytes(
     except MotionToolError:
         return
     whole = _mirror_gather(doc, plan)
-    with patch.object(_permute, "_GATHER_BYTES", block):
+    with patch.object(mirror_ops, "_GATHER_BYTES", block):
         assert _mirror_gather(doc, plan) == whole
 
 
