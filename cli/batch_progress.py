@@ -82,7 +82,7 @@ def _run(
 ) -> BatchResult:
     """The batch run under the progress bar."""
     cache_dir, no_cache, cache_max_mb = cache
-    from motiontool.motionfmt.disk_cache import BYTES_PER_MB
+    from motiontool.disk_cache import BYTES_PER_MB
     from motiontool.sim.batch import default_cache_dir, run_batch
     from motiontool.sim.runs import run_outputs, run_spec
 

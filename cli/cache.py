@@ -20,7 +20,7 @@ class Action(enum.StrEnum):
 
 
 def _mb(size_bytes: int) -> str:
-    from motiontool.motionfmt.disk_cache import BYTES_PER_MB
+    from motiontool.disk_cache import BYTES_PER_MB
 
     return f"{size_bytes / BYTES_PER_MB:.1f} MB"
 
@@ -51,9 +51,9 @@ def cache_command(
     """The result caches: 'info' prints each one's folder, results and size; 'clean' removes
     results (all of them, or the least recently used down to --max-mb) and says what it did,
     a line per cache."""
+    from motiontool.disk_cache import BYTES_PER_MB, ResultCache
     from motiontool.kinematics.checks.findings_cache import MAX_MB, lint_cache_dir
-    from motiontool.motionfmt.disk_cache import BYTES_PER_MB, ResultCache
-    from motiontool.sim.cache import DEFAULT_MAX_MB, default_cache_dir
+    from motiontool.sim.batch import DEFAULT_MAX_MB, default_cache_dir
 
     folders = (
         [(cache_dir, "")]

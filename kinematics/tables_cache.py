@@ -21,10 +21,9 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from motiontool.disk_cache import cache_root, libraries_stamp
 from motiontool.kinematics._pinocchio import KinematicTables, kinematic_tables
 from motiontool.kinematics.robots import RobotSpec
-from motiontool.motionfmt.disk_cache import libraries_stamp
-from motiontool.motionfmt.fileio import cache_root
 
 if TYPE_CHECKING:
     import numpy as np

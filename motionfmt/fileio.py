@@ -26,7 +26,6 @@ __all__ = [
     "Inputs",
     "Sink",
     "atomic_write",
-    "cache_root",
     "collect_motion_files",
     "is_folder",
     "is_stdin",
@@ -74,13 +73,6 @@ def _read_stdin() -> bytes:
     with contextlib.suppress(TypeError):  # a stream that takes no weak reference: not cached
         _stdin_bytes[source] = data
     return data
-
-
-def cache_root() -> Path:
-    """Where motiontool keeps what it can compute again: ``$XDG_CACHE_HOME/motiontool``
-    (``~/.cache/motiontool``), one folder per cache in it."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "motiontool"
 
 
 def _rereadable(path: str | Path) -> bool:

@@ -24,13 +24,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from motiontool import __version__
+from motiontool.disk_cache import BYTES_PER_MB, ResultCache, cache_root
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
-from motiontool.motionfmt.disk_cache import ResultCache
 from motiontool.motionfmt.fileio import read_file
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.sim.batch_results import CACHED_STATUSES, BatchResult, RunResult, RunStatus
-from motiontool.sim.cache import DEFAULT_MAX_BYTES, default_cache_dir
 from motiontool.sim.executor import MAX_TIMEOUT_S, Outcome, get_executor
 from motiontool.sim.expect import parse_expectations
 from motiontool.sim.perturb import PERTURBATIONS, Perturbation, PerturbationKind, parse_perturbation
@@ -41,6 +40,8 @@ if TYPE_CHECKING:
     from motiontool.sim.session import MotionPlan
 
 __all__ = [
+    "DEFAULT_MAX_BYTES",
+    "DEFAULT_MAX_MB",
     "PERTURBATIONS",
     "BatchResult",
     "Perturbation",
@@ -57,6 +58,17 @@ __all__ = [
     "recording_stems",
     "run_batch",
 ]
+
+DEFAULT_MAX_MB = 500
+"""The size batch's result cache (:class:`motiontool.disk_cache.ResultCache`) is pruned to
+after a batch, in MB (a Nao run's report is about 10 kB)."""
+DEFAULT_MAX_BYTES = DEFAULT_MAX_MB * BYTES_PER_MB
+""":data:`DEFAULT_MAX_MB` in bytes."""
+
+
+def default_cache_dir() -> Path:
+    """``$XDG_CACHE_HOME/motiontool/batch`` (``~/.cache/motiontool/batch``)."""
+    return cache_root() / "batch"
 
 
 @dataclass(frozen=True)
@@ -367,7 +379,7 @@ def run_batch(
         cache_dir: where results are cached; None disables the cache.
         cache_max_bytes: the cache is pruned to this size (bytes) after the batch, least
             recently used results first
-            (:class:`motiontool.motionfmt.disk_cache.ResultCache`); None: no limit.
+            (:class:`motiontool.disk_cache.ResultCache`); None: no limit.
         ray_address: Ray cluster address (``auto``, ``ray://...``); None starts a local one.
         outputs: the files a run writes besides its report (its recording,
             :func:`motiontool.sim.runs.run_outputs`): a cached run one of whose files is

@@ -13,7 +13,7 @@ depend only on:
   tolerance, grouping, the front end's wording of the hints;
 - the code that computes them: the path, size and modification time of every source file of
   motiontool, and of the installed numpy, Pinocchio and coal
-  (:mod:`~motiontool.motionfmt.disk_cache`).
+  (:mod:`~motiontool.disk_cache`).
 
 The sha256 of all of it is the key (:func:`findings_key`). A file whose key is stored gets its
 findings from the store, and numpy is not imported. Only files of at most :data:`MAX_BYTES`
@@ -36,10 +36,15 @@ from dataclasses import astuple
 from pathlib import Path
 from typing import NamedTuple, TypeVar
 
+from motiontool.disk_cache import (
+    BYTES_PER_MB,
+    ResultCache,
+    cache_root,
+    files_stamp,
+    libraries_stamp,
+)
 from motiontool.errors import MissingExtraError
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Run, Severity, Worst
-from motiontool.motionfmt.disk_cache import BYTES_PER_MB, ResultCache, files_stamp, libraries_stamp
-from motiontool.motionfmt.fileio import cache_root
 
 __all__ = [
     "MAX_BYTES",

@@ -10,7 +10,7 @@ from typing import Any
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
-from motiontool.motionfmt.disk_cache import ResultCache
+from motiontool.disk_cache import ResultCache
 from motiontool.sim.batch import RunSpec, plan, run_batch
 
 cli = CliRunner()

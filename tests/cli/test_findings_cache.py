@@ -16,6 +16,7 @@ from conftest import CORPUS, DATA
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
+from motiontool.disk_cache import files_stamp, libraries_stamp
 from motiontool.errors import MissingExtraError
 from motiontool.kinematics.builtin_robots import parse_mjcf_table
 from motiontool.kinematics.checks import findings_cache, runner
@@ -24,7 +25,6 @@ from motiontool.kinematics.checks.limits import Limits
 from motiontool.kinematics.checks.self_collision import Collision
 from motiontool.kinematics.checks.velocity import Velocity
 from motiontool.motionfmt.diagnostics import Diagnostic
-from motiontool.motionfmt.disk_cache import files_stamp, libraries_stamp
 
 cli = CliRunner()
 NAO = CORPUS / "projects" / "robots" / "softbank" / "nao" / "motions"

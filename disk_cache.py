@@ -1,5 +1,9 @@
-"""Results kept on disk: one JSON file per key, bounded in size, least recently used out (batch's
-simulation results, ``validate``'s robot findings); and the stamps their keys are made of.
+"""What motiontool keeps on disk to compute less, for every layer: where the caches live
+(:func:`cache_root`), results as one JSON file per key, bounded in size, least recently used out
+(:class:`ResultCache`: batch's simulation results, ``validate``'s robot findings), and the
+stamps their keys are made of. At the top of the package, as :mod:`motiontool.stamps` is, so
+that each layer's cache (``kinematics/tables_cache.py``, ``kinematics/checks/findings_cache.py``,
+``sim/batch.py``) says only what it stores and under which key.
 
 A result is ``<directory>/<key[:2]>/<key>.json``. Reading a result marks it used (its mtime), so
 :meth:`ResultCache.prune` removes the results no run has read or written for the longest time
@@ -18,10 +22,24 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-__all__ = ["BYTES_PER_MB", "CacheUsage", "ResultCache", "files_stamp", "libraries_stamp"]
+__all__ = [
+    "BYTES_PER_MB",
+    "CacheUsage",
+    "ResultCache",
+    "cache_root",
+    "files_stamp",
+    "libraries_stamp",
+]
 
 BYTES_PER_MB = 1_000_000
 """A megabyte, as ``--cache-max-mb`` counts it."""
+
+
+def cache_root() -> Path:
+    """Where motiontool keeps what it can compute again: ``$XDG_CACHE_HOME/motiontool``
+    (``~/.cache/motiontool``), one folder per cache in it."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "motiontool"
 
 
 @dataclass(frozen=True)
