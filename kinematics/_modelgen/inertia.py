@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from motiontool.kinematics._modelgen.numbers import sig
+from motiontool.kinematics._modelgen.mjcf import sig
 
 __all__ = [
     "balanced",

@@ -1,15 +1,14 @@
-"""MJCF building blocks shared by the robots: elements, bodies, geometries, actuators, and the
-header comment every generated file starts with."""
+"""MJCF building blocks shared by the robots: elements, bodies, geometries, actuators, the
+header comment every generated file starts with, and numbers as the generated files write them
+(:func:`num`: the shortest text that round-trips)."""
 
 from __future__ import annotations
 
 import hashlib
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
 from typing import Any
-
-from motiontool.kinematics._modelgen.numbers import num, sig, vec
 
 __all__ = [
     "COMMON_NOTES",
@@ -24,15 +23,38 @@ __all__ = [
     "geom",
     "hinge_body",
     "inertial",
+    "num",
     "pose_attrs",
     "render",
     "sha256",
+    "sig",
     "tree",
+    "vec",
 ]
 
 #: A JSON object of the robot facts (``tests/data/robot_facts/*.json``), as ``json.loads``
 #: gives it: the one place where the generator's input is untyped.
 Facts = dict[str, Any]
+
+
+def num(x: float) -> str:
+    """Shortest text that round-trips ``x`` (``4`` for 4.0, ``0`` for -0.0)."""
+    value = float(x)
+    if value == 0.0:
+        return "0"
+    text = repr(value)
+    if text.endswith(".0"):
+        text = text[:-2]
+    return text
+
+
+def sig(x: float, digits: int = 9) -> float:
+    """``x`` rounded to ``digits`` significant digits (for derived values)."""
+    return float(f"{x:.{digits}g}")
+
+
+def vec(values: Iterable[float]) -> str:
+    return " ".join(num(v) for v in values)
 
 
 #: Mass (kg) and diagonal inertia (kg·m²) given to the massless Hinge2Joint helper frames.

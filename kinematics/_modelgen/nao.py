@@ -27,11 +27,13 @@ from motiontool.kinematics._modelgen.mjcf import (
     geom,
     hinge_body,
     inertial,
+    num,
     pose_attrs,
     render,
+    sig,
     tree,
+    vec,
 )
-from motiontool.kinematics._modelgen.numbers import num, sig, vec
 
 __all__ = ["nao_xml"]
 

@@ -17,10 +17,10 @@ from motiontool.kinematics._modelgen.mjcf import (
     geom,
     hinge_body,
     inertial,
+    num,
     render,
     tree,
 )
-from motiontool.kinematics._modelgen.numbers import num
 
 __all__ = ["ur5e_xml"]
 

@@ -5,7 +5,7 @@ typed by the Protocols of :mod:`.api`: MuJoCo ships no stubs). One concept per m
 :mod:`.scene` (what a compiled scene holds), :mod:`.build` (building it), :mod:`.start` (its
 start state), :mod:`.topology` (the robot's tree: limbs, end effector), :mod:`.probe`
 (self-collision), :mod:`.stepping` (running it), :mod:`.shapes` (its shapes, for a recording),
-:mod:`._lib` (the installed version, the warnings' names).
+:mod:`.api` (the typed surface of MuJoCo, the installed version, the warnings' names).
 
 Scene (built with :class:`mujoco.MjSpec` from the robot's model file): a floor plane, a light and
 the robot. A free-flying robot (the Nao) stands in its zero pose with its lowest point
@@ -26,7 +26,7 @@ make the walks fall (``docs/simulation.md``). Joint ranges are not hard stops (W
 have none): targets are clipped, the joints themselves are free.
 """
 
-from motiontool.sim._mujoco._lib import mujoco_version, warning_label, warning_labels
+from motiontool.sim._mujoco.api import mujoco_version, warning_label, warning_labels
 from motiontool.sim._mujoco.build import (
     BOX_HEIGHT_M,
     FALLBACK_MAX_TORQUE,

@@ -9,11 +9,14 @@ The module object itself comes from :func:`mj`: the one place where the untyped 
 Anything the code needs beyond these is added here first, so that mypy checks every use.
 
 They are types only: the objects are MuJoCo's own, so a call through them costs what it cost
-before (no wrapper between the stepping loop and ``mj_step``).
+before (no wrapper between the stepping loop and ``mj_step``). What is read from the installed
+MuJoCo itself is here too: its version (:func:`mujoco_version`) and its warnings' names
+(:func:`warning_labels`).
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Protocol, cast
 
@@ -41,6 +44,9 @@ __all__ = [
     "MjsTendon",
     "MuJoCo",
     "mj",
+    "mujoco_version",
+    "warning_label",
+    "warning_labels",
 ]
 
 
@@ -373,3 +379,33 @@ def mj() -> MuJoCo:
     The one point where the untyped library enters: what the code uses of it is
     :class:`MuJoCo`."""
     return cast("MuJoCo", require("mujoco", "sim", "simulation (motiontool play, batch)"))
+
+
+def warning_label(enum_name: str) -> str:
+    """The report key of a MuJoCo warning, from its ``mjtWarning`` name: ``mjWARN_BADQACC``
+    -> ``bad_qacc``, ``mjWARN_CONTACTFULL`` -> ``contact_full``, ``mjWARN_CNSTRFULL`` ->
+    ``constraint_full`` (a name this does not know comes out lower-cased)."""
+    word = enum_name.removeprefix("mjWARN_").lower().replace("cnstr", "constraint")
+    word = re.sub(r"^bad(?=.)", "bad_", word)
+    return re.sub(r"(?<=[a-z])full$", "_full", word)
+
+
+def warning_labels() -> dict[int, str]:
+    """Index in ``MjData.warning`` -> report key, for every warning of the installed MuJoCo
+    (read from ``mujoco.mjtWarning``, so that a version that adds or reorders warnings is
+    labelled right)."""
+    mujoco = mj()
+
+    members = mujoco.mjtWarning.__members__
+    return {
+        int(value): warning_label(name)
+        for name, value in sorted(members.items(), key=lambda item: int(item[1]))
+        if name.startswith("mjWARN_")
+    }
+
+
+def mujoco_version() -> str:
+    """The MuJoCo version string."""
+    mujoco = mj()
+
+    return str(mujoco.__version__)

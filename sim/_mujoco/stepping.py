@@ -9,8 +9,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
-from motiontool.sim._mujoco._lib import warning_labels
-from motiontool.sim._mujoco.api import mj
+from motiontool.sim._mujoco.api import mj, warning_labels
 from motiontool.sim._mujoco.scene import ROBOT_CLASSES, GeomClass, Scene
 from motiontool.sim.motor import velocity_command
 from motiontool.sim.trace import ContactEvent, Trace, concatenate
