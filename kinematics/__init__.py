@@ -4,7 +4,12 @@ Importing this package is cheap: Pinocchio (and numpy) are imported only when a 
 needs them runs, so looking up a built-in robot's joint table never loads them.
 
 ``robot_checks`` / ``RobotChecks`` (:mod:`~motiontool.kinematics.checks`) are the robot checks of
-``motiontool validate``; ``scan_self_collisions`` checks many configurations at once.
+``motiontool validate``; ``scan_self_collisions`` checks many configurations at once. The
+robot side of the transforms is here too: a robot's mirror map (:mod:`.mirror`) and the fixes
+that need a robot (:mod:`.robot_fixes`).
+
+May import ``motionfmt`` and the top-level modules; Pinocchio only in :mod:`._pinocchio`; never
+``sim`` or ``cli``.
 """
 
 import importlib

@@ -1,6 +1,10 @@
-"""The ``.motion`` format: Webots-exact reading, lossless editing, canonical writing, playback.
+"""The ``.motion`` format: Webots-exact reading, lossless editing, canonical writing, playback,
+the format's transforms (:mod:`.resample`, :mod:`.retime`; :mod:`.ops`: mirror, concat, trim,
+scale) and other formats (:mod:`.convert`). It knows no robot: a robot's limits or mirror map
+come in as plain mappings.
 
-Depends on the standard library and numpy only.
+May import the standard library, numpy and the top-level modules (errors, extras, stamps,
+disk_cache); never ``kinematics``, ``sim`` or ``cli``.
 """
 
 from motiontool.errors import MissingExtraError, MotionSyntaxError, MotionToolError

@@ -2,6 +2,9 @@
 
 Importing this package is cheap: MuJoCo (:mod:`motiontool.sim._mujoco`) and Rerun
 (:mod:`motiontool.sim.recording`) are imported only when a run or a recording needs them.
+
+May import ``motionfmt``, ``kinematics`` and the top-level modules; MuJoCo only in
+:mod:`._mujoco`, Rerun in :mod:`.recording`, Ray in :mod:`._ray`; never ``cli``.
 """
 
 from motiontool.sim.expect import (

@@ -362,6 +362,30 @@ def test_imports_follow_the_layers() -> None:
     assert not wrong, "\n".join(wrong)
 
 
+def _may_import(init: Path) -> str:
+    """The paragraph of ``init``'s docstring that says what its folder may import ("" if none)."""
+    doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+    return next((p for p in doc.split("\n\n") if p.startswith("May import ")), "")
+
+
+def test_every_folder_says_what_it_holds_and_what_it_may_import() -> None:
+    # Each folder's __init__ docstring: what it holds, then a "May import ..." paragraph; a
+    # layer's names what it never imports, as _FORBIDDEN has it.
+    wrong = []
+    for package in ("motionfmt", "kinematics", "sim", "cli"):
+        for init in sorted((ROOT / package).rglob("__init__.py")):
+            rel = init.relative_to(ROOT).as_posix()
+            doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+            paragraph = _may_import(init)
+            if not paragraph or doc.startswith("May import "):
+                wrong.append(f"{rel}: what the folder holds, then 'May import ...'")
+            never = re.split(r"\bnever\s+", paragraph, maxsplit=1)[1:]
+            for banned in _FORBIDDEN.get(package, ()) if init.parent.name == package else ():
+                if f"``{banned.rsplit('.', 1)[1]}``" not in "".join(never):
+                    wrong.append(f"{rel}: 'never ...' names {banned}")
+    assert not wrong, "\n".join(wrong)
+
+
 def test_no_library_module_imports_a_build_time_tool() -> None:
     # The wheel lacks them: an import from the library would fail only once installed.
     tools = tuple(NOT_SHIPPED)

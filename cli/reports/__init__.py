@@ -6,6 +6,9 @@ millions of findings is then written while they are made, never held) and one li
 :data:`REPORTS`: ``validate --format`` offers every entry, and the tests render every entry
 (tests/cli/test_report_formats.py). A writer never reads or checks a file: ``validate``
 checks each one and hands it over (:func:`motiontool.cli.validate_report.report_pieces`).
+
+May import the rest of ``cli``, the library layers whose findings it writes and the top-level
+modules.
 """
 
 from __future__ import annotations

@@ -11,6 +11,9 @@ shipped schema (it needs ``jsonschema``, which brings ``referencing``)::
     from motiontool.cli import schemas
 
     jsonschema.validate(report, schemas.load("batch"), registry=schemas.registry())
+
+May import the standard library (and ``jsonschema``, inside :func:`registry`); data, read by the
+rest of ``cli`` and by the tests.
 """
 
 from __future__ import annotations

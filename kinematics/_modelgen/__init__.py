@@ -28,6 +28,9 @@ Modelling choices (also written into each file's header comment):
 * The foot force sensors ``LFsr``/``RFsr`` are jointless child bodies of the feet (MuJoCo welds
   them, Pinocchio merges them into the ankle-roll body) carrying their 0.08057 kg and the
   0.147 x 0.089 x 0.01 m box that touches the floor.
+
+May import the rest of ``kinematics`` and the standard library; a build-time tool that no
+library module imports and the wheel does not ship.
 """
 
 from motiontool.kinematics._modelgen.main import generate, main

@@ -12,6 +12,9 @@ One concept per module: :mod:`.model` (loading a file, its motors, the collision
 :mod:`.self_collision` (pairs in contact and their depths), :mod:`.balance` (centre of mass and
 support polygon, with the plane geometry in :mod:`.hull`) and :mod:`.tables` (the model as numpy
 arrays for batched kinematics, with the shapes in :mod:`.shapes`).
+
+May import pinocchio (through :func:`.api.pin_module`), the rest of ``kinematics``, ``motionfmt``
+and the top-level modules.
 """
 
 from motiontool.kinematics._pinocchio.balance import Balance, com_and_support, sole_heights

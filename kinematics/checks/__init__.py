@@ -24,6 +24,9 @@ How a motion is read here (the Webots player, ``docs/webots-format.md``):
 
 Limits and velocities are read from the :class:`~motiontool.kinematics.RobotSpec` alone: only
 the collision and balance checks load Pinocchio, when they first run.
+
+May import the rest of ``kinematics`` (its Pinocchio adapter inside functions), ``motionfmt``
+and the top-level modules.
 """
 
 from __future__ import annotations

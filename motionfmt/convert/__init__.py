@@ -23,6 +23,8 @@ robot layer), before it writes anything. To add a format: one module with a ``re
 
 Pure: the standard library and numpy, and the ROS 2 libraries (extra ``ros``) imported lazily
 by :mod:`._ros` alone. Import each format from its module.
+
+May import the rest of ``motionfmt`` and the top-level modules, as ``motionfmt`` may.
 """
 
 from __future__ import annotations

@@ -19,4 +19,6 @@ this package re-exports nothing, so that ``ops.mirror`` is always the module, ne
 function of the same name.
 
 Pure numpy: robot knowledge (mirror maps, limits) comes in as plain mappings.
+
+May import the rest of ``motionfmt`` and the top-level modules, as ``motionfmt`` may.
 """

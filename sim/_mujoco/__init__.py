@@ -24,6 +24,9 @@ velocity constraint ``dq_joint/dt = command`` with a force bounded by maxTorque,
 contacts. Plain ``<velocity>`` actuators with a force range chatter once the torque saturates and
 make the walks fall (``docs/simulation.md``). Joint ranges are not hard stops (Webots' PROTOs
 have none): targets are clipped, the joints themselves are free.
+
+May import mujoco (through :func:`.api.mj`), the rest of ``sim``, ``kinematics``, ``motionfmt``
+and the top-level modules.
 """
 
 from motiontool.sim._mujoco.api import mujoco_version, warning_label, warning_labels
