@@ -287,7 +287,7 @@ def render_toml(
     lines = [
         "# motions.toml: expectations proposed from the motion names by `motiontool expect",
         "# --infer`. REVIEW EVERY LINE before you commit it: a name is not a measurement",
-        "# (Webots' TurnLeft10 turns about 32 deg). Syntax: README, 'Expectations'.",
+        "# (Webots' TurnLeft10 turns about 32 deg). Syntax: docs/play.md, 'Expectations'.",
         *(f"# {line}" for line in header),
     ]
     for inf in inferences:
