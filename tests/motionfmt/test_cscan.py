@@ -48,6 +48,7 @@ def test_scan_double_matches_glibc(token: str) -> None:
     assert _same(got.value if got else None, c_scan_double(raw))
 
 
+@pytest.mark.slow  # 3000 examples: 11-13 s on this 2-core machine
 @settings(max_examples=3000, deadline=None)
 @given(
     NUMBERISH
