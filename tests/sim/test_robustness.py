@@ -69,6 +69,7 @@ def test_the_ensemble_draws_batch_perturbations_and_steps_dividing_the_control_s
     assert {dict(m.options)["physics_step_ms"] for m in in_world} == {1.0, 2.0}
 
 
+@pytest.mark.needs("sim")
 def test_a_verdict_every_member_agrees_with_holds(head_no: Path) -> None:
     code, text, doc = play(head_no, "--expect", "no-fall", "--robustness", "3")
     assert code == 0, text
@@ -82,6 +83,7 @@ def test_a_verdict_every_member_agrees_with_holds(head_no: Path) -> None:
     assert "robustness: 3 members (seed 0)" in text and "holds    no-fall" in text
 
 
+@pytest.mark.needs("sim")
 def test_a_threshold_at_the_nominal_measure_is_fragile_and_strict_fails_on_it(
     head_no: Path,
 ) -> None:
@@ -105,6 +107,7 @@ def test_a_threshold_at_the_nominal_measure_is_fragile_and_strict_fails_on_it(
     assert code == 1 and doc["exit_code"] == 1, text
 
 
+@pytest.mark.needs("sim")
 def test_a_verdict_the_nominal_run_fails_fails(head_no: Path) -> None:
     code, text, doc = play(head_no, "--expect", "dx>=0.3", "--robustness", "3")
     assert code == 1, text
@@ -112,6 +115,7 @@ def test_a_verdict_the_nominal_run_fails_fails(head_no: Path) -> None:
     assert verdicts(doc)["dx>=0.3"]["disagree"] == []  # no member walks 0.3 m either
 
 
+@pytest.mark.needs("sim")
 def test_members_are_cached_as_batch_runs(head_no: Path, tmp_path: Path) -> None:
     cache = tmp_path / "cache"
     play(head_no, "--robustness", "3", cache=cache)
@@ -128,6 +132,7 @@ def test_members_are_cached_as_batch_runs(head_no: Path, tmp_path: Path) -> None
     assert sorted(p.stem for p in (cache / "motiontool" / "batch").rglob("*.json")) == stored
 
 
+@pytest.mark.needs("sim")
 def test_members_in_a_world_play_at_steps_dividing_its_basic_time_step(head_no: Path) -> None:
     world = require(DATA / "worlds" / "wrestling" / "worlds" / "wrestling.wbt", "Webots worlds")
     _code, text, doc = play(
@@ -144,6 +149,7 @@ def _members(cache: Path) -> list[dict[str, Any]]:
     return sorted((d["report"] for d in docs), key=lambda r: r["stamps"]["seed"])
 
 
+@pytest.mark.needs("sim")
 def test_members_replay_the_chain_and_start_pose_deterministically(
     head_no: Path, tmp_path: Path
 ) -> None:
@@ -168,6 +174,7 @@ def test_members_replay_the_chain_and_start_pose_deterministically(
     assert [r["base"] for r in again] == [r["base"] for r in runs[1:]]
 
 
+@pytest.mark.needs("sim")
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -186,6 +193,7 @@ def test_robustness_usage_errors_exit_2_in_one_line(
     assert "Traceback" not in result.output
 
 
+@pytest.mark.needs("sim")
 def test_batch_robustness_reports_fragile_runs_in_every_format(
     head_no: Path, tmp_path: Path
 ) -> None:
@@ -218,6 +226,7 @@ def test_batch_robustness_reports_fragile_runs_in_every_format(
     assert "<failure" in out["xml"].read_text(encoding="utf-8")
 
 
+@pytest.mark.needs("sim")
 def test_batch_robustness_replays_an_after_chain(head_no: Path, tmp_path: Path) -> None:
     before = tmp_path / "before.motion"
     shutil.copyfile(head_no, before)
@@ -246,10 +255,10 @@ def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
 
 
 @pytest.mark.slow
+@pytest.mark.needs("ray")
 def test_members_on_ray_give_the_local_verdicts(
     head_no: Path, tmp_path: Path, one_ray: None
 ) -> None:
-    pytest.importorskip("ray", reason="the Ray executor is an optional extra")
     second = tmp_path / "second.motion"  # a chain from a start pose: its elements travel too
     shutil.copyfile(head_no, second)
     chain = [str(head_no), str(second), "--chain", "--start-pose", str(HEAD_NO)]
