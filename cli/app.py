@@ -223,7 +223,7 @@ _COMMANDS: dict[str, tuple[str, str, str]] = {
         "Print the targets a Webots controller stepping every --timestep ms sends, step by",
     ),
     "codes": (
-        "codes",
+        "rule",
         "codes_command",
         "List every diagnostic code with its default severity and meaning.",
     ),

@@ -1,4 +1,5 @@
-"""``motiontool rule [CODE]``: what a diagnostic code means, with an example and its fix."""
+"""``motiontool rule [CODE]``: what a diagnostic code means, with an example and its fix; and
+``motiontool codes``: every code, one line each (what ``rule`` without a code lists too)."""
 
 from __future__ import annotations
 
@@ -8,13 +9,19 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.cli.codes import codes_text
 from motiontool.cli.jsontext import dumps
 from motiontool.cli.options import TextOrJson, TextOrJsonOption
 from motiontool.cli.rules import RULES, Example, Rule, rule
 from motiontool.motionfmt.diagnostics import CODES
 
-__all__ = ["checks_table", "codes_table", "rule_command", "rules_markdown"]
+__all__ = [
+    "checks_table",
+    "codes_command",
+    "codes_table",
+    "codes_text",
+    "rule_command",
+    "rules_markdown",
+]
 
 _WIDTH = 100
 _SHOWN = 60
@@ -152,6 +159,16 @@ def _json(entry: Rule) -> dict[str, Any]:
         "fixed": None if entry.fixed is None else _show(entry.fixed),
         "autofix": entry.autofix,
     }
+
+
+def codes_text() -> str:
+    """One line per code: the code, its default severity and its title."""
+    return "".join(f"{code.id}  {code.severity!s:<7}  {code.title}\n" for code in CODES.values())
+
+
+def codes_command() -> None:
+    """List every diagnostic code with its default severity and meaning."""
+    typer.echo(codes_text(), nl=False)
 
 
 def rule_command(code: _Code = None, format: TextOrJsonOption = TextOrJson.text) -> None:
