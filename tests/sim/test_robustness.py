@@ -241,6 +241,7 @@ def test_batch_robustness_replays_an_after_chain(head_no: Path, tmp_path: Path) 
     assert "before.motion + " in result.stdout and "holds    clean" in result.stdout
 
 
+@pytest.mark.needs("sim")
 def test_batch_robustness_holds_and_refuses_perturb(head_no: Path) -> None:
     result = runner.invoke(app, ["batch", str(head_no), "--robustness", "3", "--no-cache"])
     assert result.exit_code == 0, result.output
