@@ -13,6 +13,7 @@ outputs (its recording) are missing is run again.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -24,7 +25,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from motiontool import __version__
-from motiontool.disk_cache import BYTES_PER_MB, ResultCache, cache_root
+from motiontool.disk_cache import (
+    BYTES_PER_MB,
+    ResultCache,
+    cache_root,
+    files_stamp,
+    libraries_stamp,
+)
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
 from motiontool.motionfmt.fileio import read_file
@@ -109,10 +116,13 @@ class RunSpec:
         extra = ", ".join(f"{k}={v:.4g}" for k, v in self.params)
         return f"{self.shown} [{self.robot}" + (f" #{self.sample}: {extra}]" if extra else "]")
 
-    def cache_key(self, model_hash: str) -> str:
+    def cache_key(self, model_hash: str, code: str = "") -> str:
+        """The run's key in the result cache: everything its report depends on, ``code``
+        (:func:`code_stamp`) the simulation code and libraries that compute it."""
         doc = {
             "content": self.content_sha256,
             "model": model_hash,
+            "code": code,
             "robot": self.robot,
             "params": list(self.params),
             "options": list(self.options),
@@ -120,6 +130,19 @@ class RunSpec:
             **({"chain": list(self.chain_sha256)} if self.chain_sha256 else {}),
         }
         return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()
+
+
+@functools.cache
+def code_stamp() -> str:
+    """What changes when the code that plays and measures a run changes: the package's files
+    (path, size, modification time: an edit, an upgrade) and where MuJoCo, Pinocchio, coal and
+    numpy are installed. A cached report made by other code is never served, version or not."""
+    root = Path(__file__).resolve().parents[1]
+    top = sorted(p for p in root.glob("*.py") if p.is_file())
+    folders = [root / name for name in ("motionfmt", "kinematics", "sim")]
+    return "\n".join(
+        (files_stamp([*folders, *top]), libraries_stamp("numpy", "mujoco", "pinocchio", "coal"))
+    )
 
 
 def check_robots(robots: Sequence[str]) -> None:
@@ -397,7 +420,8 @@ def run_batch(
     t0 = time.monotonic()
     run = get_executor(executor, ray_address=ray_address)
     cache = None if cache_dir is None else ResultCache(cache_dir, cache_max_bytes)
-    keys = [s.cache_key(model_hash(s.robot)) for s in specs]
+    code = code_stamp()
+    keys = [s.cache_key(model_hash(s.robot), code) for s in specs]
     results = _Results(len(specs), progress, spool_dir)
     hits = [_cached(cache, spec, key, outputs) for spec, key in zip(specs, keys, strict=True)]
     todo = [i for i, hit in enumerate(hits) if hit is None]

@@ -21,6 +21,7 @@ from motiontool.cli.batch_reports import render_json, render_markdown, render_su
 from motiontool.errors import OutputError
 from motiontool.kinematics.robots import UnknownRobotError
 from motiontool.motionfmt import MotionToolError, read_motion
+from motiontool.sim import batch as batch_module
 from motiontool.sim.batch import (
     RunSpec,
     check_robots,
@@ -123,6 +124,23 @@ def test_plan_resolves_auto_per_file(tmp_path: Path) -> None:
     check_robots(["auto", "nao"])
     with pytest.raises(UnknownRobotError, match="did you mean 'nao'"):
         check_robots(["auto", "nao7"])
+
+
+def test_a_cached_report_of_other_code_is_not_served(
+    motions: list[Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The cache's key has the simulation code's stamp: after an edit or an upgrade of the
+    code that measures a run (the same version number), the run is played again."""
+    specs = plan(motions[:1], ["nao"])
+    cache = tmp_path / "cache"
+    first = run_batch(specs, runner, model_hash=lambda r: "h", jobs=1, cache_dir=cache)
+    again = run_batch(specs, runner, model_hash=lambda r: "h", jobs=1, cache_dir=cache)
+    assert [r.cached for r in (*first.runs, *again.runs)] == [False, True]
+    assert batch_module.code_stamp() == batch_module.code_stamp()  # one stamp a process
+    monkeypatch.setattr(batch_module, "code_stamp", lambda: "edited")
+    edited = run_batch(specs, runner, model_hash=lambda r: "h", jobs=1, cache_dir=cache)
+    assert not edited.runs[0].cached
+    assert specs[0].cache_key("h", "a") != specs[0].cache_key("h", "b")
 
 
 def test_cache_replays_only_what_is_missing(motions: list[Path], tmp_path: Path) -> None:
