@@ -4,7 +4,7 @@
 Run: ``python benchmarks/bench_authoring.py``. Each time covers reading the file into a lossless
 document, the operation, and the result read back as a document (as Webots reads it); it is
 printed with its ratio to a baseline measured in the same run: the plain read (``loads`` of the
-file). Target (issue 12): < 2 s each. concat joins the file and a 2-pose motion (26 MB out);
+file). Target: < 2 s each. concat joins the file and a 2-pose motion (26 MB out);
 the file joined with itself (52 MB out, two reads of twice the data) is printed too. scale
 (x0.5: every cell re-spelt), retime (--speed 0.7: every time re-spelt, the new times in
 integers), resample (a 30 ms grid, its deviation compared at every ms) and diff

@@ -3,11 +3,11 @@ and the memory of ``motiontool batch`` against its number of runs.
 
 Run: ``python benchmarks/bench_batch.py`` (``--memory-only`` for the last part). Plays the same
 batch (a Nao motion x perturbation samples, no cache) with each executor and prints runs per
-second and the ratios measured in the same run. Targets (issue 6): jobs 2 >= 1.7x jobs 1; Ray
+second and the ratios measured in the same run. Targets: jobs 2 >= 1.7x jobs 1; Ray
 >= 0.8x the local pool at 2 jobs. Then the whole ``batch`` command with 20 and 80 samples of a
 short motion and a JSON report: the peak of the larger against the smaller (target: flat, at
 most 1.1x: the runs' reports are stored on disk as they end, not held). ``--shipping``: what a
-Ray task costs to ship as bytes (issue 40: :mod:`motiontool.sim.shipped`): packing on the
+Ray task costs to ship as bytes (:mod:`motiontool.sim.shipped`): packing on the
 driver, the parcel's pickled size, and a run opened from its parcel (files written to a
 temporary folder, report mapped back, recording read back) against the same run played in place.
 ``--cluster``: a two-node cluster started with ``ray start`` (a head and a worker, one CPU

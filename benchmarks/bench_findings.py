@@ -1,4 +1,4 @@
-"""Benchmark: ``validate --robot nao`` on a file with random values (issue 17 item 4), whole
+"""Benchmark: ``validate --robot nao`` on a file with random values, whole
 process, against the syntax level on the same file measured in the same run.
 
 Run: ``python benchmarks/bench_findings.py`` (``--poses 10000`` for a quick run). The file is

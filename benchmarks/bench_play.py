@@ -9,7 +9,7 @@ wall-clock second for
   contact and self-collision bookkeeping, the report);
 - ``play --rrd`` (the same plus the Rerun recording written to a temporary file);
 
-and the ratios. Targets (issue 5): play >= 0.8 x the bare loop; recording overhead < 25 %.
+and the ratios. Targets: play >= 0.8 x the bare loop; recording overhead < 25 %.
 Best of ``--repeat`` runs each; the machine's other load shows in the spread.
 
 ``--memory-only``: the peak memory of the ``play`` command (a child process, GNU time) with a

@@ -1,4 +1,4 @@
-"""Benchmark: what ``--robustness N`` costs over one play (issue 37: about N / cores plays).
+"""Benchmark: what ``--robustness N`` costs over one play (about N / cores plays).
 
 Run: ``python benchmarks/bench_robustness.py [--members 8] [--jobs CORES] [--repeat 2]
 [MOTION]``. Plays MOTION (default: Webots' Forwards50, tests/data/corpus) on the Nao once, in

@@ -1,4 +1,4 @@
-"""Benchmark: what self-collision physics costs over a play without it (issue 37: under 1.5x).
+"""Benchmark: what self-collision physics costs over a play without it (under 1.5x).
 
 Run: ``python benchmarks/bench_self_collision.py [--loops 4] [--repeat 3]``. Plays on the Nao in
 the wrestling world (tests/data/worlds; its Nao has ``selfCollision TRUE``), best of

@@ -3,10 +3,10 @@ and the start-up time of ``motiontool validate small.motion``.
 
 Run: ``python benchmarks/bench_validate.py``. Every time is printed with its ratio to a baseline
 measured in the same run: reading the file and splitting it into tokens in plain Python, and
-starting a bare ``python -c pass``. Targets (issue 2): validate <= 1.0 s (Webots' C reader takes
+starting a bare ``python -c pass``. Targets: validate <= 1.0 s (Webots' C reader takes
 about 0.6 s), start-up < 0.3 s.
 
-The C baseline (issue 17 item 4): a small C program compiled here with ``cc -O2`` that reads the
+The C baseline: a small C program compiled here with ``cc -O2`` that reads the
 file as Webots' ``wbu_motion_new`` (``src/controller/c/motion.c``) does: a first pass checks
 every line (``fgets`` of 4096-byte pieces, ``strtok`` on ``",\n\r"``, the time with ``strspn``
 and ``sscanf``, every value with ``sscanf("%lf")``) and counts the poses, a second pass reads

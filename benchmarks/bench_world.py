@@ -1,4 +1,4 @@
-"""Benchmark: what ``play --world`` costs over a plain ``play`` (issue 37: under 5 %).
+"""Benchmark: what ``play --world`` costs over a plain ``play`` (under 5 %).
 
 Run: ``python benchmarks/bench_world.py [--loops 4] [--repeat 3]``. Plays the wrestling world's
 HandWave (tests/data/worlds, looped) on the Nao at the world's 10 ms control step, best of

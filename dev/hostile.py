@@ -455,7 +455,7 @@ def _script_with(redirect: str, here: Path, line: list[str]) -> subprocess.Compl
 
 
 def case_closed(redirect: str, line: list[str], code: int, err: bytes | None, tally: Tally) -> None:
-    """Issue 36 item 1: a closed standard stream is one line and an exit code, no traceback."""
+    """A closed standard stream is one line and an exit code, no traceback."""
     here = _scratch()
     try:
         done = _script_with(redirect, here, line)
@@ -470,7 +470,7 @@ def case_closed(redirect: str, line: list[str], code: int, err: bytes | None, ta
 
 
 def case_server_exit(tally: Tally) -> None:
-    """Issue 36 item 1: the LSP server exits 0 after a clean shutdown and exit."""
+    """The LSP server exits 0 after a clean shutdown and exit."""
     here = _scratch()
     try:
         talk = b""
@@ -494,7 +494,7 @@ def case_server_exit(tally: Tally) -> None:
 
 
 def case_signalled(signum: int, line: list[str], under_way: str, tally: Tally) -> None:
-    """Issue 36 item 2: SIGTERM or SIGHUP mid-write: exit 128 + N with one line, no temporary
+    """SIGTERM or SIGHUP mid-write: exit 128 + N with one line, no temporary
     file beside the output or in TMPDIR, no worker left running, no output."""
     here = _scratch()
     try:
@@ -562,7 +562,7 @@ def _running(pid: int) -> bool:
 
 
 def case_walk(tally: Tally) -> None:
-    """Issue 36 item 5: a folder search names what it cannot read (a dangling .motion link, a
+    """A folder search names what it cannot read (a dangling .motion link, a
     link loop; a folder nobody may list, where the script does not run as root) and exits 2."""
     here = _scratch()
     try:
@@ -606,7 +606,7 @@ ECHOED = [
 
 
 def case_echoed(data: bytes | None, line: list[str], tally: Tally) -> None:
-    """Issue 36 item 6: what a message echoes is cut (no line of 1,000 characters) and its
+    """What a message echoes is cut (no line of 1,000 characters) and its
     control characters escaped (no ESC, BEL reaches the terminal)."""
     here = _scratch()
     try:
@@ -625,7 +625,7 @@ def case_echoed(data: bytes | None, line: list[str], tally: Tally) -> None:
         shutil.rmtree(here, ignore_errors=True)
 
 
-# Issue 36 item 7: a 3-line file whose last pose is past 2^31 ms took 10 s to validate; what
+# A 3-line file whose last pose is past 2^31 ms took 10 s to validate; what
 # validation costs must not follow how long the motion plays (0.2 s here; 3 s leaves room for a
 # loaded machine, where a run per controller step would take seconds).
 PAST = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n0,P1,0,0\n40,P2,1.5,0\n2200000000,P3,0,0.1\n"

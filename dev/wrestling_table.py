@@ -1,4 +1,4 @@
-"""Issue 37's targets in Webots' wrestling world, with the world's own settings, under
+"""The targets in Webots' wrestling world, with the world's own settings, under
 ``--robustness`` (docs/simulation.md, *Playing in a Webots world*).
 
 Plays the wrestling motions vendored in ``tests/data/worlds/wrestling/controllers/motions/``

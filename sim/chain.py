@@ -1,5 +1,5 @@
 """Chains: motions played in one run, each from the state the one before left, as a Webots
-controller plays them (issue 37 item 3).
+controller plays them.
 
 A run of several motions is one simulation: the physics state (the joints, the base's pose and
 velocities) simply goes on from one motion to the next. What a chain adds is said here, once:
