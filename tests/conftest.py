@@ -69,6 +69,10 @@ def extra_missing(extra: str) -> str | None:
     that raises ImportError, counts as missing), once per test process."""
     if extra not in EXTRAS:
         raise pytest.UsageError(f"needs({extra!r}): no such extra (one of {', '.join(EXTRAS)})")
+    if extra == "erd":  # robot files, no module to import (6.x): found as the library finds them
+        from motiontool.kinematics.erd import erd_root
+
+        return None if erd_root() is not None else "example-robot-data: no robots folder found"
     for module in EXTRAS[extra][0]:
         try:
             importlib.import_module(module)
