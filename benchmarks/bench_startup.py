@@ -5,8 +5,8 @@ Run: ``python benchmarks/bench_startup.py [--before REV]``. Baselines measured i
 a bare ``python -c pass``, and the same commands run from the code of git revision ``REV`` (by
 default the last one before start-up work), extracted to a temporary folder.
 Each time is the best of ``--repeat`` runs (wall clock, s), with CPU time (user + system, s)
-and peak memory (MiB), bytecode cached as an installed package has it. Targets (issue 17 item
-4): the pre-commit case in 0.2 s where it took 0.31 s, so at most 0.65x the ``REV`` time.
+and peak memory (MiB), bytecode cached as an installed package has it. Targets:
+the pre-commit case in 0.2 s where it took 0.31 s, so at most 0.65x the ``REV`` time.
 
 The collision check runs from the robot's tables stored on disk (``kinematics/tables_cache.py``);
 the first run in a fresh cache folder builds them (it imports Pinocchio): printed as well. A file

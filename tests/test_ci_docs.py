@@ -248,7 +248,7 @@ def _pre_commit(repo: Path, env: dict[str, str]) -> subprocess.CompletedProcess[
 
 @pytest.mark.slow  # pre-commit installs the hook's environment with pip (numpy, typer): ~30 s
 def test_the_documented_hook_runs_from_a_clone_at_its_release_tag(tmp_path: Path) -> None:
-    """Issue 36 item 13: the ``rev:`` docs/ci.md gives is the tag the documented release step
+    """The ``rev:`` docs/ci.md gives is the tag the documented release step
     makes; in a clone of this repository so tagged, pre-commit installs the hook from it and
     runs it: a bad file fails, an excluded one is not checked, a good one passes."""
     env = pre_commit_env(tmp_path / "cache")

@@ -1,4 +1,4 @@
-"""The repository's documentation stands on its own (issue 16 item 6): no tracked file cites the
+"""The repository's documentation stands on its own: no tracked file cites the
 notes beside the repository, every ``docs/*.md`` that is cited exists, and what docs/ states
 about playing and simulating is what the code and the play tests do."""
 
@@ -156,3 +156,19 @@ def test_the_documented_bands_are_the_play_tests_bands(table: str) -> None:
             expected = [_band("dx", dx, " m")] + ([_band("dy", dy, " m")] if dy else [])
         for part in expected:
             assert part in rows[name], (name, part, rows[name])
+
+
+ISSUE_REFERENCE = re.compile(r"\b[Ii]ssues? [0-9]+")
+"""A pointer into this project's issue tracker, which a reader of the repository does not have:
+code, tests and docs say what they do in their own words (the CHANGELOG may name issues)."""
+
+
+def test_no_tracked_file_points_into_the_issue_tracker() -> None:
+    found = [
+        f"{path}:{number}: {line.strip()}"
+        for path, lines in tracked_texts().items()
+        if path not in ("CHANGELOG.md", "tests/test_docs.py")
+        for number, line in enumerate(lines, 1)
+        if ISSUE_REFERENCE.search(line)
+    ]
+    assert found == [], "\n".join(found)

@@ -426,7 +426,7 @@ def _pytest_without_mujoco(tmp_path: Path, ci: bool) -> subprocess.CompletedProc
 
 
 def test_a_test_that_needs_a_missing_extra_skips_with_the_extras_name(tmp_path: Path) -> None:
-    """Issue 38 item 6: with the core alone, a test of MuJoCo skips and says what to install."""
+    """With the core alone, a test of MuJoCo skips and says what to install."""
     proc = _pytest_without_mujoco(tmp_path, ci=False)
     assert proc.returncode == 0, proc.stdout + proc.stderr
     assert "1 passed, 1 skipped" in proc.stdout

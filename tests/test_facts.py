@@ -197,7 +197,7 @@ def test_the_held_target_carry_has_one_home() -> None:
 
 
 def test_the_step_without_a_robot_has_one_home() -> None:
-    """Issue 38 item 4: sampling, plotting and exporting without a robot, and a robot whose model
+    """Sampling, plotting and exporting without a robot, and a robot whose model
     names no Webots world, all step at Webots' default ``basicTimeStep``: one constant."""
     import inspect
 
@@ -224,7 +224,7 @@ def test_the_step_without_a_robot_has_one_home() -> None:
 
 
 def test_the_output_options_are_listed_once() -> None:
-    """Issue 38 item 4: dev/hostile.py and the special-output tests point every output option
+    """Dev/hostile.py and the special-output tests point every output option
     at devices and FIFOs from one list, dev/writers.py (they had drifted apart)."""
     for rel in ("dev/hostile.py", "tests/cli/test_special_outputs.py"):
         tree = ast.parse((ROOT / rel).read_text(encoding="utf-8"))

@@ -59,7 +59,7 @@ def test_core_is_light_and_each_heavy_library_is_an_extra() -> None:
 
 
 def test_the_readme_extras_table_names_every_extra() -> None:
-    """Issue 36 item 22: the Install section's table has a row for each extra of pyproject.toml
+    """The Install section's table has a row for each extra of pyproject.toml
     (it lacked ``lsp``), and no row for an extra that does not exist."""
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"][
         "optional-dependencies"
@@ -574,7 +574,7 @@ def test_the_classifiers_start_at_requires_python() -> None:
 def test_the_core_installs_and_runs_on_every_python_the_classifiers_name(
     built: dict[str, Any], minor: int, tmp_path: Path
 ) -> None:
-    """Issue 36 item 24: a classifier is a promise. The whole suite runs on the Python of this
+    """A classifier is a promise. The whole suite runs on the Python of this
     venv; on each other version named, the built wheel installs in a fresh venv (the core:
     numpy, typer and their dependencies from the package index) and lints, transforms and
     reads back the project's motions."""
@@ -645,7 +645,7 @@ def _needs(nodes: list[ast.expr]) -> set[str]:
 
 
 def test_every_test_that_imports_an_extra_says_it_needs_it() -> None:
-    """Issue 38 item 6: with the core and [test]'s tools alone, a test that needs an extra
+    """With the core and [test]'s tools alone, a test that needs an extra
     skips with the extra's name (tests/conftest.py). So no test module imports an extra's
     library (nor one no extra declares, nor a helper of tests/ that does) at its top, except
     through ``import_extra``; a test that imports one in its body is marked ``needs`` that

@@ -1,5 +1,5 @@
-"""The examples of README and docs/ run as written from a fresh clone (issue 17 item 8, issue 38
-item 5: the reference moved to docs/, its examples still tested): every motion file
+"""The examples of README and docs/ run as written from a fresh clone (the
+reference moved from README to docs/ keeps its examples tested): every motion file
 a ``motiontool`` example reads is in the repository, a transcript (``$ motiontool ...`` and what
 follows) is what the command prints, and the library example runs."""
 
@@ -286,7 +286,7 @@ def _shell_blocks(text: str | None = None) -> list[Block]:
 
 
 def test_every_command_line_of_a_shell_block_parses_as_written() -> None:
-    """Issue 36 item 22: a line of a copyable block runs as written (no ``[--x]``, no
+    """A line of a copyable block runs as written (no ``[--x]``, no
     ``json|sarif``, no option that does not exist); synopsis lives in ``text`` blocks."""
     bad = []
     lines = [

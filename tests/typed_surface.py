@@ -1,4 +1,4 @@
-"""Helpers of the typed-adapter tests (issue 16 item 5): count the ``Any`` of a source file, and
+"""Helpers of the typed-adapter tests: count the ``Any`` of a source file, and
 find what a Protocol declares that a real library object lacks."""
 
 from __future__ import annotations

@@ -225,7 +225,7 @@ def test_inferred_expectations_pass_on_the_corpus_and_a_wrong_one_fails(tmp_path
 def test_a_sidecar_after_makes_a_batch_run_a_chain_named_in_every_report(
     tmp_path: Path,
 ) -> None:
-    """Issue 37 item 3: the run of Walk_Loop plays Walk_Start then Walk_Loop; the reports name
+    """The run of Walk_Loop plays Walk_Start then Walk_Loop; the reports name
     both; a changed Walk_Start is played again, not answered from the cache."""
     motions = tmp_path / "motions"
     motions.mkdir()

@@ -1,5 +1,5 @@
 """Batch runs shipped as bytes (sim/shipped.py): a worker that cannot see the driver's files
-still plays the run and hands back its recording (the Ray executor's tasks, issue 40)."""
+still plays the run and hands back its recording (the Ray executor's tasks)."""
 
 from __future__ import annotations
 

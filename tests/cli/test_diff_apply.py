@@ -1,4 +1,4 @@
-"""``validate --diff`` is a patch the real tools apply (issue 36 item 8): ``git apply`` and
+"""``validate --diff`` is a patch the real tools apply: ``git apply`` and
 ``patch -p1`` accept it over many files that mix CRLF, no final newline, UTF-8 and bytes that
 are not UTF-8, and give the same bytes as ``--fix``."""
 

@@ -1,4 +1,4 @@
-"""``validate``'s findings cache (issue 17 item 4, the pre-commit case): a small file checked
+"""``validate``'s findings cache (the pre-commit case): a small file checked
 before gets its robot findings from ``~/.cache/motiontool/lint`` without running the checks or
 importing numpy, and the report is the one a fresh check gives, whatever changed in between."""
 

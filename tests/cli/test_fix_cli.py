@@ -308,7 +308,7 @@ def test_sarif_counts_a_large_fix_as_json_lists_its_edits(
 
 UNPROVED_MERGE = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadYaw,HeadPitch\n0,P1,0,*,0.1rad\n400,P2,*,0,0\n"
 """HeadYaw named twice, each column with a '*' where the other commands: merged, the columns
-would play differently, so --fix keeps them (issue 36 item 10)."""
+would play differently, so --fix keeps them."""
 
 
 def test_only_fixes_that_apply_are_advertised(motion: Path) -> None:

@@ -238,7 +238,7 @@ def test_github_paths_are_relative_to_the_workspace(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """GitHub places an annotation by its path from the checkout (``GITHUB_WORKSPACE``, else
-    the working directory), whatever path the file was named by (issue 36 item 12)."""
+    the working directory), whatever path the file was named by."""
     workspace = tmp_path / "ws"
     (workspace / "sub").mkdir(parents=True)
     (workspace / "sub" / "wide.motion").write_bytes(WIDE)

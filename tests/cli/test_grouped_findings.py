@@ -1,4 +1,4 @@
-"""``validate`` groups consecutive per-pose findings of one code on one joint (issue 17 item 3):
+"""``validate`` groups consecutive per-pose findings of one code on one joint:
 one finding with a count, a line range and the worst value, in every report format;
 ``--no-group`` (or ``group = false``) gives one finding per pose."""
 

@@ -271,7 +271,7 @@ def test_a_sarif_fix_of_more_edits_than_it_carries_is_counted_not_written(
     assert counted["properties"]["count"] == 20
 
 
-LINED = {  # findings whose message names another line (issue 36 item 11)
+LINED = {  # findings whose message names another line
     "MT106": b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:100,P1,0\n00:00:040,P2,0\n",
     "MT201": b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,0\n\n00:00:040,P2,0\n",
 }
@@ -349,8 +349,7 @@ def test_sarif_links_the_project_urls_of_the_installed_package(
 ) -> None:
     """The driver's ``informationUri`` is the package's ``Homepage`` project URL and each
     rule's ``helpUri`` its section of the ``Rules`` one (docs/rules.md): the one home of the
-    addresses is pyproject.toml's ``[project.urls]``; without them, no link that goes nowhere
-    (issue 36 item 12)."""
+    addresses is pyproject.toml's ``[project.urls]``; without them, no link that goes nowhere."""
     from motiontool.cli.reports import sarif as sarif_module
 
     monkeypatch.setattr(sarif_module, "project_urls", lambda: dict(u.split(", ") for u in urls))

@@ -1,5 +1,5 @@
 """``motiontool rule``: every code explained (cli/rules.py), and every explanation's
-example checked by ``validate`` itself, so that the docs cannot lie (issue 17 item 3b)."""
+example checked by ``validate`` itself, so that the docs cannot lie."""
 
 from __future__ import annotations
 
@@ -146,7 +146,7 @@ def test_sarif_rules_carry_the_same_explanations(
 
 def test_docs_rules_md_is_what_the_records_say() -> None:
     """docs/rules.md, where SARIF's ``helpUri`` points (a section a code: ``#mt106``), is made
-    from the same records as ``motiontool rule CODE`` (issue 36 item 12)."""
+    from the same records as ``motiontool rule CODE``."""
     from conftest import ROOT
 
     from motiontool.cli.rule import rules_markdown

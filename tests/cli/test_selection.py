@@ -1,4 +1,4 @@
-"""``validate``'s selection of files and codes as teams adopt it (issue 36 item 9), after ruff:
+"""``validate``'s selection of files and codes as teams adopt it, after ruff:
 ``force-exclude``, ``.gitignore`` and hidden folders in folder walks, ``--select`` /
 ``--extend-select`` / ``--ignore`` with prefixes, ``--exit-zero``, ``--quiet``,
 ``--stdin-filename`` and ``--statistics --format json``."""
@@ -143,8 +143,7 @@ def test_gitignore_counts_only_inside_a_repository_up_to_its_root(
 def test_what_a_search_leaves_out_is_neither_searched_nor_an_error(repo: Path) -> None:
     """A dangling link in an ignored or excluded folder, or one in a hidden folder, is no
     'cannot read' error: the search leaves those folders out (hidden ones are not even
-    entered: a checkout's .git is never walked); outside them it still is one (issue 36
-    item 5)."""
+    entered: a checkout's .git is never walked); outside them it still is one."""
     git_repo(repo)
     for folder in ("build", ".cache", "generated"):
         (repo / "motions" / folder / "gone.motion").symlink_to("nowhere.motion")

@@ -194,7 +194,7 @@ def test_changes_are_linted_as_typed_and_fixes_are_code_actions(project: Path) -
 
 
 def test_fix_all_leaves_the_codes_the_configuration_leaves_out(project: Path) -> None:
-    """Issue 36 item 9: "fix all" makes the edit ``validate --fix`` makes, which fixes only the
+    """ "fix all" makes the edit ``validate --fix`` makes, which fixes only the
     codes reported (here MT204 is ignored for the file, MT203 is not)."""
     (project / "nao" / "motiontool.toml").write_text('robot = "none"\nignore = ["MT204"]\n')
     text = MOTION.replace("00:00:000,Pose1,0,0", "00:00:000,Pose1,0,-9999999.9")

@@ -1,4 +1,4 @@
-"""A command that writes files says what it wrote, one line each on stderr (issue 17 item 8):
+"""A command that writes files says what it wrote, one line each on stderr:
 ``motiontool: wrote PATH (what it holds)``, through :func:`motiontool.cli.output.say_wrote`;
 never for an output that is stdout (``-``)."""
 
@@ -137,7 +137,7 @@ def test_batch_says_each_report_and_its_recordings(here: Path) -> None:
 
 @pytest.mark.needs("kinematics")
 def test_validate_says_the_report_it_wrote(here: Path) -> None:
-    """Issue 36 item 22: ``validate -o FILE`` said nothing; now its line names the format and
+    """``validate -o FILE`` said nothing; now its line names the format and
     the counts, and ``--diff -o FILE`` the patch."""
     (here / "bad.motion").write_bytes(NOD + b"00:00:080,C,2rad,0\n")
     assert wrote(["validate", "nod.motion", "-o", "r.txt"])[1] == {

@@ -37,7 +37,7 @@ NAOQI_NAMES = naoqi_names(COUPLED)
 
 
 def test_naoqi_names_come_from_the_robot_facts() -> None:
-    """Issue 38 item 4: the hip the real NAO drives with one motor is read from nao-v5.json's
+    """The hip the real NAO drives with one motor is read from nao-v5.json's
     coupled joints, not spelt again; the hands are NAOqi's one joint each."""
     assert NAOQI_NAMES["RHipYawPitch"] == "LHipYawPitch"
     assert NAOQI_NAMES["LPhalanx1"] == NAOQI_NAMES["LPhalanx8"] == "LHand"

@@ -881,7 +881,7 @@ CORPUS_FINDINGS: dict[str, tuple[dict[tuple[str, str], int], str]] = {
     "projects/robots/softbank/nao/motions/WipeForehead.motion": (
         {("MT206", "warning"): 1, ("MT209", "warning"): 12},
         "first pose at 213 ms (syntax level); 12 pose times (266, 453, 506 ms, ...) off the "
-        "Nao's 20 ms step, checked without -t since issue 36",
+        "Nao's 20 ms step, checked without -t",
     ),
     "projects/samples/robotbenchmark/humanoid_sprint/controllers/sprinter/forward.motion": (
         {("MT303", "warning"): 1},

@@ -1,4 +1,4 @@
-"""The Pinocchio adapter's typed surface (issue 16 item 5): no ``Any`` creeps into kinematics, and
+"""The Pinocchio adapter's typed surface: no ``Any`` creeps into kinematics, and
 the Protocols of ``kinematics/_pinocchio/api.py`` say only what the real library has."""
 
 from __future__ import annotations

@@ -302,7 +302,7 @@ def test_the_sorting_demo_reaches_every_pick_and_place() -> None:
 def test_the_largest_deviation_is_at_least_every_keyframe_error(motion: str) -> None:
     # A keyframe's error is the tool against its commanded pose at its frame: the deviation from
     # the command stream compares the same frame with the same command, so it cannot be
-    # smaller (issue 15: 80.5 mm against a keyframe's 87.3 mm, one step apart).
+    # smaller (80.5 mm against a keyframe's 87.3 mm, one step apart).
     report = play([ROOT / "motions" / "ur5e" / f"{motion}.motion"], robot="ur5e")
     ee = report.end_effector
     assert ee is not None and ee.keyframes

@@ -1,4 +1,4 @@
-"""Chains and start states (issue 37 item 3): ``play A B --chain`` plays the motions in one run,
+"""Chains and start states: ``play A B --chain`` plays the motions in one run,
 each from the state the one before left (joints and the base: the physics goes on), an element
 looped on its own (``--loop NAME=N``), the report naming every element with its time in the run
 and what it did; ``--start-pose FILE[:POSE]`` starts from a pose instead of the zero stance."""

@@ -1,4 +1,4 @@
-"""``expect --infer`` reads names right (issue 15 items 8-11), on names made up for the test:
+"""``expect --infer`` reads names right, on names made up for the test:
 the turn angle is the number attached to the turn word, falls and dives expect a fall to the
 named side, kicks expect no fall, stand-ups get the lying start they need (played from both
 when the name does not say), walks expect progress, and ``upright`` is the fall detector."""
@@ -202,7 +202,7 @@ def test_upright_is_the_fall_detector_not_a_tilt_bound(tmp_path: Path) -> None:
     assert not down.passed and down.reason.startswith("expected upright (no fall, up at the end)")
 
 
-# ------------------------------------------------------------------- issue 37 item 3
+# ----------------------------------------------------------- chains, get-ups, gestures, kicks
 
 
 @pytest.mark.parametrize(

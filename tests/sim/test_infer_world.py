@@ -1,4 +1,4 @@
-"""``expect --infer`` plays as ``play`` plays (issue 37 items 1, 3, 4): its stand-up probes run in
+"""``expect --infer`` plays as ``play`` plays: its stand-up probes run in
 ``--world`` (the proposal then says ``world`` and ``robot-node``, and ``batch`` plays it there),
 from ``--start-pose``, and with ``--robustness N`` over play's ensemble (a start is proposed only
 where every member agrees; fragile: a comment, a warning, exit 1 with ``--strict``); its
@@ -212,7 +212,7 @@ def test_a_bad_world_or_option_is_one_line_exit_2_and_nothing_written(
 def test_a_proposed_start_loop_stop_chain_is_named_whole_in_every_batch_report(
     tmp_path: Path,
 ) -> None:
-    """Issue 37 item 3: expect proposes Walk_Stop after Walk_Loop after Walk_Start; batch plays
+    """Expect proposes Walk_Stop after Walk_Loop after Walk_Start; batch plays
     Walk_Stop as the chain of the three, and its JSON, Markdown and JUnit name each."""
     folder = tmp_path / "walk"
     folder.mkdir()

@@ -1,4 +1,4 @@
-"""Self-collision physics (issue 37 item 2): with Webots' ``selfCollision`` on (the world's robot
+"""Self-collision physics: with Webots' ``selfCollision`` on (the world's robot
 node, or ``--self-collision``) the robot's parts collide with each other in MuJoCo, but solids
 joined by a joint; off (Webots' default for the Nao) they pass through each other."""
 

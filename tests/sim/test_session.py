@@ -1,4 +1,4 @@
-"""The play session (issue 16 item 3): what a sidecar and the caller ask of a run, the run judged,
+"""The play session: what a sidecar and the caller ask of a run, the run judged,
 a run that cannot start; the batch's plan from the same resolution; the commands only render."""
 
 from __future__ import annotations
@@ -143,7 +143,7 @@ PLUMBING = {
     "play",
     "write_failure",
 }
-"""What ``play`` and ``batch`` did themselves before issue 16 item 3: the session does it."""
+"""What ``play`` and ``batch`` once did themselves: the session does it."""
 
 
 @pytest.mark.parametrize("command", ["cli/play.py", "cli/batch.py"])

@@ -1,4 +1,4 @@
-"""The simulation adapters' typed surface (issue 16 item 5): no ``Any`` in sim/_mujoco/,
+"""The simulation adapters' typed surface: no ``Any`` in sim/_mujoco/,
 sim/recording.py and sim/_ray.py; the Protocols of ``sim/_mujoco/api.py`` say only what the real
 MuJoCo has; Rerun and Ray are typed by their own annotations (``py.typed``)."""
 

@@ -1,4 +1,4 @@
-"""Issue 37's targets in Webots' wrestling world that hold (docs/simulation.md, *The wrestling
+"""The targets in Webots' wrestling world that hold (docs/simulation.md, *The wrestling
 world's targets*): played as a user plays them, through ``motiontool play`` with the vendored
 motions' ``motions.toml`` (the world, the robot node ``participant``, the start or the Stand
 before, ``expect --infer``'s expectations), in real MuJoCo. ``dev/wrestling_table.py`` measures
