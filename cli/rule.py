@@ -90,7 +90,7 @@ def rules_markdown() -> str:
     under a heading of its own (``## MT106``, GitHub's anchor ``#mt106``: where SARIF's
     ``helpUri`` points); written by ``python dev/rules_doc.py``."""
     head = (
-        "# Diagnostic codes\n\n"
+        "# Diagnostic codes: `motiontool codes`, `motiontool rule`\n\n"
         "Every code `motiontool validate` reports, as `motiontool rule CODE` prints it: what"
         " Webots does,\nan example that triggers it, its fix, and whether `validate --fix`"
         " applies it. Made from the\nrule records (`cli/rules_syntax.py`, `cli/rules_traps.py`,"

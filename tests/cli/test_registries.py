@@ -219,3 +219,61 @@ def test_the_recipes_name_every_home_the_tests_iterate() -> None:
     ):
         assert home in check, home
         assert (ROOT / home).exists(), home
+
+
+RECIPES = {
+    "- **a robot**": (
+        "kinematics/models/",
+        "kinematics/builtin_robots.py",
+        "kinematics/limbs.py",
+        "docs/robots.md",
+        "README.md",
+        "cli/schemas/robot.schema.json",
+        "tests/kinematics/test_models.py",
+        "tests/cli/test_recipes.py",
+    ),
+    "- **a subcommand**": (
+        "cli/app.py",
+        "README.md",
+        "docs/",
+        "docs/commands.md",
+        "cli/schemas/",
+        "dev/writers.py",
+        "tests/cli/test_special_outputs.py",
+        "tests/cli/test_recipes.py",
+    ),
+    "- **a report format of `validate`**": (
+        "cli/reports/",
+        "cli/reports/__init__.py",
+        "dev/writers.py",
+        "README.md",
+        "docs/commands.md",
+        "cli/schemas/validate.schema.json",
+        "tests/data/sarif/",
+        "tests/data/junit/",
+        "tests/data/invalid/",
+        "tests/cli/test_recipes.py",
+        "tests/cli/test_report_formats.py",
+    ),
+}
+"""The homes each recipe names: what tests/cli/test_recipes.py reads or iterates for it."""
+
+ITERATED = {
+    "- **a robot**": "BUILTIN_ROBOTS",
+    "- **a subcommand**": "_COMMANDS",
+    "- **a report format of `validate`**": "REPORTS",
+}
+"""The registry tests/cli/test_recipes.py iterates for each recipe."""
+
+
+@pytest.mark.parametrize("recipe", list(RECIPES))
+def test_the_robot_subcommand_and_format_recipes_name_their_homes(recipe: str) -> None:
+    page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    start = page.index(recipe)
+    text = page[start : page.index("\n- **", start + 1)]
+    for home in RECIPES[recipe]:
+        assert home in text, (recipe, home)
+        assert (ROOT / home).exists(), home
+    assert "Not checked mechanically" in text or "not checked" in text, recipe
+    iterated = f"`tests/cli/test_recipes.py` iterates `{ITERATED[recipe]}`"
+    assert iterated in " ".join(text.split()), recipe
