@@ -6,9 +6,11 @@ complete: a record left out of a step fails here."""
 from __future__ import annotations
 
 import ast
+import importlib.util
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 from typer.testing import CliRunner
@@ -141,6 +143,25 @@ def test_the_schemas_check_enums_are_the_registry() -> None:
     for name in ("config", "validate"):  # no other enum names a check
         others = [v for k, v in _enums(schemas.load(name)) if k not in ("checks", "check")]
         assert not any(set(v) & set(CHECKS) for v in others), name
+
+
+def _rules_doc() -> Any:
+    spec = importlib.util.spec_from_file_location("rules_doc", ROOT / "dev" / "rules_doc.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_schemas_check_enums_are_written_from_the_registry() -> None:
+    rules_doc = _rules_doc()
+    for name in rules_doc.CHECK_SCHEMAS:
+        committed = (ROOT / "cli" / "schemas" / f"{name}.schema.json").read_text("utf-8")
+        assert committed == rules_doc.schema_text(name), f"{name}: run python dev/rules_doc.py"
+    stale = {"properties": {"checks": {"items": {"enum": ["limits"]}, "description": "default x."}}}
+    fresh = rules_doc._with_checks(stale, "config")["properties"]["checks"]
+    assert fresh["items"]["enum"] == [*CHECKS, "all"]
+    assert fresh["description"] == f"default {', '.join(DEFAULT_CHECKS)}."
 
 
 def test_checks_help_and_messages_name_every_check() -> None:
