@@ -80,7 +80,12 @@ IsolatedOption = Annotated[
 
 
 class ConfigError(MotionToolError):
-    """A configuration file that cannot be used: ``FILE:LINE: KEY: what is wrong``."""
+    """A configuration file that cannot be used: ``FILE:LINE: KEY: what is wrong``. Also the
+    file, its 1-based line and column (where known: the editor shows the error there)."""
+
+    def __init__(self, message: str, path: Path | None = None, line: int = 1, column: int = 1):
+        super().__init__(message)
+        self.path, self.line, self.column = path, line, column
 
 
 @dataclass(frozen=True)
@@ -312,13 +317,15 @@ def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
-        raise ConfigError(f"cannot read '{path}': {reason}") from exc
+        raise ConfigError(f"cannot read '{path}': {reason}", path) from exc
     import tomllib  # only where a configuration file is found
 
     try:
         doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML: {exc}") from exc
+        at = re.search(r"at line (\d+), column (\d+)", str(exc))  # tomllib's own words
+        where = (int(at[1]), int(at[2])) if at else (1, 1)
+        raise ConfigError(f"{path}: not valid TOML: {exc}", path, *where) from exc
     if path.name == "pyproject.toml":
         table = doc.get("tool", {}).get("motiontool")
         return (table if isinstance(table, dict) else None), text, "tool.motiontool"
@@ -342,14 +349,15 @@ def load_settings(path: Path) -> Settings | None:
             close = difflib.get_close_matches(key, KEYS, n=1)
             hint = f"; did you mean '{close[0]}'?" if close else f"; keys: {', '.join(KEYS)}"
             line = _line_of(text, key, name)
-            raise ConfigError(f"{path}:{line}: unknown key '{key}'{hint}")
+            raise ConfigError(f"{path}:{line}: unknown key '{key}'{hint}", path, line)
         check, what = KEYS[key]
         if not check(value):
             line = _line_of(text, key, name)
-            raise ConfigError(f"{path}:{line}: '{key}' must be {what}, got {value!r}")
+            raise ConfigError(f"{path}:{line}: '{key}' must be {what}, got {value!r}", path, line)
         bad = _unknown_value(key, value)
         if bad is not None:
-            raise ConfigError(f"{path}:{_line_of(text, key, name)}: '{key}': {bad}")
+            line = _line_of(text, key, name)
+            raise ConfigError(f"{path}:{line}: '{key}': {bad}", path, line)
         values[key.replace("-", "_")] = value
     if "world" in values or "robot_node" in values:
         values["world"] = _world_file(path, text, name, values)
@@ -363,11 +371,13 @@ def _world_file(path: Path, text: str, table: str | None, values: dict[str, Any]
         ConfigError: ``robot-node`` without ``world``, or a world that is no file."""
     if "world" not in values:
         line = _line_of(text, "robot-node", table)
-        raise ConfigError(f"{path}:{line}: 'robot-node' names a node of 'world': set world too")
+        what = "'robot-node' names a node of 'world': set world too"
+        raise ConfigError(f"{path}:{line}: {what}", path, line)
     found: Path = path.resolve().parent / values["world"]
     if not found.is_file():
         line = _line_of(text, "world", table)
-        raise ConfigError(f"{path}:{line}: 'world': no such file '{values['world']}' ({found})")
+        what = f"'world': no such file '{values['world']}' ({found})"
+        raise ConfigError(f"{path}:{line}: {what}", path, line)
     return found
 
 

@@ -20,24 +20,33 @@ server sends (finding ranges, edits) or receives (hover, code action ranges, inc
 
 from __future__ import annotations
 
+import asyncio
 import bisect
+import functools
+import logging
 from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
+from urllib.parse import unquote
 
 from lsprotocol import types as lsp
 from pygls.lsp.server import LanguageServer
-from pygls.uris import to_fs_path
+from pygls.uris import from_fs_path, to_fs_path
 from pygls.workspace import PositionCodec
 
 from motiontool import __version__
+from motiontool.cli.config import ConfigError
+from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.fixes import Fix, fix_bytes
 from motiontool.motionfmt.reader import token_spans
 from motiontool.motionfmt.validate import FileReport
 
-__all__ = ["Linter", "MotionServer", "build_server"]
+__all__ = ["DEBOUNCE_S", "Linter", "MotionServer", "build_server", "rules_href"]
+
+logger = logging.getLogger(__name__)
 
 SOURCE = "motiontool"
 """The ``source`` of every published diagnostic (editors show it beside the message)."""
@@ -47,6 +56,10 @@ _SEVERITY = {
     Severity.WARNING: lsp.DiagnosticSeverity.Warning,
     Severity.INFO: lsp.DiagnosticSeverity.Information,
 }
+
+DEBOUNCE_S = 0.05
+"""Seconds a document rests after a change before it is linted: a burst of keystrokes is
+linted once, as its last version."""
 
 Linter = Callable[[Path, bytes], tuple[FileReport, RobotSpec | None]]
 """Lints a document's bytes as the file at that path: its report and the robot it was checked
@@ -63,25 +76,137 @@ class _Document:
 
 
 class MotionServer(LanguageServer):
-    """The language server; ``lint`` is :data:`Linter`."""
+    """The language server; ``lint`` is :data:`Linter`.
 
-    def __init__(self, lint: Linter) -> None:
+    Only the newest version of a document is linted: a change marks it to lint once it has
+    rested ``debounce_s`` seconds, and a change while a lint runs (in a worker thread, so
+    requests are answered meanwhile) marks it again; a lint whose version a change superseded
+    is dropped, not published. Requests waiting on a lint (pull diagnostics) are asyncio tasks
+    that ``$/cancelRequest`` cancels."""
+
+    def __init__(self, lint: Linter, debounce_s: float = DEBOUNCE_S) -> None:
         super().__init__(SOURCE, __version__)
         self.lint = lint
+        self.debounce_s = debounce_s
         self.documents: dict[str, _Document] = {}
+        self.published: dict[str, tuple[int | None, list[lsp.Diagnostic]]] = {}
+        self._changed: dict[str, float] = {}  # document URI: loop time of its last change
+        self._linting: dict[str, asyncio.Task[None]] = {}
+        self._waiting: dict[str, list[asyncio.Future[None]]] = {}
+        self._config_uris: set[str] = set()  # configuration files with an error published
+        self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="motiontool-lint")
 
     def refresh(self, uri: str) -> None:
-        """Lint document ``uri`` as the editor holds it and publish its findings."""
+        """Lint document ``uri`` as the editor holds it, once it rests, and publish its
+        findings (unless a newer change supersedes the version linted)."""
+        loop = asyncio.get_running_loop()
+        self._changed[uri] = loop.time()
+        if uri not in self._linting:
+            self._linting[uri] = loop.create_task(self._lint_while_changed(uri))
+
+    def forget(self, uri: str) -> None:
+        """Document ``uri`` was closed: no lint of it is published any more."""
+        self._changed.pop(uri, None)
+        self.documents.pop(uri, None)
+        self.published.pop(uri, None)
+        self._publish(uri, None, [])
+
+    async def current(self, uri: str) -> tuple[int | None, list[lsp.Diagnostic]]:
+        """The findings of the version of ``uri`` the editor holds now (after its lint)."""
+        while self._open_version(uri) is not None and (
+            uri in self._changed or self.published.get(uri, (None,))[0] != self._open_version(uri)
+        ):
+            if uri not in self._linting:
+                self.refresh(uri)
+            waiter = asyncio.get_running_loop().create_future()
+            self._waiting.setdefault(uri, []).append(waiter)
+            await waiter
+        return self.published.get(uri, (None, []))
+
+    def _open_version(self, uri: str) -> int | None:
+        doc = self.workspace.text_documents.get(unquote(uri))
+        return None if doc is None else doc.version
+
+    async def _lint_while_changed(self, uri: str) -> None:
+        loop = asyncio.get_running_loop()
+        try:
+            while uri in self._changed:
+                rest = self._changed[uri] + self.debounce_s - loop.time()
+                if rest > 0:
+                    await asyncio.sleep(rest)
+                    continue
+                del self._changed[uri]
+                await self._lint_once(uri)
+        finally:
+            del self._linting[uri]
+            for waiter in self._waiting.pop(uri, []):
+                if not waiter.done():
+                    waiter.set_result(None)
+
+    async def _lint_once(self, uri: str) -> None:
+        version = self._open_version(uri)
+        if version is None:
+            return  # closed
         doc = self.workspace.get_text_document(uri)
         data = doc.source.encode("utf-8", "surrogateescape")
         path = Path(to_fs_path(uri) or uri)
-        report, robot = self.lint(path, data)
-        self.documents[uri] = _Document(doc.version, report, robot)
+        loop = asyncio.get_running_loop()
+        try:
+            report, robot = await loop.run_in_executor(self._pool, self.lint, path, data)
+        except Exception as exc:  # a configuration that cannot be used, or a bug: not a popup
+            if not isinstance(exc, MotionToolError):
+                logger.exception("linting %s failed", uri)
+            if uri not in self._changed and self._open_version(uri) == version:
+                self._publish_error(uri, version, exc)
+            return
+        if uri in self._changed or self._open_version(uri) != version:
+            return  # stale: a newer change supersedes it, and its lint follows
+        self.documents[uri] = _Document(version, report, robot)
+        self._clear_config_errors()
         codec = self.workspace.position_codec
-        diagnostics = [_diagnostic(report, codec, d) for d in report.diagnostics]
+        self._publish(uri, version, [_diagnostic(report, codec, d) for d in report.diagnostics])
+
+    def _publish(self, uri: str, version: int | None, diagnostics: list[lsp.Diagnostic]) -> None:
+        if self._open_version(uri) is not None or uri in self._config_uris:
+            self.published[uri] = (version, diagnostics)
         self.text_document_publish_diagnostics(
-            lsp.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=doc.version)
+            lsp.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
         )
+
+    def _publish_error(self, uri: str, version: int | None, exc: Exception) -> None:
+        """A configuration that cannot be used: the error on the configuration file (where it
+        is), and on the document one finding at its start that says it was not linted."""
+        where = lsp.Range(start=lsp.Position(0, 0), end=lsp.Position(0, 0))
+        related = None
+        if isinstance(exc, ConfigError) and exc.path is not None:
+            config_uri = from_fs_path(str(exc.path)) or str(exc.path)
+            at = lsp.Position(line=max(exc.line - 1, 0), character=max(exc.column - 1, 0))
+            spot = lsp.Range(start=at, end=lsp.Position(line=at.line + 1, character=0))
+            self._clear_config_errors(keep=config_uri)
+            self._config_uris.add(config_uri)
+            self._publish(config_uri, None, [_error(spot, str(exc), "config")])
+            related = [lsp.DiagnosticRelatedInformation(lsp.Location(config_uri, spot), str(exc))]
+        known = isinstance(exc, MotionToolError)
+        message = f"not linted: {exc}" if known else f"not linted: {type(exc).__name__}: {exc}"
+        finding = _error(where, message, "config" if isinstance(exc, ConfigError) else None)
+        finding.related_information = related
+        self._publish(uri, version, [finding])
+
+    def _clear_config_errors(self, keep: str | None = None) -> None:
+        for config_uri in sorted(self._config_uris - {keep}):
+            self._config_uris.discard(config_uri)
+            self.published.pop(config_uri, None)
+            self._publish(config_uri, None, [])
+
+
+def _error(where: lsp.Range, message: str, code: str | None) -> lsp.Diagnostic:
+    return lsp.Diagnostic(
+        range=where,
+        message=message,
+        severity=lsp.DiagnosticSeverity.Error,
+        code=code,
+        source=SOURCE,
+    )
 
 
 # --------------------------------------------------------------------------- positions
@@ -124,9 +249,30 @@ def _diagnostic(report: FileReport, codec: PositionCodec, d: Diagnostic) -> lsp.
         message=d.message + (f"\nhint: {d.hint}" if d.hint else ""),
         severity=_SEVERITY[d.severity],
         code=d.code,
+        code_description=_code_description(d.code),
         source=SOURCE,
         data={"fixable": bool(fixes), "safe": all(f.safe for f in fixes)} if fixes else None,
     )
+
+
+@functools.cache
+def rules_href() -> str | None:
+    """Where each code's documentation is (a code's is its section, ``#mt106``): the
+    ``Rules`` project URL, as SARIF's ``helpUri``; without one (the package names no URL yet),
+    docs/rules.md beside the package as a ``file:`` URL where it is there (a source checkout or
+    an editable install: a wheel holds no docs/); else None, and no link."""
+    from motiontool.cli.reports.sarif import RULES_LABEL, project_urls
+
+    url = project_urls().get(RULES_LABEL)
+    if url is not None:
+        return url
+    rules = Path(__file__).resolve().parent.parent / "docs" / "rules.md"
+    return rules.as_uri() if rules.is_file() else None
+
+
+def _code_description(code: str) -> lsp.CodeDescription | None:
+    base = rules_href()
+    return None if base is None else lsp.CodeDescription(href=f"{base}#{code.lower()}")
 
 
 def _edits(report: FileReport, codec: PositionCodec, fixes: Sequence[Fix]) -> list[lsp.TextEdit]:
@@ -271,9 +417,22 @@ def build_server(lint: Linter) -> MotionServer:
 
     @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
     def did_close(ls: MotionServer, params: lsp.DidCloseTextDocumentParams) -> None:
-        uri = params.text_document.uri
-        ls.documents.pop(uri, None)
-        ls.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(uri=uri, diagnostics=[]))
+        ls.forget(params.text_document.uri)
+
+    @server.feature(
+        lsp.TEXT_DOCUMENT_DIAGNOSTIC,
+        lsp.DiagnosticOptions(inter_file_dependencies=False, workspace_diagnostics=False),
+    )
+    async def diagnostic(
+        ls: MotionServer, params: lsp.DocumentDiagnosticParams
+    ) -> lsp.DocumentDiagnosticReport:
+        """Pull diagnostics: the findings of the version the editor holds, once linted; the
+        version is the result id (unchanged: no findings sent again)."""
+        version, diagnostics = await ls.current(params.text_document.uri)
+        result_id = None if version is None else str(version)
+        if result_id is not None and params.previous_result_id == result_id:
+            return lsp.RelatedUnchangedDocumentDiagnosticReport(result_id=result_id)
+        return lsp.RelatedFullDocumentDiagnosticReport(items=diagnostics, result_id=result_id)
 
     @server.feature(
         lsp.TEXT_DOCUMENT_CODE_ACTION,
