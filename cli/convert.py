@@ -13,11 +13,14 @@ import typer
 
 from motiontool import exit_codes
 from motiontool.cli.convert_checks import (
+    ArmLimits,
     file_findings,
     motion_findings,
+    real_arm_findings,
     refuse_short_lead_in,
     refuse_split_joints,
     refuse_unknown_joints,
+    robot_limits,
     stream_findings,
 )
 from motiontool.cli.options import (
@@ -262,6 +265,15 @@ _Keyframes = Annotated[
         "servoj at every control step.",
     ),
 ]
+_Limits = Annotated[
+    ArmLimits | None,
+    typer.Option(
+        "--limits",
+        help="urscript: check against the real arm (real: 180 °/s on every joint, 40 rad/s² "
+        "joint acceleration, movej's rest-to-rest trapezoids, servoj t of 2 ms or more; the "
+        "default for ur5e) or the Webots model's limits (webots: 360 °/s on the wrists).",
+    ),
+]
 _Topic = Annotated[
     str | None,
     typer.Option(
@@ -308,6 +320,7 @@ _FIELDS = {
     "--joint-map": "joint_map",
     "--max-error": "max_error_rad",
     "--send-script": "script_name",
+    "--limits": "limits",
 }
 
 
@@ -347,13 +360,17 @@ def _checked(
     return notes + more
 
 
-def _check_stream(exported: Exported, imported: Imported, spec: RobotSpec, what: str) -> None:
+def _check_stream(
+    exported: Exported, imported: Imported, spec: RobotSpec, what: str, real: ExportOptions | None
+) -> None:
     """What the export sends to the robot: its motors only (exit 2), within their limits and
-    maxVelocity (exit 1)."""
+    maxVelocity, and for a real arm its acceleration and control cycle (exit 1)."""
     if exported.stream is None:
         return
     refuse_unknown_joints(imported, spec)
-    bad = stream_findings(exported.stream, spec, f"{what} export")
+    bad = stream_findings(exported.stream, spec, what)
+    if real is not None:  # checked against the real arm (--limits real)
+        bad += real_arm_findings(exported.stream, real.keyframes, real.timestep_ms, what)
     if bad:
         _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
 
@@ -401,6 +418,7 @@ def convert_command(
     joint_map: _JointMap = None,
     max_error: _MaxError = None,
     send_script: _SendScript = None,
+    limits: _Limits = None,
 ) -> None:
     """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ,
     a bag's recorded joint states, a Choregraphe timeline (.xar) or Python export back to a
@@ -419,13 +437,15 @@ def convert_command(
         "--joint-map": joint_map,
         "--max-error": max_error,
         "--send-script": send_script,
+        "--limits": limits,
     }
     _refuse_unused(given, fmt_in, fmt_out)
     refuse_overwrite(target, [source], "OUT", "write to another file")
     pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
     reading = _reading(fmt_in, topic, pairs, max_error, timestep, robot)
     imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
-    spec = _robot(robot, fmt_out, imported.motion.joints)
+    model = _robot(robot, fmt_out, imported.motion.joints)
+    spec = robot_limits(limits, model, "--limits") if "limits" in fmt_out.uses else model
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)
     # The robot a format drives (nao-v5 for NAOqi) says which joints one motor drives there.
     real = resolve_robot(fmt_out.default_robot) if fmt_out.default_robot else spec
@@ -445,6 +465,7 @@ def convert_command(
     notes = _checked(imported, spec, fmt_out, robot, options)
     exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]
     if spec is not None:
-        _check_stream(exported, imported, spec, fmt_out.name)
+        arm = options if spec is not model else None  # checked against the real arm
+        _check_stream(exported, imported, spec, f"{fmt_out.name} export", arm)
     _write(exported, source, target, send_script)
     emit_stderr(_report(exported, spec, notes, imported, robot))

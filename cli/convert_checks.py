@@ -15,6 +15,7 @@ rounding (:data:`~motiontool.kinematics.checks.EPS`).
 
 from __future__ import annotations
 
+import enum
 import math
 from typing import TYPE_CHECKING
 
@@ -36,13 +37,24 @@ if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
 __all__ = [
+    "ArmLimits",
     "file_findings",
     "motion_findings",
+    "real_arm_findings",
     "refuse_short_lead_in",
     "refuse_split_joints",
     "refuse_unknown_joints",
+    "robot_limits",
     "stream_findings",
 ]
+
+
+class ArmLimits(enum.StrEnum):
+    """What a program for a real arm is checked against: the real arm's limits, or the
+    Webots model's."""
+
+    REAL = "real"
+    WEBOTS = "webots"
 
 
 def _where(d: Diagnostic, imported: Imported, motion: Motion) -> str:
@@ -184,6 +196,38 @@ def motion_findings(
             stops = d.severity is Severity.ERROR or (for_robot and d.severity is Severity.WARNING)
             (blocking if stops else other).append(line)
     return blocking, other
+
+
+def robot_limits(limits: ArmLimits | None, spec: RobotSpec | None, option: str) -> RobotSpec | None:
+    """The robot a program for a real arm is checked against: the real arm
+    (:func:`~motiontool.kinematics.real_ur5e.real_arm`) where ``limits`` is ``real``, or is
+    None and the real arm is known; else ``spec`` (the Webots model's limits)."""
+    from motiontool.kinematics.real_ur5e import REAL_ARMS, real_arm
+
+    if spec is None or limits is ArmLimits.WEBOTS:
+        return spec
+    if spec.name in REAL_ARMS:
+        return real_arm(spec)
+    if limits is ArmLimits.REAL:
+        known = ", ".join(sorted(REAL_ARMS))
+        raise MotionToolError(
+            f"{option} real: the real arm's limits are known for {known}, not for robot "
+            f"{spec.name}; give {option} webots to check against its model"
+        )
+    return spec
+
+
+def real_arm_findings(
+    stream: RobotStream, keyframes: bool, timestep_ms: int, what: str
+) -> list[str]:
+    """What a URScript program asks of the real arm beyond its speed, acceleration and
+    control cycle (:mod:`motiontool.kinematics.real_ur5e`): ``movej``'s trapezoids with
+    ``keyframes``, else the ``servoj`` stream's accelerations and ``t``."""
+    from motiontool.kinematics.real_ur5e import movej_findings, servoj_findings
+
+    if keyframes:
+        return movej_findings(stream, what)
+    return servoj_findings(stream, timestep_ms, what)
 
 
 def stream_findings(stream: RobotStream, spec: RobotSpec, what: str) -> list[str]:

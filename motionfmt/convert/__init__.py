@@ -102,7 +102,7 @@ FORMATS: tuple[Format, ...] = (
         write=write_urscript,
         for_robot=True,
         default_robot="ur5e",
-        uses=frozenset({"joint_order"}),
+        uses=frozenset({"joint_order", "limits"}),
     ),
     Format(
         "ros-trajectory",

@@ -11,6 +11,9 @@ is UR's servo controller. With ``keyframes``: one ``movej`` per keyframe, ``t`` 
 duration and blend radius ``r = 0`` (the arm reaches, and stops at, every keyframe: UR's joint
 profile between them, not Webots' straight lines; no deviation is claimed).
 
+The program ends by calling its ``def``, so that it runs as it is pasted or sent (to the
+controller's port 30002, say), not only once something calls it.
+
 Every one of the arm's joints (``ExportOptions.joint_order``, the robot's motor order) needs a
 target from the first step on: ``servoj`` sets all six.
 """
@@ -133,7 +136,8 @@ def _program(
         f"  movej({first}, a={HOME_ACCEL_RAD_S2}, v={HOME_SPEED_RAD_S})",
     ]
     out = io.BytesIO()
-    for line in itertools.chain(head, body, ["  stopj(2.0)", "end"]):
+    tail = ["  stopj(2.0)", "end", "motiontool_motion()"]  # runs as pasted, or sent as a file
+    for line in itertools.chain(head, body, tail):
         out.write(line.encode("utf-8", "surrogateescape"))
         out.write(b"\n")
     return out.getvalue()

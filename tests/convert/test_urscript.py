@@ -52,7 +52,7 @@ def test_servoj_targets_are_webots_stream_bit_for_bit(path: Path) -> None:
     assert np.array_equal(got.view(np.int64), want.view(np.int64))
     assert np.array_equal(home.view(np.int64), want[0].view(np.int64))
     assert {a for n, _, a in servo} == {", t=0.008, lookahead_time=0.1, gain=300"}
-    assert script.rstrip().endswith("stopj(2.0)\nend")
+    assert script.endswith("  stopj(2.0)\nend\nmotiontool_motion()\n")  # runs as pasted
 
 
 def test_keyframes_are_one_movej_each_with_its_time() -> None:
@@ -120,7 +120,8 @@ def test_the_stream_check_catches_a_jump_and_a_limit() -> None:
 
 
 def test_the_command_reports_a_bit_identical_stream(tmp_path: Path) -> None:
-    result = CliRunner().invoke(app, ["convert", str(ARM[0]), str(tmp_path / "a.script")])
+    args = ["convert", str(ARM[0]), str(tmp_path / "a.script"), "--limits", "webots"]
+    result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.stderr
     assert "worst deviation from Webots' command stream: 0 rad (bit-identical)" in result.stderr
     assert "checked against robot ur5e: clean" in result.stderr
