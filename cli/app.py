@@ -240,7 +240,7 @@ _COMMANDS: dict[str, tuple[str, str, str]] = {
     "play": (
         "play",
         "play_command",
-        "Play motion files headlessly in MuJoCo as a Webots controller would, and report the",
+        "Play motion files in MuJoCo as a Webots controller would, live in a Rerun viewer or",
     ),
     "batch": (
         "batch",

@@ -16,6 +16,14 @@ from motiontool.cli.chain_options import (
 )
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver, Settings
 from motiontool.cli.jsontext import dumps
+from motiontool.cli.live import (
+    ConnectOption,
+    FastOption,
+    HeadlessOption,
+    SpeedOption,
+    live_view,
+    stopped,
+)
 from motiontool.cli.options import Timestep, finite, robot_option
 from motiontool.cli.output import (
     emit,
@@ -53,9 +61,9 @@ from motiontool.cli.text import file_name, plural, shown
 from motiontool.errors import MotionToolError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import is_stdout
+from motiontool.sim.live import LiveView, ViewerClosed
 
 if TYPE_CHECKING:
-    from motiontool.sim.bag import BagTarget
     from motiontool.sim.play import PlayOptions
     from motiontool.sim.robustness import Robustness
     from motiontool.sim.session import PlayPlan, PlayResult
@@ -66,9 +74,6 @@ __all__ = ["play_command"]
 _Files = Annotated[
     list[Path],
     typer.Argument(help="Motion files, played one after another ('-': stdin).", show_default=False),
-]
-_Headless = Annotated[
-    bool, typer.Option("--headless", help="Run without a viewer (the only mode there is).")
 ]
 _Json = Annotated[
     Path | None,
@@ -104,7 +109,10 @@ _Seed = Annotated[int, typer.Option("--seed", help="Seed of random draws (stampe
 
 def play_command(
     files: _Files,
-    headless: _Headless = False,
+    headless: HeadlessOption = False,
+    connect: ConnectOption = None,
+    speed: SpeedOption = None,
+    fast: FastOption = False,
     json_path: _Json = None,
     rrd: _Rrd = None,
     bag: BagOption = None,
@@ -134,16 +142,18 @@ def play_command(
     config: ConfigOption = None,
     isolated: IsolatedOption = False,
 ) -> None:
-    """Play motion files headlessly in MuJoCo as a Webots controller would, and report the run.
+    """Play motion files in MuJoCo as a Webots controller would, live in a Rerun viewer or
+    headless (--headless), and report the run.
 
-    Motors follow Webots' law: the target is clipped to the motor limits, a P controller
-    (P = 10) makes a velocity command capped at maxVelocity, a velocity servo limited to
-    maxTorque realises it. Exit code 0 when the run is clean, 1 when the robot fell, collided,
-    MuJoCo raised a warning or an expectation (--expect, motions.toml) is not met, 2 on error.
-    --json and --rrd are written in every case. With --robustness N, each verdict holds,
-    is fragile (a warning; exit 1 with --strict) or fails.
+    Live: a viewer is spawned (or --connect URL), paced at real time (--speed X, --fast).
+    Motors follow Webots' law: the target clipped to the motor limits, a P controller (P = 10)
+    makes a velocity command capped at maxVelocity, a velocity servo limited to maxTorque
+    realises it. Exit 0 when the run is clean, 1 when the robot fell, collided, MuJoCo warned
+    or an expectation (--expect, motions.toml) is not met, 2 on error. --json and --rrd are
+    written in every case. --robustness N: each verdict holds, is fragile or fails.
     """
-    inputs = _check_outputs(files, world, robot_node, headless=headless, json=json_path, rrd=rrd)
+    live = live_view(headless, connect, speed, fast)
+    inputs = _check_outputs(files, world, robot_node, json=json_path, rrd=rrd)
     check_robustness(robustness, files, strict, executor)
     check_bag(bag, inputs, {"--json": json_path, "--rrd": rrd})
     planned, robot, options = _plan(
@@ -156,8 +166,7 @@ def play_command(
         playback=(timestep, reverse, hold, seed),
         physics=(profile, physics_step, friction, self_collision),
     )
-    result = _run(planned, robot, options, rrd=rrd, bag=bag_target(bag, bag_start))
-    say_bag(result, bag)
+    result = _run(planned, robot, options, rrd=rrd, bag=(bag, bag_start), live=live)
     ensemble = robustness_of(result, planned, options, n=robustness, run=(executor, jobs, no_cache))
     _render(result, json_path, rrd, (ensemble, strict))
 
@@ -224,9 +233,16 @@ def _config_step(settings: Settings, planned: PlayPlan) -> int | None:
 
 
 def _run(
-    planned: PlayPlan, robot: str, options: PlayOptions, *, rrd: Path | None, bag: BagTarget | None
+    planned: PlayPlan,
+    robot: str,
+    options: PlayOptions,
+    *,
+    rrd: Path | None,
+    bag: tuple[Path | None, int | None],
+    live: LiveView | None,
 ) -> PlayResult:
-    """The run of ``planned``, its progress shown as it goes."""
+    """The run of ``planned``, its progress shown as it goes (``bag``: --bag and --bag-start,
+    said after the run; ``live``: shown live, a viewer that closes ends the command)."""
     with progress("play") as step:
         names = ", ".join(file_name(f) for f in planned.files)
         cycles = sum(options.chain_loops) or options.loops * len(planned.files)
@@ -236,7 +252,19 @@ def _run(
         def simulated(done_s: float, total_s: float) -> None:
             step(f"{label}: {done_s:,.0f} of {total_s:,.0f} s simulated")
 
-        return planned.run(robot=robot, options=options, rrd=rrd, bag=bag, progress=simulated)
+        try:
+            result = planned.run(
+                robot=robot,
+                options=options,
+                rrd=rrd,
+                bag=bag_target(*bag),
+                progress=simulated,
+                live=live,
+            )
+        except ViewerClosed as exc:
+            stopped(exc)
+    say_bag(result, bag[0])
+    return result
 
 
 def _check_outputs(
@@ -244,22 +272,16 @@ def _check_outputs(
     world: Path | None,
     robot_node: str | None,
     *,
-    headless: bool,
     json: Path | None,
     rrd: Path | None,
 ) -> list[Path]:
-    """Only headless, --robot-node only with --world, no output over an input (the motions,
+    """--robot-node only with --world, no output over an input (the motions,
     the world) or over another, the extras installed: exit 2 before anything runs. Returns the
     input files."""
     if robot_node is not None and world is None:
         raise MotionToolError("--robot-node names a robot node of --world: pass --world FILE.wbt")
     json_path = json
     files = files if world is None else [*files, world]
-    if not headless:
-        raise MotionToolError(
-            "only headless playback exists (there is no viewer); pass --headless, and --rrd "
-            "to look at the run in Rerun"
-        )
     refuse_overwrite(json_path, files, "--json")
     refuse_overwrite(rrd, files, "--rrd")
     refuse_shared_outputs({"--json": json_path, "--rrd": rrd})

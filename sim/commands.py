@@ -74,6 +74,7 @@ def command_stream(
     reverse: bool = False,
     loops: int | Sequence[int] = 1,
     hold_steps: int = 0,
+    chunk_steps: int | None = None,
 ) -> CommandChunks:
     """The targets in force at each control step of the sequence ``motions``, in chunks.
 
@@ -85,6 +86,7 @@ def command_stream(
         reverse, loops: Webots' reverse and loop modes, applied to each motion (``loops``: one
             count for every motion, or one per motion: the elements of a chain).
         hold_steps: steps appended after the last motion, with no command.
+        chunk_steps: steps a chunk holds at most (None: :data:`CHUNK_STEPS`).
 
     Raises:
         PlaybackNeverEndsError: a motion never stops at this time step: before any chunk.
@@ -105,7 +107,7 @@ def command_stream(
         )
     motors = set(joints)
     ignored = list(dict.fromkeys(n for m in motions for n in m.joints if n not in motors))
-    size = CHUNK_STEPS  # read when called: a test may set it
+    size = chunk_steps or CHUNK_STEPS  # read when called: a test may set it
     streams = _streams(motions, joints, timestep_ms, reverse, counts, hold_steps, size)
     return CommandChunks(_sized(_held(streams, joints, initial), size), lengths, ignored, steps)
 

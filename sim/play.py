@@ -37,11 +37,13 @@ from motiontool.sim.measure import LIMIT_TOLERANCE, TORQUE_CAP_FRACTION, RunMete
 from motiontool.sim.physics import read_back, resolve_physics
 from motiontool.sim.play_options import PlayOptions
 from motiontool.sim.report import FileRun, PlayReport
+from motiontool.sim.self_collision import self_collision, self_collision_doc
 from motiontool.sim.start import StartState
 from motiontool.sim.trace import Trace
 
 if TYPE_CHECKING:
     from motiontool.sim._mujoco import Scene
+    from motiontool.sim.live import LiveView
     from motiontool.sim.physics import Physics
     from motiontool.sim.recording import RunRecorder
     from motiontool.sim.world_run import WorldRun
@@ -101,6 +103,7 @@ def play(
     bag: str | Path | BagTarget | None = None,
     progress: Progress | None = None,
     world: WorldRun | None = None,
+    live: LiveView | None = None,
 ) -> PlayReport:
     """Play ``motions`` one after another on ``robot`` and measure the run.
 
@@ -119,6 +122,8 @@ def play(
         progress: called after each chunk of the run with the simulated seconds done and in
             all (for a progress display).
         world: what the run takes of a Webots world (:mod:`motiontool.sim.world_run`).
+        live: show the run live as it is recorded, paced (:mod:`motiontool.sim.live`; raises
+            its :class:`~motiontool.sim.live.ViewerClosed` when the viewer goes away).
 
     Raises:
         MotionToolError: a file Webots would reject, a bad option, or no robot
@@ -135,17 +140,21 @@ def play(
     labels = _names(motions, names)
     spec = robot if isinstance(robot, RobotSpec) else resolve_robot(robot, _columns(loaded))
     timestep, physics, scene = _setup(spec, opts, loaded[0], world)
-    stream = _commands(loaded, scene, timestep, opts)
+    stream = _commands(
+        loaded, scene, timestep, opts, None if live is None else live.chunk_steps(timestep)
+    )
     meter, elements = RunMeter(scene, opts), _elements(labels, stream, timestep, opts, scene)
     tool = _tool_meter(scene, loaded, stream.lengths, timestep, opts)
     all_stamps = _all_stamps(stamps, scene, timestep, opts)
-    with _recorder(rrd, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
+    with _recorder(rrd, live, scene, all_stamps, labels) as recorder, _bag(bag, scene) as run_bag:
         events = _markers(scene, opts) if recorder else None
-        takers = (meter, tool, events, recorder, run_bag, _Progress.of(progress, stream, scene))
-        _simulate(scene, stream, (*takers, elements), record=(recorder, run_bag) != (None, None))
+        pacer = None if live is None else live.pacer()  # before the recorder: shown when due
+        takers = (meter, tool, events, pacer, recorder, run_bag, elements)
+        told = _Progress.of(progress, stream, scene)
+        _simulate(scene, stream, (*takers, told), record=(recorder, run_bag) != (None, None))
         report = _report(meter, elements.files(), loaded, physics, all_stamps, stream.ignored)
         report.world = None if world is None else _world_doc(world, opts, timestep, physics)
-        report.self_collision = _self_collision_doc(scene, opts, world, meter)
+        report.self_collision = self_collision_doc(scene, opts, world, meter)
         report.end_effector = None if tool is None else tool.stats()
         if recorder is not None and events is not None:
             recorder.finish(events.markers(report.files), report.end_effector, report.world)
@@ -178,40 +187,6 @@ def _world_doc(
         friction_given=opts.floor_friction is not None,
         self_collision_given=opts.self_collision is not None,
     )
-
-
-def _self_collision(opts: PlayOptions, placed: WorldRun | None) -> bool | None:
-    """Self-collision physics: the option's, else the world's ``selfCollision``, else None
-    (as the robot's model has it)."""
-    if opts.self_collision is not None:
-        return opts.self_collision
-    return None if placed is None else placed.world.robot.self_collision
-
-
-def _self_collision_doc(
-    scene: Scene, opts: PlayOptions, placed: WorldRun | None, meter: RunMeter
-) -> dict[str, Any]:
-    """The report's ``self_collision``: whether the robot's parts collided with each other in
-    the simulation, why, and how many pairs of bodies touched."""
-    if opts.self_collision is not None:
-        source = "option"
-        why = "asked for" if opts.self_collision else "turned off, whatever the world says"
-    elif placed is not None:
-        robot = placed.world.robot
-        value = "TRUE" if robot.self_collision else "FALSE"
-        source = "world"
-        why = f"{robot.type} {robot.name!r}.selfCollision {value}, line {robot.line}"
-    else:
-        source = "robot model"
-        why = f"{scene.robot.name}'s model: as the robot's Webots PROTO has selfCollision"
-    touched = meter.self_contacts()
-    return {
-        "physics": scene.self_collision,
-        "source": source,
-        "why": why,
-        "touching_pairs": len(touched),
-        "touching_s": round(sum(c.duration_s for c in touched), 9),
-    }
 
 
 def _physics(timestep_ms: int, opts: PlayOptions, placed: WorldRun | None) -> Physics:
@@ -287,34 +262,44 @@ def _bag(target: str | Path | BagTarget | None, scene: Scene) -> Iterator[RunBag
 
 @contextlib.contextmanager
 def _recorder(
-    rrd: str | Path | None, scene: Scene, stamps: dict[str, Any], names: Sequence[str]
+    rrd: str | Path | None,
+    live: LiveView | None,
+    scene: Scene,
+    stamps: dict[str, Any],
+    names: Sequence[str],
 ) -> Iterator[RunRecorder | None]:
-    """The Rerun recording of the run, to ``rrd`` (None: no recording)
+    """The Rerun recording of the run, to ``rrd`` and ``live`` (both None: no recording)
     (:class:`motiontool.sim.recording.RunRecorder`): its temporary file is removed however
     the run ends."""
-    if rrd is None:
+    if rrd is None and live is None:
         yield None
         return
     from motiontool.sim import _mujoco, recording
 
     with recording.RunRecorder(
-        Path(rrd),
+        None if rrd is None else Path(rrd),
         _mujoco.scene_shapes(scene),
         limits=scene.limits,
         joints=scene.joints,
         joint_limbs=scene.joint_limbs,
         properties={k: "" if v is None else str(v) for k, v in stamps.items()},
         name=" + ".join(Path(n).name for n in names) + f" on {scene.robot.name}",
+        live=live,
     ) as recorder:
         yield recorder
 
 
 def _commands(
-    motions: Sequence[Motion], scene: Scene, timestep_ms: int, opts: PlayOptions
+    motions: Sequence[Motion],
+    scene: Scene,
+    timestep_ms: int,
+    opts: PlayOptions,
+    chunk_steps: int | None = None,
 ) -> CommandChunks:
     """The command stream of ``motions`` on the scene's motors (:func:`command_stream`, from
-    the positions the scene starts at, then ``opts.hold_s`` of holding); the columns that are
-    no motor are logged, as Webots warns of them."""
+    the positions the scene starts at, then ``opts.hold_s`` of holding, in chunks of
+    ``chunk_steps``, else the usual ones); the columns that are no motor are logged, as Webots
+    warns of them."""
     stream = command_stream(
         motions,
         scene.joints,
@@ -323,6 +308,7 @@ def _commands(
         reverse=opts.reverse,
         loops=_loops(opts, len(motions)),
         hold_steps=round(opts.hold_s * MS_PER_S / timestep_ms),
+        chunk_steps=chunk_steps,
     )
     for name in stream.ignored:
         log.info(
@@ -439,7 +425,7 @@ def _scene(
         torque_scale=opts.torque_scale,
         start_yaw_deg=yaw,
         p_gain=opts.p_gain,
-        self_collision=_self_collision(opts, placed),
+        self_collision=self_collision(opts, placed),
         **world_scene,
     )
 

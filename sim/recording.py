@@ -44,6 +44,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import OutputError
 from motiontool.extras import require
 from motiontool.motionfmt.fileio import atomic_write, open_output
+from motiontool.sim.live import LiveView, attach
 from motiontool.sim.recording_paths import Thinned, thin
 from motiontool.sim.recording_shapes import log_shapes
 from motiontool.sim.recording_world import WORLD_ENTITY, log_world
@@ -107,10 +108,10 @@ and its last one): the trail of a long run holds 400 x 1000 points, not 400 x it
 
 
 def _stream(
-    name: str, properties: Mapping[str, str], file: Path | None = None
+    name: str, properties: Mapping[str, str], file: Path | None = None, live: LiveView | None = None
 ) -> tuple[rerun.RecordingStream, rerun.MemoryRecording | None]:
-    """A recording stream into memory (None: into ``file``, as it is logged), with its name
-    and stamps.
+    """A recording stream into memory (None: into ``file``, as it is logged, and to ``live``'s
+    viewer), with its name and stamps.
 
     Every recording starts here, so this is where a missing rerun is one line naming
     ``motiontool[rerun]``; rerun ships its own types (``py.typed``), so the helpers below import
@@ -118,11 +119,14 @@ def _stream(
     require("rerun", "rerun", "a Rerun recording")
     import rerun as rr
 
-    recording_id = uuid.uuid5(uuid.NAMESPACE_URL, name + repr(sorted(properties.items())))
+    run = name + repr(sorted(properties.items()))  # one id a run; live, one a take (a new one)
+    recording_id = uuid.uuid4() if live else uuid.uuid5(uuid.NAMESPACE_URL, run)
     rec = rr.RecordingStream(APPLICATION_ID, recording_id=recording_id, send_properties=False)
     memory = None
     if file is None:
         memory = rec.memory_recording()
+    elif live is not None:
+        attach(rec, live, file)
     else:
         rec.save(file)
     rec.send_recording_name(name)
@@ -161,14 +165,15 @@ class RunRecorder:
     run's duration; :meth:`finish` copies that file to ``path`` as every output is written
     (:func:`motiontool.motionfmt.fileio.open_output`: a regular file whole or not at all, a
     FIFO or a device straight through). :meth:`close` (also on leaving a ``with`` block)
-    removes the temporary file. The root body's whole path keeps at most
+    removes the temporary file. With ``live``, what is logged is also shown live
+    (:mod:`motiontool.sim.live`; no ``path``: only there). The root body's whole path keeps at most
     :data:`BASE_TRAIL_POINTS` of its frames (every other one, then every fourth, ..., as the
     run goes on); its position at every frame is logged in full.
     """
 
     def __init__(
         self,
-        path: Path,
+        path: Path | None,
         shapes: Sequence[BodyShapes],
         *,
         limits: MotorLimits,
@@ -176,6 +181,7 @@ class RunRecorder:
         joint_limbs: Sequence[str],
         properties: Mapping[str, str],
         name: str,
+        live: LiveView | None = None,
     ) -> None:
         import rerun as rr
 
@@ -187,12 +193,14 @@ class RunRecorder:
                 f"cannot write the recording '{path}': no temporary folder: {exc.strerror or exc}"
             ) from exc
         try:  # stopped here (an error, SIGTERM): no temporary folder left behind
-            self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd")
+            self.rec, _ = _stream(name, properties, Path(self._folder.name) / "run.rrd", live)
             self.rec.log("/world", rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
             self._entities = _joint_entities(joints, joint_limbs)
             colors = _limb_color(shapes)
             for body in shapes:
                 log_shapes(self.rec, _body_entity(body), body, colors.get(body.limb, _SCENE))
+            if live is not None:  # the layout from the start (again at the end, with the world)
+                self.rec.send_blueprint(_blueprint(self._limbs(), world=False))
         except BaseException:
             self.close()
             raise
@@ -205,6 +213,13 @@ class RunRecorder:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+    def _limbs(self) -> dict[str, list[str]]:
+        """Each limb's joint entities."""
+        limbs: dict[str, list[str]] = {}
+        for limb, base in zip(self.joint_limbs, self._entities, strict=True):
+            limbs.setdefault(limb, []).append(base)
+        return limbs
 
     def close(self) -> None:
         """Stop logging and remove the temporary file (the recording is lost unless
@@ -256,10 +271,7 @@ class RunRecorder:
             _log_events(rec, markers)
         if world is not None:
             log_world(rec, world)
-        limbs: dict[str, list[str]] = {}
-        for limb, base in zip(self.joint_limbs, self._entities, strict=True):
-            limbs.setdefault(limb, []).append(base)
-        rec.send_blueprint(_blueprint(limbs, world=world is not None))
+        rec.send_blueprint(_blueprint(self._limbs(), world=world is not None))
         try:
             rec.flush()
         except RuntimeError as exc:  # the file sink stopped: a full or unwritable disk
@@ -268,6 +280,8 @@ class RunRecorder:
                 f"{tempfile.gettempdir()} could not be written ({exc}); is that disk full?"
             ) from exc
         rec.disconnect()
+        if self.path is None:
+            return
         with open_output(self.path) as sink, open(Path(self._folder.name) / "run.rrd", "rb") as f:
             while block := f.read(1 << 20):
                 sink.write(block)

@@ -30,6 +30,7 @@ from motiontool.kinematics.robots import AUTO, resolve_robot
 from motiontool.motionfmt.fileio import is_stdin, source_name
 from motiontool.sim.bag import BagTarget
 from motiontool.sim.expect import Expectation, evaluate, parse_expectations
+from motiontool.sim.live import LiveView
 from motiontool.sim.play import PlayOptions, Progress, play, read_playable
 from motiontool.sim.report import SCHEMA, SCHEMA_VERSION, PlayReport
 from motiontool.sim.sidecar import Sidecar, SidecarEntry, after_path, lookup
@@ -213,6 +214,7 @@ class PlayPlan:
         rrd: Path | None = None,
         bag: Path | BagTarget | None = None,
         progress: Progress | None = None,
+        live: LiveView | None = None,
     ) -> PlayResult:
         """Read the files, resolve ``robot`` on their joints, play them with ``options`` (its
         ``start`` replaced by the plan's), judge the expectations on the report.
@@ -224,6 +226,8 @@ class PlayPlan:
                 holds the stamps and the error).
             bag: write a ROS 2 bag of the run there (:mod:`motiontool.sim.bag`), when it ran.
             progress: told how far the run is (:func:`motiontool.sim.play.play`).
+            live: show the run live (:mod:`motiontool.sim.live`); a viewer that goes away
+                raises :class:`~motiontool.sim.live.ViewerClosed`.
 
         Returns:
             The result; a :class:`MotionToolError` before the simulation starts (a file Webots
@@ -247,6 +251,7 @@ class PlayPlan:
                 bag=bag,
                 progress=progress,
                 world=in_world,
+                live=live,
             )
             report.expectations = evaluate(self.motion.expectations, report)
         except MotionToolError as exc:

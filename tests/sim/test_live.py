@@ -1,0 +1,202 @@
+"""``play``'s live view: streamed to a real Rerun server (the ``rerun`` program, headless, saving
+what it receives), the same recording as ``--rrd``; paced on an injected clock; a viewer that
+goes away ends the run; no display and no server: one line, exit 2."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import warnings
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+import typer
+from rrds import rrd_contents
+from typer.testing import CliRunner
+
+from motiontool.cli.app import app
+
+pytestmark = pytest.mark.needs("sim", "rerun")
+
+runner = CliRunner()
+
+NOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:300,B,0.6,-0.3\n00:00:600,C,0,0\n"
+SERVER_START_S = 30.0
+"""Wall-clock seconds the Rerun server has to listen (a loaded machine is slow to start it)."""
+
+
+@pytest.fixture
+def nod(tmp_path: Path) -> Path:
+    path = tmp_path / "nod.motion"
+    path.write_bytes(NOD)
+    return path
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+        return port
+
+
+class Server:
+    """``rerun --port P --save FILE``: a Rerun server without a viewer that saves what it gets."""
+
+    def __init__(self, save: Path) -> None:
+        self.port, self.save = _free_port(), save
+        rerun = Path(sys.executable).with_name("rerun")
+        self.proc = subprocess.Popen(
+            [str(rerun), "--port", str(self.port), "--save", str(save)],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+            start_new_session=True,  # its own group: stopped with the program it starts
+        )
+        deadline = time.monotonic() + SERVER_START_S
+        while not self._listening():
+            assert self.proc.poll() is None, "the rerun server exited"
+            assert time.monotonic() < deadline, "the rerun server does not listen"
+            time.sleep(0.1)
+
+    @property
+    def url(self) -> str:
+        return f"rerun+http://127.0.0.1:{self.port}/proxy"
+
+    def _listening(self) -> bool:
+        try:
+            socket.create_connection(("127.0.0.1", self.port), timeout=1).close()
+        except OSError:
+            return False
+        return True
+
+    def stop(self) -> None:
+        """Ctrl-C, as a person stops it: it writes what it got and exits."""
+        if self.proc.poll() is None:
+            os.killpg(self.proc.pid, signal.SIGINT)
+            try:
+                self.proc.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+                self.proc.wait()
+
+
+@pytest.fixture
+def server(tmp_path: Path) -> Iterator[Server]:
+    s = Server(tmp_path / "live.rrd")
+    try:
+        yield s
+    finally:
+        s.stop()
+
+
+def _read(path: Path) -> dict[str, list[Any]]:
+    """The recording's contents; a stream saved by a stopped server has no footer (Rerun says
+    so in a warning)."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="RRD file has no footer")
+        return rrd_contents(path)
+
+
+def _frames(contents: dict[str, list[Any]]) -> dict[str, int]:
+    """Entity -> how many rows it has on the ``sim_time`` timeline."""
+    out = {}
+    for entity, batches in contents.items():
+        rows = [b.num_rows for b in batches if "sim_time" in b.schema.names]
+        if rows:
+            out[entity] = sum(rows)
+    return out
+
+
+def test_connect_streams_what_rrd_writes(nod: Path, tmp_path: Path, server: Server) -> None:
+    live = runner.invoke(app, ["play", str(nod), "--connect", server.url, "--fast"])
+    assert live.exit_code == 0, live.output
+    assert "result: clean" in live.stdout
+    rrd = tmp_path / "run.rrd"
+    written = runner.invoke(app, ["play", str(nod), "--headless", "--rrd", str(rrd)])
+    assert written.exit_code == 0, written.output
+    server.stop()
+
+    streamed, recorded = _read(server.save), _read(rrd)
+    assert set(streamed) == set(recorded)
+    assert "/world/robot/torso" in streamed and "/joints/Head/HeadYaw/measured" in streamed
+    frames = _frames(streamed)
+    assert frames == _frames(recorded)
+    assert frames["/world/robot/torso"] == 82  # 1.62 s at 20 ms: 81 steps, 82 frames
+
+
+def test_paced_view_shows_each_chunk_when_its_time_has_come(nod: Path, server: Server) -> None:
+    from motiontool.sim import play
+    from motiontool.sim.live import LiveView
+
+    now = [0.0]
+    slept: list[float] = []
+
+    def sleep(s: float) -> None:
+        slept.append(s)
+        now[0] += s
+
+    live = LiveView(server.url, speed=2.0, clock=lambda: now[0], sleep=sleep)
+    report = play([nod], live=live)
+    # 1.62 s simulated, at twice real time: 0.81 s of the injected clock, in 0.1 s chunks.
+    assert now[0] == pytest.approx(report.simulated_s / 2)
+    assert len(slept) == 17 and max(slept) == pytest.approx(0.05)
+
+
+def test_a_viewer_that_closes_ends_the_run_with_a_note(nod: Path, server: Server) -> None:
+    from motiontool.sim import play
+    from motiontool.sim.live import LiveView, ViewerClosed
+
+    now = [0.0]
+
+    def sleep(s: float) -> None:
+        now[0] += s
+        if now[0] > 0.3:  # the person closes the viewer 0.3 s into the run
+            server.stop()
+
+    live = LiveView(server.url, clock=lambda: now[0], sleep=sleep)
+    with pytest.raises(ViewerClosed, match=r"closed at 0\.[4-6]\d s simulated"):
+        play([nod], live=live)
+
+    from motiontool.cli.live import stopped
+
+    with pytest.raises(typer.Exit) as exit_:
+        stopped(ViewerClosed(0.5, server.url))
+    assert exit_.value.exit_code == 0
+
+
+def test_without_a_display_or_a_server_it_says_what_to_pass(
+    nod: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    result = runner.invoke(app, ["play", str(nod)])
+    assert result.exit_code == 2
+    (line,) = result.stderr.splitlines()
+    assert all(flag in line for flag in ("--headless", "--rrd", "--connect")), line
+    assert "Traceback" not in result.output
+
+
+def test_nothing_at_the_url_is_one_line_exit_2(nod: Path) -> None:
+    url = f"rerun+http://127.0.0.1:{_free_port()}/proxy"
+    result = runner.invoke(app, ["play", str(nod), "--connect", url, "--fast"])
+    assert result.exit_code == 2
+    assert result.stderr == f"motiontool: error: no Rerun viewer or server answers at {url}\n"
+
+
+@pytest.mark.parametrize(
+    ("args", "said"),
+    [
+        (["--headless", "--fast"], "--fast is for the live view"),
+        (["--fast", "--speed", "2"], "pass one"),
+        (["--speed", "0", "--connect", "rerun+http://127.0.0.1:1/proxy"], "positive number"),
+        (["--connect", "http://example.org"], "not a Rerun viewer's URL"),
+    ],
+)
+def test_contradicting_view_options_are_refused(nod: Path, args: list[str], said: str) -> None:
+    result = runner.invoke(app, ["play", str(nod), *args])
+    assert result.exit_code == 2 and said in result.stderr, result.output
