@@ -23,7 +23,6 @@ from motiontool.kinematics.checks import (
     RobotChecks,
     parse_checks,
 )
-from motiontool.kinematics.robot_fixes import planner
 from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
@@ -401,6 +400,8 @@ def _planner(
     }
     if not codes:
         return None
+    from motiontool.kinematics.robot_fixes import planner  # the syntax level plans none
+
     return planner(spec, str(path), codes, step_ms=timestep or spec.default_timestep_ms)
 
 

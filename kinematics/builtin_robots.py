@@ -16,13 +16,15 @@ import functools
 import hashlib
 import json
 import math
-import xml.etree.ElementTree as ET
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool.kinematics.robot_spec import JointSpec, RobotSpec
 from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
+
+if TYPE_CHECKING:
+    import xml.etree.ElementTree as ET
 
 __all__ = [
     "BUILTIN_ROBOTS",
@@ -119,6 +121,8 @@ def builtin(name: str) -> RobotSpec:
 def parse_mjcf_table(path: Path) -> RobotSpec:
     """Joint table of a built-in MJCF: joints' ``range``/``actuatorfrcrange``, velocity
     actuators' ``ctrlrange`` (maxVelocity) and the ``custom`` entries written by _modelgen."""
+    import xml.etree.ElementTree as ET  # a robot's model is parsed only where it is used
+
     raw = path.read_bytes()
     root = ET.fromstring(raw)
     velocity = velocity_actuators(root)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import difflib
 import hashlib
 import sys
-import xml.etree.ElementTree as ET
 from dataclasses import replace
 from pathlib import Path
 from typing import Literal
@@ -145,6 +144,8 @@ def from_pinocchio(
     if fmt == "mjcf":
         # Pinocchio reads no velocity limit from MJCF; take motiontool's convention (a
         # <velocity> actuator's ctrlrange) where the file follows it.
+        import xml.etree.ElementTree as ET
+
         velocity = velocity_actuators(ET.fromstring(raw))
         joints = tuple(
             replace(j, max_velocity=velocity[j.name]) if j.name in velocity else j for j in joints

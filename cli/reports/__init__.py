@@ -14,23 +14,16 @@ modules.
 from __future__ import annotations
 
 import enum
+import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from motiontool.cli.reports.common import PLAIN, Context, Order, Totals, Writer, summary
-from motiontool.cli.reports.github import GithubWriter
-from motiontool.cli.reports.gitlab import GitlabWriter
-from motiontool.cli.reports.json_report import JSON_SCHEMA_VERSION, JsonWriter
-from motiontool.cli.reports.junit import JunitWriter
-from motiontool.cli.reports.sarif import SARIF_SRCROOT, SarifWriter
-from motiontool.cli.reports.text import TextWriter
 
 __all__ = [
     "DEFAULT_FORMAT",
-    "JSON_SCHEMA_VERSION",
     "PLAIN",
     "REPORTS",
-    "SARIF_SRCROOT",
     "Context",
     "FormatName",
     "Order",
@@ -46,25 +39,41 @@ class ReportFormat:
     """One rendering of a validation report.
 
     Attributes:
-        writer: ``writer(context)``: the :class:`Writer` of one report in this format.
+        where: ``module:Class``, the :class:`Writer` class in this package (imported when a
+            report is written in this format: a run imports its format's module only).
         help: what it is for, in ``validate --help``.
         colors: whether it may use ANSI colours (on a terminal only).
         label: what a file of it is, in the ``wrote`` line of ``validate -o``.
     """
 
-    writer: Callable[[Context], Writer]
+    where: str
     help: str
     colors: bool = False
     label: str = "text"
 
+    @property
+    def writer(self) -> Callable[[Context], Writer]:
+        """``writer(context)``: the :class:`Writer` of one report in this format."""
+        module, name = self.where.split(":")
+        found: Callable[[Context], Writer] = getattr(
+            importlib.import_module(f"{__name__}.{module}"), name
+        )
+        return found
+
 
 REPORTS: dict[str, ReportFormat] = {
-    "text": ReportFormat(TextWriter, "for people", colors=True),
-    "json": ReportFormat(JsonWriter, "the versioned JSON report", label="JSON"),
-    "sarif": ReportFormat(SarifWriter, "SARIF 2.1.0 for code scanning", label="SARIF"),
-    "github": ReportFormat(GithubWriter, "GitHub Actions annotations", label="GitHub annotations"),
-    "gitlab": ReportFormat(GitlabWriter, "GitLab Code Quality", label="GitLab Code Quality"),
-    "junit": ReportFormat(JunitWriter, "JUnit XML, a test case per file", label="JUnit XML"),
+    "text": ReportFormat("text:TextWriter", "for people", colors=True),
+    "json": ReportFormat("json_report:JsonWriter", "the versioned JSON report", label="JSON"),
+    "sarif": ReportFormat("sarif:SarifWriter", "SARIF 2.1.0 for code scanning", label="SARIF"),
+    "github": ReportFormat(
+        "github:GithubWriter", "GitHub Actions annotations", label="GitHub annotations"
+    ),
+    "gitlab": ReportFormat(
+        "gitlab:GitlabWriter", "GitLab Code Quality", label="GitLab Code Quality"
+    ),
+    "junit": ReportFormat(
+        "junit:JunitWriter", "JUnit XML, a test case per file", label="JUnit XML"
+    ),
 }
 """Every report format of ``validate``, by the name ``--format`` takes."""
 
