@@ -243,7 +243,10 @@ def _byte_column(codec: PositionCodec, raw: bytes, character: int) -> int:
 
 
 def _diagnostic(report: FileReport, codec: PositionCodec, d: Diagnostic) -> lsp.Diagnostic:
-    fixes = report.fix_of(d)
+    """``d`` as LSP shows it; ``data`` says whether it has a fix and whether that is safe, as
+    the text report marks it (:meth:`~FileReport.fix_summary`: the robot's fixes are planned
+    only when a code action asks for them, not for every version typed)."""
+    summary = report.fix_summary(d)
     return lsp.Diagnostic(
         range=_range(report, codec, d.line, d.column, d.end_column or d.column + 1),
         message=d.message + (f"\nhint: {d.hint}" if d.hint else ""),
@@ -251,7 +254,7 @@ def _diagnostic(report: FileReport, codec: PositionCodec, d: Diagnostic) -> lsp.
         code=d.code,
         code_description=_code_description(d.code),
         source=SOURCE,
-        data={"fixable": bool(fixes), "safe": all(f.safe for f in fixes)} if fixes else None,
+        data=None if summary is None else {"fixable": True, "safe": summary[0]},
     )
 
 

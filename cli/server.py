@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from functools import partial
 from pathlib import Path
 
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
@@ -10,7 +9,7 @@ from motiontool.cli.lint_run import Overrides, lint_document
 from motiontool.cli.options import NoCacheOption
 from motiontool.cli.validate import robot_checks
 from motiontool.extras import require
-from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM
+from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM, RobotChecks
 from motiontool.kinematics.checks.findings_cache import MAX_BYTES, FindingsCache
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.validate import FileReport
@@ -32,12 +31,24 @@ def server_command(
     from motiontool.cli import lsp
 
     Resolver(config=config, isolated=isolated)  # a bad --config fails now, not in the editor
+    # The checks of each robot, checks and step, kept from one version to the next: what they
+    # found at the configurations an edit left as they were is not found again.
+    kept: dict[tuple[str, tuple[str, ...] | None, int | None], RobotChecks] = {}
 
     def lint(path: Path, data: bytes) -> tuple[FileReport, RobotSpec | None]:
         # Read afresh each time: an edited pyproject.toml applies to the next keystroke.
         resolver = Resolver(config=config, isolated=isolated)
         cache = None if no_cache else FindingsCache(read_only=not _saved(path, data))
-        checks = partial(robot_checks, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=cache)
+
+        def checks(robot: str, names: tuple[str, ...] | None, step: int | None) -> RobotChecks:
+            key = (robot, names, step)
+            if key not in kept:
+                kept[key] = robot_checks(
+                    robot, names, step, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=cache
+                )
+            kept[key].cache = cache
+            return kept[key]
+
         return lint_document(path, data, resolver, Overrides(), checks)
 
     lsp.build_server(lint).start_io()

@@ -26,6 +26,8 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.kinematics.distinct_rows import Known
+
 __all__ = ["DEFAULT_PENETRATION_TOLERANCE_MM", "Collision"]
 
 DEFAULT_PENETRATION_TOLERANCE_MM = 15.0
@@ -62,6 +64,10 @@ class Collision(GroupingCheck):
     ) -> None:
         super().__init__(spec)
         self.tolerance_mm = penetration_tolerance_mm
+        self._known: Known | None = None
+        """The contacts at each configuration met (the first ones), by every motion this check
+        scans: a cycle met again, or the rows an edit left as they were (``motiontool server``
+        keeps its checks from one version to the next), are not scanned again."""
 
     def _check(self, result: ReadResult, *, group: bool) -> Findings:
         import numpy as np
@@ -77,7 +83,9 @@ class Collision(GroupingCheck):
         n_poses = table.times.shape[0]
         times = np.empty(2 * n_poses - 1)
         by_pair: dict[tuple[str, str], dict[int, float]] = {}
-        known = Known()  # a cycle met again is not scanned again
+        if self._known is None:
+            self._known = Known()
+        known = self._known
         for lo in range(0, n_poses, _POSES):  # configuration 2 * lo is the block's first
             q, times[2 * lo : 2 * lo + 2 * _POSES] = configurations(
                 table, self.spec, lo, lo + _POSES
