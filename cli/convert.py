@@ -14,6 +14,7 @@ import typer
 from motiontool import exit_codes
 from motiontool.cli.convert_checks import (
     ArmLimits,
+    beyond_max_error,
     file_findings,
     motion_findings,
     real_arm_findings,
@@ -82,6 +83,8 @@ def _format(path: Path, given: str | None, option: str, can: str) -> Format:
         raise MotionToolError(f"{option} {given!r}: unknown format; choose one of {_NAMES[can]}")
     if found is None and not (is_stdin(path) or is_stdout(path)):
         found = format_of(str(path))
+    if found is None and can == "read" and path.is_dir():  # a ROS 2 bag's folder
+        found = next(f for f in FORMATS if f.read_folder is not None)
     if found is None:
         raise MotionToolError(
             f"cannot tell the format of '{path}' from its name; give {option} ({_NAMES[can]})"
@@ -144,11 +147,17 @@ def _recording(r: Recording, poses: int) -> list[str]:
     lines = [
         f"read {plural(r.messages, 'sensor_msgs/JointState message')} of {r.topic} "
         f"({r.duration_ms / MS_PER_S:g} s{rate})",
-        f"keyframes: {poses}, reduced within {num(r.max_error_rad)} rad (as resample "
-        "--max-error reduces them)",
+        f"keyframes: {poses}, reduced within {num(r.reduced_rad)} rad (as resample "
+        "--max-error reduces them)"
+        + (
+            ""
+            if r.reduced_rad == r.max_error_rad
+            else f" to keep within {num(r.max_error_rad)} rad"
+        ),
         f"worst deviation from the recording: {num(d.max_rad)} rad ({d.joint} at {d.at_ms} ms)",
         f"  compared: {d.compared}",
     ]
+    lines[1:1] = r.notes
     if r.merged:
         lines.insert(1, f"{plural(r.merged, 'sample')} left out: on a whole ms an earlier one has")
     return lines
@@ -443,7 +452,12 @@ def convert_command(
     refuse_overwrite(target, [source], "OUT", "write to another file")
     pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
     reading = _reading(fmt_in, topic, pairs, max_error, timestep, robot)
-    imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
+    if fmt_in.read_folder is not None and source.is_dir():
+        imported = fmt_in.read_folder(str(source), reading)
+    else:
+        imported = fmt_in.read(read_file(source), source_name(source), reading)  # type: ignore[misc]
+    if beyond := beyond_max_error(imported.recording, "--max-error"):
+        _refuse(beyond, "not written: on whole ms the motion cannot keep within it:")
     model = _robot(robot, fmt_out, imported.motion.joints)
     spec = robot_limits(limits, model, "--limits") if "limits" in fmt_out.uses else model
     step = timestep or (spec.default_timestep_ms if spec else DEFAULT_TIMESTEP_MS)

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 from motiontool.errors import MotionSyntaxError, MotionToolError
 from motiontool.kinematics.checks import COUPLING_TOLERANCE, EPS, Limits, UnknownJoints, Velocity
 from motiontool.kinematics.robots import RobotSpec, fmt_name, unknown_joint_message
-from motiontool.motionfmt.convert.base import Imported, RobotStream
+from motiontool.motionfmt.convert.base import Imported, Recording, RobotStream
 from motiontool.motionfmt.convert.joint_map import disagreement, to_ros
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.reader import read_bytes
@@ -38,6 +38,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ArmLimits",
+    "beyond_max_error",
     "file_findings",
     "motion_findings",
     "real_arm_findings",
@@ -196,6 +197,18 @@ def motion_findings(
             stops = d.severity is Severity.ERROR or (for_robot and d.severity is Severity.WARNING)
             (blocking if stops else other).append(line)
     return blocking, other
+
+
+def beyond_max_error(r: Recording | None, option: str) -> list[str]:
+    """One line where the motion made of a recording is farther from it than ``option``
+    (``--max-error``) allows though every sample on a whole ms was kept; else none."""
+    if r is None or r.within():
+        return []
+    d = r.deviation
+    return [
+        f"{option} {r.max_error_rad:.6g} rad: every sample kept, the motion is "
+        f"{d.max_rad:.6g} rad from the recording ({d.joint} at {d.at_ms} ms)"
+    ]
 
 
 def robot_limits(limits: ArmLimits | None, spec: RobotSpec | None, option: str) -> RobotSpec | None:

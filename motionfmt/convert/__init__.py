@@ -14,7 +14,8 @@
 * :mod:`.urscript`: a real UR arm: ``servoj`` at every control step (or ``movej`` per keyframe).
 * :mod:`.ros_trajectory`: a robot under ros2_control: a ``FollowJointTrajectory`` goal (YAML).
 * :mod:`.rosbag`: ROS 2 bags (MCAP): the command stream as ``sensor_msgs/JointState`` and the
-  trajectory; back, a recorded ``/joint_states`` as a motion with its keyframes reduced.
+  trajectory; back, a recorded ``/joint_states`` as a motion with its keyframes reduced, from
+  an ``.mcap`` or sqlite3 ``.db3`` file, a bag's folder, or a ROS 1 ``.bag``.
 
 A format for a real robot writes what reproduces Webots' command stream there and says how far
 it is from it (:class:`~.base.Deviation`); the robot checks of an export are the caller's (the
@@ -39,7 +40,7 @@ from motiontool.motionfmt.convert.motion_file import read_motion_file, write_mot
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
 from motiontool.motionfmt.convert.ros_trajectory import write_ros_trajectory
-from motiontool.motionfmt.convert.rosbag import read_rosbag, write_rosbag
+from motiontool.motionfmt.convert.rosbag import read_rosbag, read_rosbag_folder, write_rosbag
 from motiontool.motionfmt.convert.urscript import write_urscript
 from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
 
@@ -120,6 +121,23 @@ FORMATS: tuple[Format, ...] = (
         read=read_rosbag,
         write=write_rosbag,
         uses=frozenset({"joint_map", "topic", "max_error_rad", "lead_in_ms"}),
+        read_folder=read_rosbag_folder,
+    ),
+    Format(
+        "rosbag-db3",
+        (".db3",),
+        "ROS 2 bag in sqlite3 storage (Humble's default; or its folder, as rosbag): a "
+        "recorded JointState topic",
+        read=read_rosbag,
+        uses=frozenset({"joint_map", "topic", "max_error_rad"}),
+        read_folder=read_rosbag_folder,
+    ),
+    Format(
+        "rosbag1",
+        (".bag",),
+        "ROS 1 bag: a recorded sensor_msgs/JointState topic",
+        read=read_rosbag,
+        uses=frozenset({"joint_map", "topic", "max_error_rad"}),
     ),
 )
 """Every format, in the order the help lists them."""

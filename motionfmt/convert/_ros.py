@@ -6,7 +6,8 @@ definition text (``ros2msg``) that rosbags keeps for ROS 2 Humble's types, the f
 ``ros2 bag record -s mcap`` writes and Foxglove, PlotJuggler and ``ros2 bag`` read. Messages go
 in as plain dicts (field name -> value) and are encoded by mcap-ros2-support from that text.
 
-Reading: rosbags' reader (a single ``.mcap`` file), decoded with the definitions the bag
+Reading: rosbags' reader (a ``.mcap`` or sqlite3 ``.db3`` file, a ROS 2 bag's folder, a ROS 1
+``.bag``), decoded with the definitions the bag
 carries. Both are independent of each other: a bag written here is checked by the tests with
 the other library's reader.
 """
@@ -39,6 +40,7 @@ __all__ = [
     "BagWriter",
     "JointStates",
     "duration",
+    "read_bag_folder",
     "read_joint_states",
     "stamp",
     "write_bag",
@@ -89,11 +91,13 @@ class JointStates:
         stamps_ns: int64 (M,): each message's ``header.stamp``, ns.
         names: each message's ``name`` list.
         positions: each message's ``position``, float64.
+        unstamped: how many messages had a zero stamp and are at the time the bag logged them.
     """
 
     stamps_ns: npt.NDArray[np.int64]
     names: list[tuple[str, ...]]
     positions: list[npt.NDArray[np.float64]]
+    unstamped: int = 0
 
 
 def stamp(ns: int) -> dict[str, int]:
@@ -213,6 +217,8 @@ def _topics(reader: Any) -> str:
 
 
 def _messages(reader: Any, path: str, topic: str) -> JointStates:
+    """The JointState messages of ``topic``, each at its ``header.stamp``, or at the time the
+    bag logged it where the stamp is zero (a publisher that stamps nothing)."""
     import numpy as np
 
     connections = [c for c in reader.connections if c.topic == topic]
@@ -227,31 +233,59 @@ def _messages(reader: Any, path: str, topic: str) -> JointStates:
     stamps: list[int] = []
     names: list[tuple[str, ...]] = []
     positions: list[npt.NDArray[np.float64]] = []
-    for connection, _, raw in reader.messages(connections=connections):
+    unstamped = 0
+    for connection, logged_ns, raw in reader.messages(connections=connections):
         msg = reader.deserialize(raw, connection.msgtype)
-        stamps.append(int(msg.header.stamp.sec) * NS_PER_S + int(msg.header.stamp.nanosec))
+        ns = int(msg.header.stamp.sec) * NS_PER_S + int(msg.header.stamp.nanosec)
+        if ns == 0:
+            ns, unstamped = int(logged_ns), unstamped + 1
+        stamps.append(ns)
         names.append(tuple(str(n) for n in msg.name))
         positions.append(np.asarray(msg.position, dtype=np.float64))
-    return JointStates(np.asarray(stamps, dtype=np.int64), names, positions)
+    return JointStates(np.asarray(stamps, dtype=np.int64), names, positions, unstamped)
+
+
+_MAGIC = {
+    b"\x89MCAP": (".mcap", "a ROS 2 bag (MCAP)"),
+    b"SQLite format 3\x00": (".db3", "a ROS 2 bag (sqlite3)"),
+    b"#ROSBAG V2.0": (".bag", "a ROS 1 bag"),
+}
+"""How a bag's first bytes say its storage: the file name rosbags reads it by, and its name."""
+
+
+def _storage(data: bytes) -> tuple[str, str]:
+    return next((v for k, v in _MAGIC.items() if data.startswith(k)), (".mcap", "a ROS 2 bag"))
 
 
 def read_joint_states(data: bytes, path: str, topic: str) -> JointStates:
-    """Every ``sensor_msgs/JointState`` message of ``topic`` in the bag ``data`` (a ``.mcap``
-    file), with rosbags' reader.
+    """Every ``sensor_msgs/JointState`` message of ``topic`` in the bag ``data``: one
+    ``.mcap`` or sqlite3 ``.db3`` file of a ROS 2 bag, or a ROS 1 ``.bag`` (told by their
+    first bytes), with rosbags' reader.
 
     Raises:
         MotionToolError: not a bag rosbags can read, no such topic, or a topic of another type
             (the message lists the bag's topics and types).
     """
-    highlevel = require("rosbags.highlevel", _EXTRA, "reading a ROS 2 bag")
+    suffix, what = _storage(data)
     with tempfile.TemporaryDirectory(prefix="motiontool-bag-") as folder:
-        bag = Path(folder) / "bag.mcap"
+        bag = Path(folder) / f"bag{suffix}"
         bag.write_bytes(data)
-        try:
-            with highlevel.AnyReader([bag]) as reader:
-                return _messages(reader, path, topic)
-        except MotionToolError:
-            raise
-        except Exception as exc:  # rosbags' own errors and what a damaged file raises inside
-            reason = str(exc).replace(str(bag), "the file") or type(exc).__name__
-            raise MotionToolError(f"cannot read '{path}' as a ROS 2 bag (MCAP): {reason}") from exc
+        return _read(bag, path, topic, what)
+
+
+def read_bag_folder(folder: str, topic: str) -> JointStates:
+    """:func:`read_joint_states` of a ROS 2 bag's folder (its ``metadata.yaml`` and the
+    ``.mcap`` or ``.db3`` files it lists), as ``ros2 bag record`` leaves it."""
+    return _read(Path(folder), folder, topic, "a ROS 2 bag folder")
+
+
+def _read(bag: Path, path: str, topic: str, what: str) -> JointStates:
+    highlevel = require("rosbags.highlevel", _EXTRA, "reading a ROS 2 bag")
+    try:
+        with highlevel.AnyReader([bag]) as reader:
+            return _messages(reader, path, topic)
+    except MotionToolError:
+        raise
+    except Exception as exc:  # rosbags' own errors and what a damaged file raises inside
+        reason = str(exc).replace(str(bag), "the file") or type(exc).__name__
+        raise MotionToolError(f"cannot read '{path}' as {what}: {reason}") from exc

@@ -237,6 +237,10 @@ class Recording:
         max_error_rad: the bound the keyframes were reduced within, rad.
         deviation: the motion (straight lines between its keyframes) against every recorded
             sample at its own stamp, rad.
+        reduced_rad: the bound the keyframes were reduced within, rad: ``max_error_rad``, or
+            less where rounding the times to whole ms put the motion beyond it.
+        notes: what else the reader did, one line each (joints merged from several
+            publishers, unstamped messages placed at their log time).
     """
 
     topic: str
@@ -245,6 +249,13 @@ class Recording:
     merged: int
     max_error_rad: float
     deviation: Deviation
+    reduced_rad: float
+    notes: tuple[str, ...] = ()
+
+    def within(self) -> bool:
+        """Whether the motion keeps within ``max_error_rad`` of every sample, with 1e-9 rad of
+        slack for float rounding (as validate's checks allow on positions)."""
+        return self.deviation.max_rad <= self.max_error_rad + 1e-9
 
 
 @dataclass(frozen=True)
@@ -318,6 +329,8 @@ class Format:
         for_robot: whether the file drives a real robot (its export must pass the robot
             checks, warnings included) rather than hold data.
         default_robot: the robot it is for when none is named (``ur5e``), or None.
+        read_folder: a folder's path and :class:`ImportOptions` -> :class:`Imported`, for a
+            format kept as a folder (a ROS 2 bag's, with its ``metadata.yaml``); else None.
         uses: the fields of :class:`ImportOptions` / :class:`ExportOptions` it reads beyond
             the common ones (``topic``, ``joint_map``, ``max_error_rad``), so that a front end
             can refuse one given to a format that ignores it.
@@ -331,3 +344,4 @@ class Format:
     for_robot: bool = False
     default_robot: str | None = None
     uses: frozenset[str] = frozenset()
+    read_folder: Callable[[str, ImportOptions], Imported] | None = None

@@ -28,6 +28,7 @@ from motiontool.motionfmt.convert._ros import (
     NS_PER_MS,
     BagTopic,
     JointStates,
+    read_bag_folder,
     read_joint_states,
     stamp,
     write_bag,
@@ -43,22 +44,20 @@ from motiontool.motionfmt.convert.base import (
     robot_check,
 )
 from motiontool.motionfmt.convert.joint_map import from_ros, spread_hands
+from motiontool.motionfmt.convert.joint_states import Merged, joint_deviation, merged
 from motiontool.motionfmt.convert.ros_trajectory import (
     deviation,
     trajectory,
     trajectory_message,
 )
-from motiontool.motionfmt.convert.sampled import deviation_at, reduced
+from motiontool.motionfmt.convert.sampled import reduced
 from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.writer import check_name
 
 if TYPE_CHECKING:
-    import numpy as np
-    import numpy.typing as npt
-
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["TRAJECTORY_TOPIC", "read_rosbag", "write_rosbag"]
+__all__ = ["TRAJECTORY_TOPIC", "read_rosbag", "read_rosbag_folder", "write_rosbag"]
 
 TRAJECTORY_TOPIC = "/joint_trajectory"
 """Where a written bag holds the trajectory (``joint_trajectory_controller``'s topic name)."""
@@ -114,74 +113,83 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
     )
 
 
-def _seconds(ns: int) -> str:
-    """``ns`` nanoseconds as seconds with all nine decimals, exactly."""
-    return f"{'-' if ns < 0 else ''}{abs(ns) // 10**9}.{abs(ns) % 10**9:09d}"
+def _reduced(
+    joints: tuple[str, ...], samples: Merged, columns: list[int], max_error: float, path: str
+) -> tuple[Motion, int, float, Deviation]:
+    """The motion on whole ms within ``max_error`` (rad) of every recorded sample at its own
+    stamp where whole ms allow it: reduced within ``max_error``, then, where rounding the
+    times put it beyond, within less (by the overshoot, then 0: every sample kept).
+    Returns (motion, samples left out on a shared ms, the bound it was reduced within (rad),
+    its worst deviation from the recording)."""
+    q = samples.q[:, columns]
+    compared = (
+        f"{sum(samples.own[c][0].size for c in columns)} recorded positions, each at its own stamp"
+    )
+    bound = max_error
+    for attempt in range(_TRIES):
+        motion, merged = reduced(joints, samples.t_ms, q, bound, path)
+        worst = joint_deviation(motion, samples, columns, compared)
+        over = worst.max_rad - max_error
+        if over <= _SLACK_RAD or bound == 0:
+            break
+        bound = bound - over if bound > over and attempt < _TRIES - 2 else 0.0
+    return motion, merged, bound, worst
 
 
-def _checked(states: JointStates, path: str, topic: str) -> tuple[str, ...]:
-    """The ROS names every message gives, in the first message's order; raises at the first
-    message that disagrees, is not after the one before, or holds a non-finite position."""
-    import numpy as np
+_TRIES = 4
+"""Reductions tried, the last within 0 rad (every sample kept)."""
+_SLACK_RAD = 1e-9
+"""Slack on ``max_error`` for float rounding, rad (:meth:`~.base.Recording.within`'s)."""
 
-    if not states.names:
-        raise MotionToolError(f"'{path}': topic {topic} holds no message")
-    first = states.names[0]
-    if not first or len(set(first)) != len(first):
-        raise MotionToolError(
-            f"'{path}': {topic} message 1 names {list(first)}: no joint or one twice"
+
+def _notes(states: JointStates, samples: Merged) -> tuple[str, ...]:
+    notes = []
+    if samples.publishers > 1:
+        notes.append(
+            f"{samples.publishers} sets of joint names merged by name, each joint "
+            "interpolated between its own samples onto every stamp"
         )
-    for i, (names, q) in enumerate(zip(states.names, states.positions, strict=True)):
-        where = f"'{path}': {topic} message {i + 1}"
-        if set(names) != set(first) or len(names) != len(first):
-            raise MotionToolError(f"{where} names {list(names)}, the first names {list(first)}")
-        if q.shape != (len(names),):
-            raise MotionToolError(f"{where} has {q.shape[0]} positions for {len(names)} names")
-        if not np.isfinite(q).all():
-            bad = names[int(np.argmax(~np.isfinite(q)))]
-            raise MotionToolError(f"{where}: {bad} = {float(q[names.index(bad)])!r} is not finite")
-        if i and states.stamps_ns[i] <= states.stamps_ns[i - 1]:
-            raise MotionToolError(
-                f"{where} is stamped {_seconds(int(states.stamps_ns[i]))} s, not after message "
-                f"{i}'s {_seconds(int(states.stamps_ns[i - 1]))} s: header stamps must increase"
-            )
-    return first
+    if states.unstamped:
+        notes.append(
+            f"{states.unstamped} unstamped messages placed at the time the bag logged them"
+        )
+    return tuple(notes)
 
 
-def _samples(
-    states: JointStates, order: tuple[str, ...], path: str
-) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
-    """(times from the first stamp, ms, float64 (M,); positions float64 (M, J) in ``order``)."""
-    import numpy as np
-
-    t_ms = (states.stamps_ns - states.stamps_ns[0]) / NS_PER_MS
-    if t_ms[-1] > INT_MAX:
-        raise MotionToolError(f"'{path}': {t_ms[-1]:.0f} ms long, beyond {INT_MAX} ms")
-    q = np.empty((len(states.names), len(order)))
-    for i, (names, row) in enumerate(zip(states.names, states.positions, strict=True)):
-        q[i] = row if names == order else row[[names.index(n) for n in order]]
-    return t_ms, q
+def _imported(states: JointStates, path: str, opts: ImportOptions) -> Imported:
+    samples = merged(states, path, opts.topic)
+    joints, columns = spread_hands(from_ros(samples.names, opts.joint_map))
+    for joint in joints:
+        check_name(joint, "joint")
+    if samples.t_ms[-1] > INT_MAX:
+        raise MotionToolError(f"'{path}': {samples.t_ms[-1]:.0f} ms long, beyond {INT_MAX} ms")
+    motion, left_out, bound, worst = _reduced(joints, samples, columns, opts.max_error_rad, path)
+    recording = Recording(
+        opts.topic,
+        len(states.names),
+        round(float(samples.t_ms[-1])),
+        left_out,
+        opts.max_error_rad,
+        worst,
+        bound,
+        _notes(states, samples),
+    )
+    return Imported(motion, path, recording=recording)
 
 
 def read_rosbag(data: bytes, path: str, options: ImportOptions | None = None) -> Imported:
-    """The motion a bag's ``sensor_msgs/JointState`` topic records (see the module).
+    """The motion a bag's ``sensor_msgs/JointState`` topic records (see the module): a
+    ``.mcap`` or ``.db3`` file of a ROS 2 bag, or a ROS 1 ``.bag``.
 
     Raises:
         MotionToolError: not a bag, no such topic, a topic of another type, stamps that do not
-            increase, messages that disagree on their joints, a non-finite position.
+            increase, a message whose names and positions disagree, a non-finite position.
     """
     opts = options or ImportOptions()
-    states = read_joint_states(data, path, opts.topic)
-    order = _checked(states, path, opts.topic)
-    joints, columns = spread_hands(from_ros(order, opts.joint_map))
-    for joint in joints:
-        check_name(joint, "joint")
-    t_ms, q = _samples(states, order, path)
-    q = q[:, columns]
-    motion, merged = reduced(joints, t_ms, q, opts.max_error_rad, path)
-    compared = f"{q.size} recorded positions ({q.shape[0]} messages), each at its own stamp"
-    worst = deviation_at(motion, t_ms, q, compared)
-    recording = Recording(
-        opts.topic, len(states.names), round(float(t_ms[-1])), merged, opts.max_error_rad, worst
-    )
-    return Imported(motion, path, recording=recording)
+    return _imported(read_joint_states(data, path, opts.topic), path, opts)
+
+
+def read_rosbag_folder(folder: str, options: ImportOptions | None = None) -> Imported:
+    """:func:`read_rosbag` of a ROS 2 bag's folder (``metadata.yaml`` and its files)."""
+    opts = options or ImportOptions()
+    return _imported(read_bag_folder(folder, opts.topic), folder, opts)

@@ -220,7 +220,10 @@ def test_linear_and_constant_tangents(tmp_path: Path) -> None:
 def test_convert_from_lists_only_the_formats_it_can_read() -> None:
     result = runner.invoke(app, ["convert", "--help"], terminal_width=400)
     text = " ".join(result.output.split())
-    assert "Input format (motion, csv, npz, choregraphe, choregraphe-py, rosbag)" in text
+    assert (
+        "Input format (motion, csv, npz, choregraphe, choregraphe-py, rosbag, rosbag-db3, rosbag1)"
+        in text
+    )
     assert "Output format (motion, csv, npz, naoqi, choregraphe-py, urscript," in text
 
 
