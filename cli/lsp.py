@@ -44,7 +44,7 @@ from motiontool.motionfmt.fixes import Fix, fix_bytes
 from motiontool.motionfmt.reader import token_spans
 from motiontool.motionfmt.validate import FileReport
 
-__all__ = ["DEBOUNCE_S", "Linter", "MotionServer", "build_server", "rules_href"]
+__all__ = ["DEBOUNCE_S", "Linter", "MotionServer", "Superseded", "build_server", "rules_href"]
 
 logger = logging.getLogger(__name__)
 
@@ -61,9 +61,14 @@ DEBOUNCE_S = 0.05
 """Seconds a document rests after a change before it is linted: a burst of keystrokes is
 linted once, as its last version."""
 
-Linter = Callable[[Path, bytes], tuple[FileReport, RobotSpec | None]]
+Linter = Callable[[Path, bytes, Callable[[], bool]], tuple[FileReport, RobotSpec | None]]
 """Lints a document's bytes as the file at that path: its report and the robot it was checked
-against (None: syntax level only)."""
+against (None: syntax level only). The third argument tells whether a newer version has
+superseded these bytes: the linter may then stop, raising :class:`Superseded`."""
+
+
+class Superseded(Exception):
+    """A lint stopped early: a newer version of the document supersedes the one it lints."""
 
 
 @dataclass
@@ -152,19 +157,28 @@ class MotionServer(LanguageServer):
         path = Path(to_fs_path(uri) or uri)
         loop = asyncio.get_running_loop()
         try:
-            report, robot = await loop.run_in_executor(self._pool, self.lint, path, data)
+            report, robot = await loop.run_in_executor(
+                self._pool, self.lint, path, data, lambda: self._superseded(uri, version)
+            )
+        except Superseded:
+            return  # the newer version's lint follows
         except Exception as exc:  # a configuration that cannot be used, or a bug: not a popup
             if not isinstance(exc, MotionToolError):
                 logger.exception("linting %s failed", uri)
             if uri not in self._changed and self._open_version(uri) == version:
                 self._publish_error(uri, version, exc)
             return
-        if uri in self._changed or self._open_version(uri) != version:
+        if self._superseded(uri, version):
             return  # stale: a newer change supersedes it, and its lint follows
         self.documents[uri] = _Document(version, report, robot)
         self._clear_config_errors()
         codec = self.workspace.position_codec
         self._publish(uri, version, [_diagnostic(report, codec, d) for d in report.diagnostics])
+
+    def _superseded(self, uri: str, version: int | None) -> bool:
+        """Whether a change came after version ``version`` of ``uri`` was taken to lint (asked
+        from the worker thread too: one lookup of each dictionary)."""
+        return uri in self._changed or self._open_version(uri) != version
 
     def _publish(self, uri: str, version: int | None, diagnostics: list[lsp.Diagnostic]) -> None:
         if self._open_version(uri) is not None or uri in self._config_uris:

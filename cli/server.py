@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from motiontool.cli.config import ConfigOption, IsolatedOption, Resolver
@@ -35,7 +36,9 @@ def server_command(
     # found at the configurations an edit left as they were is not found again.
     kept: dict[tuple[str, tuple[str, ...] | None, int | None], RobotChecks] = {}
 
-    def lint(path: Path, data: bytes) -> tuple[FileReport, RobotSpec | None]:
+    def lint(
+        path: Path, data: bytes, superseded: Callable[[], bool]
+    ) -> tuple[FileReport, RobotSpec | None]:
         # Read afresh each time: an edited pyproject.toml applies to the next keystroke.
         resolver = Resolver(config=config, isolated=isolated)
         cache = None if no_cache else FindingsCache(read_only=not _saved(path, data))
@@ -47,7 +50,12 @@ def server_command(
                     robot, names, step, tolerance=DEFAULT_PENETRATION_TOLERANCE_MM, cache=cache
                 )
             kept[key].cache = cache
+            kept[key].on_check = stop  # between checks: a superseded version stops there
             return kept[key]
+
+        def stop(_step: str) -> None:
+            if superseded():
+                raise lsp.Superseded
 
         return lint_document(path, data, resolver, Overrides(), checks)
 
