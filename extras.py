@@ -26,6 +26,7 @@ EXTRAS: dict[str, tuple[tuple[str, ...], str]] = {
     "erd": (("example_robot_data",), "example-robot-data robots (erd:<name>)"),
     "ray": (("ray",), "the Ray executor of batch"),
     "lsp": (("pygls", "lsprotocol"), "pygls: motiontool server, findings in the editor"),
+    "watch": (("watchfiles",), "watchfiles: motiontool watch, re-checked and re-played on save"),
     "ros": (
         ("rosbags", "mcap", "mcap_ros2", "ruamel"),
         "rosbags, mcap: ROS 2 bags and trajectories (convert, and a bag of a play run)",
@@ -43,6 +44,7 @@ _LIBRARIES = {
     "example_robot_data": "example-robot-data",
     "ray": "Ray",
     "pygls": "pygls",
+    "watchfiles": "watchfiles",
     "lsprotocol": "lsprotocol (pygls' LSP types)",
     "rosbags": "rosbags",
     "mcap": "mcap",

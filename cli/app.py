@@ -242,6 +242,11 @@ _COMMANDS: dict[str, tuple[str, str, str]] = {
         "play_command",
         "Play motion files in MuJoCo as a Webots controller would, live in a Rerun viewer or",
     ),
+    "watch": (
+        "watch",
+        "watch_command",
+        "Validate motion files on every save and play each clean one live as a new take.",
+    ),
     "batch": (
         "batch",
         "batch_command",

@@ -4,12 +4,6 @@ goes away ends the run; no display and no server: one line, exit 2."""
 
 from __future__ import annotations
 
-import os
-import signal
-import socket
-import subprocess
-import sys
-import time
 import warnings
 from collections.abc import Iterator
 from pathlib import Path
@@ -17,6 +11,7 @@ from typing import Any
 
 import pytest
 import typer
+from rerun_server import Server, free_port
 from rrds import rrd_contents
 from typer.testing import CliRunner
 
@@ -27,8 +22,6 @@ pytestmark = pytest.mark.needs("sim", "rerun")
 runner = CliRunner()
 
 NOD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,A,0,0\n00:00:300,B,0.6,-0.3\n00:00:600,C,0,0\n"
-SERVER_START_S = 30.0
-"""Wall-clock seconds the Rerun server has to listen (a loaded machine is slow to start it)."""
 
 
 @pytest.fixture
@@ -36,53 +29,6 @@ def nod(tmp_path: Path) -> Path:
     path = tmp_path / "nod.motion"
     path.write_bytes(NOD)
     return path
-
-
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        port: int = s.getsockname()[1]
-        return port
-
-
-class Server:
-    """``rerun --port P --save FILE``: a Rerun server without a viewer that saves what it gets."""
-
-    def __init__(self, save: Path) -> None:
-        self.port, self.save = _free_port(), save
-        rerun = Path(sys.executable).with_name("rerun")
-        self.proc = subprocess.Popen(
-            [str(rerun), "--port", str(self.port), "--save", str(save)],
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.DEVNULL,
-            start_new_session=True,  # its own group: stopped with the program it starts
-        )
-        deadline = time.monotonic() + SERVER_START_S
-        while not self._listening():
-            assert self.proc.poll() is None, "the rerun server exited"
-            assert time.monotonic() < deadline, "the rerun server does not listen"
-            time.sleep(0.1)
-
-    @property
-    def url(self) -> str:
-        return f"rerun+http://127.0.0.1:{self.port}/proxy"
-
-    def _listening(self) -> bool:
-        try:
-            socket.create_connection(("127.0.0.1", self.port), timeout=1).close()
-        except OSError:
-            return False
-        return True
-
-    def stop(self) -> None:
-        """Ctrl-C, as a person stops it: it writes what it got and exits."""
-        if self.proc.poll() is None:
-            os.killpg(self.proc.pid, signal.SIGINT)
-            try:
-                self.proc.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(self.proc.pid, signal.SIGKILL)
-                self.proc.wait()
 
 
 @pytest.fixture
@@ -189,7 +135,7 @@ def test_without_a_display_or_a_server_it_says_what_to_pass(
 
 
 def test_nothing_at_the_url_is_one_line_exit_2(nod: Path) -> None:
-    url = f"rerun+http://127.0.0.1:{_free_port()}/proxy"
+    url = f"rerun+http://127.0.0.1:{free_port()}/proxy"
     result = runner.invoke(app, ["play", str(nod), "--connect", url, "--fast"])
     assert result.exit_code == 2
     assert result.stderr == f"motiontool: error: no Rerun viewer or server answers at {url}\n"
