@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 import re
-import xml.etree.ElementTree as ET
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -39,6 +38,8 @@ from motiontool.errors import MotionToolError
 from motiontool.kinematics.robots import RobotSpec
 
 if TYPE_CHECKING:
+    import xml.etree.ElementTree as ET
+
     import numpy as np
     import numpy.typing as npt
 
@@ -205,6 +206,8 @@ def _unit(v: npt.NDArray[np.float64], what: str) -> npt.NDArray[np.float64]:
 
 def _mjcf_frames(path: Path) -> Iterator[JointFrame]:
     """Joint frames of an MJCF file: body ``pos``/``quat`` composed from the root body down."""
+    import xml.etree.ElementTree as ET
+
     import numpy as np
 
     root = ET.fromstring(path.read_bytes())
@@ -252,6 +255,8 @@ def _vec_quat(text: str | None) -> tuple[float, float, float, float]:
 
 def _urdf_frames(path: Path) -> Iterator[JointFrame]:
     """Joint frames of a URDF file: joint ``origin`` (xyz, rpy) composed from the root link."""
+    import xml.etree.ElementTree as ET
+
     import numpy as np
 
     root = ET.fromstring(path.read_bytes())

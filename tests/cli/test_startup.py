@@ -108,6 +108,21 @@ def test_validate_imports_neither_other_commands_nor_pinocchio_once_the_tables_a
     assert _loaded(warm, unused) == []
 
 
+def test_the_syntax_level_of_a_small_file_imports_no_numpy_and_one_report_writer(
+    tmp_path: Path,
+) -> None:
+    (tmp_path / "small.motion").write_bytes(SMALL)
+    modules, out = _imported(["validate", "--robot", "none", "small.motion"], tmp_path)
+    assert "checked 1 file: 0 errors" in out
+    assert _loaded(modules, _NEVER) == []
+    # Read without arrays; no robot fix to plan, no robot model to parse; the text report's
+    # writer alone (each format's module is imported when a report is written in it).
+    unused = ("numpy", "motiontool.kinematics.robot_fixes", "xml.etree")
+    writers = ("json_report", "sarif", "github", "gitlab", "junit")
+    assert _loaded(modules, (*unused, *(f"motiontool.cli.reports.{w}" for w in writers))) == []
+    assert "motiontool.cli.reports.text" in modules
+
+
 def test_the_summaries_in_the_command_table_are_the_commands_own() -> None:
     root = typer.main.get_command(app)
     assert isinstance(root, typer.core.TyperGroup)
