@@ -77,6 +77,10 @@ def test_each_save_is_checked_and_each_clean_one_played(tmp_path: Path) -> None:
         _wait("the findings of the invalid save", seen(4, 3), proc)
         motion.write_bytes(NOD)  # the fix
         _wait("a take of the fix", seen(5, 4), proc)
+        motion.unlink()  # deleted, then created again
+        _wait("the deletion said", lambda: "is gone" in err.read_text(), proc)
+        motion.write_bytes(NOD)
+        _wait("a take of the file created again", seen(6, 5), proc)
         proc.send_signal(signal.SIGINT)
         assert proc.wait(timeout=60) == 130
     finally:
@@ -86,9 +90,9 @@ def test_each_save_is_checked_and_each_clean_one_played(tmp_path: Path) -> None:
         server.stop()
     text = out.read_text()
     assert "HeadPitch" in text and "error MT" in text  # the invalid save's finding, as validate
-    assert text.count("result: clean") == 4
+    assert text.count("result: clean") == 5
     assert "Traceback" not in err.read_text()
-    assert _takes(server.save) == 4  # the first take and three saves
+    assert _takes(server.save) == 5  # the first take and four clean saves
     assert sorted(p.name for p in tmp_path.iterdir()) == [
         "err.txt",
         "live.rrd",
