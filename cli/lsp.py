@@ -98,7 +98,7 @@ class MotionServer(LanguageServer):
         self._changed: dict[str, float] = {}  # document URI: loop time of its last change
         self._linting: dict[str, asyncio.Task[None]] = {}
         self._waiting: dict[str, list[asyncio.Future[None]]] = {}
-        self._config_uris: set[str] = set()  # configuration files with an error published
+        self._config_of: dict[str, str] = {}  # document URI: its configuration's, in error
         self._pool = ThreadPoolExecutor(max_workers=1, thread_name_prefix="motiontool-lint")
 
     def refresh(self, uri: str) -> None:
@@ -115,6 +115,7 @@ class MotionServer(LanguageServer):
         self.documents.pop(uri, None)
         self.published.pop(uri, None)
         self._publish(uri, None, [])
+        self._config_fine(uri)
 
     async def current(self, uri: str) -> tuple[int | None, list[lsp.Diagnostic]]:
         """The findings of the version of ``uri`` the editor holds now (after its lint)."""
@@ -156,10 +157,15 @@ class MotionServer(LanguageServer):
         data = doc.source.encode("utf-8", "surrogateescape")
         path = Path(to_fs_path(uri) or uri)
         loop = asyncio.get_running_loop()
+        codec = self.workspace.position_codec
+
+        def lint() -> tuple[_Document, list[lsp.Diagnostic]]:  # in the worker thread
+            report, robot = self.lint(path, data, lambda: self._superseded(uri, version))
+            found = [_diagnostic(report, codec, d) for d in report.diagnostics]
+            return _Document(version, report, robot), found
+
         try:
-            report, robot = await loop.run_in_executor(
-                self._pool, self.lint, path, data, lambda: self._superseded(uri, version)
-            )
+            linted, found = await loop.run_in_executor(self._pool, lint)
         except Superseded:
             return  # the newer version's lint follows
         except Exception as exc:  # a configuration that cannot be used, or a bug: not a popup
@@ -170,10 +176,9 @@ class MotionServer(LanguageServer):
             return
         if self._superseded(uri, version):
             return  # stale: a newer change supersedes it, and its lint follows
-        self.documents[uri] = _Document(version, report, robot)
-        self._clear_config_errors()
-        codec = self.workspace.position_codec
-        self._publish(uri, version, [_diagnostic(report, codec, d) for d in report.diagnostics])
+        self.documents[uri] = linted
+        self._config_fine(uri)
+        self._publish(uri, version, found)
 
     def _superseded(self, uri: str, version: int | None) -> bool:
         """Whether a change came after version ``version`` of ``uri`` was taken to lint (asked
@@ -181,7 +186,7 @@ class MotionServer(LanguageServer):
         return uri in self._changed or self._open_version(uri) != version
 
     def _publish(self, uri: str, version: int | None, diagnostics: list[lsp.Diagnostic]) -> None:
-        if self._open_version(uri) is not None or uri in self._config_uris:
+        if self._open_version(uri) is not None or uri in self._config_of.values():
             self.published[uri] = (version, diagnostics)
         self.text_document_publish_diagnostics(
             lsp.PublishDiagnosticsParams(uri=uri, diagnostics=diagnostics, version=version)
@@ -192,12 +197,15 @@ class MotionServer(LanguageServer):
         is), and on the document one finding at its start that says it was not linted."""
         where = lsp.Range(start=lsp.Position(0, 0), end=lsp.Position(0, 0))
         related = None
+        config_uri = None
         if isinstance(exc, ConfigError) and exc.path is not None:
             config_uri = from_fs_path(str(exc.path)) or str(exc.path)
+        if self._config_of.get(uri) != config_uri:
+            self._config_fine(uri)
+        if isinstance(exc, ConfigError) and config_uri is not None:
             at = lsp.Position(line=max(exc.line - 1, 0), character=max(exc.column - 1, 0))
             spot = lsp.Range(start=at, end=lsp.Position(line=at.line + 1, character=0))
-            self._clear_config_errors(keep=config_uri)
-            self._config_uris.add(config_uri)
+            self._config_of[uri] = config_uri
             self._publish(config_uri, None, [_error(spot, str(exc), "config")])
             related = [lsp.DiagnosticRelatedInformation(lsp.Location(config_uri, spot), str(exc))]
         known = isinstance(exc, MotionToolError)
@@ -206,9 +214,11 @@ class MotionServer(LanguageServer):
         finding.related_information = related
         self._publish(uri, version, [finding])
 
-    def _clear_config_errors(self, keep: str | None = None) -> None:
-        for config_uri in sorted(self._config_uris - {keep}):
-            self._config_uris.discard(config_uri)
+    def _config_fine(self, uri: str) -> None:
+        """Document ``uri`` no longer reports its configuration in error: that file's error is
+        cleared once no open document reports it."""
+        config_uri = self._config_of.pop(uri, None)
+        if config_uri is not None and config_uri not in self._config_of.values():
             self.published.pop(config_uri, None)
             self._publish(config_uri, None, [])
 

@@ -130,6 +130,9 @@ def as_validate(diagnostics: list[Any]) -> list[tuple[Any, ...]]:
     ]
 
 
+MOVE = "#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,0\n00:00:040,P2,2.0\n"  # too fast, too far
+
+
 @pytest.fixture
 def nao(tmp_path: Path) -> Path:
     (tmp_path / "pyproject.toml").write_text('[tool.motiontool]\nrobot = "nao"\n')
@@ -222,6 +225,11 @@ def test_a_broken_configuration_is_a_finding_on_it(
         uri = session.open(nao / "walk.motion", big_motion(50))
         got["config"] = await session.next(config_uri)
         got["doc"] = await session.next(uri)
+        # A motion under a configuration of its own is linted; the error stays where it is.
+        (nao / "fine").mkdir()
+        (nao / "fine" / "motiontool.toml").write_text('robot = "nao"\n')
+        assert (await session.next(session.open(nao / "fine" / "a.motion", MOVE))).diagnostics
+        assert session.queue(config_uri).empty()
         pyproject.write_text('[tool.motiontool]\nrobot = "nao"\n')  # fixed, then typed on
         session.change(uri, 2, big_motion(50, nudge=1))
         got["cleared"] = await session.next(config_uri)
