@@ -17,7 +17,15 @@ from motiontool.sim.live import LiveView, has_display
 if TYPE_CHECKING:
     from motiontool.sim.live import ViewerClosed
 
-__all__ = ["ConnectOption", "FastOption", "HeadlessOption", "SpeedOption", "live_view", "stopped"]
+__all__ = [
+    "NO_DISPLAY",
+    "ConnectOption",
+    "FastOption",
+    "HeadlessOption",
+    "SpeedOption",
+    "live_view",
+    "stopped",
+]
 
 HeadlessOption = Annotated[
     bool,
@@ -51,9 +59,14 @@ NO_DISPLAY = (
 
 
 def live_view(
-    headless: bool, connect: str | None, speed: float | None, fast: bool
+    headless: bool,
+    connect: str | None,
+    speed: float | None,
+    fast: bool,
+    no_display: str = NO_DISPLAY,
 ) -> LiveView | None:
-    """The live view the options ask for (None: ``--headless``).
+    """The live view the options ask for (None: ``--headless``; ``no_display``: the line where
+    there is neither a display nor ``--connect``).
 
     Raises:
         MotionToolError: options that contradict each other, a speed that is not a positive
@@ -69,7 +82,7 @@ def live_view(
     if speed is not None and not (math.isfinite(speed) and speed > 0):
         raise MotionToolError(f"--speed {speed:g}: expected a positive number (1: real time)")
     if connect is None and not has_display():
-        raise MotionToolError(NO_DISPLAY)
+        raise MotionToolError(no_display)
     require("rerun", "rerun", "motiontool play (live view)")
     return LiveView(url=connect, speed=None if fast else (speed or 1.0))
 

@@ -39,6 +39,12 @@ _Expect = Annotated[
     list[str] | None, expect_option("each take", "the motions.toml sidecar's, for each file")
 ]
 
+_NO_DISPLAY = (
+    "no display to show the takes on (DISPLAY and WAYLAND_DISPLAY are unset): pass --connect "
+    "rerun+http://HOST:PORT/proxy to stream them to a running viewer (or check with validate "
+    "and play --headless --rrd FILE)"
+)
+
 Take = Callable[[Path], int]
 """Check or play one file; its exit code."""
 
@@ -64,7 +70,7 @@ def watch_command(
     until Ctrl-C (exit 130).
     """
     require("watchfiles", "watch", "motiontool watch")
-    live_view(False, connect, speed, fast)  # no display, no --connect: one line, before all
+    live_view(False, connect, speed, fast, _NO_DISPLAY)  # one line, before anything runs
     for f in files:
         if not f.is_file():
             raise MotionToolError(f"{f}: no such file to watch")

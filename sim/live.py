@@ -41,8 +41,8 @@ CHUNK_S = 0.1
 CHECK_EVERY_S = 0.5
 """Wall-clock seconds between two checks that the viewer is still there, s."""
 
-START_WAIT_S = 10.0
-"""Wall-clock seconds a spawned viewer has to start listening, s."""
+START_WAIT_S = 5.0
+"""Wall-clock seconds a spawned viewer has to start listening after Rerun's own wait, s."""
 
 CONNECT_TIMEOUT_S = 2.0
 """Wall-clock seconds to reach the viewer at each check, s."""
@@ -118,7 +118,7 @@ def _reachable(url: str) -> bool:
     return True
 
 
-def _spawn(live: LiveView) -> None:
+def _spawn(live: LiveView, rec: rerun.RecordingStream) -> None:
     """A viewer on :data:`DEFAULT_PORT` (the one already there, else a new one), listening."""
     import rerun as rr
 
@@ -128,7 +128,13 @@ def _spawn(live: LiveView) -> None:
     path = str(exe) if exe.is_file() else shutil.which("rerun")
     if path is None:
         raise MotionToolError("no Rerun viewer to spawn: the 'rerun' program is not installed")
-    rr.spawn(port=DEFAULT_PORT, connect=False, executable_path=path, hide_welcome_screen=True)
+    rr.spawn(
+        port=DEFAULT_PORT,
+        connect=False,
+        executable_path=path,
+        hide_welcome_screen=True,
+        recording=rec,  # enabled: rerun's global recording is not used, so it is off
+    )
     deadline = live.clock() + START_WAIT_S
     while not _reachable(live.target):
         if live.clock() > deadline:
@@ -149,7 +155,7 @@ def attach(rec: rerun.RecordingStream, live: LiveView, file: Path) -> None:
     import rerun as rr
 
     if live.url is None:
-        _spawn(live)
+        _spawn(live, rec)
     elif not _reachable(live.url):
         raise MotionToolError(f"no Rerun viewer or server answers at {live.url}")
     rec.set_sinks(rr.FileSink(str(file)), rr.GrpcSink(live.target))

@@ -40,7 +40,6 @@ def _takes(path: Path) -> int:
         return len(RrdReader(path).recordings())
 
 
-@pytest.mark.slow
 def test_each_save_is_checked_and_each_clean_one_played(tmp_path: Path) -> None:
     motion = tmp_path / "nod.motion"
     motion.write_bytes(NOD)
@@ -99,3 +98,20 @@ def test_each_save_is_checked_and_each_clean_one_played(tmp_path: Path) -> None:
         "nod.motion",
         "out.txt",
     ]
+
+
+def test_without_a_display_or_a_server_it_says_what_to_pass(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from typer.testing import CliRunner
+
+    from motiontool.cli.app import app
+
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    motion = tmp_path / "nod.motion"
+    motion.write_bytes(NOD)
+    result = CliRunner().invoke(app, ["watch", str(motion)])
+    assert result.exit_code == 2
+    (line,) = result.stderr.splitlines()
+    assert "no display" in line and "--connect" in line, line
