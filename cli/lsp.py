@@ -58,8 +58,9 @@ _SEVERITY = {
 }
 
 DEBOUNCE_S = 0.05
-"""Seconds a document rests after a change before it is linted: a burst of keystrokes is
-linted once, as its last version."""
+"""Seconds a document rests after a change that came while it was linted, before it is linted
+again: a burst of keystrokes is linted as its last version. A change after a quiet spell is
+linted at once."""
 
 Linter = Callable[[Path, bytes, Callable[[], bool]], tuple[FileReport, RobotSpec | None]]
 """Lints a document's bytes as the file at that path: its report and the robot it was checked
@@ -83,11 +84,11 @@ class _Document:
 class MotionServer(LanguageServer):
     """The language server; ``lint`` is :data:`Linter`.
 
-    Only the newest version of a document is linted: a change marks it to lint once it has
-    rested ``debounce_s`` seconds, and a change while a lint runs (in a worker thread, so
-    requests are answered meanwhile) marks it again; a lint whose version a change superseded
-    is dropped, not published. Requests waiting on a lint (pull diagnostics) are asyncio tasks
-    that ``$/cancelRequest`` cancels."""
+    Only the newest version of a document is linted: a change after a quiet spell is linted at
+    once (in a worker thread, so requests are answered meanwhile); changes that come while it
+    runs supersede it (it stops at its next check, and is dropped, not published), and the
+    newest of them is linted once they have rested ``debounce_s`` seconds. Requests waiting on
+    a lint (pull diagnostics) are asyncio tasks that ``$/cancelRequest`` cancels."""
 
     def __init__(self, lint: Linter, debounce_s: float = DEBOUNCE_S) -> None:
         super().__init__(SOURCE, __version__)
@@ -134,14 +135,18 @@ class MotionServer(LanguageServer):
         return None if doc is None else doc.version
 
     async def _lint_while_changed(self, uri: str) -> None:
+        """Lint ``uri`` at once (a change after a quiet spell: the edit is seen without a
+        wait), then, while changes keep coming during its lints, once they rest."""
         loop = asyncio.get_running_loop()
+        first = True
         try:
             while uri in self._changed:
                 rest = self._changed[uri] + self.debounce_s - loop.time()
-                if rest > 0:
+                if rest > 0 and not first:
                     await asyncio.sleep(rest)
                     continue
                 del self._changed[uri]
+                first = False
                 await self._lint_once(uri)
         finally:
             del self._linting[uri]
