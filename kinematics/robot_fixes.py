@@ -27,7 +27,6 @@ from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST
 from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes
-from motiontool.motionfmt.retime import TimeOverflowError, fit_limits
 
 if TYPE_CHECKING:
     import numpy as np
@@ -149,6 +148,8 @@ def stretch_fixes(
     was a whole number of controller steps (``step_ms``, ms; None: whole ms) stays one, so the
     fix brings no MT209."""
     import numpy as np
+
+    from motiontool.motionfmt.retime import TimeOverflowError, fit_limits  # a clean file: none
 
     motion = result.motion
     if not bool(np.isfinite(motion.values[motion.commanded]).all()):
