@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Annotated, NoReturn
 import typer
 
 from motiontool import exit_codes
+from motiontool.cli.options import finite
 from motiontool.errors import MotionToolError
 from motiontool.extras import require
 from motiontool.sim.live import LiveView, has_display
@@ -44,6 +45,7 @@ SpeedOption = Annotated[
     float | None,
     typer.Option(
         "--speed",
+        callback=finite,
         help="Live view: simulated seconds per second of wall clock [default: 1, real time].",
     ),
 ]
