@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -44,7 +43,7 @@ from motiontool.cli.run_options import NO_SIDECAR, Start, expect_option, start_o
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.extras import EXTRAS, require
-from motiontool.motionfmt.fileio import is_folder, is_stdin, output_kind
+from motiontool.motionfmt.fileio import is_folder, is_stdin, output_kind, temporary_folder
 from motiontool.sim.executor import EXECUTORS, REGISTRY, executor_info
 
 if TYPE_CHECKING:
@@ -438,7 +437,7 @@ def _run_and_report(
     executor, jobs, timeout, ray = execution
     members, seed, strict = robustness
     _make_recordings_folder(specs, outputs)
-    with tempfile.TemporaryDirectory(prefix="motiontool-batch-") as spool:
+    with temporary_folder("motiontool-batch-") as spool:
         batch = run_with_progress(
             specs,
             executor=executor,

@@ -14,9 +14,12 @@ import threading
 import weakref
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from pathlib import Path
-from typing import BinaryIO
+from typing import TYPE_CHECKING, BinaryIO
 
 from motiontool.errors import MotionToolError, OutputError
+
+if TYPE_CHECKING:
+    import tempfile
 
 __all__ = [
     "STDIN",
@@ -34,6 +37,7 @@ __all__ = [
     "output_kind",
     "read_file",
     "source_name",
+    "temporary_folder",
 ]
 
 STDIN = "-"
@@ -340,6 +344,23 @@ def _signals_held() -> Iterator[None]:
             signal.signal(s, handler)
         for signum in came[:1]:  # handled now, by its own handler
             signal.raise_signal(signum)
+
+
+def temporary_folder(prefix: str) -> tempfile.TemporaryDirectory[str]:
+    """A temporary folder (``tempfile.TemporaryDirectory``) made with its removal armed in one
+    step: a signal that comes while it is made is handled once the object that removes it
+    exists (:func:`_signals_held`), so SIGTERM never leaves the folder behind."""
+    import tempfile
+
+    folder = None
+    try:
+        with _signals_held():
+            folder = tempfile.TemporaryDirectory(prefix=prefix)
+    except BaseException:  # the signal held while it was made: the folder goes with it
+        if folder is not None:
+            folder.cleanup()
+        raise
+    return folder
 
 
 def atomic_write(path: str | Path, data: bytes) -> None:

@@ -43,7 +43,7 @@ from typing import TYPE_CHECKING
 
 from motiontool.errors import OutputError
 from motiontool.extras import require
-from motiontool.motionfmt.fileio import atomic_write, open_output
+from motiontool.motionfmt.fileio import atomic_write, open_output, temporary_folder
 from motiontool.sim.live import LiveView, attach
 from motiontool.sim.recording_paths import Thinned, thin
 from motiontool.sim.recording_shapes import log_shapes
@@ -187,7 +187,7 @@ class RunRecorder:
 
         self.path, self.limits, self.joint_limbs, self.shapes = path, limits, joint_limbs, shapes
         try:
-            self._folder = tempfile.TemporaryDirectory(prefix="motiontool-rrd-")
+            self._folder = temporary_folder("motiontool-rrd-")  # SIGTERM-safe
         except OSError as exc:
             raise OutputError(
                 f"cannot write the recording '{path}': no temporary folder: {exc.strerror or exc}"

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import os
 import socket
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from functools import lru_cache
@@ -26,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from motiontool.errors import MotionToolError, OutputError
-from motiontool.motionfmt.fileio import atomic_write, read_file
+from motiontool.motionfmt.fileio import atomic_write, read_file, temporary_folder
 from motiontool.sim.batch import RunSpec
 
 __all__ = ["CHECKED", "Parcel", "Shipped", "land", "open_parcel", "pack"]
@@ -128,7 +127,7 @@ def open_parcel(runner: Callable[[Any], Any], parcel: Any, store: Callable[[byte
     if not isinstance(parcel, Parcel):
         return runner(parcel)
     _check_versions(parcel)
-    with tempfile.TemporaryDirectory(prefix="motiontool-run-") as tmp:
+    with temporary_folder("motiontool-run-") as tmp:
         local, back = _materialise(parcel, Path(tmp))
         try:
             report = runner(local)

@@ -316,6 +316,39 @@ def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
     assert list(tmp_path.iterdir()) == []
 
 
+def test_a_signal_just_after_a_temporary_folder_is_made_leaves_none(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The recording's, a batch's and a shipped run's temporary folders are made with their
+    removal armed in one step: SIGTERM right after ``mkdtemp`` left an empty ``motiontool-rrd-*``
+    (seen once in CI under load)."""
+    import tempfile
+
+    from motiontool.motionfmt.fileio import temporary_folder
+
+    class Stop(BaseException):
+        pass
+
+    def stop(signum: int, frame: object) -> None:
+        raise Stop
+
+    real = tempfile.mkdtemp
+
+    def mkdtemp_then_signal(suffix: str | None, prefix: str | None, _dir: object) -> str:
+        made = real(suffix, prefix, str(tmp_path))
+        os.kill(os.getpid(), signal.SIGTERM)  # its handler runs now, unless it is held
+        return made  # type: ignore[no-any-return]
+
+    monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp_then_signal)
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        with pytest.raises(Stop):
+            temporary_folder("motiontool-rrd-")
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.needs("sim")
 def test_a_joint_name_play_ignores_is_shown_escaped(here: Path) -> None:
     (here / "esc.motion").write_bytes(
