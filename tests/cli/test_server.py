@@ -7,18 +7,16 @@ same configuration (robot per glob, an ignored code)."""
 
 from __future__ import annotations
 
-import asyncio
 import json
 import re
-import shutil
 import subprocess
 import sys
-from collections.abc import Awaitable, Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 from conftest import import_extra, pre_commit_env
+from lsp_session import Session, motiontool, run_session
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -34,60 +32,6 @@ MOTION = (
     "00:01:000,Pose3,3.0,-0.1\n"  # MT302: HeadYaw past its limit (robot nao)
 )
 PYPROJECT = '[tool.motiontool]\nrobot = "none"\nextend-ignore = ["MT206"]\n[tool.motiontool.robots]\n"nao/**" = "nao"\n'
-
-
-def motiontool() -> str:
-    found = shutil.which("motiontool", path=str(Path(sys.executable).parent))
-    assert found, "motiontool is installed beside this Python (pip install -e .)"
-    return found
-
-
-class Session:
-    """A client talking to a running server; published diagnostics by URI, latest first."""
-
-    def __init__(self, client: LanguageClient) -> None:
-        self.client = client
-        self.result: lsp.InitializeResult | None = None
-        self.published: dict[str, asyncio.Queue[lsp.PublishDiagnosticsParams]] = {}
-
-    def queue(self, uri: str) -> asyncio.Queue[lsp.PublishDiagnosticsParams]:
-        return self.published.setdefault(uri, asyncio.Queue())
-
-    async def diagnostics(self, uri: str) -> list[lsp.Diagnostic]:
-        params = await asyncio.wait_for(self.queue(uri).get(), timeout=60)
-        return list(params.diagnostics)
-
-
-def run_session(
-    root: Path,
-    body: Callable[[Session], Awaitable[None]],
-    *args: str,
-    capabilities: lsp.ClientCapabilities | None = None,
-) -> None:
-    async def main() -> None:
-        client = LanguageClient("test-client", "1")
-        session = Session(client)
-
-        @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-        def published(params: lsp.PublishDiagnosticsParams) -> None:
-            session.queue(params.uri).put_nowait(params)
-
-        await client.start_io(motiontool(), "server", *args, cwd=str(root))
-        session.result = await client.initialize_async(
-            lsp.InitializeParams(
-                capabilities=capabilities or lsp.ClientCapabilities(),
-                root_uri=from_fs_path(str(root)),
-            )
-        )
-        client.initialized(lsp.InitializedParams())
-        try:
-            await body(session)
-        finally:
-            await client.shutdown_async(None)
-            client.exit(None)
-            await client.stop()
-
-    asyncio.run(main())
 
 
 def open_doc(session: Session, path: Path, text: str, version: int = 1) -> str:

@@ -9,14 +9,14 @@ from __future__ import annotations
 import asyncio
 import json
 import math
-import shutil
-import sys
 from collections.abc import Awaitable, Callable
 from pathlib import Path
 from typing import Any
 
 import pytest
 from conftest import import_extra
+from lsp_session import Session as ServerSession
+from lsp_session import run_session as run_server_session
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -50,14 +50,8 @@ def big_motion(poses: int, nudge: int = 0, phase: float = 0.0) -> str:
     return "\n".join(lines) + "\n"
 
 
-class Session:
-    def __init__(self, client: Any) -> None:
-        self.client = client
-        self.published: dict[str, asyncio.Queue[Any]] = {}
-        self.popups: list[str] = []
-
-    def queue(self, uri: str) -> asyncio.Queue[Any]:
-        return self.published.setdefault(uri, asyncio.Queue())
+class Session(ServerSession):
+    """test_server's session, with the edits these tests make."""
 
     async def next(self, uri: str) -> Any:
         return await asyncio.wait_for(self.queue(uri).get(), timeout=60)
@@ -78,37 +72,10 @@ class Session:
 
 
 def run_session(root: Path, body: Callable[[Session], Awaitable[None]]) -> Session:
-    motiontool = shutil.which("motiontool", path=str(Path(sys.executable).parent))
-    assert motiontool
-
-    async def main() -> Session:
-        client = LanguageClient("test-client", "1")
-        session = Session(client)
-
-        @client.feature(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
-        def published(params: Any) -> None:
-            session.queue(params.uri).put_nowait(params)
-
-        @client.feature(lsp.WINDOW_SHOW_MESSAGE)
-        def popup(params: Any) -> None:
-            session.popups.append(params.message)
-
-        await client.start_io(motiontool, "server", cwd=str(root))
-        await client.initialize_async(
-            lsp.InitializeParams(
-                capabilities=lsp.ClientCapabilities(), root_uri=from_fs_path(str(root))
-            )
-        )
-        client.initialized(lsp.InitializedParams())
-        try:
-            await body(session)
-        finally:
-            await client.shutdown_async(None)
-            client.exit(None)
-            await client.stop()
-        return session
-
-    return asyncio.run(main())
+    """test_server's runner, with this module's session."""
+    session = run_server_session(root, body, session_type=Session)
+    assert isinstance(session, Session)
+    return session
 
 
 def validate_json(path: Path, cwd: Path, monkeypatch: pytest.MonkeyPatch) -> list[tuple[Any, ...]]:
