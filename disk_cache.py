@@ -27,6 +27,7 @@ __all__ = [
     "CacheUsage",
     "ResultCache",
     "cache_root",
+    "code_stamp",
     "files_stamp",
     "libraries_stamp",
 ]
@@ -170,6 +171,16 @@ def _files(folder: Path, suffix: str) -> Iterator[tuple[str, os.stat_result]]:
         elif e.name.endswith(suffix) and e.is_file(follow_symlinks=False):
             with contextlib.suppress(OSError):
                 yield e.path, e.stat(follow_symlinks=False)
+
+
+def code_stamp(folders: Iterable[str], libraries: Iterable[str]) -> str:
+    """What changes when the code a cached result was computed by changes: the package's
+    ``folders`` (names below its root) and top-level modules (:func:`files_stamp`), and where
+    each of ``libraries`` is installed (:func:`libraries_stamp`)."""
+    root = Path(__file__).resolve().parent
+    top = sorted(p for p in root.glob("*.py") if p.is_file())
+    code = files_stamp([*(root / name for name in folders), *top])
+    return "\n".join((code, libraries_stamp(*libraries)))
 
 
 def libraries_stamp(*names: str) -> str:

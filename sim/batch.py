@@ -29,8 +29,9 @@ from motiontool.disk_cache import (
     BYTES_PER_MB,
     ResultCache,
     cache_root,
-    files_stamp,
-    libraries_stamp,
+)
+from motiontool.disk_cache import (
+    code_stamp as disk_code_stamp,
 )
 from motiontool.errors import MotionToolError, OutputError
 from motiontool.kinematics.robots import AUTO, pick_robot, resolve_robot
@@ -137,12 +138,8 @@ def code_stamp() -> str:
     """What changes when the code that plays and measures a run changes: the package's files
     (path, size, modification time: an edit, an upgrade) and where MuJoCo, Pinocchio, coal and
     numpy are installed. A cached report made by other code is never served, version or not."""
-    root = Path(__file__).resolve().parents[1]
-    top = sorted(p for p in root.glob("*.py") if p.is_file())
-    folders = [root / name for name in ("motionfmt", "kinematics", "sim")]
-    return "\n".join(
-        (files_stamp([*folders, *top]), libraries_stamp("numpy", "mujoco", "pinocchio", "coal"))
-    )
+    folders = ("motionfmt", "kinematics", "sim")
+    return disk_code_stamp(folders, ("numpy", "mujoco", "pinocchio", "coal"))
 
 
 def check_robots(robots: Sequence[str]) -> None:

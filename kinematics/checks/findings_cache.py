@@ -40,8 +40,7 @@ from motiontool.disk_cache import (
     BYTES_PER_MB,
     ResultCache,
     cache_root,
-    files_stamp,
-    libraries_stamp,
+    code_stamp,
 )
 from motiontool.errors import MissingExtraError
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Run, Severity, Worst
@@ -85,14 +84,7 @@ def lint_cache_dir() -> Path:
 @functools.cache
 def _code_stamp() -> str:
     """What changes when the code that computes findings changes (see the module doc)."""
-    root = Path(__file__).resolve().parents[2]
-    top = sorted(p for p in root.glob("*.py") if p.is_file())
-    return "\n".join(
-        (
-            files_stamp([*(root / f for f in _CODE_FOLDERS), *top]),
-            libraries_stamp("numpy", "pinocchio", "coal"),
-        )
-    )
+    return code_stamp(_CODE_FOLDERS, ("numpy", "pinocchio", "coal"))
 
 
 def findings_key(options: Iterable[str], path: str, data: bytes) -> str:
