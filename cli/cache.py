@@ -1,5 +1,5 @@
-"""``motiontool cache``: what the result caches hold (batch's results, validate's findings),
-and emptying them."""
+"""``motiontool cache``: what the result caches hold (batch's results, validate's findings,
+play --bag's robot descriptions), and emptying them."""
 
 from __future__ import annotations
 
@@ -34,7 +34,8 @@ def cache_command(
         typer.Option(
             "--cache-dir",
             help="One cache folder (batch's --cache-dir); default: batch's results "
-            "(~/.cache/motiontool/batch) and validate's findings (~/.cache/motiontool/lint).",
+            "(~/.cache/motiontool/batch), validate's findings (~/.cache/motiontool/lint) and "
+            "play --bag's robot descriptions (~/.cache/motiontool/urdf).",
         ),
     ] = None,
     max_mb: Annotated[
@@ -53,6 +54,7 @@ def cache_command(
     a line per cache."""
     from motiontool.disk_cache import BYTES_PER_MB, ResultCache
     from motiontool.kinematics.checks.findings_cache import MAX_MB, lint_cache_dir
+    from motiontool.kinematics.export import URDF_KEPT, urdf_cache_dir
     from motiontool.sim.batch import DEFAULT_MAX_MB, default_cache_dir
 
     folders = (
@@ -64,6 +66,7 @@ def cache_command(
                 f"batch prunes it to {DEFAULT_MAX_MB} MB unless --cache-max-mb says otherwise",
             ),
             (lint_cache_dir(), f"validate's robot findings, pruned to {MAX_MB} MB"),
+            (urdf_cache_dir(), f"play --bag's robot descriptions, the last {URDF_KEPT} robots"),
         ]
     )
     for folder, about in folders:

@@ -68,10 +68,10 @@ WorldOption = Annotated[
     Path | None,
     typer.Option(
         "--world",
-        help="A Webots world (.wbt) to play in: its basicTimeStep (the control step, unless"
-        " --timestep), gravity, the feet-floor contactProperties (unless --friction), the"
-        " robot's start position and heading and what it stands on; the report says what was"
-        " applied and what was not.",
+        help="A Webots world (.wbt) to play in: its basicTimeStep (the control step),"
+        " gravity, the feet-floor contactProperties, the robot's start position and heading"
+        " and what it stands on; an option given on the command line wins over the world's"
+        " field; the report says what was applied and what was not.",
         show_default=False,
     ),
 ]

@@ -15,6 +15,7 @@ names of the feet.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
@@ -30,7 +31,7 @@ if TYPE_CHECKING:
 
     Matrix = npt.NDArray[np.float64]
 
-__all__ = ["NoMjcfError", "mjcf_bytes", "urdf_bytes"]
+__all__ = ["URDF_KEPT", "NoMjcfError", "mjcf_bytes", "stored_urdf", "urdf_bytes", "urdf_cache_dir"]
 
 
 def _quoteattr(value: str) -> str:
@@ -98,6 +99,53 @@ def urdf_bytes(spec: RobotSpec) -> bytes:
     if spec.model_format == "urdf" and spec.overrides_path is None:
         return spec.model_path.read_bytes()
     return _Urdf(spec).text().encode("utf-8")
+
+
+URDF_KEPT = 64
+"""How many robots' URDF files :func:`stored_urdf` keeps (the least recently used go)."""
+
+
+def urdf_cache_dir() -> Path:
+    """Where :func:`stored_urdf` keeps them: ``$XDG_CACHE_HOME/motiontool/urdf``."""
+    from motiontool.disk_cache import cache_root
+
+    return cache_root() / "urdf"
+
+
+def stored_urdf(spec: RobotSpec) -> bytes:
+    """:func:`urdf_bytes` of ``spec``, kept on disk (``$XDG_CACHE_HOME/motiontool/urdf``):
+    writing it builds the Pinocchio model (Pinocchio's import alone is about 100 MB), which
+    ``play --bag`` then needs only the first time for a robot. The key is the model (its
+    sha256, overrides included), its motors, how it is built, the code of
+    ``motiontool.kinematics`` and the installed Pinocchio; a cache that cannot be read or
+    written is no error, the file is written again.
+
+    Raises:
+        MotionToolError: as :func:`urdf_bytes`.
+    """
+    import hashlib
+
+    from motiontool.disk_cache import ResultCache, code_stamp
+
+    if spec.model_format == "urdf" and spec.overrides_path is None:
+        return spec.model_path.read_bytes()
+    h = hashlib.sha256()
+    for part in (
+        spec.model_hash,
+        spec.model_format,
+        str(spec.floating_base),
+        "\0".join(spec.joint_names),
+        code_stamp(["kinematics"], ["pinocchio"]),
+    ):
+        h.update(part.encode("utf-8", "surrogateescape") + b"\n")
+    cache, key = ResultCache(urdf_cache_dir(), max_results=URDF_KEPT), h.hexdigest()
+    stored = cache.load(key)
+    if stored is not None and isinstance(stored.get("urdf"), str):
+        return str(stored["urdf"]).encode("utf-8")
+    data = urdf_bytes(spec)
+    if cache.store(key, {"urdf": data.decode("utf-8")}):
+        cache.prune()
+    return data
 
 
 class _Urdf:

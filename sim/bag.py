@@ -223,12 +223,12 @@ def scene_bag(stream: Any, scene: Scene, start_ns: int = 0) -> RunBag:
         MotionToolError: the robot cannot be written as URDF
             (:func:`motiontool.kinematics.export.urdf_bytes`).
     """
-    from motiontool.kinematics.export import urdf_bytes
+    from motiontool.kinematics.export import stored_urdf
     from motiontool.sim import _mujoco
 
     parents, moving = _mujoco.link_tree(scene.model, scene.robot_bodies, scene.floating)
     links = tuple(scene.body_name(int(b)) for b in scene.robot_bodies)
-    description = urdf_bytes(scene.robot).decode("utf-8")
+    description = stored_urdf(scene.robot).decode("utf-8")
     tree = LinkTree(links, parents, moving, description)
     return RunBag(stream, scene.joints, floating_base=scene.floating, tree=tree, start_ns=start_ns)
 

@@ -4,6 +4,7 @@ reads back as the same robot."""
 from __future__ import annotations
 
 import dataclasses
+import os
 from collections.abc import Callable
 from pathlib import Path
 
@@ -176,3 +177,30 @@ def test_a_limit_that_cannot_be_written_is_an_error(
     spec = _nao_v5_from(tmp_path, edit)
     with pytest.raises(MotionToolError, match=message):
         mjcf_bytes(spec)
+
+
+def test_stored_urdf_is_written_once_then_read_without_pinocchio(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """``play --bag``'s /robot_description: the first call writes the URDF (Pinocchio) and
+    keeps it; a later process reads the same bytes without importing Pinocchio."""
+    import subprocess
+    import sys
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    from motiontool.kinematics.export import stored_urdf
+
+    spec = load_robot("nao")
+    first = stored_urdf(spec)
+    assert first == urdf_bytes(spec)
+    assert list((tmp_path / "motiontool" / "urdf").rglob("*.json"))
+    probe = (
+        "import sys; from motiontool.kinematics import load_robot;"
+        "from motiontool.kinematics.export import stored_urdf;"
+        "data = stored_urdf(load_robot('nao'));"
+        "sys.stdout.buffer.write(data if 'pinocchio' not in sys.modules else b'imported')"
+    )
+    again = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, check=True, env={**os.environ}
+    ).stdout
+    assert again == first
