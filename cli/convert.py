@@ -12,6 +12,13 @@ from typing import Annotated
 import typer
 
 from motiontool import exit_codes
+from motiontool.cli.convert_blend import (
+    beyond_blend_error,
+    blend_acceleration,
+    blend_lines,
+    refuse_blend_options,
+    unfit_corner,
+)
 from motiontool.cli.convert_checks import (
     ArmLimits,
     beyond_max_error,
@@ -56,6 +63,7 @@ from motiontool.motionfmt.convert.base import (
     Recording,
     Sampled,
 )
+from motiontool.motionfmt.convert.blend import CornersDoNotFit
 from motiontool.motionfmt.convert.joint_map import parse_joint_map
 from motiontool.motionfmt.fileio import (
     is_stdin,
@@ -217,6 +225,7 @@ def _report(
         lines += [f"checked against robot {spec.name}: {plural(len(notes), 'finding')}", *notes]
     else:
         lines.append(f"checked against robot {spec.name}: clean")
+    lines += blend_lines(exported.blends, imported)
     d = exported.deviation
     if d is not None:
         where = "" if d.joint is None else f" ({d.joint} at {d.at_ms} ms)"
@@ -274,6 +283,15 @@ _Keyframes = Annotated[
         "servoj at every control step.",
     ),
 ]
+_NoBlend = Annotated[
+    bool,
+    typer.Option(
+        "--no-blend",
+        help="urscript: send the corners of Webots' straight lines as they are, step by step "
+        "(refused at the real arm's 40 rad/s² where a velocity changes), for a motion retimed "
+        "to its own corners; by default servoj rounds them at the real arm's acceleration.",
+    ),
+]
 _Limits = Annotated[
     ArmLimits | None,
     typer.Option(
@@ -308,7 +326,9 @@ _MaxError = Annotated[
         callback=finite,
         help="rosbag, choregraphe, choregraphe-py to motion: keep keyframes within this many "
         "rad of the recording or of the curves sampled at the control step, as resample "
-        f"--max-error (default: {DEFAULT_MAX_ERROR_RAD:g}).",
+        f"--max-error (default: {DEFAULT_MAX_ERROR_RAD:g}). urscript: refuse (exit 1) where "
+        "servoj's blended corners pass farther than this from a keyframe (default: no bound; "
+        "the deviation is always said).",
     ),
 ]
 
@@ -330,6 +350,7 @@ _FIELDS = {
     "--max-error": "max_error_rad",
     "--send-script": "script_name",
     "--limits": "limits",
+    "--no-blend": "blend_rad_s2",
 }
 
 
@@ -384,6 +405,16 @@ def _check_stream(
         _refuse(bad, f"not written: what the export sends fails robot {spec.name}'s limits:")
 
 
+def _export(fmt_out: Format, imported: Imported, options: ExportOptions) -> Exported:
+    """The export; where the servoj stream's corners cannot be blended, one line at the
+    keyframe and exit 1, nothing written."""
+    try:
+        return fmt_out.write(imported.motion, options)  # type: ignore[misc]
+    except CornersDoNotFit as e:
+        emit_stderr(unfit_corner(e, imported) + "\n")
+        raise typer.Exit(exit_codes.FINDINGS) from None
+
+
 def _write(exported: Exported, source: Path, target: Path, send_script: Path | None) -> None:
     """Write OUT and its companion, both or neither (none over the input): the companion
     where ``--send-script`` names it, else beside OUT where OUT is a regular file, else none
@@ -428,6 +459,7 @@ def convert_command(
     max_error: _MaxError = None,
     send_script: _SendScript = None,
     limits: _Limits = None,
+    no_blend: _NoBlend = False,
 ) -> None:
     """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ,
     a bag's recorded joint states, a Choregraphe timeline (.xar) or Python export back to a
@@ -447,8 +479,11 @@ def convert_command(
         "--max-error": max_error,
         "--send-script": send_script,
         "--limits": limits,
+        "--no-blend": True if no_blend else None,
     }
     _refuse_unused(given, fmt_in, fmt_out)
+    if "blend_rad_s2" in fmt_out.uses:
+        refuse_blend_options(no_blend, keyframes, max_error)
     refuse_overwrite(target, [source], "OUT", "write to another file")
     pairs = () if joint_map is None else parse_joint_map(read_file(joint_map), str(joint_map))
     reading = _reading(fmt_in, topic, pairs, max_error, timestep, robot)
@@ -475,11 +510,14 @@ def convert_command(
         script_name=None if send_script is None else send_script.name,
         joint_map=pairs,
         topic=reading.topic,
+        blend_rad_s2=blend_acceleration(spec is not model, no_blend, keyframes),
     )
     notes = _checked(imported, spec, fmt_out, robot, options)
-    exported = fmt_out.write(imported.motion, options)  # type: ignore[misc]
+    exported = _export(fmt_out, imported, options)
     if spec is not None:
         arm = options if spec is not model else None  # checked against the real arm
         _check_stream(exported, imported, spec, f"{fmt_out.name} export", arm)
+    if too_far := beyond_blend_error(exported.blends, max_error, imported):
+        _refuse([], too_far)
     _write(exported, source, target, send_script)
     emit_stderr(_report(exported, spec, notes, imported, robot))

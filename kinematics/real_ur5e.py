@@ -31,8 +31,10 @@ from motiontool.kinematics.checks._table import EPS
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
+    from collections.abc import Iterator
+
     from motiontool.kinematics.robot_spec import RobotSpec
-    from motiontool.motionfmt.convert.base import RobotStream
+    from motiontool.motionfmt.convert.base import RobotStream, StreamChunk
 
 __all__ = [
     "CONTROL_CYCLE_MS",
@@ -65,6 +67,8 @@ def servoj_findings(stream: RobotStream, timestep_ms: int, what: str) -> list[st
     """What a ``servoj`` stream sent every ``timestep_ms`` (ms) asks beyond the real arm: a
     ``t`` under the controller's cycle, and per joint the largest acceleration between three
     consecutive targets (rad/s², its first time, ms) above :data:`MAX_ACCELERATION_RAD_S2`.
+    The arm stands at the first target before the stream (a movej took it there) and at the
+    last one after it (stopj): the step from rest into the stream and back to rest count.
     One line each. The stream is read a chunk at a time."""
     import numpy as np
 
@@ -77,7 +81,7 @@ def servoj_findings(stream: RobotStream, timestep_ms: int, what: str) -> list[st
     worst: dict[int, tuple[float, int]] = {}
     tail_t = np.zeros(0, dtype=np.float64)
     tail_q = np.zeros((0, len(stream.joints)))
-    for times_ms, targets in stream.chunks():
+    for times_ms, targets in _at_rest_around(stream, timestep_ms):
         t = np.concatenate((tail_t, times_ms.astype(np.float64) / MS_PER_S))
         q = np.concatenate((tail_q, targets))
         tail_t, tail_q = t[-2:], q[-2:]
@@ -98,6 +102,22 @@ def servoj_findings(stream: RobotStream, timestep_ms: int, what: str) -> list[st
                 f"real arm's {MAX_ACCELERATION_RAD_S2:g} rad/s²"
             )
     return out
+
+
+def _at_rest_around(stream: RobotStream, timestep_ms: int) -> Iterator[StreamChunk]:
+    """``stream``'s chunks with its first target once more a step before it and its last
+    once more a step after it: the arm at rest on either side."""
+
+    last: StreamChunk | None = None
+    for times_ms, targets in stream.chunks():
+        if times_ms.shape[0] == 0:
+            continue
+        if last is None:
+            yield times_ms[:1] - timestep_ms, targets[:1]
+        yield times_ms, targets
+        last = times_ms[-1:], targets[-1:]
+    if last is not None:
+        yield last[0] + timestep_ms, last[1]
 
 
 def _trapezoid(distance: float, seconds: float) -> tuple[float, float]:

@@ -103,7 +103,7 @@ FORMATS: tuple[Format, ...] = (
         write=write_urscript,
         for_robot=True,
         default_robot="ur5e",
-        uses=frozenset({"joint_order", "limits"}),
+        uses=frozenset({"joint_order", "limits", "blend_rad_s2", "max_error_rad"}),
     ),
     Format(
         "ros-trajectory",

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
 
+    from motiontool.motionfmt.convert.blend import Blends
     from motiontool.motionfmt.motion import Motion
     from motiontool.motionfmt.reader import ReadResult
 
@@ -83,6 +84,9 @@ class ExportOptions:
         joint_map: (motion's joint, the robot's ROS name) pairs for the joints whose names
             differ (ROS formats); the others keep their name.
         topic: the ``sensor_msgs/JointState`` topic of a ROS 2 bag.
+        blend_rad_s2: round the corners of Webots' lines with parabolic blends at this joint
+            acceleration, rad/s² (URScript's servoj stream for a real arm); None: send them
+            as they are.
     """
 
     timestep_ms: int = WEBOTS_DEFAULT_TIMESTEP_MS
@@ -96,6 +100,7 @@ class ExportOptions:
     script_name: str | None = None
     joint_map: tuple[tuple[str, str], ...] = ()
     topic: str = DEFAULT_JOINT_STATE_TOPIC
+    blend_rad_s2: float | None = None
 
 
 def robot_check(options: ExportOptions) -> str:
@@ -215,6 +220,7 @@ class Exported:
         deviation: how far it is from Webots' stream (None for a lossless format).
         companions: (suffix, bytes) of files written beside it (a script that sends it).
         stream: what it sends to the robot, for the robot checks (None for a data format).
+        blends: the corners it rounds (URScript's servoj stream for a real arm), or None.
     """
 
     data: bytes
@@ -223,6 +229,7 @@ class Exported:
     deviation: Deviation | None = None
     companions: tuple[tuple[str, bytes], ...] = ()
     stream: RobotStream | None = None
+    blends: Blends | None = None
 
 
 @dataclass(frozen=True)
@@ -241,6 +248,9 @@ class Recording:
             less where rounding the times to whole ms put the motion beyond it.
         notes: what else the reader did, one line each (joints merged from several
             publishers, unstamped messages placed at their log time).
+        heading: what was read, the report's first line, where it is no topic's messages (a
+            trajectory's points); None: ``messages`` of ``topic``.
+        against: what the motion is compared against, for the report.
     """
 
     topic: str
@@ -251,6 +261,8 @@ class Recording:
     deviation: Deviation
     reduced_rad: float
     notes: tuple[str, ...] = ()
+    heading: str | None = None
+    against: str = "the recording"
 
     def within(self) -> bool:
         """Whether the motion keeps within ``max_error_rad`` of every sample, with 1e-9 rad of

@@ -7,9 +7,14 @@ control step with the six targets Webots' player holds at that step (:mod:`.held
 step: the numbers are Webots' own, written in the shortest positional decimal that reads back
 to the same double (``repr``'s digits, never an exponent, which URScript may not read).
 ``lookahead_time`` and ``gain`` are UR's defaults (0.1 s, 300): how the arm tracks the targets
-is UR's servo controller. With ``keyframes``: one ``movej`` per keyframe, ``t`` the segment's
-duration and blend radius ``r = 0`` (the arm reaches, and stops at, every keyframe: UR's joint
-profile between them, not Webots' straight lines; no deviation is claimed).
+is UR's servo controller. With ``blend_rad_s2`` (a real arm, whose joint acceleration is
+bounded) the corners of Webots' straight lines are rounded with parabolic blends at that
+acceleration (:mod:`.blend`): every keyframe keeps its time, the lines between the blends are
+Webots' own numbers, and the header says how far the blends pass from the keyframes.
+
+With ``keyframes``: one ``movej`` per keyframe, ``t`` the segment's duration and blend radius
+``r = 0`` (the arm reaches, and stops at, every keyframe: UR's joint profile between them, not
+Webots' straight lines; no deviation is claimed).
 
 The program ends by calling its ``def``, so that it runs as it is pasted or sent (to the
 controller's port 30002, say), not only once something calls it.
@@ -36,6 +41,7 @@ from motiontool.motionfmt.convert.base import (
     WorstError,
     robot_check,
 )
+from motiontool.motionfmt.convert.blend import Blends, blended_chunks, plan_blends
 from motiontool.motionfmt.convert.held import held_chunks
 from motiontool.motionfmt.nonfinite import refuse_non_finite
 from motiontool.motionfmt.player import hold_targets
@@ -116,11 +122,28 @@ def _first_command(
     )
 
 
+def _blend_note(blends: Blends, motion: Motion) -> list[str]:
+    """The header's lines on the blended corners: how many, at what acceleration, and the
+    largest deviation from the motion."""
+    rad, pose, joint = blends.worst()
+    name = motion.pose_names[pose]
+    return [
+        f"# its corners rounded with parabolic blends at {blends.accel_rad_s2:g} rad/s^2 "
+        f"({blends.corners} corners; every keyframe at its time)",
+        f"# largest deviation from the motion: {rad:.6g} rad ({blends.joints[joint]} at pose "
+        f"{pose} '{name}', {int(motion.times_ms[pose])} ms)",
+    ]
+
+
 def _program(
-    options: ExportOptions, order: tuple[str, ...], first: str, body: Iterable[str]
+    options: ExportOptions,
+    order: tuple[str, ...],
+    first: str,
+    body: Iterable[str],
+    note: Iterable[str] = (),
 ) -> bytes:
     """The program around ``body`` (its lines, each read once: a generator may make them as
-    they are written)."""
+    they are written); ``note``: more comment lines after the mode's."""
     mode = (
         "one movej per keyframe (t = its segment, r = 0: the arm stops at every keyframe)"
         if options.keyframes
@@ -129,6 +152,7 @@ def _program(
     head = [
         f"# motiontool convert: {options.source} for {options.robot or 'a UR arm'}",
         f"# {mode}",
+        *note,
         f"# joint targets in rad, in the order {', '.join(order)}",
         f"# robot check: {robot_check(options)}",
         "def motiontool_motion():",
@@ -157,33 +181,53 @@ def write_urscript(motion: Motion, options: ExportOptions) -> Exported:
     motors, chunks = held_chunks(motion, options.timestep_ms)
     columns = _columns(motors, order)
 
-    def arm() -> Iterator[StreamChunk]:
+    def webots() -> Iterator[StreamChunk]:
         for elapsed, targets in chunks():
             yield elapsed, targets[:, columns]
 
-    first = next(arm())[1][0]
-    _first_command(order, first, arm)
+    first = next(webots())[1][0]
+    _first_command(order, first, webots)
+    blends = None
+    if options.blend_rad_s2 is not None:
+        held = hold_targets(motion.values, motion.commanded, motion.joints, motors)
+        targets, sent = held.targets[:, columns], held.sent[:, columns]
+        blends = plan_blends(order, motion.times_ms, targets, sent, options.blend_rad_s2)
+
+    def sent_and_webots() -> Iterator[tuple[StreamChunk, npt.NDArray[np.float64]]]:
+        """(what is sent, Webots' targets at the same steps), a chunk at a time."""
+        if blends is None:
+            for elapsed, targets in webots():
+                yield (elapsed, targets), targets
+        else:
+            for elapsed, base, blended in blended_chunks(webots(), blends, options.timestep_ms):
+                yield (elapsed, blended), base
+
+    def arm() -> Iterator[StreamChunk]:
+        for chunk, _ in sent_and_webots():
+            yield chunk
+
     t = number(options.timestep_ms / MS_PER_S)
     tail = f"t={t}, lookahead_time={number(SERVO_LOOKAHEAD_S)}, gain={SERVO_GAIN})"
     worst, rows = WorstError(), 0
 
     def body() -> Iterator[str]:
         nonlocal rows
-        for elapsed, targets in arm():
-            yield from _servoj(elapsed, targets, tail, worst, rows)
+        for (elapsed, targets), base in sent_and_webots():
+            yield from _servoj(elapsed, targets, base, tail, worst, rows)
             rows += targets.shape[0]
 
-    data = _program(options, order, _vector(first), body())
+    note = [] if blends is None else _blend_note(blends, motion)
+    data = _program(options, order, _vector(first), body(), note)
+    compared = "servoj targets as written, against Webots' stream at every step"
+    if blends is not None:
+        compared += " (the arm at rest before and after it)"
     deviation = Deviation(
-        worst.rad,
-        order[worst.column],
-        worst.at_ms,
-        f"{rows * len(order)} servoj targets as written, against Webots' stream at every step",
+        worst.rad, order[worst.column], worst.at_ms, f"{rows * len(order)} {compared}"
     )
     empty = np.zeros(0, dtype=np.int64)
     stream = RobotStream(order, empty, np.zeros((0, len(order))), arm)
     detail = f"servoj every {options.timestep_ms} ms, after a movej to the first pose"
-    return Exported(data, rows, detail, deviation, stream=stream)
+    return Exported(data, rows, detail, deviation, stream=stream, blends=blends)
 
 
 _SERVOJ = re.compile(r"servoj\(\[([^\]]*)\]")
@@ -195,19 +239,22 @@ _ROWS = 8192
 def _servoj(
     elapsed: npt.NDArray[np.int64],
     targets: npt.NDArray[np.float64],
+    webots: npt.NDArray[np.float64],
     tail: str,
     worst: WorstError,
     first_row: int,
 ) -> Iterator[str]:
     """A servoj line per row of ``targets`` (rows from ``first_row`` on in the stream, sent
-    at ``elapsed`` ms), :data:`_ROWS` at a time, each block read back into ``worst``."""
+    at ``elapsed`` ms), :data:`_ROWS` at a time, each block read back and compared with
+    ``webots`` (Webots' targets at the same steps) into ``worst``."""
     import numpy as np
 
     for lo in range(0, targets.shape[0], _ROWS):
         block = targets[lo : lo + _ROWS]
         lines = [f"  servoj({_vector(row)}, {tail}" for row in block]
         written = np.array([[float(x) for x in _SERVOJ.findall(ln)[0].split(",")] for ln in lines])
-        worst.update(np.abs(written - block), first_row + lo, elapsed[lo : lo + _ROWS])
+        error = np.abs(written - webots[lo : lo + _ROWS])
+        worst.update(error, first_row + lo, elapsed[lo : lo + _ROWS])
         yield from lines
 
 

@@ -39,15 +39,18 @@ def _convert(*args: str) -> tuple[int, str]:
     return result.exit_code, result.stderr
 
 
-def test_the_shipped_jog_needs_more_acceleration_than_the_real_arm(tmp_path: Path) -> None:
+def test_the_shipped_jog_sent_unblended_needs_more_acceleration_than_the_real_arm(
+    tmp_path: Path,
+) -> None:
     out = tmp_path / "jog.script"
-    code, err = _convert(str(JOG), str(out))
+    code, err = _convert(str(JOG), str(out), "--no-blend")
     assert code == 1 and not out.exists()
     assert "fails robot ur5e (real arm)'s limits" in err
     line = "urscript export: elbow_joint needs 195.242 rad/s² at 1272 ms, beyond the real arm's"
     assert f"{line} 40 rad/s²" in err
     code, err = _convert(str(JOG), str(out), "--limits", "webots")
     assert code == 0 and "checked against robot ur5e: clean" in err
+    assert "corners blended" not in err  # the Webots model has no acceleration limit
 
 
 def test_a_wrist_at_4_rad_s_passes_webots_but_not_the_real_arm(tmp_path: Path) -> None:
@@ -94,7 +97,8 @@ def test_faster_than_180_deg_s_even_at_constant_speed() -> None:
 def test_servoj_acceleration_is_the_second_difference_across_chunks() -> None:
     t = np.arange(0, 80, 8)
     q = np.zeros((t.size, 6))
-    q[5:, 1] = np.arange(1, 6) * 0.008 * 0.5  # from rest to 0.5 rad/s in one 8 ms step
+    q[5:, 1] = np.cumsum([0.5, 0.5, 0.5, 0.25, 0.25]) * 0.008  # rest to 0.5 rad/s in 8 ms,
+    # then down to 0.25 rad/s and to rest after the last row (31.25 rad/s² each: within)
     chunks = [(t[:5], q[:5]), (t[5:], q[5:])]  # the corner lies across the chunk boundary
     stream = RobotStream(UR.joint_names, t[:0], q[:0], lambda: iter(chunks))
     found = servoj_findings(stream, 8, "x")
@@ -102,6 +106,20 @@ def test_servoj_acceleration_is_the_second_difference_across_chunks() -> None:
         "x: shoulder_lift_joint needs 62.5 rad/s² at 32 ms, beyond the real arm's 40 rad/s²"
     ]
     assert math.isclose(0.5 / 0.008, 62.5) and MAX_ACCELERATION_RAD_S2 < 62.5
+
+
+def test_servoj_starts_and_ends_at_rest() -> None:
+    # The arm stands at the first target (after the movej) and at the last one (stopj): a
+    # stream that starts or ends moving needs the step from rest, which no row pair shows.
+    t = np.arange(0, 40, 8)
+    q = np.zeros((t.size, 6))
+    q[:, 0] = np.arange(t.size) * 0.008 * 0.4  # 0.4 rad/s from the first row to the last
+    stream = RobotStream(UR.joint_names, t, q)
+    assert servoj_findings(stream, 8, "x") == [
+        "x: shoulder_pan_joint needs 50 rad/s² at 0 ms, beyond the real arm's 40 rad/s²"
+    ]
+    q[:, 0] = np.arange(t.size) * 0.008 * 0.3  # 37.5 rad/s² at either end: within
+    assert servoj_findings(RobotStream(UR.joint_names, t, q), 8, "x") == []
 
 
 def test_servoj_t_under_the_controller_cycle(tmp_path: Path) -> None:
