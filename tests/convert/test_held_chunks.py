@@ -116,16 +116,19 @@ def test_a_trajectory_is_found_in_a_stream_longer_than_one_may_hold(
     assert chunked.positions.tobytes() == whole.positions.tobytes()
 
 
+@pytest.mark.parametrize("blend", [None, 40.0], ids=["corners", "blended"])
 @pytest.mark.parametrize("lossy", [False, True], ids=["exact", "lossy"])
 @pytest.mark.parametrize("name", ["jog", "sorting"])
 def test_urscript_is_the_same_whatever_the_chunk_size(
-    name: str, lossy: bool, monkeypatch: pytest.MonkeyPatch
+    name: str, lossy: bool, blend: float | None, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     if lossy:  # numbers written to 4 decimals: a deviation, at a step the report must name
         monkeypatch.setattr(urscript, "number", lambda v: f"{v:.4f}")
     motion = read_bytes((ROOT / "motions" / "ur5e" / f"{name}.motion").read_bytes()).motion
     ur = load_robot("ur5e")
-    options = ExportOptions(timestep_ms=8, robot="ur5e", joint_order=ur.joint_names)
+    options = ExportOptions(
+        timestep_ms=8, robot="ur5e", joint_order=ur.joint_names, blend_rad_s2=blend
+    )
 
     def export(chunk_steps: int) -> tuple[object, ...]:
         monkeypatch.setattr(held, "_CHUNK_STEPS", chunk_steps)
@@ -135,7 +138,8 @@ def test_urscript_is_the_same_whatever_the_chunk_size(
         return out.data, out.deviation, out.poses, found
 
     whole = export(1 << 20)
-    assert whole[1].max_rad > 0 if lossy else whole[1].max_rad == 0  # type: ignore[attr-defined]
+    exact = not lossy and blend is None
+    assert whole[1].max_rad == 0 if exact else whole[1].max_rad > 0  # type: ignore[attr-defined]
     monkeypatch.setattr(player, "MAX_HELD_STEPS", 50)  # never held: not refused
     assert export(7) == whole
 
