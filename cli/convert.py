@@ -152,9 +152,12 @@ def _recording(r: Recording, poses: int) -> list[str]:
     """What an imported recording held, and the motion's worst deviation from it."""
     d = r.deviation
     rate = f", {(r.messages - 1) * MS_PER_S / r.duration_ms:.4g} Hz" if r.duration_ms else ""
-    lines = [
+    read = r.heading or (
         f"read {plural(r.messages, 'sensor_msgs/JointState message')} of {r.topic} "
-        f"({r.duration_ms / MS_PER_S:g} s{rate})",
+        f"({r.duration_ms / MS_PER_S:g} s{rate})"
+    )
+    lines = [
+        read,
         f"keyframes: {poses}, reduced within {num(r.reduced_rad)} rad (as resample "
         "--max-error reduces them)"
         + (
@@ -162,7 +165,7 @@ def _recording(r: Recording, poses: int) -> list[str]:
             if r.reduced_rad == r.max_error_rad
             else f" to keep within {num(r.max_error_rad)} rad"
         ),
-        f"worst deviation from the recording: {num(d.max_rad)} rad ({d.joint} at {d.at_ms} ms)",
+        f"worst deviation from {r.against}: {num(d.max_rad)} rad ({d.joint} at {d.at_ms} ms)",
         f"  compared: {d.compared}",
     ]
     lines[1:1] = r.notes
@@ -324,8 +327,9 @@ _MaxError = Annotated[
         "--max-error",
         min=0.0,
         callback=finite,
-        help="rosbag, choregraphe, choregraphe-py to motion: keep keyframes within this many "
-        "rad of the recording or of the curves sampled at the control step, as resample "
+        help="rosbag, ros-trajectory, choregraphe, choregraphe-py to motion: keep keyframes "
+        "within this many rad of the recording, of the trajectory's points or of the curves "
+        "sampled at the control step, as resample "
         f"--max-error (default: {DEFAULT_MAX_ERROR_RAD:g}). urscript: refuse (exit 1) where "
         "servoj's blended corners pass farther than this from a keyframe (default: no bound; "
         "the deviation is always said).",
@@ -462,8 +466,8 @@ def convert_command(
     no_blend: _NoBlend = False,
 ) -> None:
     """Convert a motion to CSV, NPZ, NAOqi, URScript, a ROS 2 trajectory or bag, or a CSV, NPZ,
-    a bag's recorded joint states, a Choregraphe timeline (.xar) or Python export back to a
-    motion (and a motion to that Python: choregraphe-py).
+    a ROS trajectory (YAML), a bag's recorded joint states, a Choregraphe timeline (.xar) or
+    Python export back to a motion (and a motion to that Python: choregraphe-py).
 
     The output is checked against the robot first (validate's limit, velocity and joint
     checks, and what a robot format sends); nothing is written if it fails (exit 1). The

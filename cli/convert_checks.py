@@ -207,7 +207,7 @@ def beyond_max_error(r: Recording | None, option: str) -> list[str]:
     d = r.deviation
     return [
         f"{option} {r.max_error_rad:.6g} rad: every sample kept, the motion is "
-        f"{d.max_rad:.6g} rad from the recording ({d.joint} at {d.at_ms} ms)"
+        f"{d.max_rad:.6g} rad from {r.against} ({d.joint} at {d.at_ms} ms)"
     ]
 
 

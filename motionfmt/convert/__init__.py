@@ -12,7 +12,9 @@
 * :mod:`.choregraphe_py`: the Python Choregraphe exports (``names``, ``times``, ``keys`` for
   ``angleInterpolationBezier``), read as literals (never run); written from the NAOqi keys.
 * :mod:`.urscript`: a real UR arm: ``servoj`` at every control step (or ``movej`` per keyframe).
-* :mod:`.ros_trajectory`: a robot under ros2_control: a ``FollowJointTrajectory`` goal (YAML).
+* :mod:`.ros_trajectory`: a robot under ros2_control: a ``FollowJointTrajectory`` goal (YAML);
+  back, a ``JointTrajectory`` in YAML (that goal, ``ros2 topic echo``'s) with its keyframes
+  reduced (:mod:`.ros_trajectory_read`).
 * :mod:`.rosbag`: ROS 2 bags (MCAP): the command stream as ``sensor_msgs/JointState`` and the
   trajectory; back, a recorded ``/joint_states`` as a motion with its keyframes reduced, from
   an ``.mcap`` or sqlite3 ``.db3`` file, a bag's folder, or a ROS 1 ``.bag``.
@@ -40,6 +42,7 @@ from motiontool.motionfmt.convert.motion_file import read_motion_file, write_mot
 from motiontool.motionfmt.convert.naoqi import write_naoqi
 from motiontool.motionfmt.convert.npz import read_npz, write_npz
 from motiontool.motionfmt.convert.ros_trajectory import write_ros_trajectory
+from motiontool.motionfmt.convert.ros_trajectory_read import read_ros_trajectory
 from motiontool.motionfmt.convert.rosbag import read_rosbag, read_rosbag_folder, write_rosbag
 from motiontool.motionfmt.convert.urscript import write_urscript
 from motiontool.motionfmt.convert.wide_csv import read_csv, write_csv
@@ -108,10 +111,12 @@ FORMATS: tuple[Format, ...] = (
     Format(
         "ros-trajectory",
         (".trajectory.yaml",),
-        "a robot under ros2_control: a FollowJointTrajectory goal (YAML) for ros2 action send_goal",
+        "a robot under ros2_control: a FollowJointTrajectory goal (YAML) for ros2 action "
+        "send_goal; back, a JointTrajectory in YAML (that goal, ros2 topic echo's)",
+        read=read_ros_trajectory,
         write=write_ros_trajectory,
         for_robot=True,
-        uses=frozenset({"joint_map", "lead_in_ms"}),
+        uses=frozenset({"joint_map", "lead_in_ms", "max_error_rad"}),
     ),
     Format(
         "rosbag",

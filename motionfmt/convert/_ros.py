@@ -35,6 +35,7 @@ __all__ = [
     "JOINT_TRAJECTORY",
     "LATCHED_QOS",
     "NS_PER_MS",
+    "NS_PER_S",
     "POSE_STAMPED",
     "BagTopic",
     "BagWriter",

@@ -17,7 +17,8 @@ hand joint (``LPhalanx1..8`` -> ``LHand``).
 Several joints may go to one ROS name (the phalanges of a hand, or a map's many-to-one): a ROS
 joint has one position, so the first of them in the motion's order gives it, and the caller
 checks that the others agree with it (:func:`disagreement`). Read back, a ROS name becomes the
-first joint the map gives it, and a NAO's ``LHand`` the eight phalanges (:func:`spread_hands`).
+first joint the map gives it, and a NAO's ``LHand`` the eight phalanges, but for those the map
+keeps apart (:func:`spread_hands`).
 """
 
 from __future__ import annotations
@@ -156,17 +157,17 @@ def from_ros(names: Sequence[str], joint_map: Sequence[tuple[str, str]]) -> tupl
 
 def spread_hands(joints: Sequence[str]) -> tuple[tuple[str, ...], list[int]]:
     """A real NAO's hands as the Webots Nao's phalanges (:data:`NAO_HANDS` read backwards):
-    ``LHand`` becomes ``LPhalanx1..8`` in its place, unless the joints already have one of
-    them. Returns (the joints, the index in ``joints`` of each one's column)."""
+    ``LHand`` becomes, in its place, those of ``LPhalanx1..8`` that the joints do not already
+    have (a joint map that keeps ``LPhalanx7`` apart sends it under its own name), and stays
+    ``LHand`` where they have all eight. Returns (the joints, the index in ``joints`` of each
+    one's column)."""
     fingers: dict[str, list[str]] = {}
     for finger, hand in NAO_HANDS.items():
         fingers.setdefault(hand, []).append(finger)
     out: list[str] = []
     columns: list[int] = []
     for j, name in enumerate(joints):
-        spread = fingers.get(name, [])
-        if not spread or any(f in joints for f in spread):
-            spread = [name]
+        spread = [f for f in fingers.get(name, []) if f not in joints] or [name]
         out += spread
         columns += [j] * len(spread)
     return tuple(out), columns

@@ -57,7 +57,13 @@ from motiontool.motionfmt.writer import check_name
 if TYPE_CHECKING:
     from motiontool.motionfmt.motion import Motion
 
-__all__ = ["TRAJECTORY_TOPIC", "read_rosbag", "read_rosbag_folder", "write_rosbag"]
+__all__ = [
+    "TRAJECTORY_TOPIC",
+    "imported_samples",
+    "read_rosbag",
+    "read_rosbag_folder",
+    "write_rosbag",
+]
 
 TRAJECTORY_TOPIC = "/joint_trajectory"
 """Where a written bag holds the trajectory (``joint_trajectory_controller``'s topic name)."""
@@ -114,17 +120,21 @@ def write_rosbag(motion: Motion, options: ExportOptions) -> Exported:
 
 
 def _reduced(
-    joints: tuple[str, ...], samples: Merged, columns: list[int], max_error: float, path: str
+    joints: tuple[str, ...],
+    samples: Merged,
+    columns: list[int],
+    max_error: float,
+    path: str,
+    positions: str,
 ) -> tuple[Motion, int, float, Deviation]:
     """The motion on whole ms within ``max_error`` (rad) of every recorded sample at its own
     stamp where whole ms allow it: reduced within ``max_error``, then, where rounding the
     times put it beyond, within less (by the overshoot, then 0: every sample kept).
     Returns (motion, samples left out on a shared ms, the bound it was reduced within (rad),
-    its worst deviation from the recording)."""
+    its worst deviation from the recording); ``positions`` says what a sample is, for the
+    report."""
     q = samples.q[:, columns]
-    compared = (
-        f"{sum(samples.own[c][0].size for c in columns)} recorded positions, each at its own stamp"
-    )
+    compared = f"{sum(samples.own[c][0].size for c in columns)} {positions}"
     bound = max_error
     for attempt in range(_TRIES):
         motion, merged = reduced(joints, samples.t_ms, q, bound, path)
@@ -156,14 +166,33 @@ def _notes(states: JointStates, samples: Merged) -> tuple[str, ...]:
     return tuple(notes)
 
 
-def _imported(states: JointStates, path: str, opts: ImportOptions) -> Imported:
+def imported_samples(
+    states: JointStates,
+    path: str,
+    opts: ImportOptions,
+    *,
+    heading: str | None = None,
+    against: str = "the recording",
+    positions: str = "recorded positions, each at its own stamp",
+) -> Imported:
+    """The motion ``states`` record (see the module), and what it held
+    (:class:`~.base.Recording`). Another source of samples than a bag's topic (a
+    trajectory's points) says what it read (``heading``), what the motion is compared against
+    (``against``) and what a sample is (``positions``), for the report.
+
+    Raises:
+        MotionToolError: a bad message (:func:`~.joint_states.merged`), a name that is no
+            joint name, a recording beyond the longest motion.
+    """
     samples = merged(states, path, opts.topic)
     joints, columns = spread_hands(from_ros(samples.names, opts.joint_map))
     for joint in joints:
         check_name(joint, "joint")
     if samples.t_ms[-1] > INT_MAX:
         raise MotionToolError(f"'{path}': {samples.t_ms[-1]:.0f} ms long, beyond {INT_MAX} ms")
-    motion, left_out, bound, worst = _reduced(joints, samples, columns, opts.max_error_rad, path)
+    motion, left_out, bound, worst = _reduced(
+        joints, samples, columns, opts.max_error_rad, path, positions
+    )
     recording = Recording(
         opts.topic,
         len(states.names),
@@ -173,6 +202,8 @@ def _imported(states: JointStates, path: str, opts: ImportOptions) -> Imported:
         worst,
         bound,
         _notes(states, samples),
+        heading,
+        against,
     )
     return Imported(motion, path, recording=recording)
 
@@ -186,10 +217,10 @@ def read_rosbag(data: bytes, path: str, options: ImportOptions | None = None) ->
             increase, a message whose names and positions disagree, a non-finite position.
     """
     opts = options or ImportOptions()
-    return _imported(read_joint_states(data, path, opts.topic), path, opts)
+    return imported_samples(read_joint_states(data, path, opts.topic), path, opts)
 
 
 def read_rosbag_folder(folder: str, options: ImportOptions | None = None) -> Imported:
     """:func:`read_rosbag` of a ROS 2 bag's folder (``metadata.yaml`` and its files)."""
     opts = options or ImportOptions()
-    return _imported(read_bag_folder(folder, opts.topic), folder, opts)
+    return imported_samples(read_bag_folder(folder, opts.topic), folder, opts)

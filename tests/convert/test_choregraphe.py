@@ -27,6 +27,7 @@ from motiontool.motionfmt.motion import Motion
 runner = CliRunner()
 CHOREGRAPHE = DATA / "choregraphe"
 HELLO = CHOREGRAPHE / "hello" / "behavior.xar"
+WELCOMING = CHOREGRAPHE / "welcoming" / "Welcoming.py"
 NAO_MOTIONS = sorted((ROOT / "motions" / "nao").glob("*.motion"))
 COUPLED = builtin("nao-v5").coupled_joints
 MAX_ERROR = 1e-3  # rad
@@ -51,6 +52,43 @@ def test_the_vendored_files_are_those_the_manifest_lists() -> None:
     files = {p.relative_to(CHOREGRAPHE).as_posix() for p in CHOREGRAPHE.rglob("*") if p.is_file()}
     assert files == {r["path"] for r in listed} | {"MANIFEST.tsv", "NOTICE"}
     assert "BSD-style" in (CHOREGRAPHE / "NOTICE").read_text(encoding="utf-8")
+    assert "GNU GENERAL PUBLIC LICENSE" in (WELCOMING.parent / "LICENSE.md").read_text()
+
+
+def test_a_python_export_from_the_wild_converts_and_validates(tmp_path: Path) -> None:
+    """Welcoming.py, a Choregraphe Python export as a team keeps it (Python 2, the proxy call
+    at its end): read within the maximum error with the deviation printed, and the motion
+    written passes validate for the NAO."""
+    out = tmp_path / "welcoming.motion"
+    code, err = _run(WELCOMING, out)
+    assert code == 0, err
+    assert (
+        "read 75 keys of 14 joint curves (a Choregraphe Python export calling "
+        "angleInterpolationBezier); its first key, at 0.64 s, is the motion's 0 ms\n" in err
+    )
+    worst = float(re.search(r"worst deviation from the curves: (\S+) rad", err).group(1))  # type: ignore[union-attr]
+    assert 0 < worst <= MAX_ERROR
+    assert "checked against robot nao: clean" in err
+    result = runner.invoke(app, ["validate", "--robot", "nao-v5", str(out)])
+    assert result.exit_code == 0, result.output
+    assert "0 errors, 0 warnings" in result.output
+
+
+def test_choregraphes_own_handles_are_the_automatic_ones() -> None:
+    """Welcoming.py is Aldebaran's Hello exported by Choregraphe, with the Bezier handles it
+    computed for keys that had none; the timeline read with our automatic handles gives the
+    same curves to the export's five decimals. The hands differ: the export gives them as
+    the timeline's number taken as degrees (0.853478 -> 0.01490), the timeline reader as a
+    fraction (open 0.85), so they are left out."""
+    options = ImportOptions(timestep_ms=20, max_error_rad=0.0)
+    exported = read_choregraphe_py(WELCOMING.read_bytes(), str(WELCOMING), options).motion
+    timeline = read_timeline(HELLO.read_bytes(), str(HELLO), options).motion
+    assert exported.joints == timeline.joints
+    a, b = held_stream(exported, 20), held_stream(timeline, 20)
+    assert np.array_equal(a.elapsed_ms, b.elapsed_ms)
+    arms = [j for j, m in enumerate(a.motors) if "Phalanx" not in m]
+    assert len(arms) == 12
+    assert np.max(np.abs(a.targets[:, arms] - b.targets[:, arms])) < 1e-5  # rad
 
 
 def test_the_hello_timeline_reads_within_the_maximum_error() -> None:
@@ -221,8 +259,8 @@ def test_convert_from_lists_only_the_formats_it_can_read() -> None:
     result = runner.invoke(app, ["convert", "--help"], terminal_width=400)
     text = " ".join(result.output.split())
     assert (
-        "Input format (motion, csv, npz, choregraphe, choregraphe-py, rosbag, rosbag-db3, rosbag1)"
-        in text
+        "Input format (motion, csv, npz, choregraphe, choregraphe-py, ros-trajectory, rosbag, "
+        "rosbag-db3, rosbag1)" in text
     )
     assert "Output format (motion, csv, npz, naoqi, choregraphe-py, urscript," in text
 

@@ -389,10 +389,10 @@ def test_a_topic_of_another_type_is_refused(tmp_path: Path) -> None:
 
 def test_ros_options_are_refused_where_no_format_reads_them(tmp_path: Path) -> None:
     code, err = _run(NAO, tmp_path / "w.csv", "--max-error", "0.1")
-    assert (code, err) == (
-        2,
-        "motiontool: error: --max-error applies to choregraphe, choregraphe-py, rosbag, "
-        "rosbag-db3, rosbag1, not to motion -> csv\n",
+    assert code == 2 and err.endswith(", not to motion -> csv\n") and err.count("\n") == 1
+    able = err.removeprefix("motiontool: error: --max-error applies to ").split(", not to")[0]
+    assert {"choregraphe", "choregraphe-py", "ros-trajectory", "rosbag", "rosbag1"} <= set(
+        able.split(", ")
     )
 
 
