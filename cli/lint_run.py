@@ -13,21 +13,18 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from motiontool.cli.config import Resolver, Selection, Settings
 from motiontool.cli.gitignore import git_ignored
 from motiontool.errors import MissingExtraError
-from motiontool.kinematics.checks import (
-    CHECK_REGISTRY,
-    DEFAULT_CHECKS,
-    RobotChecks,
-    parse_checks,
-)
-from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
+from motiontool.kinematics.builtin_robots import NONE
+from motiontool.kinematics.checks.registry import CHECK_REGISTRY, DEFAULT_CHECKS, parse_checks
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
 from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
+from motiontool.motionfmt.reread import Rereader
 from motiontool.motionfmt.validate import (
     FileReport,
     FileReports,
@@ -35,6 +32,10 @@ from motiontool.motionfmt.validate import (
     checkable,
     validate_bytes,
 )
+
+if TYPE_CHECKING:  # a syntax-level run imports no robot and no check
+    from motiontool.kinematics.checks.runner import RobotChecks
+    from motiontool.kinematics.robot_spec import RobotSpec
 
 __all__ = [
     "Checked",
@@ -332,15 +333,17 @@ def lint_document(
     resolver: Resolver,
     overrides: Overrides,
     make_checker: Callable[[str, tuple[str, ...] | None, int | None], RobotChecks],
+    reader: Rereader | None = None,
 ) -> tuple[FileReport, RobotSpec | None]:
     """``data`` linted as :func:`lint` lints the file at ``path`` (its settings, robot, checks
     and grouping): what an editor shows for the text it holds (``motiontool server``). Also
-    the robot it was checked against (None: syntax level only)."""
+    the robot it was checked against (None: syntax level only). ``reader``: the document's
+    reader, which reads a new version from the edit on (see :mod:`motiontool.motionfmt.reread`)."""
     settings = resolver.for_file(path)
     key = _group_key(path, settings, overrides)
     robot, checks, timestep, _grouped = key
     checker = None if robot == NONE else make_checker(robot, checks, timestep)
-    return _lint_one(data, str(path), path, settings, checker, key, overrides)
+    return _lint_one(data, str(path), path, settings, checker, key, overrides, reader=reader)
 
 
 def _lint_one(
@@ -352,6 +355,8 @@ def _lint_one(
     key: _Key,
     overrides: Overrides,
     on_step: Callable[[str], None] | None = None,
+    *,
+    reader: Rereader | None = None,
 ) -> tuple[FileReport, RobotSpec | None]:
     """One file's bytes (``data``, reported as ``name``, found at ``path``) read and checked
     as its settings and the command line say: the findings they do not report are left out
@@ -366,6 +371,7 @@ def _lint_one(
         ignore=settings.unreported(path, CODES, overrides.selection),
         group=grouped,
         on_step=on_step,
+        reader=reader,
     )
     spec = None if checker is None else checker.used.get(report.path)
     report.robot_fixes = _planner(spec, path, settings, checks, overrides, timestep)
@@ -422,5 +428,7 @@ def robot_planner(
     robot, checks, timestep, _grouped = _group_key(path, settings, overrides)
     if robot == NONE:
         return None
+    from motiontool.kinematics.robots import pick_robot
+
     spec = pick_robot(robot, read_bytes(data, str(path)).joints)
     return _planner(spec, path, settings, checks, overrides, timestep)

@@ -13,6 +13,7 @@ from motiontool.extras import require
 from motiontool.kinematics.checks import DEFAULT_PENETRATION_TOLERANCE_MM, RobotChecks
 from motiontool.kinematics.checks.findings_cache import MAX_BYTES, FindingsCache
 from motiontool.kinematics.robots import RobotSpec
+from motiontool.motionfmt.reread import Rereader
 from motiontool.motionfmt.validate import FileReport
 
 __all__ = ["server_command"]
@@ -35,6 +36,8 @@ def server_command(
     # The checks of each robot, checks and step, kept from one version to the next: what they
     # found at the configurations an edit left as they were is not found again.
     kept: dict[tuple[str, tuple[str, ...] | None, int | None], RobotChecks] = {}
+    # Each document's reader, which reads a new version from the edit on (the last ones used).
+    readers: dict[Path, Rereader] = {}
 
     def lint(
         path: Path, data: bytes, superseded: Callable[[], bool]
@@ -57,9 +60,18 @@ def server_command(
             if superseded():
                 raise lsp.Superseded
 
-        return lint_document(path, data, resolver, Overrides(), checks)
+        reader = readers.pop(path, None) or Rereader()
+        readers[path] = reader  # the last one used last
+        while len(readers) > _READERS:
+            del readers[next(iter(readers))]
+        return lint_document(path, data, resolver, Overrides(), checks, reader)
 
     lsp.build_server(lint).start_io()
+
+
+_READERS = 16
+"""Documents whose last version the server keeps to read the next one from the edit on
+(:mod:`motiontool.motionfmt.reread`): those edited last."""
 
 
 def _saved(path: Path, data: bytes) -> bool:

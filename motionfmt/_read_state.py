@@ -38,6 +38,9 @@ class ReadState:
             (MT103 says so there), else None.
         muted, muted_count: a code whose findings follow from another one and are only
             counted (``MT110`` "expected 0 values" after joint names on line 2), and how many.
+        rejecting: where in ``result.diagnostics`` each finding that rejects the file is (the
+            first is ``result.rejected_at``): what :mod:`.reread` needs to know where Webots
+            stops once an edit takes the first one away.
     """
 
     def __init__(self, data: bytes, path: str, timestep_ms: int | None) -> None:
@@ -62,6 +65,7 @@ class ReadState:
         self.names_line: int | None = None
         self.muted: str | None = None
         self.muted_count = 0
+        self.rejecting = array("q")
 
     @functools.cached_property
     def lines(self) -> list[bytes]:
@@ -111,5 +115,7 @@ class ReadState:
             stable=stable,
         )
         self.result.diagnostics.append(diag)
-        if (spec.rejects if rejects is None else rejects) and self.result.rejected_at is None:
-            self.result.rejected_at = diag
+        if spec.rejects if rejects is None else rejects:
+            self.rejecting.append(len(self.result.diagnostics) - 1)
+            if self.result.rejected_at is None:
+                self.result.rejected_at = diag

@@ -81,6 +81,10 @@ class _Reader(ReadState):
         self.bulk_min_bytes = bulk_min_bytes
         self.exact = exact
         self.keep_values = keep_values
+        self.body_findings: int | None = None
+        """How many findings the header and the pose lines gave (those before the checks of
+        the whole motion), once the poses are read; None until then: what :mod:`.reread`
+        keeps of a read to read an edit of the file again."""
 
     def read(self) -> ReadResult:
         res = self.result
@@ -101,7 +105,7 @@ class _Reader(ReadState):
         bulk = not self.exact and res.accepted and len(self.data) >= self.bulk_min_bytes
         if bulk and header_piece.col0 == 0 and self.read_bulk():
             return res
-        last_line, pose_lines_seen = self.read_poses(header_piece.line, pieces)
+        last_line, pose_lines_seen = self.read_poses(pieces, (-1, header_piece.line))
         if self.names_line is not None:
             self.names_below_header(self.names_line)
         elif not self.joint_tokens:  # Webots counts joints and poses after reading every line
@@ -118,16 +122,17 @@ class _Reader(ReadState):
                 1,
                 "no pose; expected at least one line 'time,name,value,...' after the header",
             )
+        self.body_findings = len(res.diagnostics)
         if self.n_joints == 0 or not res.accepted:
             return res
         check_motion(self)
         return res
 
-    def read_poses(self, header_line: int, pieces: Iterator[Piece]) -> tuple[int, int]:
+    def read_poses(self, pieces: Iterator[Piece], prev: tuple[int, int]) -> tuple[int, int]:
         """Read the pose lines up to the end or a blank line, each on the fast path if it can
-        (unless ``exact``) and on the exact path if not; (the last line read, how many)."""
-        prev = (-1, header_line)
-        last_line = header_line
+        (unless ``exact``) and on the exact path if not, after the pose ``prev`` (its time in
+        ms and its line; (-1, 1) for the header); (the last line read, how many)."""
+        last_line = prev[1]
         pose_lines_seen = 0
         fast = not self.exact
         for piece in pieces:
@@ -165,8 +170,12 @@ class _Reader(ReadState):
         found, rejects = res.diagnostics[before:], res.rejected_at
         res.rejected_at = decided or rejects
         del res.diagnostics[before:]
+        while self.rejecting and self.rejecting[-1] >= before:
+            self.rejecting.pop()
         for d in found[:1] + [d for d in found[1:] if d is rejects]:
             res.diagnostics.append(d)
+            if d is rejects:
+                self.rejecting.append(len(res.diagnostics) - 1)
         return t
 
     def names_below_header(self, line: int) -> None:
@@ -216,6 +225,7 @@ class _Reader(ReadState):
         else:
             res.cells = values.reshape(-1)
         res.pose_lines = range(2, len(times) + 2)  # a pose a line: no list of them
+        self.body_findings = len(res.diagnostics)
         check_motion(self)
         return True
 

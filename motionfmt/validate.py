@@ -43,6 +43,7 @@ from motiontool.motionfmt.fixes import (
 )
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
+from motiontool.motionfmt.reread import Rereader
 
 __all__ = [
     "HELD_INPUT_BYTES",
@@ -368,6 +369,7 @@ def validate_bytes(
     ignore: Iterable[str] = (),
     group: bool = False,
     on_step: Callable[[str], None] | None = None,
+    reader: Rereader | None = None,
 ) -> FileReport:
     """Validate one file's bytes: Webots' reading, then ``checks`` if Webots accepts the file.
 
@@ -375,10 +377,12 @@ def validate_bytes(
     finding (:func:`~motiontool.motionfmt.grouping.group_findings`), as each check returns
     them, so that one file's findings are never all held ungrouped besides one check's.
     ``on_step``: told what is being done (``path: read``, ``path: checks``), for a progress
-    display."""
+    display. ``reader``: reads ``data`` from the last version it read (an editor's document,
+    :class:`~motiontool.motionfmt.reread.Rereader`), where given."""
     if on_step is not None:
         on_step(f"{path}: read")
-    result = read_bytes(data, path, timestep_ms=timestep_ms, keep_values=bool(checks))
+    read = read_bytes if reader is None else reader.read
+    result = read(data, path, timestep_ms=timestep_ms, keep_values=bool(checks))
     if on_step is not None and checks:
         on_step(f"{path}: checks")
     parts: list[Sequence[Diagnostic]] = [result.diagnostics]
