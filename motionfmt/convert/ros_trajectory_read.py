@@ -106,7 +106,7 @@ def _message(text: str, where: _Where) -> dict[str, Any]:
         raise where.error(
             documents[1],
             f"a second message ({len(documents)} in all): give one "
-            "(ros2 topic echo --once, or the first message alone)",
+            "(echo a single message, or keep the first document alone)",
         )
     found = list(_candidates(documents[0], (), _NESTED))
     if len(found) > 1:
