@@ -13,17 +13,13 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from motiontool.cli.config import Resolver, Selection, Settings
 from motiontool.cli.gitignore import git_ignored
 from motiontool.errors import MissingExtraError
-from motiontool.kinematics.checks import (
-    CHECK_REGISTRY,
-    DEFAULT_CHECKS,
-    RobotChecks,
-    parse_checks,
-)
-from motiontool.kinematics.robots import NONE, RobotSpec, pick_robot
+from motiontool.kinematics.builtin_robots import NONE
+from motiontool.kinematics.checks.registry import CHECK_REGISTRY, DEFAULT_CHECKS, parse_checks
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
 from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
@@ -36,6 +32,10 @@ from motiontool.motionfmt.validate import (
     checkable,
     validate_bytes,
 )
+
+if TYPE_CHECKING:  # a syntax-level run imports no robot and no check
+    from motiontool.kinematics.checks.runner import RobotChecks
+    from motiontool.kinematics.robot_spec import RobotSpec
 
 __all__ = [
     "Checked",
@@ -428,5 +428,7 @@ def robot_planner(
     robot, checks, timestep, _grouped = _group_key(path, settings, overrides)
     if robot == NONE:
         return None
+    from motiontool.kinematics.robots import pick_robot
+
     spec = pick_robot(robot, read_bytes(data, str(path)).joints)
     return _planner(spec, path, settings, checks, overrides, timestep)

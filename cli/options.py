@@ -2,7 +2,7 @@
 
 ``-r`` is always ``--robot``, ``-t`` ``--timestep``, ``-o`` ``--output`` and ``-f`` ``--format``
 (``tests/cli/test_files.py`` keeps it so). The robot choices come from
-:func:`motiontool.kinematics.robots.robot_choices`, the one list every help text and message
+:func:`motiontool.kinematics.builtin_robots.robot_choices`, the one list every help text and message
 uses. :func:`error_line` is where the CLI adds its flags to a library error: the library says
 "name the robot explicitly", the CLI says how (``--robot``).
 """
@@ -17,8 +17,8 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.errors import MotionToolError
+from motiontool.kinematics.builtin_robots import AUTO, NONE, robot_choices
 from motiontool.kinematics.checks.wording import Wording
-from motiontool.kinematics.robots import AUTO, NONE, NoRobotDetectedError, robot_choices
 from motiontool.motionfmt.cscan import INT_MAX
 
 __all__ = [
@@ -211,9 +211,11 @@ ResultTimestep = Annotated[
 def error_line(exc: MotionToolError) -> str:
     """How the CLI prints ``exc`` after ``motiontool: error:``: the library's message, with
     the option that fixes it where the library only says what to do."""
+    from motiontool.kinematics.export import NoMjcfError  # the model exporter: only on an error
+    from motiontool.kinematics.robots import NoRobotDetectedError
+
     if isinstance(exc, NoRobotDetectedError):
         return f"{exc.reason}; name one with {ROBOT_OPTION} ({robot_choices()})"
-    from motiontool.kinematics.export import NoMjcfError  # the model exporter: only on an error
 
     if isinstance(exc, NoMjcfError):
         return str(NoMjcfError(exc.spec, how="with --urdf"))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import dataclasses
 from functools import partial
 from pathlib import Path
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -39,16 +39,17 @@ from motiontool.cli.reports import DEFAULT_FORMAT, REPORTS, FormatName, Order
 from motiontool.cli.text import plural
 from motiontool.cli.validate_report import Shown, check_and_report
 from motiontool.errors import MotionToolError
-from motiontool.kinematics.checks import (
+from motiontool.kinematics.checks.registry import (
     CHECKS,
     DEFAULT_CHECKS,
     DEFAULT_PENETRATION_TOLERANCE_MM,
-    CheckUnavailableError,
-    RobotChecks,
     parse_checks,
 )
-from motiontool.kinematics.checks.findings_cache import FindingsCache
 from motiontool.motionfmt.fileio import STDOUT, is_stdin, open_output
+
+if TYPE_CHECKING:  # a syntax-level run imports no check
+    from motiontool.kinematics.checks.findings_cache import FindingsCache
+    from motiontool.kinematics.checks.runner import RobotChecks
 
 __all__ = ["validate_command"]
 
@@ -287,8 +288,7 @@ def validate_command(
     refuse_overwrite(output, files, "-o")
     fixes = _Fixes(fix=fix, diff=diff, unsafe=unsafe_fixes, quiet=quiet, exit_zero=exit_zero)
     stdin_fixed = _apply_fixes(files, resolver, overrides, fixes, output=output)
-    cache = None if no_cache else FindingsCache()
-    checker = partial(robot_checks, tolerance=collision_tolerance, cache=cache)
+    checker = partial(_robot_checks, tolerance=collision_tolerance, cached=not no_cache)
     to_stderr = stdin_fixed is not None and output is None  # stdout: the fixed text
     shown = Shown(format, sort, statistics, quiet, output, strict, robot, to_stderr)
     with progress("validate") as step:
@@ -408,6 +408,23 @@ def _settings_text(paths: list[Path], resolver: Resolver) -> str:
     return dumps(docs[0] if len(docs) == 1 else {"files": docs})
 
 
+def _robot_checks(
+    robot: str,
+    checks: tuple[str, ...] | None,
+    timestep: int | None,
+    *,
+    tolerance: float,
+    cached: bool,
+) -> RobotChecks:
+    """:func:`robot_checks` with a findings cache of its own (``cached``; False:
+    ``--no-cache``), made where files are checked against a robot: a syntax-level run imports
+    no cache."""
+    from motiontool.kinematics.checks.findings_cache import FindingsCache
+
+    cache = FindingsCache() if cached else None
+    return robot_checks(robot, checks, timestep, tolerance=tolerance, cache=cache)
+
+
 def robot_checks(
     robot: str,
     checks: tuple[str, ...] | None,
@@ -418,7 +435,10 @@ def robot_checks(
 ) -> RobotChecks:
     """The robot checks of ``validate``, their hints in the CLI's words; checks named (with
     --checks or in the configuration) must run (a missing library is an error), the default
-    ones may be skipped; ``cache``: the findings cache (None: ``--no-cache``)."""
+    ones may be skipped; ``cache``: the findings cache (None: ``--no-cache``). The checks are
+    imported here, where files are checked against a robot."""
+    from motiontool.kinematics.checks.runner import CheckUnavailableError, RobotChecks
+
     try:
         return RobotChecks(
             robot,

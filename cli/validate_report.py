@@ -10,7 +10,7 @@ import sys
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from motiontool.cli.color import color_enabled
 from motiontool.cli.config import Settings
@@ -30,11 +30,13 @@ from motiontool.cli.reports import (
 from motiontool.cli.reports.statistics import StatisticsJsonWriter, StatisticsWriter
 from motiontool.cli.text import plural
 from motiontool.extras import install_hint
-from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.validate import FileReport, ValidationReport
 from motiontool.stamps import stamps
+
+if TYPE_CHECKING:
+    from motiontool.kinematics.robot_spec import RobotSpec
 
 __all__ = ["Shown", "Tally", "check_and_report", "render", "render_pieces", "report_pieces"]
 

@@ -1,7 +1,8 @@
 """Robot models and kinematics: joint limits, forward kinematics, self-collision, balance.
 
-Importing this package is cheap: Pinocchio (and numpy) are imported only when a function that
-needs them runs, so looking up a built-in robot's joint table never loads them.
+Importing this package is cheap: its names are imported when first used, and Pinocchio (and
+numpy) only when a function that needs them runs, so looking up a built-in robot's joint table
+never loads them.
 
 ``robot_checks`` / ``RobotChecks`` (:mod:`~motiontool.kinematics.checks`) are the robot checks of
 ``motiontool validate``; ``scan_self_collisions`` checks many configurations at once. The
@@ -12,25 +13,10 @@ May import ``motionfmt`` and the top-level modules; Pinocchio only in :mod:`._pi
 ``sim`` or ``cli``.
 """
 
-import importlib
 import typing
 
-from motiontool.kinematics.robots import (
-    JointSpec,
-    NoRobotDetectedError,
-    RobotError,
-    RobotSpec,
-    UnknownRobotError,
-    builtin_robots,
-    detect_robot,
-    erd_robot_names,
-    load_robot,
-    models_dir,
-    pick_robot,
-    resolve_robot,
-    robot_choices,
-    unknown_joint_message,
-)
+from motiontool.kinematics.builtin_robots import builtin_robots
+from motiontool.lazy_names import lazy_names as _lazy_names
 
 if typing.TYPE_CHECKING:
     from motiontool.kinematics._pinocchio import (
@@ -52,12 +38,41 @@ if typing.TYPE_CHECKING:
     )
     from motiontool.kinematics.collision import Contact, scan_self_collisions
     from motiontool.kinematics.export import mjcf_bytes, urdf_bytes
+    from motiontool.kinematics.robots import (
+        JointSpec,
+        NoRobotDetectedError,
+        RobotError,
+        RobotSpec,
+        UnknownRobotError,
+        detect_robot,
+        erd_robot_names,
+        load_robot,
+        models_dir,
+        pick_robot,
+        resolve_robot,
+        robot_choices,
+        unknown_joint_message,
+    )
 
-#: Where each name beyond the robots' lives: imported on first use (PEP 562), so that
-#: ``validate`` does not import the Pinocchio adapter's typed surface or the model exporter.
-#: No name here is also a submodule's (``builtin_robots`` is both: imported above, the
-#: function replaces the submodule as the package's attribute, as it always did).
+#: Where each name lives: imported on first use (PEP 562), so that a syntax-level
+#: ``validate`` imports no robot spec and no check, and a robot run not the Pinocchio adapter's
+#: typed surface or the model exporter. No name here is also a submodule's
+#: (``builtin_robots`` is both: imported above, the function replaces the submodule as the
+#: package's attribute, as it always did).
 _HOMES: dict[str, str] = {
+    "JointSpec": "motiontool.kinematics.robots",
+    "NoRobotDetectedError": "motiontool.kinematics.robots",
+    "RobotError": "motiontool.kinematics.robots",
+    "RobotSpec": "motiontool.kinematics.robots",
+    "UnknownRobotError": "motiontool.kinematics.robots",
+    "detect_robot": "motiontool.kinematics.robots",
+    "erd_robot_names": "motiontool.kinematics.robots",
+    "load_robot": "motiontool.kinematics.robots",
+    "models_dir": "motiontool.kinematics.robots",
+    "pick_robot": "motiontool.kinematics.robots",
+    "resolve_robot": "motiontool.kinematics.robots",
+    "robot_choices": "motiontool.kinematics.robots",
+    "unknown_joint_message": "motiontool.kinematics.robots",
     "Balance": "motiontool.kinematics._pinocchio",
     "body_positions": "motiontool.kinematics._pinocchio",
     "build_model": "motiontool.kinematics._pinocchio",
@@ -112,14 +127,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> object:
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(home), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = _lazy_names(__name__, _HOMES)

@@ -12,7 +12,8 @@ from typing import Literal
 
 from motiontool.errors import MissingExtraError, MotionToolError
 from motiontool.extras import require
-from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS, velocity_actuators
+from motiontool.kinematics.builtin_robots import DEFAULT_TIMESTEP_MS
+from motiontool.kinematics.mjcf_table import velocity_actuators
 from motiontool.kinematics.robot_spec import RobotSpec
 
 __all__ = ["erd", "erd_robot_names", "erd_root", "from_pinocchio"]

@@ -2,8 +2,9 @@
 joint names (``--robot auto``: :func:`rank_robots`, the one rule for which robot fits).
 
 The specs themselves: :mod:`.robot_spec` (what a robot is), :mod:`.builtin_robots` (the shipped
-robots, one table), :mod:`.erd` (URDF/MJCF files and example-robot-data, through Pinocchio).
-Their names are re-exported here, where callers have always found them.
+robots, one table, and the names a robot is given by), :mod:`.erd` (URDF/MJCF files and
+example-robot-data, through Pinocchio). Their names are re-exported here, where callers have
+always found them.
 """
 
 from __future__ import annotations
@@ -15,7 +16,15 @@ from pathlib import Path
 from typing import Literal
 
 from motiontool.errors import MotionToolError
-from motiontool.kinematics.builtin_robots import builtin, builtin_robots, is_builtin, models_dir
+from motiontool.kinematics.builtin_robots import (
+    AUTO,
+    NONE,
+    builtin,
+    builtin_robots,
+    is_builtin,
+    models_dir,
+    robot_choices,
+)
 from motiontool.kinematics.erd import erd, erd_robot_names, from_pinocchio
 from motiontool.kinematics.robot_spec import JointSpec, RobotSpec, fmt_name, unknown_joint_message
 
@@ -41,11 +50,6 @@ __all__ = [
     "robot_choices",
     "unknown_joint_message",
 ]
-
-AUTO = "auto"
-"""The robot name that means: the built-in robot the motion's joints fit (:func:`detect_robot`)."""
-NONE = "none"
-"""The robot name that means: no robot (where a robot is optional: no robot checks, no limits)."""
 
 
 def load_robot(spec: str) -> RobotSpec:
@@ -147,16 +151,6 @@ def detect_robot(joint_names: Sequence[str]) -> str | None:
     """
     ranking = rank_robots(joint_names)
     return ranking.best if ranking.fits else None
-
-
-def robot_choices(*keywords: str) -> str:
-    """What a robot may be named, in words, for help texts and messages.
-
-    ``robot_choices()`` is ``nao, nao-v5, ur5e, a .urdf/.xml path, or erd:<name>`` (what
-    :func:`load_robot` takes); ``keywords`` (:data:`AUTO`, :data:`NONE`) come first where the
-    caller accepts them.
-    """
-    return ", ".join([*keywords, *builtin_robots()]) + ", a .urdf/.xml path, or erd:<name>"
 
 
 class RobotError(MotionToolError):

@@ -31,28 +31,50 @@ and the top-level modules.
 
 from __future__ import annotations
 
-from motiontool.kinematics.checks._table import EPS
-from motiontool.kinematics.checks.balance import Balance
-from motiontool.kinematics.checks.joints import UnknownJoints
-from motiontool.kinematics.checks.limits import COUPLING_TOLERANCE, Limits
-from motiontool.kinematics.checks.registry import (
-    CHECK_REGISTRY,
-    CHECKS,
-    DEFAULT_CHECKS,
-    CheckEntry,
-)
-from motiontool.kinematics.checks.runner import (
-    CheckUnavailableError,
-    RobotChecks,
-    parse_checks,
-    robot_checks,
-)
-from motiontool.kinematics.checks.self_collision import (
-    DEFAULT_PENETRATION_TOLERANCE_MM,
-    Collision,
-)
-from motiontool.kinematics.checks.velocity import Velocity
-from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
+import typing
+
+from motiontool.lazy_names import lazy_names as _lazy_names
+
+if typing.TYPE_CHECKING:
+    from motiontool.kinematics.checks._table import EPS
+    from motiontool.kinematics.checks.balance import Balance
+    from motiontool.kinematics.checks.joints import UnknownJoints
+    from motiontool.kinematics.checks.limits import COUPLING_TOLERANCE, Limits
+    from motiontool.kinematics.checks.registry import (
+        CHECK_REGISTRY,
+        CHECKS,
+        DEFAULT_CHECKS,
+        DEFAULT_PENETRATION_TOLERANCE_MM,
+        CheckEntry,
+        parse_checks,
+    )
+    from motiontool.kinematics.checks.runner import CheckUnavailableError, RobotChecks, robot_checks
+    from motiontool.kinematics.checks.self_collision import Collision
+    from motiontool.kinematics.checks.velocity import Velocity
+    from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
+
+#: Where each name lives: imported on first use (PEP 562), so that the registry's names
+#: (``CHECKS``, ``parse_checks``: the ``--checks`` help) come without the checks themselves.
+_HOMES: dict[str, str] = {
+    "EPS": "motiontool.kinematics.checks._table",
+    "Balance": "motiontool.kinematics.checks.balance",
+    "UnknownJoints": "motiontool.kinematics.checks.joints",
+    "COUPLING_TOLERANCE": "motiontool.kinematics.checks.limits",
+    "Limits": "motiontool.kinematics.checks.limits",
+    "CHECK_REGISTRY": "motiontool.kinematics.checks.registry",
+    "CHECKS": "motiontool.kinematics.checks.registry",
+    "DEFAULT_CHECKS": "motiontool.kinematics.checks.registry",
+    "DEFAULT_PENETRATION_TOLERANCE_MM": "motiontool.kinematics.checks.registry",
+    "CheckEntry": "motiontool.kinematics.checks.registry",
+    "parse_checks": "motiontool.kinematics.checks.registry",
+    "CheckUnavailableError": "motiontool.kinematics.checks.runner",
+    "RobotChecks": "motiontool.kinematics.checks.runner",
+    "robot_checks": "motiontool.kinematics.checks.runner",
+    "Collision": "motiontool.kinematics.checks.self_collision",
+    "Velocity": "motiontool.kinematics.checks.velocity",
+    "PLAIN_WORDING": "motiontool.kinematics.checks.wording",
+    "Wording": "motiontool.kinematics.checks.wording",
+}
 
 __all__ = [
     "CHECKS",
@@ -74,3 +96,6 @@ __all__ = [
     "parse_checks",
     "robot_checks",
 ]
+
+
+__getattr__, __dir__ = _lazy_names(__name__, _HOMES)

@@ -13,8 +13,10 @@ import functools
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple, TypeVar
+from typing import TYPE_CHECKING, NamedTuple, Self, TypeVar
 
+from motiontool.kinematics.checks.registry import CheckOptions
+from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.robots import RobotSpec, fmt_name
 from motiontool.motionfmt.diagnostics import Diagnostic, PoseFinding, Severity
 from motiontool.motionfmt.findings import Findings
@@ -37,6 +39,7 @@ __all__ = [
     "PoseRuns",
     "RobotCheck",
     "Table",
+    "WordedCheck",
     "cell",
     "configurations",
     "fmt_ms",
@@ -397,10 +400,30 @@ class RobotCheck:
         self.spec = spec
         self.motor_index = {name: i for i, name in enumerate(spec.joint_names)}
 
+    @classmethod
+    def for_run(cls, spec: RobotSpec, options: CheckOptions) -> Self:
+        """The check of ``spec`` in a run (:mod:`~motiontool.kinematics.checks.registry`):
+        made from the robot alone, unless the check takes one of the run's ``options``."""
+        return cls(spec)
+
     def table(self, result: ReadResult) -> Table:
         """``result``'s table against this robot: built once for all the checks of one robot
         on one file (:class:`_LastTables`), and shared by the findings they make later."""
         return _LAST_TABLES.get(result, self.spec.name, self.motor_index)
+
+
+class WordedCheck(RobotCheck):
+    """A robot check whose hints say how to fix what it finds in the front end's words
+    (:class:`~motiontool.kinematics.checks.wording.Wording`): plain words by default."""
+
+    def __init__(self, spec: RobotSpec, wording: Wording = PLAIN_WORDING) -> None:
+        super().__init__(spec)
+        self.wording = wording
+
+    @classmethod
+    def for_run(cls, spec: RobotSpec, options: CheckOptions) -> Self:
+        """The check of ``spec``, its hints in the run's words."""
+        return cls(spec, options.wording)
 
 
 class _LastTables:

@@ -5,25 +5,20 @@ from __future__ import annotations
 import difflib
 
 from motiontool.kinematics.checks._table import (
-    RobotCheck,
+    WordedCheck,
     fmt_name,
     header_diagnostic,
 )
-from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
-from motiontool.kinematics.robots import RobotSpec, unknown_joint_message
+from motiontool.kinematics.robots import unknown_joint_message
 from motiontool.motionfmt.diagnostics import UNKNOWN_JOINT, Diagnostic, Severity
 from motiontool.motionfmt.reader import ReadResult
 
 __all__ = ["UnknownJoints"]
 
 
-class UnknownJoints(RobotCheck):
+class UnknownJoints(WordedCheck):
     """MT301: header joints that are not motors of the robot (Webots ignores them); the hint
     of a name with no close motor says how to name another robot, in the front end's words."""
-
-    def __init__(self, spec: RobotSpec, wording: Wording = PLAIN_WORDING) -> None:
-        super().__init__(spec)
-        self.wording = wording
 
     def __call__(self, result: ReadResult) -> list[Diagnostic]:
         return [

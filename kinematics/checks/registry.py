@@ -1,26 +1,26 @@
 """Every robot check, one :class:`CheckEntry` each: its name, whether ``validate`` runs it
-by default, the extra it needs, the codes it reports and how it is made for a robot.
+by default, the extra it needs, the codes it reports and where its class is.
 
 Everything else that names checks reads this table: :data:`CHECKS` and :data:`DEFAULT_CHECKS`,
-:func:`~motiontool.kinematics.checks.runner.robot_checks`, the front end's ``--checks`` help and
-configuration messages, the robot fixes (a code's fix runs where the check that finds it runs),
-and the JSON schemas' check enums (a test ties them to :data:`CHECKS`). docs/architecture.md,
-*To add a check*, says what to write.
+:func:`parse_checks`, :func:`~motiontool.kinematics.checks.runner.robot_checks`, the front
+end's ``--checks`` help and configuration messages, the robot fixes (a code's fix runs where the
+check that finds it runs), and the JSON schemas' check enums (a test ties them to
+:data:`CHECKS`). docs/architecture.md, *To add a check*, says what to write.
+
+The table is light: an entry names its class as ``module:Class``, imported when the check is
+made for a robot (as :data:`~motiontool.cli.reports.REPORTS` names its writers), so that the
+``--checks`` help and a syntax-level ``validate`` import no check and no robot model.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import difflib
+import importlib
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Protocol
 
-from motiontool.kinematics.checks.balance import Balance
-from motiontool.kinematics.checks.joints import UnknownJoints
-from motiontool.kinematics.checks.limits import Limits
-from motiontool.kinematics.checks.self_collision import Collision
-from motiontool.kinematics.checks.unmirrored import UnmirroredCopy
-from motiontool.kinematics.checks.velocity import Velocity
-from motiontool.kinematics.checks.wording import Wording
-from motiontool.kinematics.robot_spec import RobotSpec
+from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import (
     BEYOND_LIMITS,
     CHECK_SKIPPED,
@@ -33,22 +33,47 @@ from motiontool.motionfmt.diagnostics import (
     TOO_FAST,
     UNKNOWN_JOINT,
     UNMIRRORED_COPY,
-    Diagnostic,
 )
-from motiontool.motionfmt.reader import ReadResult
+
+if TYPE_CHECKING:
+    from motiontool.kinematics.checks.wording import Wording
+    from motiontool.kinematics.robot_spec import RobotSpec
+    from motiontool.motionfmt.diagnostics import Diagnostic
+    from motiontool.motionfmt.reader import ReadResult
 
 __all__ = [
     "ALWAYS",
     "CHECKS",
     "CHECK_REGISTRY",
     "DEFAULT_CHECKS",
+    "DEFAULT_PENETRATION_TOLERANCE_MM",
     "NOTE_CODES",
+    "CheckClass",
     "CheckEntry",
     "CheckOptions",
     "check_of_code",
+    "parse_checks",
 ]
 
-Check = Callable[[ReadResult], Sequence[Diagnostic]]
+Check = Callable[["ReadResult"], Sequence["Diagnostic"]]
+
+DEFAULT_PENETRATION_TOLERANCE_MM = 15.0
+"""Self-collisions shallower than this (mm) are not reported.
+
+The Webots robots' collision shapes are bounding primitives, larger than the bodies they stand
+for: the Nao's forearm is a capsule, its foot force sensor a 147 x 89 mm box with sharp corners.
+In the motions that ship with Webots (``tests/data/corpus/webots``), played as Webots plays them
+(targets clamped to the motor limits), such shapes overlap by at most 10.0 mm: the two foot boxes
+in the turns (TurnLeft40, TurnRight40, TurnLeft180), the head capsule and an arm raised within
+its limits by 7.2 mm (HandWaveLeft, HandsUp) and 6.3 mm (HandHighLeft, HandWave). Those motions
+are how the robot is meant to move, so overlaps of that size are artefacts of the shapes. (Left
+unclamped, HandWaveLeft's LShoulderRoll of -0.5 rad, past the -0.314 rad limit, would put the
+elbow 25 mm into the head: that value is reported as a limit error instead.) Bodies that really
+meet go deeper: a hand saluting at the forehead 25 mm into the head, a right forearm folded
+across the belly 33 mm into the torso, its hand 49 mm. 15 mm is the artefact ceiling, 10.0 mm,
+plus half of it as a margin, well below the real contacts measured. It was chosen once, from
+those measurements; ``--collision-tolerance`` sets another (0 reports every overlap).
+"""
 
 
 @dataclass(frozen=True)
@@ -66,6 +91,14 @@ class CheckOptions:
     wording: Wording
 
 
+class CheckClass(Protocol):
+    """What an entry names: a check class that makes its check for a robot and a run."""
+
+    @classmethod
+    def for_run(cls, spec: RobotSpec, options: CheckOptions) -> Check:
+        """The check of ``spec``, made with the options of this run that it takes."""
+
+
 @dataclass(frozen=True)
 class CheckEntry:
     """One robot check.
@@ -79,8 +112,8 @@ class CheckEntry:
         codes: the codes it reports (keys of
             :data:`~motiontool.motionfmt.diagnostics.CODES`).
         summary: what it checks, in a few words (the docs' checks table).
-        make: the check for one robot.
-        kind: the class of what :attr:`make` returns.
+        where: ``module:Class``, its :class:`CheckClass` in this package (imported when the
+            check is made: :attr:`kind`).
         needs_feet: it checks only a robot with feet (sole geometries): asked for by name of
             a robot without, it is refused; picked per file (``auto``), skipped with a note.
     """
@@ -90,9 +123,19 @@ class CheckEntry:
     extra: str | None
     codes: tuple[str, ...]
     summary: str
-    make: Callable[[RobotSpec, CheckOptions], Check]
-    kind: type
+    where: str
     needs_feet: bool = False
+
+    @property
+    def kind(self) -> type[CheckClass]:
+        """The check's class, imported on first use."""
+        module, name = self.where.split(":")
+        found: type[CheckClass] = getattr(importlib.import_module(f"{__package__}.{module}"), name)
+        return found
+
+    def make(self, spec: RobotSpec, options: CheckOptions) -> Check:
+        """The check for ``spec`` in a run with ``options``."""
+        return self.kind.for_run(spec, options)
 
 
 CHECK_REGISTRY: tuple[CheckEntry, ...] = (
@@ -102,8 +145,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         None,
         (BEYOND_LIMITS, HEAD_PITCH_RANGE, COUPLED_JOINTS),
         "positions within the joints' limits (and the real robot's rules, nao-v5)",
-        lambda spec, _o: Limits(spec),
-        Limits,
+        "limits:Limits",
     ),
     CheckEntry(
         "velocity",
@@ -111,8 +153,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         None,
         (TOO_FAST, STREAM_TOO_FAST),
         "segments and the command stream within maxVelocity",
-        lambda spec, o: Velocity(spec, o.timestep_ms),
-        Velocity,
+        "velocity:Velocity",
     ),
     CheckEntry(
         "collision",
@@ -120,8 +161,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "kinematics",
         (SELF_COLLISION,),
         "no self-collision at the keyframes and segment midpoints",
-        lambda spec, o: Collision(spec, o.penetration_tolerance_mm),
-        Collision,
+        "self_collision:Collision",
     ),
     CheckEntry(
         "balance",
@@ -129,8 +169,7 @@ CHECK_REGISTRY: tuple[CheckEntry, ...] = (
         "kinematics",
         (OFF_BALANCE,),
         "the centre of mass over the support polygon (robots with feet)",
-        lambda spec, _o: Balance(spec),
-        Balance,
+        "balance:Balance",
         needs_feet=True,
     ),
 )
@@ -143,8 +182,7 @@ ALWAYS: tuple[CheckEntry, ...] = (
         None,
         (UNKNOWN_JOINT,),
         "every column a motor of the robot",
-        lambda spec, o: UnknownJoints(spec, o.wording),
-        UnknownJoints,
+        "joints:UnknownJoints",
     ),
     CheckEntry(
         "mirror",
@@ -152,8 +190,7 @@ ALWAYS: tuple[CheckEntry, ...] = (
         None,
         (UNMIRRORED_COPY,),
         "a Left/Right file is no unmirrored copy of its sibling",
-        lambda spec, o: UnmirroredCopy(spec, o.wording),
-        UnmirroredCopy,
+        "unmirrored:UnmirroredCopy",
     ),
 )
 """The checks every robot run makes, whatever is selected (they run first)."""
@@ -170,3 +207,31 @@ DEFAULT_CHECKS: tuple[str, ...] = tuple(c.name for c in CHECK_REGISTRY if c.defa
 def check_of_code(code: str) -> CheckEntry | None:
     """The entry of :data:`CHECK_REGISTRY` or :data:`ALWAYS` that reports ``code``, or None."""
     return next((c for c in (*CHECK_REGISTRY, *ALWAYS) if code in c.codes), None)
+
+
+def parse_checks(names: str | Iterable[str]) -> tuple[str, ...]:
+    """Check names from ``'limits,velocity'`` (or an iterable of such strings), in run order.
+
+    ``all`` selects every check. Raises :class:`MotionToolError` naming the valid choices.
+    """
+    items = [names] if isinstance(names, str) else list(names)
+    wanted: set[str] = set()
+    for raw in (raw.strip() for item in items for raw in item.split(",")):
+        wanted.update(_check_names(raw))
+    if not wanted:
+        raise MotionToolError(f"no check named; choose from {', '.join(CHECKS)} or all")
+    return tuple(c for c in CHECKS if c in wanted)
+
+
+def _check_names(raw: str) -> tuple[str, ...]:
+    """The checks one item of a check list names (none for an empty item)."""
+    name = raw.lower()
+    if not name:
+        return ()
+    if name == "all":
+        return CHECKS
+    if name in CHECKS:
+        return (name,)
+    close = difflib.get_close_matches(name, CHECKS, n=1)
+    hint = f"did you mean '{close[0]}'? " if close else ""
+    raise MotionToolError(f"unknown check '{raw}'; {hint}choose from {', '.join(CHECKS)} or all")

@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import difflib
 import itertools
 import os
 from collections.abc import Callable, Iterable, Sequence
@@ -22,9 +21,10 @@ from motiontool.kinematics.checks.registry import (
     CHECK_REGISTRY,
     CHECKS,
     DEFAULT_CHECKS,
+    DEFAULT_PENETRATION_TOLERANCE_MM,
     CheckOptions,
+    parse_checks,
 )
-from motiontool.kinematics.checks.self_collision import DEFAULT_PENETRATION_TOLERANCE_MM
 from motiontool.kinematics.checks.unmirrored import UnmirroredCopy
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.robots import (
@@ -65,34 +65,6 @@ class CheckUnavailableError(MotionToolError):
         self.check = check
         self.robot = robot
         super().__init__(why)
-
-
-def parse_checks(names: str | Iterable[str]) -> tuple[str, ...]:
-    """Check names from ``'limits,velocity'`` (or an iterable of such strings), in run order.
-
-    ``all`` selects every check. Raises :class:`MotionToolError` naming the valid choices.
-    """
-    items = [names] if isinstance(names, str) else list(names)
-    wanted: set[str] = set()
-    for raw in (raw.strip() for item in items for raw in item.split(",")):
-        wanted.update(_check_names(raw))
-    if not wanted:
-        raise MotionToolError(f"no check named; choose from {', '.join(CHECKS)} or all")
-    return tuple(c for c in CHECKS if c in wanted)
-
-
-def _check_names(raw: str) -> tuple[str, ...]:
-    """The checks one item of a check list names (none for an empty item)."""
-    name = raw.lower()
-    if not name:
-        return ()
-    if name == "all":
-        return CHECKS
-    if name in CHECKS:
-        return (name,)
-    close = difflib.get_close_matches(name, CHECKS, n=1)
-    hint = f"did you mean '{close[0]}'? " if close else ""
-    raise MotionToolError(f"unknown check '{raw}'; {hint}choose from {', '.join(CHECKS)} or all")
 
 
 def robot_checks(

@@ -22,7 +22,7 @@ import re
 from pathlib import Path
 
 from motiontool.errors import MotionToolError
-from motiontool.kinematics.checks._table import header_diagnostic
+from motiontool.kinematics.checks._table import WordedCheck, header_diagnostic
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
 from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
@@ -95,7 +95,7 @@ def unmirrored_joints(file: ReadResult, sibling: ReadResult, mirror: MirrorMap) 
     return unflipped if compared and unflipped else None
 
 
-class UnmirroredCopy:
+class UnmirroredCopy(WordedCheck):
     """MT309 (info) for ``spec``: see the module docstring. A robot that cannot be mirrored
     joint by joint gets no note.
 
@@ -104,8 +104,7 @@ class UnmirroredCopy:
     """
 
     def __init__(self, spec: RobotSpec, wording: Wording = PLAIN_WORDING) -> None:
-        self.spec = spec
-        self.wording = wording
+        super().__init__(spec, wording)
         self._map: MirrorMap | None = None
         self._failed = False
 

@@ -19,6 +19,7 @@ from motiontool.kinematics.checks._table import (
     fmt_num,
     pose_runs,
 )
+from motiontool.kinematics.checks.registry import CheckOptions
 from motiontool.kinematics.robots import JointSpec, RobotSpec
 from motiontool.motionfmt.diagnostics import (
     STREAM_TOO_FAST,
@@ -79,6 +80,11 @@ class Velocity(GroupingCheck):
     def __init__(self, spec: RobotSpec, timestep_ms: int | None = None) -> None:
         super().__init__(spec)
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
+
+    @classmethod
+    def for_run(cls, spec: RobotSpec, options: CheckOptions) -> Velocity:
+        """The check of ``spec`` at the run's controller step."""
+        return cls(spec, options.timestep_ms)
 
     def at_times(
         self,

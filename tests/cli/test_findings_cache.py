@@ -18,12 +18,12 @@ from typer.testing import CliRunner
 from motiontool.cli.app import app
 from motiontool.disk_cache import files_stamp, libraries_stamp
 from motiontool.errors import MissingExtraError
-from motiontool.kinematics.builtin_robots import parse_mjcf_table
 from motiontool.kinematics.checks import findings_cache, runner
 from motiontool.kinematics.checks.findings_cache import FindingsCache, _decode, _encode
 from motiontool.kinematics.checks.limits import Limits
 from motiontool.kinematics.checks.self_collision import Collision
 from motiontool.kinematics.checks.velocity import Velocity
+from motiontool.kinematics.mjcf_table import parse_mjcf_table
 from motiontool.motionfmt.diagnostics import Diagnostic
 
 cli = CliRunner()
