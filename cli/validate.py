@@ -17,7 +17,6 @@ from motiontool.cli.config import (
     check_selectors,
 )
 from motiontool.cli.fixing import fix_files
-from motiontool.cli.jsontext import dumps
 from motiontool.cli.lint_run import (
     Overrides,
     collect,
@@ -398,6 +397,8 @@ def _apply_fixes(
 
 def _settings_text(paths: list[Path], resolver: Resolver) -> str:
     """``--show-settings``: for each path, the configuration file used and its settings."""
+    from motiontool.cli.jsontext import dumps  # json: imported where JSON is written
+
     docs = []
     for p in paths:
         settings = resolver.for_file(p)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from motiontool.motionfmt.player import WEBOTS_DEFAULT_TIMESTEP_MS
+from motiontool.motionfmt.clock import WEBOTS_DEFAULT_TIMESTEP_MS
 
 if TYPE_CHECKING:
     from motiontool.kinematics.robot_spec import RobotSpec

@@ -15,9 +15,21 @@ from dataclasses import dataclass
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.cscan import INT_MAX
 
-__all__ = ["ClockOverflow", "PlaybackNeverEndsError", "clock_overflow", "end_step", "wrap_int"]
+__all__ = [
+    "WEBOTS_DEFAULT_TIMESTEP_MS",
+    "ClockOverflow",
+    "PlaybackNeverEndsError",
+    "clock_overflow",
+    "end_step",
+    "wrap_int",
+]
 
 _INT_RANGE = 1 << 32  # a C int holds [-2**31, 2**31 - 1]
+
+WEBOTS_DEFAULT_TIMESTEP_MS = 32
+"""Webots' default ``basicTimeStep`` (WorldInfo), ms: the controller step where neither a robot's
+world nor ``timestep`` says one (sampling, plotting or exporting without a robot, a URDF or
+``example-robot-data`` robot). The one home of this fact (:mod:`.player` re-exports it)."""
 
 
 def wrap_int(ms: int) -> int:

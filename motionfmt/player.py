@@ -26,7 +26,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.errors import MotionToolError
-from motiontool.motionfmt.clock import PlaybackNeverEndsError, clock_overflow, end_step, wrap_int
+from motiontool.motionfmt.clock import (  # the default step: re-exported, where callers find it
+    WEBOTS_DEFAULT_TIMESTEP_MS,
+    PlaybackNeverEndsError,
+    clock_overflow,
+    end_step,
+    wrap_int,
+)
 from motiontool.motionfmt.reader import NO_VALUE_MARKER
 from motiontool.motionfmt.units import MS_PER_S
 
@@ -174,11 +180,6 @@ def iter_elapsed(
             done += n
             elapsed = wrap_int(elapsed + n * step)
 
-
-WEBOTS_DEFAULT_TIMESTEP_MS = 32
-"""Webots' default ``basicTimeStep`` (WorldInfo), ms: the controller step where neither a robot's
-world nor ``timestep`` says one (sampling, plotting or exporting without a robot, a URDF or
-``example-robot-data`` robot). The one home of this fact."""
 
 MAX_HELD_STEPS = 2_000_000
 """Most controller steps (or grid poses) held whole in memory: 11 h at the Nao's 20 ms step,

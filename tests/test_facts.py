@@ -220,7 +220,7 @@ def test_the_step_without_a_robot_has_one_home() -> None:
         if isinstance(target, ast.Name) and "TIMESTEP_MS" in target.id
         if isinstance(node.value, ast.Constant)
     ]
-    assert [s.split(":")[0] for s in spelt] == ["motionfmt/player.py"], spelt
+    assert [s.split(":")[0] for s in spelt] == ["motionfmt/clock.py"], spelt
 
 
 def test_the_output_options_are_listed_once() -> None:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import enum
 import functools
-import hashlib
 import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
@@ -269,6 +268,8 @@ class Fingerprints:
         self._disk: sqlite3.Connection | None = None
 
     def __call__(self, d: Diagnostic, order: Order = Order.file) -> str:
+        import hashlib  # imported by the formats that fingerprint findings only
+
         block = (d.path, d.severity if order is Order.severity else Severity.INFO)
         if block != self._file:
             self._forget()

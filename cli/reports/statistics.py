@@ -13,7 +13,6 @@ from collections import Counter
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
-from motiontool.cli.jsontext import dumps
 from motiontool.cli.reports.common import Context, Order, Totals, Writer, summary
 from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.validate import FileReport
@@ -89,6 +88,8 @@ class StatisticsJsonWriter(StatisticsWriter):
     fixes = True
 
     def tail(self, totals: Totals) -> Iterator[str]:
+        from motiontool.cli.jsontext import dumps  # json: imported where JSON is written
+
         rows = []
         for code in self.counts.rows():
             info = CODES.get(code)

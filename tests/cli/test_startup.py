@@ -121,6 +121,21 @@ def test_the_syntax_level_of_a_small_file_imports_no_numpy_and_one_report_writer
     writers = ("json_report", "sarif", "github", "gitlab", "junit")
     assert _loaded(modules, (*unused, *(f"motiontool.cli.reports.{w}" for w in writers))) == []
     assert "motiontool.cli.reports.text" in modules
+    # Of kinematics, the tables the help texts list (the checks' registry, the robots' names)
+    # and no check, robot spec or findings cache; of motionfmt, the reader and the validation,
+    # not the document, the player or the writer; no digest, no JSON writer (this harness
+    # imports json itself).
+    light = {
+        "motiontool.kinematics",
+        "motiontool.kinematics.builtin_robots",
+        "motiontool.kinematics.checks",
+        "motiontool.kinematics.checks.registry",
+        "motiontool.kinematics.checks.wording",
+    }
+    assert {m for m in modules if m.startswith("motiontool.kinematics")} == light
+    library = [f"motiontool.motionfmt.{m}" for m in ("document", "player", "writer")]
+    others = ("motiontool.disk_cache", "motiontool.cli.jsontext", "hashlib")
+    assert _loaded(modules, (*library, *others)) == []
 
 
 def test_the_summaries_in_the_command_table_are_the_commands_own() -> None:
