@@ -53,7 +53,7 @@ class _Kept:
     """A read, with what reading the next version from the edit on needs."""
 
     result: ReadResult
-    lines: list[bytes]  # the physical lines, as ReadState.lines has them
+    n_lines: int  # how many physical lines, as ReadState.lines has them
     final_newline: bool
     body_findings: int | None  # findings before the whole motion's (None: header failed)
     rejecting: Sequence[int]  # where each finding that rejects is among them
@@ -84,7 +84,7 @@ class Rereader:
             result = reader.read()
             kept = _Kept(
                 result,
-                _lines(data),
+                data.count(b"\n") + (not data.endswith(b"\n")),
                 data.endswith(b"\n"),
                 reader.body_findings,
                 reader.rejecting,
@@ -121,10 +121,10 @@ def _resume(kept: _Kept, data: bytes, path: str, timestep_ms: int | None) -> _Ke
         return None
     lines = _lines(data)
     m = len(lines)
-    a, b = _unchanged(kept.lines, lines)
+    a, b = _unchanged(old.data, data)
     if a == 0 or m < 2 or not all(_plain_line(line) for line in lines[a : m - b]):
         return None
-    delta = m - len(kept.lines)
+    delta = m - kept.n_lines
     # From the last pose before the edit (the header if none): what the next line reads after.
     k0 = bisect.bisect_left(old.pose_lines, a + 1)
     prev = (old.times_ms[k0 - 1], old.pose_lines[k0 - 1]) if k0 else (-1, 1)
@@ -182,20 +182,28 @@ def _resume(kept: _Kept, data: bytes, path: str, timestep_ms: int | None) -> _Ke
         # What a full read finds: a '*' (or the no-value marker) among the poses read.
         state.star_seen = int(np.count_nonzero(cells != cells)) > len(nan_commands)
         check_motion(state)
-    return _Kept(result, lines, kept.final_newline, body_findings, rejecting, timestep_ms)
+    return _Kept(result, m, kept.final_newline, body_findings, rejecting, timestep_ms)
 
 
-def _unchanged(old: list[bytes], new: list[bytes]) -> tuple[int, int]:
-    """How many of the first lines and of the last lines of ``new`` are those of ``old``
-    (together at most as many as the shorter has)."""
-    n, m = len(old), len(new)
-    a = 0
-    while a < min(n, m) and old[a] == new[a]:
-        a += 1
-    b = 0
-    while b < min(n, m) - a and old[n - 1 - b] == new[m - 1 - b]:
-        b += 1
-    return a, b
+def _unchanged(old: bytes, new: bytes) -> tuple[int, int]:
+    """How many of the first lines and of the last lines of ``new`` are lines of ``old``, byte
+    for byte (found with numpy, not line by line; a line or two fewer at most: the line
+    around the first and the last byte that differ). ``old`` and ``new`` both end with a
+    newline, or neither does; the first lines and the last ones never overlap."""
+    import numpy as np
+
+    x, y = np.frombuffer(old, dtype=np.uint8), np.frombuffer(new, dtype=np.uint8)
+    k = min(x.shape[0], y.shape[0])
+    differ = np.flatnonzero(x[:k] != y[:k])
+    first = int(differ[0]) if differ.size else k  # the first byte that differs
+    k -= first
+    differ = np.flatnonzero(x[x.shape[0] - k :] != y[y.shape[0] - k :])
+    same = k - int(differ[-1]) - 1 if differ.size else k  # the last bytes alike
+    if first == 0:
+        return 0, 0
+    # The lines that end before the first byte that differs, and those after a newline among
+    # the last bytes alike (none after the file's final newline).
+    return new.count(b"\n", 0, first), new.count(b"\n", len(new) - same, len(new) - 1)
 
 
 def _spliced(

@@ -75,3 +75,27 @@ def test_a_value_edit_reads_only_its_line(monkeypatch: pytest.MonkeyPatch) -> No
     assert reader.resumed == 1
     assert read_lines == [251, 252]  # the edited line, and the next one reads as before
     same_read(got, read_bytes(data, "m.motion"))
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_the_lines_taken_as_unchanged_are(seed: int) -> None:
+    """The first and last lines the reader takes from the last version are lines of it, byte for
+    byte, and do not overlap, whatever bytes an edit changes."""
+    from motiontool.motionfmt.reread import _unchanged
+
+    rng = random.Random(seed)
+    old = b"\n".join(motion(JOINTS, 30, rng)) + rng.choice([b"", b"\n"])
+    for _ in range(50):
+        new = bytearray(old)
+        at = rng.randrange(len(new))
+        new[at : at + rng.randrange(4)] = rng.choice([b"", b"\n", b",", b"7", b"\n9,a\n"])
+        if new.endswith(b"\n") != old.endswith(b"\n"):
+            continue
+        a, b = _unchanged(old, bytes(new))
+        old_lines, new_lines = old.split(b"\n"), bytes(new).split(b"\n")
+        if old.endswith(b"\n"):
+            old_lines.pop()
+            new_lines.pop()
+        assert a + b <= min(len(old_lines), len(new_lines))
+        assert new_lines[:a] == old_lines[:a]
+        assert new_lines[len(new_lines) - b :] == old_lines[len(old_lines) - b :]
