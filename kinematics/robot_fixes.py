@@ -24,7 +24,6 @@ from typing import TYPE_CHECKING, NamedTuple, cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST
-from motiontool.motionfmt.document import MotionDocument
 from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
@@ -149,7 +148,9 @@ def stretch_fixes(
     fix brings no MT209."""
     import numpy as np
 
-    from motiontool.motionfmt.retime import TimeOverflowError, fit_limits  # a clean file: none
+    # A clean file needs neither the retimer nor the document that writes the new times.
+    from motiontool.motionfmt.document import MotionDocument
+    from motiontool.motionfmt.retime import TimeOverflowError, fit_limits
 
     motion = result.motion
     if not bool(np.isfinite(motion.values[motion.commanded]).all()):

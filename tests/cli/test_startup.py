@@ -103,8 +103,10 @@ def test_validate_imports_neither_other_commands_nor_pinocchio_once_the_tables_a
     assert "motiontool.cli.validate" in warm
     # No configuration file to read, no file to write, no time to retime; one block of
     # configurations: no thread pool; no masked arrays (np.unique imports numpy.ma); no
-    # random numbers (the collision check's row hashes have their own fixed weights).
+    # random numbers (the collision check's row hashes have their own fixed weights); no
+    # document (a clean file gets no stretch fix to write).
     unused = ("tomllib", "tempfile", "fractions", "concurrent.futures", "numpy.ma", "numpy.random")
+    unused += ("motiontool.motionfmt.document",)
     assert _loaded(warm, unused) == []
 
 
