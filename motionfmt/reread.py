@@ -130,6 +130,7 @@ def _resume(kept: _Kept, data: bytes, path: str, timestep_ms: int | None) -> _Ke
     prev = (old.times_ms[k0 - 1], old.pose_lines[k0 - 1]) if k0 else (-1, 1)
 
     state = _Reader(data, path, timestep_ms)
+    state.lines = lines  # split once
     if not read_header(state, Piece(1, 0, lines[0])):
         return None
     res = state.result
@@ -194,11 +195,11 @@ def _unchanged(old: bytes, new: bytes) -> tuple[int, int]:
 
     x, y = np.frombuffer(old, dtype=np.uint8), np.frombuffer(new, dtype=np.uint8)
     k = min(x.shape[0], y.shape[0])
-    differ = np.flatnonzero(x[:k] != y[:k])
-    first = int(differ[0]) if differ.size else k  # the first byte that differs
+    differ = x[:k] != y[:k]
+    first = int(differ.argmax()) if differ.any() else k  # the first byte that differs
     k -= first
-    differ = np.flatnonzero(x[x.shape[0] - k :] != y[y.shape[0] - k :])
-    same = k - int(differ[-1]) - 1 if differ.size else k  # the last bytes alike
+    differ = (x[x.shape[0] - k :] != y[y.shape[0] - k :])[::-1]
+    same = int(differ.argmax()) if differ.any() else k  # the last bytes alike
     if first == 0:
         return 0, 0
     # The lines that end before the first byte that differs, and those after a newline among
