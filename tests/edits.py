@@ -9,11 +9,12 @@ import random
 __all__ = ["edit", "motion"]
 
 
-def motion(joints: list[str], poses: int, rng: random.Random) -> list[bytes]:
-    """The lines of a motion of ``poses`` poses, 40 ms apart, a few '*' cells."""
+def motion(joints: list[str], poses: int, rng: random.Random, stars: float = 0.02) -> list[bytes]:
+    """The lines of a motion of ``poses`` poses, 40 ms apart, a share ``stars`` of its cells
+    '*'."""
     lines = [b"#WEBOTS_MOTION,V1.0," + ",".join(joints).encode()]
     for p in range(poses):
-        cells = [b"*" if rng.random() < 0.02 else _number(rng) for _ in joints]
+        cells = [b"*" if rng.random() < stars else _number(rng) for _ in joints]
         lines.append(b",".join([str(40 * (p + 1)).encode(), f"Pose{p}".encode(), *cells]))
     return lines
 

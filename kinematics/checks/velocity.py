@@ -7,7 +7,15 @@ import math
 from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, NamedTuple
 
-from motiontool.kinematics.checks._stream_steps import member, merged, step_times, steps_read
+from motiontool.kinematics.checks._stream_steps import (
+    LastStream,
+    Step,
+    member,
+    merged,
+    step_times,
+    steps_read,
+    within,
+)
 from motiontool.kinematics.checks._table import (
     EPS,
     GroupingCheck,
@@ -64,11 +72,6 @@ class _Sent(NamedTuple):
     """How many poses are before each step's time (``searchsorted`` left)."""
 
 
-#: A fast controller step of one motor: (speed (unit/s), its start and end playback times (ms),
-#: how many controller steps apart the two commands are).
-_Step = tuple[float, int, int, int]
-
-
 class Velocity(GroupingCheck):
     """MT303 keyframe segments faster than maxVelocity; MT304 the command stream at the
     controller time step (target jumps after a ``*`` stretch, one step per segment).
@@ -80,6 +83,9 @@ class Velocity(GroupingCheck):
     def __init__(self, spec: RobotSpec, timestep_ms: int | None = None) -> None:
         super().__init__(spec)
         self.timestep_ms = timestep_ms or spec.default_timestep_ms
+        self._last: LastStream | None = None
+        """The stream findings on the last file checked, for its next version (see
+        :class:`~motiontool.kinematics.checks._stream_steps.LastStream`)."""
 
     @classmethod
     def for_run(cls, spec: RobotSpec, options: CheckOptions) -> Velocity:
@@ -271,7 +277,9 @@ class Velocity(GroupingCheck):
         fast: npt.NDArray[np.bool_],
     ) -> list[Diagnostic]:
         """The sampled command stream, one diagnostic per joint and segment; read a chunk of
-        controller steps at a time (memory stays flat whatever the motion's duration)."""
+        controller steps at a time (memory stays flat whatever the motion's duration). After
+        an edit of the last file checked, the steps around the poses it changed are read, the
+        other findings taken from that file's (:attr:`_last`)."""
         import numpy as np
 
         from motiontool.motionfmt.clock import clock_overflow, end_step
@@ -284,12 +292,16 @@ class Velocity(GroupingCheck):
         assert last is not None, "a motion that never ends wraps"
         lo, hi = merged(*steps_read(motion, step, last + 1))
         gaps = (hi[:-1] - 1) * step  # a step read, then steps not read: no pair across them
+        kept = None if overflow is not None else self._last
+        redo = None if kept is None else kept.redo(table, limited, step, last + 1)
+        if redo is not None:
+            lo, hi = within(lo, hi, redo.steps)
         names = [table.result.joints[group[-1]] for group in table.groups]
         # fast_before[s, i]: how many of joint i's segments before s are MT303 segments.
         fast_before = np.zeros((fast.shape[0] + 1, fast.shape[1]), dtype=np.int32)
         np.cumsum(fast, axis=0, out=fast_before[1:])
         defined = table.defined
-        worst: dict[tuple[int, int], _Step] = {}
+        worst: dict[tuple[int, int], Step] = {}
         carried: dict[int, _Sent] = {}
         for elapsed in step_times(lo, hi, step, _STREAM_CHUNK):
             targets, commanded = commands_at(motion, elapsed)
@@ -304,6 +316,14 @@ class Velocity(GroupingCheck):
                 for pose, found in fast_steps:
                     if (i, pose) not in worst or found[0] > worst[(i, pose)][0]:
                         worst[(i, pose)] = found
+        if kept is not None and redo is not None:
+            worst = kept.spliced(redo, worst)
+        keeps = overflow is None and LastStream.keeps(table)
+        self._last = (
+            LastStream(table.times, table.raw, tuple(table.motors), tuple(limited), worst)
+            if keeps
+            else None
+        )
         return [
             self._step_warning(table, joints[limited[i]], pose, table.col(pose, limited[i]), *w)
             for (i, pose), w in sorted(worst.items())
@@ -315,7 +335,7 @@ class Velocity(GroupingCheck):
         sent: _Sent,
         motor: tuple[float, npt.NDArray[np.bool_], npt.NDArray[np.int32]],
         gaps: npt.NDArray[np.int64],
-    ) -> list[tuple[int, _Step]]:
+    ) -> list[tuple[int, Step]]:
         """The steps of one motor whose target moves faster than its maximum velocity, each
         with the pose to report it on.
 
