@@ -246,7 +246,12 @@ def _position(report: FileReport, codec: PositionCodec, line: int, column: int) 
     column past the end of the line stays that many past it)."""
     raw = report.source_line(line)
     head = raw[: max(column - 1, 0)]
-    units = int(codec.client_num_units(head.decode("utf-8", "surrogateescape")))
+    # ASCII is a code unit a byte in every encoding (most lines: no per-character count).
+    units = (
+        len(head)
+        if head.isascii()
+        else codec.client_num_units(head.decode("utf-8", "surrogateescape"))
+    )
     return lsp.Position(line=line - 1, character=units + max(column - 1 - len(raw), 0))
 
 

@@ -129,13 +129,10 @@ class ReadResult:
     def _starts(self) -> list[int]:
         """The offset in the file of each physical line's first byte (made on first use)."""
         if not self._line_starts:
-            starts = [0]
-            find = self._data.find
-            pos = find(b"\n")
-            while pos >= 0:
-                starts.append(pos + 1)
-                pos = find(b"\n", pos + 1)
-            self._line_starts = starts
+            import numpy as np
+
+            newlines = np.flatnonzero(np.frombuffer(self._data, dtype=np.uint8) == ord("\n"))
+            self._line_starts = [0, *(newlines + 1).tolist()]
         return self._line_starts
 
     def cell_spans(

@@ -210,20 +210,24 @@ class _Scan(NamedTuple):
     def rows_of(
         self, q: npt.NDArray[np.float64], rows: npt.NDArray[np.intp], n_rows: int
     ) -> npt.NDArray[np.intp]:
-        """For each configuration ``q[i]`` (row ``rows[i]`` of a file of ``n_rows``), the row
-        of these configurations with the same bytes, at the same row or at the same row from
-        the end; -1 where neither is."""
+        """For each configuration ``q[i]`` (row ``rows[i]`` of a file of ``n_rows``; the rows
+        consecutive), the row of these configurations with the same bytes, at the same row or
+        else at the same row from the end; -1 where neither is."""
         import numpy as np
 
         source = np.full(q.shape[0], -1)
         if self.q is None or self.q.shape[1] != q.shape[1]:
             return source
         bits, kept = q.view(np.uint64), self.q.view(np.uint64)
-        for at in (rows, rows - (n_rows - kept.shape[0])):
-            ok = (source < 0) & (at >= 0) & (at < kept.shape[0])
-            i = np.flatnonzero(ok)
-            same = (bits[i] == kept[at[i]]).all(axis=1)
-            source[i[same]] = at[i[same]]
+        first = int(rows[0])  # the rows are consecutive
+        for shift in (0, n_rows - kept.shape[0]):  # the same row, the same row from the end
+            lo, hi = max(first - shift, 0), min(first - shift + q.shape[0], kept.shape[0])
+            if lo >= hi:
+                continue
+            i = np.arange(lo, hi)  # rows of the kept configurations, i + shift - first of q
+            same = (bits[lo + shift - first : hi + shift - first] == kept[lo:hi]).all(axis=1)
+            found = source[i[same] + shift - first] < 0
+            source[i[same][found] + shift - first] = i[same][found]
         return source
 
     def moved(self, rows: npt.NDArray[np.intp], source: npt.NDArray[np.intp]) -> _Scan:
