@@ -46,7 +46,7 @@ from typing import Annotated, Any
 
 import typer
 
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionSyntaxError, MotionToolError
 
 __all__ = [
     "CONFIG_NAMES",
@@ -318,14 +318,15 @@ def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
         raise ConfigError(f"cannot read '{path}': {reason}", path) from exc
-    import tomllib  # only where a configuration file is found
+    from motiontool.motionfmt.structured_text import load_toml  # where a file is found
 
     try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        at = re.search(r"at line (\d+), column (\d+)", str(exc))  # tomllib's own words
-        where = (int(at[1]), int(at[2])) if at else (1, 1)
-        raise ConfigError(f"{path}: not valid TOML: {exc}", path, *where) from exc
+        doc = load_toml(text, str(path), "a configuration")
+    except MotionSyntaxError as exc:
+        where = f"line {exc.line}, column {exc.column}"
+        raise ConfigError(
+            f"{path}: not valid TOML: {exc.message} (at {where})", path, exc.line, exc.column
+        ) from exc
     if path.name == "pyproject.toml":
         table = doc.get("tool", {}).get("motiontool")
         return (table if isinstance(table, dict) else None), text, "tool.motiontool"

@@ -34,14 +34,14 @@ from __future__ import annotations
 
 import difflib
 import os
-import re
 import tomllib
 from dataclasses import dataclass
 from fnmatch import fnmatchcase
 from pathlib import Path, PurePath
 from typing import Any
 
-from motiontool.errors import MotionToolError
+from motiontool.errors import MotionSyntaxError, MotionToolError
+from motiontool.motionfmt.structured_text import load_toml
 from motiontool.sim.expect import ExpectationError, parse_expectation
 from motiontool.sim.start import StartState
 
@@ -148,7 +148,7 @@ def _header_lines(lines: list[str]) -> dict[str, int]:
             continue
         try:
             parsed = tomllib.loads(line)
-        except tomllib.TOMLDecodeError:
+        except (tomllib.TOMLDecodeError, RecursionError):
             continue
         for key in parsed:
             out.setdefault(key, number)
@@ -202,15 +202,9 @@ def _read_toml(path: Path) -> tuple[str, dict[str, Any]]:
         line = data[: exc.start].count(b"\n") + 1
         raise SidecarError(f"{path}:{line}: not UTF-8 (TOML files are UTF-8)") from None
     try:
-        return text, tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        msg = str(exc)
-        m = re.search(r"^(.*) \(at line (\d+), column (\d+)\)$", msg)
-        if m:
-            raise SidecarError(f"{path}:{m.group(2)}:{m.group(3)}: {m.group(1)}") from None
-        m = re.search(r"^(.*) \(at end of document\)$", msg)
-        end = len(text.splitlines()) or 1
-        raise SidecarError(f"{path}:{end}: {m.group(1) if m else msg}") from None
+        return text, load_toml(text, str(path), "a motions.toml")
+    except MotionSyntaxError as exc:
+        raise SidecarError(f"{path}:{exc.line}:{exc.column}: {exc.message}") from None
 
 
 def _section(path: Path, lines: list[str], key: str, line: int, table: dict[str, Any]) -> Section:

@@ -24,12 +24,11 @@ keeps apart (:func:`spread_hands`).
 from __future__ import annotations
 
 import re
-import tomllib
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
-from motiontool.extras import require
+from motiontool.motionfmt.structured_text import load_toml, load_yaml, shown
 
 if TYPE_CHECKING:
     import numpy as np
@@ -43,8 +42,6 @@ NAO_HANDS: dict[str, str] = {
 """Webots Nao motor -> the real robot's joint: one motor opens and closes each hand (``LHand``,
 ``RHand``: 0 closed to 1 open, as the simulated phalanges), the name NAOqi and ``naoqi_driver``
 give it. The NAOqi export and the ROS exports name the hands by it."""
-
-_TOML_AT = re.compile(r"\s*\(at line (\d+), column (\d+)\)$")
 
 
 def _where(text: str, key: str) -> tuple[int, int]:
@@ -60,21 +57,12 @@ def _where(text: str, key: str) -> tuple[int, int]:
 
 def _load(text: str, path: str) -> Any:
     if path.lower().endswith(".toml"):
-        try:
-            return tomllib.loads(text)
-        except tomllib.TOMLDecodeError as exc:
-            at = _TOML_AT.search(str(exc))
-            line, col = (int(at.group(1)), int(at.group(2))) if at else (1, 1)
-            raise MotionSyntaxError(_TOML_AT.sub("", str(exc)), path, line, col) from exc
+        return load_toml(text, path, "a joint map")
     if path.lower().endswith((".yaml", ".yml")):
-        yaml = require("ruamel.yaml", "ros", "a YAML joint map")
-        try:
-            return yaml.YAML(typ="safe", pure=True).load(text)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, "problem_mark", None)
-            line, col = (mark.line + 1, mark.column + 1) if mark is not None else (1, 1)
-            problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-            raise MotionSyntaxError(f"not YAML: {problem}", path, line, col) from exc
+        documents = [d for d in load_yaml(text, path, "a joint map") if d is not None]
+        if len(documents) > 1:
+            raise MotionSyntaxError("a joint map is one YAML document, not several", path, 1, 1)
+        return documents[0] if documents else None
     raise MotionToolError(f"'{path}': a joint map is a .toml or a .yaml (.yml) file")
 
 
@@ -99,7 +87,10 @@ def parse_joint_map(data: bytes, path: str) -> tuple[tuple[str, str], ...]:
         if not isinstance(value, str) or not value:
             line, col = _where(text, joint)
             raise MotionSyntaxError(
-                f"{joint}: the ROS name must be a non-empty string, got {value!r}", path, line, col
+                f"{joint}: the ROS name must be a non-empty string, got {shown(value)}",
+                path,
+                line,
+                col,
             )
         pairs.append((joint, value))
     return tuple(pairs)

@@ -25,10 +25,10 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING, Any
 
 from motiontool.errors import MotionSyntaxError
-from motiontool.extras import require
 from motiontool.motionfmt.convert._ros import NS_PER_MS, NS_PER_S, JointStates
 from motiontool.motionfmt.convert.base import Imported, ImportOptions
 from motiontool.motionfmt.convert.rosbag import imported_samples
+from motiontool.motionfmt.structured_text import load_yaml, shown
 from motiontool.motionfmt.units import MS_PER_S
 
 if TYPE_CHECKING:
@@ -73,14 +73,8 @@ def _is_scalar(value: Any) -> bool:
 
 def _documents(text: str, where: _Where) -> list[Any]:
     """The file's documents that are not empty (``ros2 topic echo`` ends each with ``---``)."""
-    yaml = require("ruamel.yaml", "ros", f"reading a {MESSAGE} (YAML)")
-    try:
-        return [d for d in yaml.YAML(typ="rt", pure=True).load_all(text) if d is not None]
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line, col = (mark.line + 1, mark.column + 1) if mark is not None else (1, 1)
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise MotionSyntaxError(f"not YAML: {problem}", where.path, line, col) from exc
+    documents = load_yaml(text, where.path, f"a {MESSAGE}", round_trip=True)
+    return [d for d in documents if d is not None]
 
 
 def _candidates(node: Any, keys: tuple[str, ...], depth: int) -> Iterator[tuple[str, Any]]:
@@ -130,9 +124,9 @@ def _joint_names(message: dict[str, Any], where: _Where) -> tuple[str, ...]:
     seen: set[str] = set()
     for k, name in enumerate(names):
         if not isinstance(name, str) or not name:
-            raise where.error(names, f"joint_names: expected a name, got {name!r}", k)
+            raise where.error(names, f"joint_names: expected a name, got {shown(name)}", k)
         if name in seen:
-            raise where.error(names, f"joint_names: {name!r} is given twice", k)
+            raise where.error(names, f"joint_names: {shown(name)} is given twice", k)
         seen.add(name)
     return tuple(names)
 
@@ -140,7 +134,7 @@ def _joint_names(message: dict[str, Any], where: _Where) -> tuple[str, ...]:
 def _integer(node: dict[str, Any], key: str, where: _Where) -> int:
     value = node.get(key, 0)  # a field left out is 0, as ROS fills a message from YAML
     if isinstance(value, bool) or not isinstance(value, int) or value < 0:
-        raise where.error(node, f"{key}: expected a whole number >= 0, got {value!r}", key)
+        raise where.error(node, f"{key}: expected a whole number >= 0, got {shown(value)}", key)
     return value
 
 
@@ -156,7 +150,7 @@ def _time_ns(point: dict[str, Any], where: _Where) -> int:
         raise where.error(
             point,
             f"time_from_start: expected {{sec, nanosec}} (ROS 2) or {{secs, nsecs}} (ROS 1), "
-            f"got {given!r}",
+            f"got {shown(given)}",
             "time_from_start",
         )
     sec, nanosec = (_integer(node, f, where) for f in fields)
@@ -170,7 +164,7 @@ def _positions(point: dict[str, Any], joints: int, where: _Where) -> npt.NDArray
 
     values = point.get("positions")
     if not isinstance(values, list):
-        found = f"keys {', '.join(map(str, point))}" if "positions" not in point else values
+        found = f"keys {shown(list(point))}" if "positions" not in point else shown(values)
         raise where.error(
             point, f"a point without positions: expected a list of {joints} numbers ({found})"
         )
@@ -183,7 +177,7 @@ def _positions(point: dict[str, Any], joints: int, where: _Where) -> npt.NDArray
         )
     for k, v in enumerate(values):
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v):
-            raise where.error(values, f"positions: expected a finite number, got {v!r}", k)
+            raise where.error(values, f"positions: expected a finite number, got {shown(v)}", k)
     return np.asarray(values, dtype=np.float64)
 
 

@@ -257,6 +257,16 @@ GOOD = "joint_names: [a, b]\npoints:\n- positions: [0.1, 0.2]\n  time_from_start
 BAD = [
     ("a: [1\n", r"x.yaml:2:1: not YAML: expected ',' or ']'"),
     ("", r"x.yaml:1:1: empty: expected a trajectory_msgs/JointTrajectory"),
+    ("x: " + "[" * 5000 + "]" * 5000 + "\n", r"x.yaml:1:1: nested too deeply to read: expected"),
+    (  # aliases that would print 9**6 names: the message shows a short beginning
+        "a: &a [x, x, x, x, x, x, x, x, x]\n"
+        + "".join(
+            f"{n}: &{n} [{', '.join([f'*{p}'] * 9)}]\n"
+            for p, n in zip("abcde", "bcdef", strict=True)
+        )
+        + "joint_names: *f\npoints: []\n",
+        r"x.yaml:\d+:\d+: joint_names: expected a name, got .{1,60}$",
+    ),
     ("points: []\n", r"x.yaml:1:1: expected a trajectory_msgs/JointTrajectory: joint_names and"),
     (GOOD + "---\n" + GOOD, r"x.yaml:6:1: a second message \(2 in all\): give one"),
     (GOOD.replace("[a, b]", "[a, a]"), r"x.yaml:1:18: joint_names: 'a' is given twice"),
