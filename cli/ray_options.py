@@ -33,6 +33,8 @@ def runtime_env(value: str | dict[str, object]) -> dict[str, object]:
     except json.JSONDecodeError as exc:
         at = f"'{value}':{exc.lineno}:{exc.colno}" if where != "the JSON text" else where
         raise typer.BadParameter(f"{at}: expected a JSON object: {exc.msg}") from None
+    except RecursionError:  # json recurses once per level of nesting
+        raise typer.BadParameter(f"{where}: nested too deeply to read as JSON") from None
     if not isinstance(env, dict):
         raise typer.BadParameter(
             f'{where}: expected a JSON object such as {{"pip": [...]}}, got {type(env).__name__}'

@@ -396,7 +396,10 @@ def parse_wbt(text: str, path: str = "<string>") -> WbtFile:
     Raises:
         MotionSyntaxError: not a Webots file, or a syntax error (``path:line:col: message``).
     """
-    return _Parser(text, path).file()
+    try:
+        return _Parser(text, path).file()
+    except RecursionError:  # the parser descends once per level of nested nodes
+        raise MotionSyntaxError("nodes nested too deeply to read", path, 1, 1) from None
 
 
 def _unquote(text: str) -> str:

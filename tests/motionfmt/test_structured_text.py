@@ -1,7 +1,7 @@
-"""TOML and YAML files nested deeper than the parsers' recursion, or values built of YAML
-aliases: one line at the file, never a ``RecursionError`` or a message of millions of items
-(``motionfmt/structured_text.py``), for every reader of such files (the configuration,
-``motions.toml``, joint maps, a JointTrajectory in YAML)."""
+"""Structured files nested deeper than their parsers' recursion, or values built of YAML
+aliases: one line at the file, never a ``RecursionError`` or a message of millions of items.
+TOML and YAML (``motionfmt/structured_text.py``: the configuration, ``motions.toml``, joint
+maps, a JointTrajectory), a ``--world`` file and ``--ray-runtime-env``'s JSON."""
 
 from __future__ import annotations
 
@@ -87,3 +87,22 @@ def test_a_deep_joint_map_is_one_line(tmp_path: Path, name: str, text: str) -> N
     assert code == 2 and err.count("\n") == 1, err
     assert f"{name}:1:1: nested too deeply to read: expected a joint map" in err
     assert not (tmp_path / "m.trajectory.yaml").exists()
+
+
+def test_a_deep_world_is_one_line(tmp_path: Path) -> None:
+    """``--world``: the .wbt parser descends once per level of nested nodes."""
+    from motiontool.sim.wbt import parse_wbt
+
+    text = "#VRML_SIM R2023b utf8\n" + "Group { children [ " * 3000 + " ] }" * 3000 + "\n"
+    with pytest.raises(MotionSyntaxError, match="nodes nested too deeply to read"):
+        parse_wbt(text, "deep.wbt")
+
+
+def test_a_deep_ray_runtime_env_is_one_line(tmp_path: Path) -> None:
+    (tmp_path / "m.motion").write_bytes(MOTION)
+    (tmp_path / "env.json").write_text('{"pip": ' + "[" * DEEP + "]" * DEEP + "}")
+    code, err = _cli(
+        "batch", "m.motion", "--executor", "ray", "--ray-runtime-env", "env.json", cwd=tmp_path
+    )
+    assert code == 2 and "Traceback" not in err, err
+    assert "'env.json': nested too deeply to read as JSON" in err
