@@ -9,8 +9,9 @@ opens the file and waits for its findings, then measures, wall clock (ms):
   ``publishDiagnostics`` for that version; the median of ``--repeat`` edits, each waited for
   (target: at most 100 ms);
 - burst: ten one-line edits 50 ms apart, the time from the last ``didChange`` until the
-  findings of the last version, and how many versions were published (target: at most 300 ms,
-  one version); the median of ``--repeat`` bursts.
+  findings of the last version (target: at most 300 ms), and how many versions were published
+  (the last, and any whose lint finished before the next edit came: a one-line lint now takes
+  less than the 50 ms between edits); the median of ``--repeat`` bursts.
 
 Also printed: the CPU time of one lint of the file in this process (read and checks, s), afresh
 and after a one-line edit with the checks and the document's reader kept (as the server keeps
