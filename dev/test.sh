@@ -8,6 +8,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PY=${PYTHON:-.venv/bin/python}
+# A Python process that crashes (SIGSEGV in a native library) prints its threads' stacks, so a
+# test that sees a child die by a signal shows where (a batch driver on Ray died so, once).
+export PYTHONFAULTHANDLER=1
 FAST=0
 if [[ "${1:-}" == "--fast" ]]; then
   FAST=1
