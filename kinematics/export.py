@@ -123,22 +123,12 @@ def stored_urdf(spec: RobotSpec) -> bytes:
     Raises:
         MotionToolError: as :func:`urdf_bytes`.
     """
-    import hashlib
-
     from motiontool.disk_cache import ResultCache, code_stamp
 
     if spec.model_format == "urdf" and spec.overrides_path is None:
         return spec.model_path.read_bytes()
-    h = hashlib.sha256()
-    for part in (
-        spec.model_hash,
-        spec.model_format,
-        str(spec.floating_base),
-        "\0".join(spec.joint_names),
-        code_stamp(["kinematics"], ["pinocchio"]),
-    ):
-        h.update(part.encode("utf-8", "surrogateescape") + b"\n")
-    cache, key = ResultCache(urdf_cache_dir(), max_results=URDF_KEPT), h.hexdigest()
+    key = spec.model_key(code_stamp(["kinematics"], ["pinocchio"]))
+    cache = ResultCache(urdf_cache_dir(), max_results=URDF_KEPT)
     stored = cache.load(key)
     if stored is not None and isinstance(stored.get("urdf"), str):
         return str(stored["urdf"]).encode("utf-8")

@@ -87,6 +87,23 @@ class RobotSpec:
         """Motor names in model order."""
         return tuple(j.name for j in self.joints)
 
+    def model_key(self, code_stamp: str) -> str:
+        """What a result made from this robot's model is kept by on disk (sha256, hex): the
+        model (its hash, overrides included), its motors, how it is built (format, free-flying
+        root) and ``code_stamp``, the code that made the result."""
+        import hashlib
+
+        h = hashlib.sha256()
+        for part in (
+            self.model_hash,
+            self.model_format,
+            str(self.floating_base),
+            "\0".join(self.joint_names),
+            code_stamp,
+        ):
+            h.update(part.encode("utf-8", "surrogateescape") + b"\n")
+        return h.hexdigest()
+
     def __contains__(self, name: object) -> bool:
         return name in self._index
 

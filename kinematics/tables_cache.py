@@ -56,16 +56,7 @@ def _code_stamp() -> str:
 def tables_key(spec: RobotSpec) -> str:
     """What a stored table is found by (hex): the model, the motors, how the model is built
     and the code that builds the tables."""
-    h = hashlib.sha256()
-    for part in (
-        spec.model_hash,
-        spec.model_format,
-        str(spec.floating_base),
-        "\0".join(spec.joint_names),
-        _code_stamp(),
-    ):
-        h.update(part.encode("utf-8", "surrogateescape") + b"\n")
-    return h.hexdigest()
+    return spec.model_key(_code_stamp())
 
 
 _IN_PROCESS: dict[tuple[Path, str], KinematicTables] = {}
