@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import math
 from bisect import bisect_left, bisect_right
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
 from motiontool.motionfmt.diagnostics import BEYOND_LIMITS, TOO_FAST
-from motiontool.motionfmt.fixes import ROBOT_CODES, ROBOT_FIX_TITLES, Fix
+from motiontool.motionfmt.fixes import ROBOT_CODES, Fix
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
 if TYPE_CHECKING:
@@ -33,8 +33,10 @@ if TYPE_CHECKING:
 
 __all__ = ["Planner", "clamp_count", "clamp_fixes", "planner", "stretch_fixes"]
 
-CLAMP_TITLE = ROBOT_FIX_TITLES[BEYOND_LIMITS]
-STRETCH_TITLE = ROBOT_FIX_TITLES[TOO_FAST]
+CLAMP_TITLE = "clamp the value to the joint's limit (where the motor stops anyway)"
+STRETCH_TITLE = "stretch the segments too fast for maxVelocity, as retime fits a motion"
+TITLES = {BEYOND_LIMITS: CLAMP_TITLE, TOO_FAST: STRETCH_TITLE}
+"""What the fix of each of :data:`~motiontool.motionfmt.fixes.ROBOT_CODES` does, for people."""
 _CELLS = 1 << 16
 """Clamped cells whose numbers become Python objects at a time (a file of random values has
 millions)."""
@@ -188,6 +190,10 @@ class Planner:
     path: str
     codes: frozenset[str] = ROBOT_CODES
     step_ms: int | None = None
+
+    @property
+    def titles(self) -> Mapping[str, str]:
+        return TITLES
 
     def __call__(self, data: bytes) -> list[Fix]:
         result = read_bytes(data, self.path)

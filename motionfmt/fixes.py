@@ -27,7 +27,7 @@ columns, end exclusive), so a fix never touches a byte outside its span.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -49,7 +49,6 @@ from motiontool.motionfmt.reader import ReadResult, read_bytes, token_spans
 
 __all__ = [
     "ROBOT_CODES",
-    "ROBOT_FIX_TITLES",
     "SAFE_CODES",
     "UNSAFE_CODES",
     "Fix",
@@ -76,15 +75,15 @@ UNSAFE_CODES = _fixed(FixKind.UNSAFE)
 ROBOT_CODES = _fixed(FixKind.ROBOT)
 """Codes whose (unsafe) fix needs the robot's limits: a :data:`RobotPlanner` plans it."""
 
-ROBOT_FIX_TITLES = {
-    BEYOND_LIMITS: "clamp the value to the joint's limit (where the motor stops anyway)",
-    TOO_FAST: "stretch the segments too fast for maxVelocity, as retime fits a motion",
-}
-"""What the fix of each of :data:`ROBOT_CODES` does, for people."""
-
 
 class RobotPlanner(Protocol):
     """Plans the fixes of :data:`ROBOT_CODES` (the caller knows the robot)."""
+
+    @property
+    def titles(self) -> Mapping[str, str]:
+        """What the fix of each code it plans does, for people (a report that names a
+        finding's fix without planning it)."""
+        ...
 
     def __call__(self, data: bytes) -> list[Fix]:
         """Every robot fix of a file's bytes (what ``--fix --unsafe-fixes`` applies)."""

@@ -32,7 +32,6 @@ from motiontool.motionfmt.fileio import Inputs, collect_motion_files
 from motiontool.motionfmt.findings import Findings
 from motiontool.motionfmt.fixes import (
     ROBOT_CODES,
-    ROBOT_FIX_TITLES,
     SAFE_CODES,
     UNSAFE_CODES,
     Fix,
@@ -155,7 +154,7 @@ class FileReport:
         if d.code in ROBOT_CODES:
             if self.robot_fixes is None or (d.code == TOO_FAST and not self._is_first_stretch(d)):
                 return None
-            return False, ROBOT_FIX_TITLES[d.code]
+            return False, self.robot_fixes.titles[d.code]
         if d.code not in SAFE_CODES | UNSAFE_CODES:
             return None
         fixes = self._reader_fixes(d)
