@@ -47,6 +47,7 @@ from typing import Annotated, Any
 import typer
 
 from motiontool.errors import MotionSyntaxError, MotionToolError
+from motiontool.kinematics.checks.registry import CHECKS
 
 __all__ = [
     "CONFIG_NAMES",
@@ -259,6 +260,8 @@ def _table_of(kind: str) -> Any:
     return check
 
 
+_QUOTED_CHECKS = ", ".join(f'"{name}"' for name in CHECKS)
+
 # key -> (check, what the value must be)
 KEYS: dict[str, tuple[Any, str]] = {
     "robot": (lambda v: isinstance(v, str), "a robot name (string)"),
@@ -269,7 +272,7 @@ KEYS: dict[str, tuple[Any, str]] = {
     "extend-ignore": (_strings, "a list of codes"),
     "per-file-ignores": (_table_of("list"), 'a table of "GLOB" = ["CODE", ...]'),
     "strict": (lambda v: isinstance(v, bool), "true or false"),
-    "checks": (_strings, 'a list of checks ("limits", "velocity", "collision", "balance")'),
+    "checks": (_strings, f"a list of checks ({_QUOTED_CHECKS})"),
     "timestep": (
         lambda v: isinstance(v, int) and not isinstance(v, bool) and 1 <= v <= 2**31 - 1,
         "a whole number of ms >= 1",
