@@ -154,10 +154,12 @@ class Velocity(GroupingCheck):
             driving = table.segments(lo, hi)
             start, end = table.segment_values(lo, hi, driving)
             driver[lo:hi] = driving[0][:, limited]
-            with np.errstate(invalid="ignore"):
+            with np.errstate(invalid="ignore", over="ignore"):
                 moved = np.abs(end[:, limited] - start[:, limited])
                 speed = moved / dt_s[lo:hi, None]
-                # NaN (a '*' or 'nan' end) compares False; an 'inf' end is left to MT302.
+                # NaN (a '*' or 'nan' end) compares False; an 'inf' end, or finite ends too
+                # far apart for a double (1e308 to -1e308: no time they could take), is left
+                # to MT302.
                 fast[lo:hi] = np.isfinite(speed) & (speed > vmax * (1.0 + EPS))
             delta[lo:hi] = moved
         return driver, delta, fast
@@ -353,7 +355,7 @@ class Velocity(GroupingCheck):
         step = self.timestep_ms
         vmax, defined, fast_before = motor
         elapsed, targets, after, at_or_after = sent
-        with np.errstate(invalid="ignore"):  # 'inf' targets: left to MT302
+        with np.errstate(invalid="ignore", over="ignore"):  # 'inf' targets: left to MT302
             per_step = np.abs(np.diff(targets)) / (step / MS_PER_S)
             fast = np.isfinite(per_step) & (per_step > vmax * (1.0 + EPS))
         if gaps.size and fast.any():

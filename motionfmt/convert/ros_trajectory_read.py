@@ -28,6 +28,7 @@ from motiontool.errors import MotionSyntaxError
 from motiontool.motionfmt.convert._ros import NS_PER_MS, NS_PER_S, JointStates
 from motiontool.motionfmt.convert.base import Imported, ImportOptions
 from motiontool.motionfmt.convert.rosbag import imported_samples
+from motiontool.motionfmt.cscan import INT_MAX
 from motiontool.motionfmt.structured_text import load_yaml, shown
 from motiontool.motionfmt.units import MS_PER_S
 
@@ -156,7 +157,12 @@ def _time_ns(point: dict[str, Any], where: _Where) -> int:
     sec, nanosec = (_integer(node, f, where) for f in fields)
     if nanosec >= NS_PER_S:
         raise where.error(node, f"{fields[1]}: {nanosec} is not below 1e9", fields[1])
-    return sec * NS_PER_S + nanosec
+    ns = sec * NS_PER_S + nanosec
+    if ns > INT_MAX * NS_PER_MS:  # a pose time is a C int of ms: also what int64 ns hold
+        raise where.error(
+            node, f"{fields[0]}: {shown(sec)} s is past the {INT_MAX} ms a motion holds", fields[0]
+        )
+    return ns
 
 
 def _positions(point: dict[str, Any], joints: int, where: _Where) -> npt.NDArray[np.float64]:

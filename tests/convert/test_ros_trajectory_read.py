@@ -257,6 +257,10 @@ GOOD = "joint_names: [a, b]\npoints:\n- positions: [0.1, 0.2]\n  time_from_start
 BAD = [
     ("a: [1\n", r"x.yaml:2:1: not YAML: expected ',' or ']'"),
     ("", r"x.yaml:1:1: empty: expected a trajectory_msgs/JointTrajectory"),
+    (
+        GOOD.replace("sec: 1", "sec: 99999999999999999999"),
+        r"x.yaml:\d+:\d+: sec: 99999999999999999999 s is past the 2147483647 ms a motion holds",
+    ),
     ("x: " + "[" * 5000 + "]" * 5000 + "\n", r"x.yaml:1:1: nested too deeply to read: expected"),
     (  # aliases that would print 9**6 names: the message shows a short beginning
         "a: &a [x, x, x, x, x, x, x, x, x]\n"

@@ -393,6 +393,15 @@ def test_the_velocity_check_of_a_motion_ending_at_2_31_ms_reads_a_few_steps(
     assert 0 < sum(read) <= 32  # of 107 374 183 steps
 
 
+def test_values_too_far_apart_for_a_double_are_left_to_the_limits() -> None:
+    """1e308 to -1e308 in 40 ms: the move overflows a double; the velocity check leaves it to
+    MT302 without numpy's overflow warning (pytest turns a warning into an error here)."""
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,1e308\n00:00:040,P2,-1e308\n"
+    for step in (20, 8):
+        found = findings(data, timestep_ms=step)
+        assert [f.split(": ")[1] for f in found] == ["error MT302", "error MT302"], found
+
+
 @settings(max_examples=80, deadline=None)
 @given(
     nao_motions(),
