@@ -247,7 +247,7 @@ class Velocity(GroupingCheck):
             f"{fmt_num(vmax)} {u}/s by {over} {u}/s; the motor needs "
             f"{need} and falls {fmt_ms(round(need_ms - (t1 - t0), 1))} behind",
             "Webots caps the motor's speed at maxVelocity, so the joint arrives late; "
-            f"give this move at least {math.ceil(need_ms)} ms",
+            f"give this move at least {_at_least(need_ms)}",
             grouping=PoseFinding(
                 seg + 1,
                 f"{fmt_name(joint.name)} faster than its maximum velocity {fmt_num(vmax)} {u}/s",
@@ -437,6 +437,12 @@ class Velocity(GroupingCheck):
                 speed - vmax,
             ),
         )
+
+
+def _at_least(need_ms: float) -> str:
+    """The whole ms a move needs, as MT303's hint says it (a move of 1e308 rad needs more than
+    a double holds)."""
+    return f"{math.ceil(need_ms)} ms" if math.isfinite(need_ms) else "more time than a motion has"
 
 
 def _amount(unit: str, over: str, need: str, dt_ms: int) -> str:

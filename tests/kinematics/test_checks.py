@@ -400,6 +400,12 @@ def test_values_too_far_apart_for_a_double_are_left_to_the_limits() -> None:
     for step in (20, 8):
         found = findings(data, timestep_ms=step)
         assert [f.split(": ")[1] for f in found] == ["error MT302", "error MT302"], found
+    # 0 to 1e308 in a second: a finite speed whose time needed overflows (a traceback once).
+    data = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,0\n00:01:000,P2,1e308\n"
+    report = validate_bytes(data, "t.motion", checks=robot_checks(load_robot("nao")))
+    codes = [(d.code, d.hint) for d in report.diagnostics]
+    assert [code for code, _hint in codes] == ["MT302", "MT303"], codes
+    assert "give this move at least more time than a motion has" in str(codes[1][1])
 
 
 @settings(max_examples=80, deadline=None)
