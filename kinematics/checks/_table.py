@@ -377,7 +377,9 @@ def configurations(
     seg_hi = min(hi, n_poses - 1)  # the segments lo .. seg_hi - 1 have their midpoint here
     held = table.held
     mid, end = table.segment_values(lo, seg_hi)
-    mid += end
+    # 1e308 + 1e308 overflows to inf: clipped to the limit below, as the midpoint would be.
+    with np.errstate(over="ignore"):
+        mid += end
     mid /= 2.0
     np.copyto(mid, held[lo:seg_hi], where=np.isnan(mid))
     del end

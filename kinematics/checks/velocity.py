@@ -182,7 +182,9 @@ class Velocity(GroupingCheck):
         found = []  # PoseRuns and joint arrays of segments, a set per joint
         for i, joint in enumerate(joints):
             if fast[:, i].any():
-                runs = pose_runs(fast[:, i], delta[:, i] / dt_s - joint.max_velocity)
+                with np.errstate(over="ignore"):  # a move of 1e308 rad in 1 ms: inf rad/s
+                    excess = delta[:, i] / dt_s - joint.max_velocity
+                runs = pose_runs(fast[:, i], excess)
                 found.append((*runs, np.full(runs.first.shape, i)))
         if not found:
             return Findings.of([])

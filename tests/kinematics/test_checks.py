@@ -393,6 +393,40 @@ def test_the_velocity_check_of_a_motion_ending_at_2_31_ms_reads_a_few_steps(
     assert 0 < sum(read) <= 32  # of 107 374 183 steps
 
 
+EXTREME = ["0", "0.5", "-2", "3.14", "1e30", "-1e200", "1e308", "-1e308", "5e-324", "*"]
+EXTREME_TIMES = [0, 1, 8, 20, 40, 1000, 65536000, 2147483000, 2147483647]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.sampled_from(["nao", "ur5e"]),
+    st.integers(1, 4),
+    st.lists(st.sampled_from(EXTREME_TIMES), min_size=1, max_size=5, unique=True),
+    st.data(),
+    st.sampled_from([None, 8, 20]),
+    st.booleans(),
+)
+def test_extreme_values_and_times_neither_raise_nor_warn(
+    robot: str, n_joints: int, times: list[int], data: Any, step: int | None, group: bool
+) -> None:
+    """Values from 5e-324 to 1e308, '*' and times up to 2^31-1 ms through the default checks:
+    findings, never an exception or a numpy warning (pytest makes a warning an error)."""
+    spec = load_robot(robot)
+    joints = spec.joint_names[:n_joints]
+    lines = ["#WEBOTS_MOTION,V1.0," + ",".join(joints)]
+    for k, t in enumerate(sorted(times)):
+        minutes, rest = divmod(t, 60000)
+        cells = data.draw(st.lists(st.sampled_from(EXTREME), min_size=n_joints, max_size=n_joints))
+        lines.append(f"{minutes:02d}:{rest // 1000:02d}:{rest % 1000:03d},P{k}," + ",".join(cells))
+    text = ("\n".join(lines) + "\n").encode()
+    report = validate_bytes(
+        text, "t.motion", timestep_ms=step, checks=robot_checks(spec), group=group
+    )
+    for d in report.diagnostics:
+        d.format()
+        report.fix_summary(d)
+
+
 def test_values_too_far_apart_for_a_double_are_left_to_the_limits() -> None:
     """1e308 to -1e308 in 40 ms: the move overflows a double; the velocity check leaves it to
     MT302 without numpy's overflow warning (pytest turns a warning into an error here)."""
