@@ -40,6 +40,9 @@ _MAX_COLUMNS = 6
 _MIN_WIDTH_IN = 7.0  # room for the title and the caption
 _CAPTION_IN = 0.4  # room below the grid for a two-line caption
 _TITLE_IN = 0.35  # room above it for the title
+_DRAWABLE = 1e300
+"""The largest |y| a panel's range reaches: padding a range of -1e308 to 1e308 overflows a
+double (a value past it is drawn leaving the panel)."""
 _NEAR_LIMIT_RAD = 0.2  # a limit this close to the plotted values (or one span) is drawn in view
 _SPANS = 2 * int(_PANEL_W_IN * _DPI)
 """A panel's time axis in this many equal spans, two a pixel column: a line of more than four
@@ -137,12 +140,16 @@ def _style() -> Any:
 def _styled(func: Callable[_P, _R]) -> Callable[_P, _R]:
     """``func``, drawing in matplotlib's default style (:func:`_style`), every text as typed
     (a name with ``$`` signs is not mathtext) and names escaped by :func:`fmt_name` (a byte
-    that is not UTF-8, a lone surrogate, as ``\\xNN``: matplotlib raised a TypeError)."""
+    that is not UTF-8, a lone surrogate, as ``\\xNN``: matplotlib raised a TypeError), without
+    numpy's overflow warnings (values of 1e308 overflow matplotlib's own range arithmetic)."""
 
     @functools.wraps(func)
     def styled(*args: _P.args, **kwargs: _P.kwargs) -> _R:
+        import numpy as np
+
         with _style(), _mpl("matplotlib").rc_context({"text.parse_math": False}):
-            return func(*args, **kwargs)
+            with np.errstate(over="ignore", invalid="ignore"):
+                return func(*args, **kwargs)
 
     return styled
 
@@ -266,6 +273,7 @@ def _view(
 
     finite = values[np.isfinite(values)]
     lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
+    lo, hi = (min(max(y, -_DRAWABLE), _DRAWABLE) for y in (lo, hi))
     span = hi - lo
     shown: list[float] = []
     if limits is not None:
@@ -274,7 +282,8 @@ def _view(
             if math.isfinite(lim) and lo - reach <= lim <= hi + reach:
                 shown.append(lim)
                 lo, hi = min(lo, lim), max(hi, lim)
-    pad = max(0.08 * (hi - lo), 0.02)
+    # A flat panel at 1e300 needs a pad matplotlib's ticks can resolve there, not 0.02.
+    pad = max(0.08 * (hi - lo), 0.02, 1e-6 * max(abs(lo), abs(hi)))
     return lo - pad, hi + pad, shown
 
 

@@ -362,8 +362,10 @@ def _fit_velocity(
     numpy path is tested against (the same durations)."""
     import numpy as np
 
-    with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore", over="ignore"):
         delta = np.abs(np.diff(v, axis=0))  # (P-1, C), NaN where a '*' end
+    # A '*' end, an 'inf' and a move too large for a double (1e308 to -1e308: no time fits
+    # it) stretch nothing; the velocity check that checks the result reports them.
     delta = np.where(np.isfinite(delta), delta, 0.0)
     dur: list[int] = np.diff(np.asarray(old, dtype=np.int64)).tolist()
     if not names:

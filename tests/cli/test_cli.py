@@ -256,6 +256,24 @@ def test_installed_script(tmp_path: Path) -> None:
 
 
 @pytest.mark.needs("plot")
+@pytest.mark.parametrize(
+    "rows",
+    [
+        b"8,P,1e308,1.7976931348623157e308\n",  # one pose: a flat panel at the double's end
+        b"20,P,1e308,-1e308\n1000,Q,-1e200,1e308\n2147483647,R,-1e200,0\n",  # span overflows
+    ],
+)
+def test_plot_draws_values_near_the_double_s_end(tmp_path: Path, rows: bytes) -> None:
+    """A range of -1e308 to 1e308 overflowed matplotlib's ticks (a ValueError traceback) and
+    printed numpy's overflow warnings (pytest makes them errors here)."""
+    path = tmp_path / "w.motion"
+    path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw,RShoulderPitch\n" + rows)
+    result = runner.invoke(app, ["plot", str(path), "-o", str(tmp_path / "w.png")])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "w.png").read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+
+
+@pytest.mark.needs("plot")
 def test_plot_to_stdout_and_diff_plot_refuses_stdout(tmp_path: Path) -> None:
     path = tmp_path / "w.motion"
     path.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n0,P,0\n400,Q,1\n")
