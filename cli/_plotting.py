@@ -147,9 +147,12 @@ def _styled(func: Callable[_P, _R]) -> Callable[_P, _R]:
     def styled(*args: _P.args, **kwargs: _P.kwargs) -> _R:
         import numpy as np
 
-        with _style(), _mpl("matplotlib").rc_context({"text.parse_math": False}):
-            with np.errstate(over="ignore", invalid="ignore"):
-                return func(*args, **kwargs)
+        with (
+            _style(),
+            _mpl("matplotlib").rc_context({"text.parse_math": False}),
+            np.errstate(over="ignore", invalid="ignore"),
+        ):
+            return func(*args, **kwargs)
 
     return styled
 
