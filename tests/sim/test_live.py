@@ -130,6 +130,7 @@ def test_without_a_display_or_a_server_it_says_what_to_pass(
     result = runner.invoke(app, ["play", str(nod)])
     assert result.exit_code == 2
     (line,) = result.stderr.splitlines()
+    assert "no display to show the run on" in line
     assert all(flag in line for flag in ("--headless", "--rrd", "--connect")), line
     assert "Traceback" not in result.output
 

@@ -169,16 +169,6 @@ def test_lying_front_needs_a_free_flying_robot() -> None:
         play([UR5E_MOTION], robot="ur5e", options=PlayOptions(start="lying-front"))
 
 
-def test_cli_without_headless_display_or_connect_says_so_and_exits_2(
-    nod: Path, monkeypatch: pytest.MonkeyPatch
-) -> None:
-    monkeypatch.delenv("DISPLAY", raising=False)
-    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
-    result = runner.invoke(app, ["play", str(nod)])
-    assert result.exit_code == 2
-    assert "no display to show the run on" in result.stderr
-
-
 @pytest.mark.needs("sim", "rerun")
 def test_cli_writes_json_and_rrd(nod: Path, tmp_path: Path) -> None:
     json_path, rrd_path = tmp_path / "run.json", tmp_path / "run.rrd"
