@@ -109,6 +109,18 @@ def import_extra(module: str, extra: str) -> ModuleType:
     return importlib.import_module(module)
 
 
+def dev_module(name: str) -> ModuleType:
+    """The script ``dev/NAME.py`` as a module (dev/ is no package): the tests read the lists
+    it keeps (``writers``: every output option; ``rules_doc``: the rules page's writer)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "dev" / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def require(path: Path, what: str) -> Path:
     """``path`` if it exists; otherwise skip with a reason naming it (fail under CI=true)."""
     if not path.exists():

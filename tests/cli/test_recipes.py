@@ -6,7 +6,6 @@ fails here (the code and check recipes: tests/cli/test_registries.py)."""
 from __future__ import annotations
 
 import ast
-import importlib.util
 import json
 import os
 import re
@@ -18,7 +17,7 @@ from pathlib import Path
 import jsonschema
 import pytest
 import xmlschema
-from conftest import DATA
+from conftest import DATA, dev_module
 from typer.testing import CliRunner
 
 from motiontool.cli import schemas
@@ -35,11 +34,7 @@ from motiontool.kinematics.robots import load_robot
 
 ROOT = Path(__file__).resolve().parents[2]
 runner = CliRunner()
-_spec = importlib.util.spec_from_file_location("writers", ROOT / "dev" / "writers.py")
-assert _spec is not None and _spec.loader is not None
-_writers = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(_writers)
-WRITERS: list[list[str]] = _writers.WRITERS
+WRITERS: list[list[str]] = dev_module("writers").WRITERS
 """dev/writers.py: every output option, which tests/cli/test_special_outputs.py proves."""
 
 BAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P1,0,2rad\n00:00:080,P2,nan,0\n"

@@ -6,13 +6,13 @@ complete: a record left out of a step fails here."""
 from __future__ import annotations
 
 import ast
-import importlib.util
 import json
 import re
 from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import dev_module
 from typer.testing import CliRunner
 
 from motiontool.cli import schemas
@@ -146,11 +146,7 @@ def test_the_schemas_check_enums_are_the_registry() -> None:
 
 
 def _rules_doc() -> Any:
-    spec = importlib.util.spec_from_file_location("rules_doc", ROOT / "dev" / "rules_doc.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return dev_module("rules_doc")
 
 
 def test_the_schemas_check_enums_are_written_from_the_registry() -> None:

@@ -8,17 +8,15 @@ needs root, which CI has): never the machine's own ``/dev/null`` or ``/dev/full`
 
 from __future__ import annotations
 
-import importlib.util
 import os
 import stat
 import subprocess
 import sys
 import threading
 from pathlib import Path
-from typing import Any
 
 import pytest
-from conftest import ROOT
+from conftest import dev_module
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -30,16 +28,8 @@ SCRIPT = str(Path(sys.executable).parent / "motiontool")
 HEAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,Pose1,0,0\n00:00:160,Pose2,0.2,0.1\n"
 
 
-def _writers() -> Any:
-    """dev/writers.py, the one list of output options (dev/hostile.py reads it too)."""
-    spec = importlib.util.spec_from_file_location("writers", ROOT / "dev" / "writers.py")
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-_WRITERS_MODULE = _writers()
+_WRITERS_MODULE = dev_module("writers")
+"""dev/writers.py, the one list of output options (dev/hostile.py reads it too)."""
 WRITERS: list[list[str]] = _WRITERS_MODULE.WRITERS
 IDS = [" ".join(a for a in c if a not in ("in.motion", "OUT")) for c in WRITERS]
 
