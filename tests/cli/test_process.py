@@ -11,7 +11,7 @@ import signal
 import subprocess
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import pytest
@@ -284,6 +284,26 @@ def test_a_long_option_value_is_capped_in_the_error_line(here: Path) -> None:
     assert err.count("\n") == 1 and "a" * 81 not in err and len(err) < 600, err
 
 
+class _Stop(BaseException):
+    """What SIGTERM raises in the tests below (its handler)."""
+
+
+@contextlib.contextmanager
+def _sigterm_raises_stop() -> Iterator[None]:
+    """SIGTERM's handler raises :class:`_Stop` (then the handler before it again); the block
+    must end by it."""
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Stop
+
+    previous = signal.signal(signal.SIGTERM, stop)
+    try:
+        with pytest.raises(_Stop):
+            yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -293,12 +313,6 @@ def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
 
     from motiontool.motionfmt.fileio import atomic_write
 
-    class Stop(BaseException):
-        pass
-
-    def stop(signum: int, frame: object) -> None:
-        raise Stop
-
     real = tempfile.mkstemp
 
     def mkstemp_then_signal(*args: object, **kwargs: object) -> tuple[int, str]:
@@ -307,12 +321,8 @@ def test_a_signal_just_after_the_temporary_file_is_made_leaves_none(
         return made  # type: ignore[no-any-return]
 
     monkeypatch.setattr(tempfile, "mkstemp", mkstemp_then_signal)
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        with pytest.raises(Stop):
-            atomic_write(tmp_path / "out.txt", b"data")
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    with _sigterm_raises_stop():
+        atomic_write(tmp_path / "out.txt", b"data")
     assert list(tmp_path.iterdir()) == []
 
 
@@ -326,12 +336,6 @@ def test_a_signal_just_after_a_temporary_folder_is_made_leaves_none(
 
     from motiontool.motionfmt.fileio import temporary_folder
 
-    class Stop(BaseException):
-        pass
-
-    def stop(signum: int, frame: object) -> None:
-        raise Stop
-
     real = tempfile.mkdtemp
 
     def mkdtemp_then_signal(suffix: str | None, prefix: str | None, _dir: object) -> str:
@@ -340,12 +344,8 @@ def test_a_signal_just_after_a_temporary_folder_is_made_leaves_none(
         return made  # type: ignore[no-any-return]
 
     monkeypatch.setattr(tempfile, "mkdtemp", mkdtemp_then_signal)
-    previous = signal.signal(signal.SIGTERM, stop)
-    try:
-        with pytest.raises(Stop):
-            temporary_folder("motiontool-rrd-")
-    finally:
-        signal.signal(signal.SIGTERM, previous)
+    with _sigterm_raises_stop():
+        temporary_folder("motiontool-rrd-")
     assert list(tmp_path.iterdir()) == []
 
 
