@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from motiontool.cli.convert_checks import cell_at
 from motiontool.cli.text import num
 from motiontool.errors import MotionToolError
 
@@ -62,12 +63,9 @@ def pose_where(imported: Imported, pose: int, joint: str | None = None) -> str:
     where None), or ``path: pose N (T ms)`` where the format has no lines (``.npz``, a bag)."""
     motion = imported.motion
     j = motion.column(joint) if joint is not None and joint in motion.joints else None
-    if imported.read is not None:
-        line, col, _ = imported.read.cell_span(pose, j)
-        return f"{imported.path}:{line}:{col}"
-    if imported.cells is not None:
-        line, col = (int(x) for x in imported.cells[pose, 0 if j is None else j])
-        return f"{imported.path}:{line}:{1 if j is None else col}"
+    at = cell_at(imported, pose, j)
+    if at is not None:
+        return f"{imported.path}:{at[0]}:{at[1]}"
     return f"{imported.path}: pose {pose} ({int(motion.times_ms[pose])} ms)"
 
 

@@ -39,6 +39,7 @@ if TYPE_CHECKING:
 __all__ = [
     "ArmLimits",
     "beyond_max_error",
+    "cell_at",
     "file_findings",
     "motion_findings",
     "real_arm_findings",
@@ -91,15 +92,25 @@ def refuse_unknown_joints(imported: Imported, spec: RobotSpec) -> None:
         raise MotionToolError(f"'{imported.path}': {message}")
 
 
+def cell_at(imported: Imported, pose: int, j: int | None) -> tuple[int, int] | None:
+    """(line, column) in the input of motion column ``j``'s cell at ``pose`` (of its time where
+    None: a CSV row's first column), or None where the format has no lines (``.npz``, a
+    bag)."""
+    if imported.read is not None:
+        line, col, _ = imported.read.cell_span(pose, j)
+        return line, col
+    if imported.cells is not None:
+        line, col = (int(x) for x in imported.cells[pose, 0 if j is None else j])
+        return line, 1 if j is None else col
+    return None
+
+
 def _cell_error(imported: Imported, pose: int, j: int, message: str) -> MotionToolError:
     """``message`` at the input's cell of motion column ``j`` at ``pose`` (``path:line:col``),
     or naming the pose where the format has no lines (``.npz``, a bag)."""
-    if imported.read is not None:
-        line, col, _ = imported.read.cell_span(pose, j)
-        return MotionSyntaxError(message, imported.path, line, col)
-    if imported.cells is not None:
-        line, col = (int(x) for x in imported.cells[pose, j])
-        return MotionSyntaxError(message, imported.path, line, col)
+    at = cell_at(imported, pose, j)
+    if at is not None:
+        return MotionSyntaxError(message, imported.path, *at)
     return MotionToolError(f"'{imported.path}': pose {pose}: {message}")
 
 
