@@ -397,6 +397,7 @@ def main() -> None:
     - Ctrl-C: ``interrupted``, 130; SIGTERM: ``terminated``, 143; SIGHUP: ``hangup``, 129
       (temporary files removed first).
     """
+    process.skip_exit_collection()
     process.hold_standard_streams()
     process.catch_endings(_debug.get)
     try:
