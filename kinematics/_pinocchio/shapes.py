@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
-from motiontool.kinematics._pinocchio.api import CollisionGeometry
+if TYPE_CHECKING:
+    from motiontool.kinematics._pinocchio.api import CollisionGeometry
 
 __all__ = ["BOX", "CAPSULE", "CYLINDER", "OTHER", "SPHERE", "bounding_sphere", "shape"]
 

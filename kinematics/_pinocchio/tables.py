@@ -13,14 +13,14 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING, NamedTuple
 
-from motiontool.kinematics._pinocchio.api import GeometryModel, JointModel, Model
-from motiontool.kinematics._pinocchio.model import build, model_key
 from motiontool.kinematics._pinocchio.shapes import OTHER, bounding_sphere, shape
 from motiontool.kinematics.robots import RobotSpec
 
 if TYPE_CHECKING:
     import numpy as np
     import numpy.typing as npt
+
+    from motiontool.kinematics._pinocchio.api import GeometryModel, JointModel, Model
 
 __all__ = ["FIXED", "PRISMATIC", "REVOLUTE", "KinematicTables", "joint_motion", "kinematic_tables"]
 
@@ -101,6 +101,9 @@ class KinematicTables(NamedTuple):
 
 def kinematic_tables(spec: RobotSpec) -> KinematicTables:
     """The :class:`KinematicTables` of ``spec``'s model, built once per process and robot."""
+    # The model builder is imported where tables are built: stored tables need none of it.
+    from motiontool.kinematics._pinocchio.model import model_key
+
     return _tables(spec.name, spec.joint_names, *model_key(spec))
 
 
@@ -150,6 +153,8 @@ def _tables(
     stamp: int,
 ) -> KinematicTables:
     """``name`` keys the cache only: two robots on one file differ in their motors."""
+    from motiontool.kinematics._pinocchio.model import build
+
     loaded = build(path, fmt, floating_base, stamp)
     model, geoms = loaded.model, loaded.geoms
     joints = _joint_arrays(model, motors)
