@@ -20,15 +20,18 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.checks._table import WordedCheck, header_diagnostic
 from motiontool.kinematics.checks.wording import PLAIN_WORDING, Wording
-from motiontool.kinematics.mirror import MirrorMap, mirror_map
 from motiontool.kinematics.robots import RobotSpec
 from motiontool.motionfmt.diagnostics import UNMIRRORED_COPY, Diagnostic, Severity
 from motiontool.motionfmt.fileio import is_stdin
 from motiontool.motionfmt.reader import ReadResult, read_bytes
+
+if TYPE_CHECKING:
+    from motiontool.kinematics.mirror import MirrorMap
 
 __all__ = ["UnmirroredCopy", "sibling_paths", "unmirrored_joints"]
 
@@ -109,6 +112,10 @@ class UnmirroredCopy(WordedCheck):
         self._failed = False
 
     def _mirror(self) -> MirrorMap | None:
+        """The robot's mirror map, derived once, where a file has a sibling to compare with:
+        a file without one imports no mirror code."""
+        from motiontool.kinematics.mirror import mirror_map
+
         if self._map is None and not self._failed:
             try:
                 self._map = mirror_map(self.spec)
