@@ -18,7 +18,9 @@ from typing import Literal
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import (
     AUTO,
+    BUILTIN_ROBOTS,
     NONE,
+    BuiltinRobot,
     builtin,
     builtin_robots,
     is_builtin,
@@ -26,6 +28,7 @@ from motiontool.kinematics.builtin_robots import (
     robot_choices,
 )
 from motiontool.kinematics.erd import erd, erd_robot_names, from_pinocchio
+from motiontool.kinematics.mjcf_table import parse_mjcf_table
 from motiontool.kinematics.robot_spec import JointSpec, RobotSpec, fmt_name, unknown_joint_message
 
 __all__ = [
@@ -129,15 +132,22 @@ def rank_robots(joint_names: Sequence[str]) -> Ranking:
     best_motors: frozenset[str] = frozenset()
     covered = 0
     tied: list[str] = []
-    for name in builtin_robots():
-        motors = frozenset(builtin(name).joint_names)
+    for robot in BUILTIN_ROBOTS:
+        motors = _motors(robot)
         count = len(wanted & motors)
         if count > covered:
-            best, best_motors, covered, tied = name, motors, count, []
+            best, best_motors, covered, tied = robot.name, motors, count, []
         elif count == covered and count and motors != best_motors:
-            tied.append(name)
+            tied.append(robot.name)
     missing = tuple(j for j, joint in enumerate(joints) if joint not in best_motors)
     return Ranking(joints, best, missing, covered, tuple(tied))
+
+
+def _motors(robot: BuiltinRobot) -> frozenset[str]:
+    """The motors of a built-in robot: its model's. An overrides file (``nao-v5``'s) changes
+    limits and rules, never the motors, so ranking the robots reads no overrides file and
+    builds no spec of a robot it does not pick (:func:`builtin` does that for the one picked)."""
+    return frozenset(parse_mjcf_table(models_dir() / robot.model).joint_names)
 
 
 def detect_robot(joint_names: Sequence[str]) -> str | None:

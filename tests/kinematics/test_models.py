@@ -628,3 +628,12 @@ def test_detect_robot_and_its_error_rank_by_one_rule() -> None:
                 ranking.best, ranking.covered, ranking.missing, ranking.tied,
             )  # fmt: skip
     assert rank_robots(["HeadYaw", "HeadYaw", "Tail"]).covered == 1
+
+
+def test_a_builtin_robot_has_the_motors_of_its_model() -> None:
+    # What the ranking reads, without an overrides file: one changes limits, never motors.
+    from motiontool.kinematics.mjcf_table import parse_mjcf_table
+
+    for robot in BUILTIN_ROBOTS:
+        model = parse_mjcf_table(models_dir() / robot.model)
+        assert load_robot(robot.name).joint_names == model.joint_names, robot.name
