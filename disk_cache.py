@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
-import json
 import os
 import stat
 from collections.abc import Iterable, Iterator
@@ -66,6 +65,8 @@ class ResultCache:
     def load(self, key: str) -> dict[str, Any] | None:
         """The result stored under ``key`` (marked used), or None if there is none, it is
         unreadable or it is not a regular file."""
+        import json  # where a result is read or stored: a --no-cache run needs no JSON
+
         path = self._path(key)
         try:
             if not stat.S_ISREG(os.lstat(path).st_mode):
@@ -83,6 +84,7 @@ class ResultCache:
         replaced, never written through. False where it cannot be written (a read-only or
         full disk, a file where a folder should be): a cache that cannot be written is no
         error, the result is computed again next time."""
+        import json
         import tempfile
 
         path = self._path(key)

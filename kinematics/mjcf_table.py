@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import json
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -94,6 +93,8 @@ def _floats(text: str) -> tuple[float, float]:
 def with_overrides(base: RobotSpec, name: str, path: Path) -> RobotSpec:
     """``base`` named ``name``, with the limits and rules of the JSON file at ``path`` (the
     real NAO V5's for ``nao-v5``); its model hash covers both files."""
+    import json  # where an overrides file is read: a run on the Nao reads none
+
     raw = path.read_bytes()
     doc: dict[str, Any] = json.loads(raw)
     by_joint: dict[str, dict[str, float]] = doc.get("joints", {})

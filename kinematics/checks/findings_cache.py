@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import json
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import astuple
 from pathlib import Path
@@ -145,6 +144,8 @@ class FindingsCache:
         hook names it from the repository's root, the editor by its absolute path); findings
         whose words name the file are not stored. Nothing is stored where :attr:`read_only`;
         a store that cannot be written is left as it is."""
+        import json  # where findings are stored: a --no-cache run needs no JSON
+
         items = [_encode(d) for d in findings]
         if self.read_only or json.dumps(path)[1:-1] in json.dumps(items):
             return
