@@ -17,9 +17,8 @@ import hashlib
 import os
 import stat
 from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 __all__ = [
     "BYTES_PER_MB",
@@ -42,16 +41,14 @@ def cache_root() -> Path:
     return Path(base) / "motiontool"
 
 
-@dataclass(frozen=True)
-class CacheUsage:
+class CacheUsage(NamedTuple):
     """What a cache folder holds: ``results`` files of ``size_bytes`` in all."""
 
     results: int
     size_bytes: int
 
 
-@dataclass(frozen=True)
-class ResultCache:
+class ResultCache(NamedTuple):
     """Results on disk under ``directory``, pruned to ``max_bytes`` and ``max_results``
     (None: unbounded)."""
 

@@ -19,7 +19,6 @@ from __future__ import annotations
 import math
 from bisect import bisect_left, bisect_right
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, NamedTuple, cast
 
 from motiontool.kinematics.robot_spec import RobotSpec
@@ -181,8 +180,7 @@ def stretch_fixes(
     return fixes
 
 
-@dataclass(frozen=True)
-class Planner:
+class Planner(NamedTuple):
     """The robot fixes of ``codes`` for ``spec``
     (a :class:`~motiontool.motionfmt.fixes.RobotPlanner`): none for a file Webots rejects."""
 

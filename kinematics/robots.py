@@ -11,9 +11,8 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Literal, NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.kinematics.builtin_robots import (
@@ -88,8 +87,7 @@ DETECT_MIN_SHARE = 0.5
 checks, while a file of another robot's joints is not forced onto a robot it does not fit."""
 
 
-@dataclass(frozen=True)
-class Ranking:
+class Ranking(NamedTuple):
     """How the built-in robots fit a motion's joints (:func:`rank_robots`).
 
     Attributes:
