@@ -42,7 +42,7 @@ import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
-from typing import Annotated, Any
+from typing import Annotated, Any, NamedTuple
 
 import typer
 
@@ -89,8 +89,7 @@ class ConfigError(MotionToolError):
         self.path, self.line, self.column = path, line, column
 
 
-@dataclass(frozen=True)
-class Selection:
+class Selection(NamedTuple):
     """One source's choice of codes (a configuration file, or the command line), as ruff
     selects rules: codes or prefixes (``MT2``) to report (``select``: these and no others;
     ``extend_select``: these too) and to leave out (``ignore``).

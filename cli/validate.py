@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-import dataclasses
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Annotated
+from typing import TYPE_CHECKING, Annotated, NamedTuple
 
 import typer
 
@@ -281,7 +280,7 @@ def validate_command(
         typer.echo(_settings_text(paths, resolver), nl=False)
         return
     overrides = _overrides(robot, checks, timestep, strict, group, stdin_filename)
-    overrides = dataclasses.replace(overrides, force_exclude=force_exclude)
+    overrides = overrides._replace(force_exclude=force_exclude)
     overrides = _selecting(overrides, ignore, select, extend_select, respect_gitignore)
     files = collect(paths, resolver, overrides)
     refuse_overwrite(output, files, "-o")
@@ -337,8 +336,7 @@ def _selecting(
     """``overrides`` with the codes the command line selects and ignores (codes or prefixes,
     each option repeated or comma-separated; an unknown one is an error before any file is
     read) and its choice of ``.gitignore``."""
-    return dataclasses.replace(
-        overrides,
+    return overrides._replace(
         ignore=check_selectors(ignore or [], "--ignore"),
         select=None if select is None else check_selectors(select, "--select"),
         extend_select=check_selectors(extend_select or [], "--extend-select"),
@@ -346,8 +344,7 @@ def _selecting(
     )
 
 
-@dataclasses.dataclass(frozen=True)
-class _Fixes:
+class _Fixes(NamedTuple):
     """``--fix``, ``--diff``, ``--unsafe-fixes``, and ``--quiet`` and ``--exit-zero`` for
     what they print and how they exit."""
 

@@ -8,9 +8,8 @@ import functools
 import itertools
 import sys
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from motiontool.cli.color import color_enabled
 from motiontool.cli.config import Settings
@@ -140,8 +139,7 @@ def _robot_json(
     }
 
 
-@dataclass(frozen=True)
-class Shown:
+class Shown(NamedTuple):
     """How the report is shown, as the command line says.
 
     Attributes:

@@ -16,9 +16,9 @@ description, and the tests that iterate over :func:`builtin_robots` check it.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.motionfmt.clock import WEBOTS_DEFAULT_TIMESTEP_MS
 
@@ -46,8 +46,7 @@ NONE = "none"
 """The robot name that means: no robot (where a robot is optional: no robot checks, no limits)."""
 
 
-@dataclass(frozen=True)
-class BuiltinRobot:
+class BuiltinRobot(NamedTuple):
     """One shipped robot.
 
     Attributes:

@@ -10,7 +10,7 @@ time steps it never does. Step ``k`` of a forward cycle is at ``wrap(k * timeste
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.cscan import INT_MAX
@@ -76,8 +76,7 @@ def end_step(duration_ms: int, timestep_ms: int) -> int | None:
     return _first_multiple_in(timestep_ms, _INT_RANGE, duration_ms, INT_MAX)
 
 
-@dataclass(frozen=True)
-class ClockOverflow:
+class ClockOverflow(NamedTuple):
     """Where Webots' playback clock wraps before a motion ends (see :func:`clock_overflow`).
 
     Attributes:

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import enum
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 __all__ = [
     "BEYOND_LIMITS",
@@ -71,8 +72,7 @@ class FixKind(enum.Enum):
     :data:`~motiontool.motionfmt.fixes.RobotPlanner`)."""
 
 
-@dataclass(frozen=True)
-class Code:
+class Code(NamedTuple):
     """A diagnostic code: its identifier, default severity and a one-line title.
 
     ``rejects``: a file with this finding is one Webots' loader rejects (``wbu_motion_new``
@@ -182,8 +182,7 @@ CODES: dict[str, Code] = _codes(
 )
 
 
-@dataclass(frozen=True, slots=True)
-class PoseFinding:
+class PoseFinding(NamedTuple):
     """What lets a finding about one pose be grouped with the same finding at the poses next
     to it (:func:`motiontool.motionfmt.grouping.group_findings`).
 
@@ -213,8 +212,7 @@ class PoseFinding:
     amount: str | None = None
 
 
-@dataclass(frozen=True, slots=True)
-class Worst:
+class Worst(NamedTuple):
     """The worst finding of a group: its value (in ``unit``) and where it is."""
 
     value: float
@@ -244,8 +242,7 @@ class Run:
     runs: int = 1
 
 
-@dataclass(frozen=True, slots=True)
-class Related:
+class Related(NamedTuple):
     """Another place a finding names (the previous pose of a time that does not increase):
     SARIF's ``relatedLocations``.
 

@@ -28,8 +28,7 @@ columns, end exclusive), so a fix never touches a byte outside its span.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import dataclass
-from typing import Protocol
+from typing import NamedTuple, Protocol
 
 from motiontool.motionfmt.diagnostics import (
     BEYOND_LIMITS,
@@ -116,8 +115,7 @@ _MERGE_PROOF_CELLS = 20_000_000
 millisecond; a longer file keeps its duplicate column."""
 
 
-@dataclass(frozen=True, slots=True)
-class Fix:
+class Fix(NamedTuple):
     """One edit: on physical line ``line``, bytes ``column`` .. ``end_column`` (1-based, end
     exclusive) become ``replacement``; ``end_column`` None means to the end of the line, and a
     ``replacement`` of None deletes the whole line.
@@ -253,8 +251,7 @@ def _remove_cells(row: bytes, indexes: Iterable[int]) -> bytes:
     return bytes(out + body[at:])
 
 
-@dataclass(frozen=True)
-class FixResult:
+class FixResult(NamedTuple):
     """What :func:`apply_fixes` did.
 
     Attributes:

@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterator
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.motionfmt.diagnostics import CUT_LINE
 
@@ -120,8 +119,7 @@ def decode_name(raw: bytes) -> str:
     return raw.decode("utf-8", "surrogateescape")
 
 
-@dataclass(frozen=True)
-class Piece:
+class Piece(NamedTuple):
     """What one ``fgets`` call returns: part of a physical line."""
 
     line: int  # 1-based physical line

@@ -24,8 +24,7 @@ from __future__ import annotations
 import bisect
 import itertools
 from array import array
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from motiontool.motionfmt.diagnostics import BLANK_LINE_ENDS, CUT_LINE
 from motiontool.motionfmt.finding_log import FindingLog
@@ -48,8 +47,7 @@ _READ_IN_FULL = frozenset({CUT_LINE, "MT208", "MT103", "MT104", BLANK_LINE_ENDS}
 """Findings of a read after which the next version is read in full (see the module doc)."""
 
 
-@dataclass(frozen=True)
-class _Kept:
+class _Kept(NamedTuple):
     """A read, with what reading the next version from the edit on needs."""
 
     result: ReadResult

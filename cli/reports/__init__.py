@@ -16,7 +16,7 @@ from __future__ import annotations
 import enum
 import importlib
 from collections.abc import Callable
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from motiontool.cli.reports.common import PLAIN, Context, Order, Totals, Writer, summary
 
@@ -34,8 +34,7 @@ __all__ = [
 ]
 
 
-@dataclass(frozen=True)
-class ReportFormat:
+class ReportFormat(NamedTuple):
     """One rendering of a validation report.
 
     Attributes:

@@ -8,9 +8,9 @@ import functools
 import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
@@ -169,8 +169,7 @@ def with_hint(d: Diagnostic) -> str:
     return d.message + (f" (hint: {d.hint})" if d.hint else "")
 
 
-@dataclass(frozen=True)
-class Context:
+class Context(NamedTuple):
     """What a renderer may use besides the report.
 
     Attributes:
@@ -187,8 +186,8 @@ class Context:
     color: bool = False
     order: Order = Order.file
     strict: bool = False
-    robot_line: Callable[[], str] = field(default=lambda: "")
-    robot_json: Callable[[], dict[str, Any]] = field(default=lambda: {})
+    robot_line: Callable[[], str] = lambda: ""
+    robot_json: Callable[[], dict[str, Any]] = lambda: {}
     quiet: bool = False
 
 

@@ -180,7 +180,7 @@ def _encode(d: Diagnostic) -> list[object]:
         d.joint,
         d.time_ms,
         d.end_column,
-        None if d.pose is None else list(astuple(d.pose)),
+        None if d.pose is None else list(d.pose),
         None if d.run is None else list(astuple(d.run)),
     ]
 

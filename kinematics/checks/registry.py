@@ -17,8 +17,7 @@ from __future__ import annotations
 import difflib
 import importlib
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, NamedTuple, Protocol
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import (
@@ -76,8 +75,7 @@ those measurements; ``--collision-tolerance`` sets another (0 reports every over
 """
 
 
-@dataclass(frozen=True)
-class CheckOptions:
+class CheckOptions(NamedTuple):
     """What a check may be made with, besides its robot.
 
     Attributes:
@@ -99,8 +97,7 @@ class CheckClass(Protocol):
         """The check of ``spec``, made with the options of this run that it takes."""
 
 
-@dataclass(frozen=True)
-class CheckEntry:
+class CheckEntry(NamedTuple):
     """One robot check.
 
     Attributes:

@@ -5,13 +5,12 @@ parameter per phrase; without one the hints use plain words."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from typing import NamedTuple
 
 __all__ = ["PLAIN_WORDING", "Wording"]
 
 
-@dataclass(frozen=True)
-class Wording:
+class Wording(NamedTuple):
     """The front end's words for three remedies; None: plain words.
 
     Attributes:
