@@ -24,7 +24,6 @@ from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
 from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
-from motiontool.motionfmt.reread import Rereader
 from motiontool.motionfmt.validate import (
     FileReport,
     FileReports,
@@ -36,6 +35,7 @@ from motiontool.motionfmt.validate import (
 if TYPE_CHECKING:  # a syntax-level run imports no robot and no check
     from motiontool.kinematics.checks.runner import RobotChecks
     from motiontool.kinematics.robot_spec import RobotSpec
+    from motiontool.motionfmt.reread import Rereader  # the editor's: given by the server
 
 __all__ = [
     "Checked",

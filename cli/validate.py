@@ -15,7 +15,6 @@ from motiontool.cli.config import (
     Resolver,
     check_selectors,
 )
-from motiontool.cli.fixing import fix_files
 from motiontool.cli.lint_run import (
     Overrides,
     collect,
@@ -369,6 +368,8 @@ def _apply_fixes(
     there is one, but with ``exit_zero``)."""
     if not (fixes.fix or fixes.diff):
         return None
+    from motiontool.cli.fixing import fix_files  # imported where files are fixed
+
     unsafe, quiet, exit_zero = fixes.unsafe, fixes.quiet, fixes.exit_zero
     robot_fixes = partial(robot_planner, resolver=resolver, overrides=overrides)
     select = partial(reported, resolver=resolver, overrides=overrides)

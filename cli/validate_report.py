@@ -26,7 +26,6 @@ from motiontool.cli.reports import (
     Writer,
     summary,
 )
-from motiontool.cli.reports.statistics import StatisticsJsonWriter, StatisticsWriter
 from motiontool.cli.text import plural
 from motiontool.extras import install_hint
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
@@ -202,7 +201,9 @@ def check_and_report(run: LintRun, project: Settings, shown: Shown, step: Step) 
 
 def _writer(shown: Shown, context: Context) -> Writer:
     """The writer of the report ``shown`` asks for (``--statistics``: counts per code)."""
-    if shown.statistics:
+    if shown.statistics:  # imported where its report is written, as a format's writer is
+        from motiontool.cli.reports.statistics import StatisticsJsonWriter, StatisticsWriter
+
         json = shown.format.value == "json"
         return StatisticsJsonWriter(context) if json else StatisticsWriter(context)
     return REPORTS[shown.format.value].writer(context)

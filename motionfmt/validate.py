@@ -17,7 +17,7 @@ import sys
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import overload
+from typing import TYPE_CHECKING, overload
 
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import (
@@ -42,7 +42,9 @@ from motiontool.motionfmt.fixes import (
 )
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
-from motiontool.motionfmt.reread import Rereader
+
+if TYPE_CHECKING:  # the editor's reader, given by the server
+    from motiontool.motionfmt.reread import Rereader
 
 __all__ = [
     "HELD_INPUT_BYTES",
