@@ -313,6 +313,14 @@ def _line_of(text: str, key: str, table: str | None) -> int:
     return table_line or 1
 
 
+def _may_name_motiontool(text: str) -> bool:
+    """Whether TOML ``text`` can hold a ``[tool.motiontool]`` table: every way of writing the
+    key spells ``motiontool``, but a quoted key with ``\\u`` escapes. A project's
+    ``pyproject.toml`` without it (the hook run in a repository that configures nothing) is
+    left unparsed: 5 ms of a 0.09 s run."""
+    return "motiontool" in text or "\\u" in text or "\\U" in text
+
+
 def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
     """(the motiontool table or None, the file's text, the table's dotted name)."""
     try:
@@ -320,6 +328,8 @@ def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
         raise ConfigError(f"cannot read '{path}': {reason}", path) from exc
+    if path.name == "pyproject.toml" and not _may_name_motiontool(text):
+        return None, text, "tool.motiontool"  # another tool's file: not parsed, not judged
     from motiontool.motionfmt.structured_text import load_toml  # where a file is found
 
     try:

@@ -156,6 +156,16 @@ def test_a_bad_configuration_is_one_error_naming_file_line_and_key(
     assert err.count("\n") == 1
 
 
+def test_a_pyproject_that_never_names_motiontool_is_not_read(repo: Path) -> None:
+    """Another tool's ``pyproject.toml`` (one that cannot hold ``[tool.motiontool]``) is left
+    unparsed, broken TOML included; a key spelled with ``\\u`` escapes is still ours."""
+    (repo / "pyproject.toml").write_text("[project]\nname = 'x'\nbroken = [\n")
+    assert invoke("validate", "motions")[0] == 1  # the defaults: MT302 fails the run
+    (repo / "pyproject.toml").write_text('[tool."\\u006dotiontool"]\nignore = ["MT302"]\n')
+    code, out, _ = invoke("validate", "motions", "-f", "json")
+    assert code == 0 and codes(out) == ["MT203"]
+
+
 def test_the_schema_ships_and_agrees_with_the_reader(repo: Path) -> None:
     schema = schemas.load(schemas.CONFIG)
     assert set(schema["properties"]) == set(KEYS)
