@@ -111,6 +111,7 @@ def test_validate_imports_neither_other_commands_nor_pinocchio_once_the_tables_a
     pinocchio_side = ("api", "model", "configuration", "balance", "self_collision")
     unused += tuple(f"motiontool.kinematics._pinocchio.{m}" for m in pinocchio_side)
     unused += ("motiontool.kinematics.mirror",)  # no Left/Right sibling to compare with
+    unused += ("zipfile",)  # the stored tables are .npy arrays one after another, no archive
     assert _loaded(warm, unused) == []
 
 
@@ -139,8 +140,10 @@ def test_the_syntax_level_of_a_small_file_imports_no_numpy_and_one_report_writer
         "motiontool.kinematics.checks.wording",
     }
     assert {m for m in modules if m.startswith("motiontool.kinematics")} == light
-    library = [f"motiontool.motionfmt.{m}" for m in ("document", "player", "writer")]
-    others = ("motiontool.disk_cache", "motiontool.cli.jsontext", "hashlib")
+    library = [f"motiontool.motionfmt.{m}" for m in ("document", "player", "writer", "reread")]
+    # No --fix, --statistics or configuration file: no fixer, statistics writer or TOML.
+    others = ("motiontool.disk_cache", "motiontool.cli.jsontext", "hashlib", "tomllib")
+    others += ("motiontool.cli.fixing", "motiontool.cli.reports.statistics")
     assert _loaded(modules, (*library, *others)) == []
 
 
