@@ -35,6 +35,10 @@ __all__ = ["cache_dir", "stored_tables", "tables_key"]
 _SOURCES = ("_pinocchio/tables.py", "_pinocchio/shapes.py", "_pinocchio/model.py")
 #: The fields of :class:`KinematicTables` that are tuples of names, not arrays.
 _NAMES = ("geom_body", "geom_limb")
+#: A stored table: its fields as ``.npy`` arrays one after another, in field order
+#: (``np.save`` to one file, ``np.load`` reads them back in turn). No zip archive (``.npz``)
+#: to open: reading one imports no :mod:`zipfile` and parses no archive directory.
+_SUFFIX = ".npy"
 
 
 def cache_dir() -> Path:
@@ -70,7 +74,7 @@ def stored_tables(spec: RobotSpec) -> KinematicTables:
     folder, key = cache_dir(), tables_key(spec)
     tables = _IN_PROCESS.get((folder, key))
     if tables is None:
-        path = folder / f"{key}.npz"
+        path = folder / f"{key}{_SUFFIX}"
         tables = _load(path)
         if tables is None:
             tables = kinematic_tables(spec)
@@ -84,10 +88,10 @@ def _load(path: Path) -> KinematicTables | None:
     import numpy as np
 
     try:
-        with np.load(path, allow_pickle=False) as stored:
+        with path.open("rb") as stored:
             fields: dict[str, object] = {}
             for name in KinematicTables._fields:
-                value: npt.NDArray[np.void] = stored[name]
+                value: npt.NDArray[np.void] = np.load(stored, allow_pickle=False)
                 if name in _NAMES:
                     fields[name] = tuple(str(s) for s in value.tolist())
                 elif name == "exact":
@@ -95,7 +99,7 @@ def _load(path: Path) -> KinematicTables | None:
                 else:
                     value.flags.writeable = False
                     fields[name] = value
-    except (OSError, KeyError, ValueError, EOFError):
+    except (OSError, ValueError, EOFError):
         return None
     return KinematicTables(**fields)  # type: ignore[arg-type]  # the layout _save wrote
 
@@ -107,13 +111,13 @@ def _save(path: Path, tables: KinematicTables) -> None:
 
     import numpy as np
 
-    arrays = {name: np.array(value) for name, value in tables._asdict().items()}
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tables-", suffix=".npz")
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tables-", suffix=_SUFFIX)
         try:
             with os.fdopen(fd, "wb") as f:
-                np.savez(f, **arrays)  # type: ignore[arg-type]
+                for value in tables:
+                    np.save(f, np.array(value), allow_pickle=False)
             os.replace(tmp, path)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
