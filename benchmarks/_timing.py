@@ -45,19 +45,29 @@ _TIME = shutil.which("time", path="/usr/bin:/bin")
 command's alone (a child forked from this Python process starts with this process's pages)."""
 
 
-def run_child(cmd: Sequence[str], env: dict[str, str] | None = None) -> Child:
-    """Run ``cmd`` with its output thrown away, and measure it (through GNU time where it is
-    installed, else ``os.wait4``, whose peak includes what the child inherited from here)."""
+def run_child(
+    cmd: Sequence[str],
+    env: dict[str, str] | None = None,
+    *,
+    peak: bool = True,
+    cwd: str | os.PathLike[str] | None = None,
+) -> Child:
+    """Run ``cmd`` (in folder ``cwd``) with its output thrown away, and measure it: through
+    GNU time where it is installed, else ``os.wait4``, whose peak includes what the child
+    inherited from here. ``peak=False``: by ``os.wait4`` alone, for a wall time that is the
+    command's own (GNU time's fork and exec add 3-4 ms to a run); its peak is then not the
+    command's alone."""
     with tempfile.NamedTemporaryFile("r", suffix=".time") as out:
-        wrapped = [_TIME, "-q", "-f", "%U %S %M", "-o", out.name, *cmd] if _TIME else list(cmd)
+        timed = _TIME if peak else None
+        wrapped = [timed, "-q", "-f", "%U %S %M", "-o", out.name, *cmd] if timed else list(cmd)
         t0 = time.perf_counter()
         proc = subprocess.Popen(
-            wrapped, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env
+            wrapped, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=env, cwd=cwd
         )
         _pid, status, usage = os.wait4(proc.pid, 0)
         wall = time.perf_counter() - t0
         code = os.waitstatus_to_exitcode(status)
-        if _TIME:
+        if timed:
             user, system, kib = out.read().split()[-3:]
             return Child(wall, float(user) + float(system), int(kib) * 1024, code)
     return Child(wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024, code)
