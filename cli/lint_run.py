@@ -20,9 +20,8 @@ from motiontool.cli.gitignore import git_ignored
 from motiontool.errors import MissingExtraError
 from motiontool.kinematics.builtin_robots import NONE
 from motiontool.kinematics.checks.registry import CHECK_REGISTRY, DEFAULT_CHECKS, parse_checks
-from motiontool.motionfmt.diagnostics import CODES, Diagnostic, Severity
+from motiontool.motionfmt.diagnostics import CODES, Diagnostic, FixKind, Severity
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files, is_folder, is_stdin
-from motiontool.motionfmt.fixes import ROBOT_CODES, RobotPlanner
 from motiontool.motionfmt.reader import read_bytes
 from motiontool.motionfmt.validate import (
     FileReport,
@@ -35,6 +34,7 @@ from motiontool.motionfmt.validate import (
 if TYPE_CHECKING:  # a syntax-level run imports no robot and no check
     from motiontool.kinematics.checks.runner import RobotChecks
     from motiontool.kinematics.robot_spec import RobotSpec
+    from motiontool.motionfmt.fixes import RobotPlanner
     from motiontool.motionfmt.reread import Rereader  # the editor's: given by the server
 
 __all__ = [
@@ -378,7 +378,10 @@ def _lint_one(
 
 
 _FIXED_BY_CHECK = {
-    code: check.name for check in CHECK_REGISTRY for code in check.codes if code in ROBOT_CODES
+    code: check.name
+    for check in CHECK_REGISTRY
+    for code in check.codes
+    if CODES[code].fix is FixKind.ROBOT
 }
 """The robot fixes, by the check that finds what they fix (a code's fix runs with its check)."""
 

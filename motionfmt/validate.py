@@ -26,25 +26,17 @@ from motiontool.motionfmt.diagnostics import (
     JOINT_TWICE,
     TOO_FAST,
     Diagnostic,
+    FixKind,
     Severity,
 )
 from motiontool.motionfmt.fileio import Inputs, collect_motion_files
 from motiontool.motionfmt.findings import Findings
-from motiontool.motionfmt.fixes import (
-    ROBOT_CODES,
-    SAFE_CODES,
-    UNSAFE_CODES,
-    Fix,
-    RobotPlanner,
-    finding_fixes,
-    merge_fixes,
-    proved,
-)
 from motiontool.motionfmt.grouping import group_findings
 from motiontool.motionfmt.reader import ReadResult, read_bytes
 
-if TYPE_CHECKING:  # the editor's reader, given by the server
-    from motiontool.motionfmt.reread import Rereader
+if TYPE_CHECKING:  # the fixes are made where a finding's fix is asked for
+    from motiontool.motionfmt.fixes import Fix, RobotPlanner
+    from motiontool.motionfmt.reread import Rereader  # the editor's reader, given by the server
 
 __all__ = [
     "HELD_INPUT_BYTES",
@@ -105,6 +97,8 @@ class FileReport:
         the file's merge."""
         if d.code == JOINT_TWICE:
             return self._merges
+        from motiontool.motionfmt.fixes import finding_fixes
+
         return tuple(finding_fixes(d, self.read, self._lines, unsafe=True))
 
     @functools.cached_property
@@ -114,6 +108,8 @@ class FileReport:
         of columns whose ``*`` cells interleave is refused there, and not advertised here)."""
         if not self.read.accepted:
             return ()
+        from motiontool.motionfmt.fixes import merge_fixes, proved
+
         codes = {d.code for d in self.read.diagnostics}
         merges = merge_fixes(self.read, self._lines, codes)
         return tuple(merges) if merges and proved(self.data, merges, self.path) else ()
@@ -153,11 +149,12 @@ class FileReport:
     def fix_summary(self, d: Diagnostic) -> tuple[bool, str] | None:
         """(safe, what it does) of finding ``d``'s fix, or None: no fix. The robot's fixes are
         not planned for it (a report that only names them stays cheap)."""
-        if d.code in ROBOT_CODES:
+        kind = CODES[d.code].fix
+        if kind is FixKind.ROBOT:
             if self.robot_fixes is None or (d.code == TOO_FAST and not self._is_first_stretch(d)):
                 return None
             return False, self.robot_fixes.titles[d.code]
-        if d.code not in SAFE_CODES | UNSAFE_CODES:
+        if kind is None:
             return None
         fixes = self._reader_fixes(d)
         return (all(f.safe for f in fixes), fixes[0].title) if fixes else None
@@ -174,7 +171,7 @@ class FileReport:
 
     def fix_of(self, d: Diagnostic) -> tuple[Fix, ...]:
         """The edits that fix finding ``d`` (empty: none)."""
-        if d.code in ROBOT_CODES:
+        if CODES[d.code].fix is FixKind.ROBOT:
             return () if self.robot_fixes is None else self._robot_fix(d, self.robot_fixes)
         return self._reader_fixes(d)
 

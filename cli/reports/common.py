@@ -15,11 +15,12 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 from motiontool.cli.text import plural
 from motiontool.errors import MotionToolError
 from motiontool.motionfmt.diagnostics import Diagnostic, Severity
-from motiontool.motionfmt.fixes import Fix
 from motiontool.motionfmt.validate import FileReport
 
 if TYPE_CHECKING:
     import sqlite3
+
+    from motiontool.motionfmt.fixes import Fix
 
 __all__ = [
     "PLAIN",
