@@ -41,7 +41,10 @@ BEFORE = "6670fe6"
 """The last commit before the start-up work (commands imported when they run, the collision
 check's tables on disk)."""
 SMALL = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,Pose1,0\n00:00:500,Pose2,0.5\n"
-RUN = "import sys; from motiontool.cli.app import main; sys.argv[0] = 'motiontool'; main()"
+RUN = "import sys; from motiontool.cli.__main__ import main; sys.argv[0] = 'motiontool'; main()"
+"""What the console script runs (``pyproject.toml``'s ``[project.scripts]``)."""
+RUN_BEFORE = "import sys; from motiontool.cli.app import main; sys.argv[0] = 'motiontool'; main()"
+"""The console script of :data:`BEFORE` (``--before`` must have it too)."""
 TARGET_S = 0.2
 BEFORE_S = 0.31
 CONFIGURED = """[project]
@@ -110,9 +113,9 @@ def main() -> None:
             "PYTHONPYCACHEPREFIX": str(tmp / "pyc-before"),
             "XDG_CACHE_HOME": str(tmp / "c-before"),
         }
-        cli = [sys.executable, "-c", RUN]
+        cli, cli_before = [sys.executable, "-c", RUN], [sys.executable, "-c", RUN_BEFORE]
         cold = run_child([*cli, "validate", small], now)  # builds the tables: Pinocchio
-        run_child([*cli, "validate", small], old)  # bytecode of both, written once
+        run_child([*cli_before, "validate", small], old)  # bytecode of both, written once
 
         n = args.repeat
         bare = best_child(n, [sys.executable, "-c", "pass"], env)
@@ -120,7 +123,7 @@ def main() -> None:
         _line("bare python -c pass", bare)
         for what in (["--help"], ["validate", "--robot", "none", small], ["validate", small]):
             label = "motiontool " + " ".join(what).replace(small, "small.motion")
-            before = best_child(n, [*cli, *what], old)
+            before = best_child(n, [*cli_before, *what], old)
             after = best_child(n, [*cli, *what], now)
             _line(f"{label} ({args.before})", before)
             if what != ["validate", small]:

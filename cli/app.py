@@ -120,6 +120,7 @@ def _guard(func: F) -> F:
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Any:
+        process.started()
         try:
             return func(*args, **kwargs)
         except MotionToolError as exc:

@@ -32,7 +32,7 @@ from motiontool.extras import EXTRAS, install_hint, require
 NAO_BAD = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P0,0,0\n00:00:100,P1,3.0,0\n"
 NAO_OK = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n00:00:000,P0,0,0\n00:01:000,P1,0.2,0.1\n"
 
-_RUN = "import sys; from motiontool.cli.app import main; sys.argv[0] = 'motiontool'; main()"
+_RUN = "import sys; from motiontool.cli.__main__ import main; sys.argv[0] = 'motiontool'; main()"
 
 
 def _stubs(root: Path, modules: tuple[str, ...]) -> Path:

@@ -174,7 +174,7 @@ def test_a_file_checked_before_is_checked_without_numpy(store: Path, tmp_path: P
     small = tmp_path / "small.motion"
     small.write_bytes(b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,Pose1,0\n00:00:500,Pose2,0.5\n")
     script = (
-        "import sys\nfrom motiontool.cli.app import main\nsys.argv[0] = 'motiontool'\n"
+        "import sys\nfrom motiontool.cli.__main__ import main\nsys.argv[0] = 'motiontool'\n"
         "try:\n    main()\nfinally:\n    print('numpy' in sys.modules, file=sys.stderr)\n"
     )
     runs = [

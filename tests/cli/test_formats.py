@@ -343,7 +343,7 @@ def run_on_a_terminal(args: list[str], env: dict[str, str], cwd: Path) -> bytes:
     leader, follower = os.openpty()
     clean_env = {k: v for k, v in os.environ.items() if k not in ("NO_COLOR", "FORCE_COLOR")}
     proc = subprocess.Popen(
-        [sys.executable, "-c", "from motiontool.cli.app import main; main()", *args],
+        [sys.executable, "-c", "from motiontool.cli.__main__ import main; main()", *args],
         stdin=subprocess.DEVNULL,
         stdout=follower,
         stderr=follower,

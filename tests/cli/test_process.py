@@ -361,3 +361,30 @@ def test_a_joint_name_play_ignores_is_shown_escaped(here: Path) -> None:
     )
     assert b"motiontool: warning: joint 'Bad\\x1b[2JName' is not a motor" in done.stderr
     assert b"\x1b" not in done.stderr, done.stderr
+
+
+def test_start_up_runs_without_collecting_and_the_command_with_the_collector_on(
+    here: Path,
+) -> None:
+    """The console script turns the garbage collector off before its imports; the command runs
+    with it on, what start-up made frozen (out of its sight). Called in process with the
+    collector on (a test, a library), :func:`process.started` leaves it as it is."""
+    script = (
+        "import gc\n"
+        "from motiontool.cli import process\n"
+        "process.started()\n"
+        "assert gc.isenabled() and gc.get_freeze_count() == 0\n"
+        "process.start_up_uncollected()\n"
+        "assert not gc.isenabled()\n"
+        "process.started()\n"
+        "assert gc.isenabled() and gc.get_freeze_count() > 1000\n"
+    )
+    subprocess.run([sys.executable, "-c", script], check=True)
+    ran = subprocess.run(
+        [sys.executable, "-m", "motiontool.cli", "validate", "in.motion"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert (ran.returncode, ran.stderr) == (0, "")
+    assert "checked 1 file: 0 errors" in ran.stdout

@@ -19,7 +19,7 @@ from motiontool.cli.app import _COMMANDS, app
 #: Run the CLI with the arguments given, then print what the process imported, as JSON.
 _RUN = (
     "import json, sys\n"
-    "from motiontool.cli.app import main\n"
+    "from motiontool.cli.__main__ import main\n"
     "sys.argv[0] = 'motiontool'\n"
     "try:\n"
     "    main()\n"

@@ -22,7 +22,7 @@ MOTION = b"#WEBOTS_MOTION,V1.0,HeadYaw\n00:00:000,P1,0\n00:00:160,P2,0.2\n"
 
 def _cli(*args: str, cwd: Path) -> tuple[int, str]:
     done = subprocess.run(
-        [sys.executable, "-c", "from motiontool.cli.app import main; main()", *args],
+        [sys.executable, "-c", "from motiontool.cli.__main__ import main; main()", *args],
         cwd=cwd,
         capture_output=True,
         text=True,
