@@ -1,19 +1,20 @@
 """What motiontool keeps on disk to compute less, for every layer: where the caches live
-(:func:`cache_root`), results as one JSON file per key, bounded in size, least recently used out
-(:class:`ResultCache`: batch's simulation results, ``validate``'s robot findings), and the
-stamps their keys are made of. At the top of the package, as :mod:`motiontool.stamps` is, so
+(:func:`cache_root`), results as one file per key, bounded in size, least recently used out
+(:class:`ResultCache`: batch's simulation results, ``validate``'s robot findings, the
+configuration files' tables), and the stamps their keys are made of. At the top of the
+package, as :mod:`motiontool.stamps` is, so
 that each layer's cache (``kinematics/tables_cache.py``, ``kinematics/checks/findings_cache.py``,
 ``sim/batch.py``) says only what it stores and under which key.
 
-A result is ``<directory>/<key[:2]>/<key>.json``. Reading a result marks it used (its mtime), so
-:meth:`ResultCache.prune` removes the results no run has read or written for the longest time
-until the folder holds at most ``max_bytes``. ``motiontool cache clean`` empties it.
+A result is ``<directory>/<key[:2]>/<key>.json`` (another suffix for bytes of another format:
+the configuration cache, ``cli/config_cache.py``). Reading a result marks it used (its mtime),
+so :meth:`ResultCache.prune` removes the results no run has read or written for the longest
+time until the folder holds at most ``max_bytes``. ``motiontool cache clean`` empties it.
 """
 
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import os
 import stat
 from collections.abc import Iterable, Iterator
@@ -50,42 +51,60 @@ class CacheUsage(NamedTuple):
 
 class ResultCache(NamedTuple):
     """Results on disk under ``directory``, pruned to ``max_bytes`` and ``max_results``
-    (None: unbounded)."""
+    (None: unbounded): JSON documents (:meth:`load`, :meth:`store`), or bytes in a format of
+    the caller's (:meth:`load_bytes`, :meth:`store_bytes`, files named ``*suffix``)."""
 
     directory: Path
     max_bytes: int | None = None
     max_results: int | None = None
+    suffix: str = ".json"
 
     def _path(self, key: str) -> Path:
-        return self.directory / key[:2] / f"{key}.json"
+        return self.directory / key[:2] / f"{key}{self.suffix}"
 
     def load(self, key: str) -> dict[str, Any] | None:
         """The result stored under ``key`` (marked used), or None if there is none, it is
         unreadable or it is not a regular file."""
+        data = self.load_bytes(key)
+        if data is None:
+            return None
         import json  # where a result is read or stored: a --no-cache run needs no JSON
 
+        try:
+            doc = json.loads(data)
+        except ValueError:
+            return None
+        return doc if isinstance(doc, dict) else None
+
+    def load_bytes(self, key: str) -> bytes | None:
+        """The bytes stored under ``key`` (marked used), or None if there are none, they are
+        unreadable or they are not a regular file."""
         path = self._path(key)
         try:
             if not stat.S_ISREG(os.lstat(path).st_mode):
                 return None  # not what store writes: a FIFO would block, a link is not ours
-            doc = json.loads(path.read_bytes())
-        except (OSError, ValueError):
+            data = path.read_bytes()
+        except OSError:
             return None
         with contextlib.suppress(OSError):
             os.utime(path)
-        return doc if isinstance(doc, dict) else None
+        return data
 
     def store(self, key: str, doc: dict[str, Any]) -> bool:
-        """Write ``doc`` under ``key``: a temporary file beside it, then a rename, so that a
+        """Write ``doc`` under ``key`` as JSON (:meth:`store_bytes`)."""
+        import json
+
+        return self.store_bytes(key, json.dumps(doc, sort_keys=True).encode())
+
+    def store_bytes(self, key: str, data: bytes) -> bool:
+        """Write ``data`` under ``key``: a temporary file beside it, then a rename, so that a
         reader sees the whole result or none, and whatever was at the path (a FIFO, a link) is
         replaced, never written through. False where it cannot be written (a read-only or
         full disk, a file where a folder should be): a cache that cannot be written is no
         error, the result is computed again next time."""
-        import json
         import tempfile
 
         path = self._path(key)
-        data = json.dumps(doc, sort_keys=True).encode()
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".", suffix=".tmp")
@@ -108,7 +127,7 @@ class ResultCache(NamedTuple):
     def _entries(self) -> list[tuple[float, int, Path]]:
         """(mtime, size in bytes, path) of every result, least recently used first."""
         out = []
-        for path in self.directory.glob("??/*.json"):
+        for path in self.directory.glob(f"??/*{self.suffix}"):
             with contextlib.suppress(OSError):
                 st = path.stat()
                 out.append((st.st_mtime, st.st_size, path))
@@ -144,6 +163,8 @@ def files_stamp(paths: Iterable[Path], suffix: str = ".py") -> str:
     """Hash (hex) of the path, size and modification time of each file of ``paths`` and of
     every ``suffix`` file below its folders: what changes when the code in them changes (an
     edit, an upgrade)."""
+    import hashlib  # where a stamp is made: reading the configuration cache needs none
+
     h = hashlib.sha256()
     for top in paths:
         for path, st in _files(top, suffix):

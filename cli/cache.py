@@ -1,5 +1,5 @@
 """``motiontool cache``: what the result caches hold (batch's results, validate's findings,
-play --bag's robot descriptions), and emptying them."""
+play --bag's robot descriptions, configuration files' tables), and emptying them."""
 
 from __future__ import annotations
 
@@ -35,7 +35,8 @@ def cache_command(
             "--cache-dir",
             help="One cache folder (batch's --cache-dir); default: batch's results "
             "(~/.cache/motiontool/batch), validate's findings (~/.cache/motiontool/lint) and "
-            "play --bag's robot descriptions (~/.cache/motiontool/urdf).",
+            "play --bag's robot descriptions (~/.cache/motiontool/urdf), configuration files' "
+            "tables (~/.cache/motiontool/config).",
         ),
     ] = None,
     max_mb: Annotated[
@@ -52,25 +53,29 @@ def cache_command(
     """The result caches: 'info' prints each one's folder, results and size; 'clean' removes
     results (all of them, or the least recently used down to --max-mb) and says what it did,
     a line per cache."""
+    from motiontool.cli import config_cache
     from motiontool.disk_cache import BYTES_PER_MB, ResultCache
     from motiontool.kinematics.checks.findings_cache import MAX_MB, lint_cache_dir
     from motiontool.kinematics.export import URDF_KEPT, urdf_cache_dir
     from motiontool.sim.batch import DEFAULT_MAX_MB, default_cache_dir
 
-    folders = (
-        [(cache_dir, "")]
+    caches = (
+        [(ResultCache(cache_dir), "")]
         if cache_dir is not None
         else [
             (
-                default_cache_dir(),
+                ResultCache(default_cache_dir()),
                 f"batch prunes it to {DEFAULT_MAX_MB} MB unless --cache-max-mb says otherwise",
             ),
-            (lint_cache_dir(), f"validate's robot findings, pruned to {MAX_MB} MB"),
-            (urdf_cache_dir(), f"play --bag's robot descriptions, the last {URDF_KEPT} robots"),
+            (ResultCache(lint_cache_dir()), f"validate's robot findings, pruned to {MAX_MB} MB"),
+            (
+                ResultCache(urdf_cache_dir()),
+                f"play --bag's robot descriptions, the last {URDF_KEPT} robots",
+            ),
+            (config_cache.cache(), "configuration files' tables, read without parsing again"),
         ]
     )
-    for folder, about in folders:
-        cache = ResultCache(folder)
+    for cache, about in caches:
         if action is Action.info:
             usage = cache.usage()
             note = f" ({about})" if about else ""

@@ -322,15 +322,23 @@ def _may_name_motiontool(text: str) -> bool:
 
 
 def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
-    """(the motiontool table or None, the file's text, the table's dotted name)."""
+    """(the motiontool table or None, the file's text, the table's dotted name). A file read
+    before with the same text is not parsed again (:mod:`motiontool.cli.config_cache`)."""
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) else "not UTF-8"
         raise ConfigError(f"cannot read '{path}': {reason}", path) from exc
-    if path.name == "pyproject.toml" and not _may_name_motiontool(text):
-        return None, text, "tool.motiontool"  # another tool's file: not parsed, not judged
-    from motiontool.motionfmt.structured_text import load_toml  # where a file is found
+    pyproject = path.name == "pyproject.toml"
+    name = "tool.motiontool" if pyproject else None
+    if pyproject and not _may_name_motiontool(text):
+        return None, text, name  # another tool's file: not parsed, not judged
+    from motiontool.cli import config_cache  # where a file is found
+
+    kept = config_cache.lookup(path, text)
+    if kept is not None:
+        return kept.table, text, name
+    from motiontool.motionfmt.structured_text import load_toml
 
     try:
         doc = load_toml(text, str(path), "a configuration")
@@ -339,10 +347,11 @@ def _read(path: Path) -> tuple[dict[str, Any] | None, str, str | None]:
         raise ConfigError(
             f"{path}: not valid TOML: {exc.message} (at {where})", path, exc.line, exc.column
         ) from exc
-    if path.name == "pyproject.toml":
-        table = doc.get("tool", {}).get("motiontool")
-        return (table if isinstance(table, dict) else None), text, "tool.motiontool"
-    return doc, text, None
+    tool = doc.get("tool") if pyproject else {"motiontool": doc}
+    table = tool.get("motiontool") if isinstance(tool, dict) else None
+    table = table if isinstance(table, dict) else None
+    config_cache.store(path, text, table)
+    return table, text, name
 
 
 def load_settings(path: Path) -> Settings | None:

@@ -166,6 +166,74 @@ def test_a_pyproject_that_never_names_motiontool_is_not_read(repo: Path) -> None
     assert code == 0 and codes(out) == ["MT203"]
 
 
+@pytest.fixture
+def parses(repo: Path, monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """The configuration files parsed as TOML from here on (a fresh cache folder)."""
+    from motiontool.motionfmt import structured_text
+
+    monkeypatch.setenv("XDG_CACHE_HOME", str(repo / "cache"))
+    parsed: list[str] = []
+    real = structured_text.load_toml
+
+    def load_toml(text: str, name: str, what: str) -> dict[str, object]:
+        parsed.append(Path(name).name)
+        return real(text, name, what)
+
+    monkeypatch.setattr(structured_text, "load_toml", load_toml)
+    return parsed
+
+
+def test_a_configuration_read_before_with_the_same_text_is_not_parsed_again(
+    repo: Path, parses: list[str]
+) -> None:
+    pyproject(repo, 'ignore = ["MT302"]\n')
+    assert invoke("validate", "motions/nao", "-f", "json")[0] == 0
+    assert parses == ["pyproject.toml"]
+    code, out, _ = invoke("validate", "motions/nao", "-f", "json")
+    assert (code, codes(out), parses) == (0, ["MT203"], ["pyproject.toml"])
+    # An edit (the same length: only the text tells) is read again; so is another file.
+    pyproject(repo, 'ignore = ["MT203"]\n')
+    code, out, _ = invoke("validate", "motions/nao", "-f", "json")
+    assert (code, codes(out), parses[1:]) == (1, ["MT302"], ["pyproject.toml"])
+    (repo / "motions" / "nao" / "motiontool.toml").write_text('ignore = ["MT203", "MT302"]\n')
+    assert invoke("validate", "motions/nao")[0] == 0
+    assert parses[2:] == ["motiontool.toml"]
+    assert invoke("cache", "info")[1].count("config: 2 results") == 1
+    invoke("cache", "clean")
+    assert invoke("cache", "info")[1].count("config: 0 results") == 1
+
+
+def test_a_configuration_cache_that_cannot_be_used_is_no_error(
+    repo: Path, parses: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A damaged entry, a FIFO where an entry should be, a date no entry can hold, a cache
+    folder that cannot be made: the file is parsed, as without a cache."""
+    import os
+
+    from motiontool.cli import config_cache
+
+    pyproject(repo, 'ignore = ["MT302"]\nrobot = 1979-05-27\n')
+    for _ in range(2):
+        code, _, err = invoke("validate", "motions/nao")
+        assert (code, err.count("pyproject.toml:6: 'robot' must be")) == (2, 1)
+    assert parses == ["pyproject.toml"] * 2  # a table with a date is not kept
+    pyproject(repo, 'ignore = ["MT302"]\n')
+    invoke("validate", "motions/nao")
+    (entry,) = (repo / "cache" / "motiontool" / "config").glob("*/*.marshal")
+    entry.write_bytes(b"\x00garbage")
+    assert invoke("validate", "motions/nao")[0] == 0
+    entry.unlink()
+    os.mkfifo(entry)
+    assert invoke("validate", "motions/nao")[0] == 0  # not opened: no reader would come
+    assert entry.is_file()  # replaced by the entry
+    assert len(parses) == 5
+    assert config_cache.lookup(repo / "pyproject.toml", "another text") is None
+    (repo / "cache").rename(repo / "old-cache")
+    (repo / "cache").write_text("a file where the cache folder should be")
+    code, out, _ = invoke("validate", "motions/nao", "-f", "json")
+    assert (code, codes(out), len(parses)) == (0, ["MT203"], 6)
+
+
 def test_the_schema_ships_and_agrees_with_the_reader(repo: Path) -> None:
     schema = schemas.load(schemas.CONFIG)
     assert set(schema["properties"]) == set(KEYS)

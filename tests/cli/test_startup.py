@@ -148,6 +148,20 @@ def test_the_syntax_level_of_a_small_file_imports_no_numpy_and_one_report_writer
     assert _loaded(modules, (*library, *others)) == []
 
 
+def test_a_configuration_read_before_is_used_without_a_toml_parser(tmp_path: Path) -> None:
+    """The hook in a configured repository: the second run takes the configuration's table
+    from the cache (``cli/config_cache.py``), importing no TOML parser and no digest."""
+    (tmp_path / "small.motion").write_bytes(SMALL)
+    (tmp_path / "pyproject.toml").write_text(
+        '[project]\nname = "robot-motions"\n\n[tool.motiontool]\nignore = ["MT206"]\n'
+    )
+    first, out = _imported(["validate", "--robot", "none", "small.motion"], tmp_path)
+    assert "tomllib" in first and "checked 1 file: 0 errors" in out
+    again, out_again = _imported(["validate", "--robot", "none", "small.motion"], tmp_path)
+    assert out_again == out
+    assert _loaded(again, ("tomllib", "motiontool.motionfmt.structured_text", "hashlib")) == []
+
+
 def test_the_summaries_in_the_command_table_are_the_commands_own() -> None:
     root = typer.main.get_command(app)
     assert isinstance(root, typer.core.TyperGroup)
