@@ -161,6 +161,8 @@ def test_a_pyproject_that_never_names_motiontool_is_not_read(repo: Path) -> None
     unparsed, broken TOML included; a key spelled with ``\\u`` escapes is still ours."""
     (repo / "pyproject.toml").write_text("[project]\nname = 'x'\nbroken = [\n")
     assert invoke("validate", "motions")[0] == 1  # the defaults: MT302 fails the run
+    (repo / "pyproject.toml").write_text("tool = 'motiontool'\n")  # no table: the defaults
+    assert invoke("validate", "motions")[0] == 1
     (repo / "pyproject.toml").write_text('[tool."\\u006dotiontool"]\nignore = ["MT302"]\n')
     code, out, _ = invoke("validate", "motions", "-f", "json")
     assert code == 0 and codes(out) == ["MT203"]
