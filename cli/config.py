@@ -35,12 +35,10 @@ and the key, with a did-you-mean.
 
 from __future__ import annotations
 
-import dataclasses
 import difflib
 import fnmatch
 import re
 from collections.abc import Iterable
-from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Annotated, Any, NamedTuple
 
@@ -133,18 +131,17 @@ def check_selectors(codes: Iterable[str], option: str) -> tuple[str, ...]:
     return found
 
 
-@dataclass(frozen=True)
-class Settings:
+class Settings(NamedTuple):
     """The settings a configuration file gives (defaults where it says nothing).
 
     Attributes:
         source: the file they come from (None: no file, the defaults).
         root: the folder globs are relative to (the file's folder; the working directory for
-            the defaults).
+            the defaults: ``.``).
     """
 
     source: Path | None = None
-    root: Path = field(default_factory=Path.cwd)
+    root: Path = Path()
     robot: str = "auto"
     robots: tuple[tuple[str, str], ...] = ()
     select: tuple[str, ...] | None = None
@@ -229,18 +226,18 @@ class Settings:
     def as_dict(self) -> dict[str, Any]:
         """The settings as the configuration file spells them (``--show-settings``)."""
         out: dict[str, Any] = {"source": None if self.source is None else str(self.source)}
-        out["root"] = str(self.root)
-        for f in dataclasses.fields(self):
-            if f.name in ("source", "root"):
+        out["root"] = str(self.root.resolve())
+        for name in self._fields:
+            if name in ("source", "root"):
                 continue
-            value = getattr(self, f.name)
-            if f.name in ("robots", "per_file_ignores"):
+            value = getattr(self, name)
+            if name in ("robots", "per_file_ignores"):
                 value = {k: list(v) if isinstance(v, tuple) else v for k, v in value}
             elif isinstance(value, tuple):
                 value = list(value)
             elif isinstance(value, Path):
                 value = str(value)
-            out[f.name.replace("_", "-")] = value
+            out[name.replace("_", "-")] = value
         return out
 
 
