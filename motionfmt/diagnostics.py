@@ -222,9 +222,8 @@ class Worst(NamedTuple):
     time_ms: int | None
 
 
-@dataclass(frozen=True, slots=True)
-class Run:
-    """What a grouped finding stands for: ``count`` findings at consecutive poses (in
+class Run(NamedTuple):
+    """What a grouped finding stands for: ``total`` findings at consecutive poses (in
     ``runs`` runs of them: more than :data:`~motiontool.motionfmt.grouping.MAX_RUNS` of one
     code and subject in a file make one finding), from the finding's own line to
     ``end_line``, the worst of them ``worst``.
@@ -234,7 +233,7 @@ class Run:
             pose time, not its lines or count): what report fingerprints hash.
     """
 
-    count: int
+    total: int
     end_line: int
     worst: Worst
     noun: str
@@ -303,7 +302,7 @@ class Diagnostic:
     @property
     def count(self) -> int:
         """How many findings this one stands for: 1, or a group's count."""
-        return 1 if self.run is None else self.run.count
+        return 1 if self.run is None else self.run.total
 
     @property
     def identity(self) -> str:

@@ -32,7 +32,7 @@ def _run_json(d: Diagnostic) -> dict[str, Any]:
     w = d.run.worst
     runs = {"runs": d.run.runs} if d.run.runs > 1 else {}
     return {
-        "count": d.run.count,
+        "count": d.run.total,
         "end_line": d.run.end_line,
         **runs,
         "worst": {

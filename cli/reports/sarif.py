@@ -167,7 +167,7 @@ def _run(f: FileReport, d: Diagnostic, location: dict[str, Any]) -> dict[str, An
         "message": {"text": f"worst: {w.value:.6g} {w.unit}"},
         "physicalLocation": {"artifactLocation": location, "region": region},
     }
-    properties: dict[str, Any] = {"count": d.run.count, "endLine": d.run.end_line}
+    properties: dict[str, Any] = {"count": d.run.total, "endLine": d.run.end_line}
     if d.run.runs > 1:
         properties["runs"] = d.run.runs
     properties["worst"] = worst

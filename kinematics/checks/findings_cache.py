@@ -31,7 +31,6 @@ from __future__ import annotations
 import functools
 import hashlib
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import astuple
 from pathlib import Path
 from typing import NamedTuple, TypeVar
 
@@ -181,7 +180,7 @@ def _encode(d: Diagnostic) -> list[object]:
         d.time_ms,
         d.end_column,
         None if d.pose is None else list(d.pose),
-        None if d.run is None else list(astuple(d.run)),
+        None if d.run is None else list(d.run),  # its worst, a tuple, as a JSON array
     ]
 
 
@@ -220,10 +219,10 @@ def _pose(item: object) -> PoseFinding:
 
 
 def _run(item: object) -> Run:
-    count, end_line, worst, noun, identity, runs = _list(item, 6)
+    total, end_line, worst, noun, identity, runs = _list(item, 6)
     value, unit, line, column, time_ms = _list(worst, 5)
     return Run(
-        _of(count, int),
+        _of(total, int),
         _of(end_line, int),
         Worst(
             _number(value), _of(unit, str), _of(line, int), _of(column, int), _or_none(time_ms, int)
