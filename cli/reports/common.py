@@ -8,7 +8,6 @@ import functools
 import os
 from collections import Counter
 from collections.abc import Callable, Iterable, Iterator, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -57,14 +56,13 @@ def summary(totals: Totals) -> str:
     not_shown = f"; {plural(hidden, 'finding')} not shown (max-findings)" if hidden else ""
     return (
         f"checked {plural(totals.files, 'file')}: "
-        f"{plural(totals.count(Severity.ERROR), 'error')}, "
-        f"{plural(totals.count(Severity.WARNING), 'warning')}, "
-        f"{plural(totals.count(Severity.INFO), 'note')}{skipped}{not_shown}"
+        f"{plural(totals.found(Severity.ERROR), 'error')}, "
+        f"{plural(totals.found(Severity.WARNING), 'warning')}, "
+        f"{plural(totals.found(Severity.INFO), 'note')}{skipped}{not_shown}"
     )
 
 
-@dataclass(frozen=True)
-class Totals:
+class Totals(NamedTuple):
     """What a report says of the whole run once every file is checked: how many files, the
     findings of each severity (shown or past ``max-findings``, the run's notes included),
     the run's notes (about no file), and how many findings ``max-findings`` leaves out."""
@@ -74,7 +72,8 @@ class Totals:
     notes: list[Diagnostic]
     hidden: int = 0
 
-    def count(self, severity: Severity) -> int:
+    def found(self, severity: Severity) -> int:
+        """How many findings of ``severity`` the run has."""
         return self.counts.get(severity, 0)
 
 

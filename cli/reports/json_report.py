@@ -103,9 +103,9 @@ class JsonWriter(Writer):
         yield "\n  ]" if totals.files else "[]"
         self.doc["summary"] = {
             "files": totals.files,
-            "errors": totals.count(Severity.ERROR),
-            "warnings": totals.count(Severity.WARNING),
-            "notes": totals.count(Severity.INFO),
+            "errors": totals.found(Severity.ERROR),
+            "warnings": totals.found(Severity.WARNING),
+            "notes": totals.found(Severity.INFO),
         }
         self.doc["notes"] = [_note_json(d) for d in totals.notes]
         yield text_after(self.doc, self.escaped[0])

@@ -110,9 +110,9 @@ class StatisticsJsonWriter(StatisticsWriter):
             "statistics": rows,
             "summary": {
                 "files": totals.files,
-                "errors": totals.count(Severity.ERROR),
-                "warnings": totals.count(Severity.WARNING),
-                "notes": totals.count(Severity.INFO),
+                "errors": totals.found(Severity.ERROR),
+                "warnings": totals.found(Severity.WARNING),
+                "notes": totals.found(Severity.INFO),
             },
         }
         yield dumps(doc)
