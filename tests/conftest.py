@@ -46,6 +46,11 @@ sys.path.insert(0, str(TESTS))  # the plain-loop oracle
 # not stand in for the checks another test exercises (tests/cli/test_findings_cache.py turns the
 # cache on in a folder of its own).
 os.environ["MOTIONTOOL_NO_CACHE"] = "1"
+# What the tool keeps on disk (a robot's kinematic tables, configuration files' tables, bag
+# URDFs, batch results) goes to a folder of this test process's own, never the user's cache; a
+# test that looks at a cache sets XDG_CACHE_HOME to a folder of its own.
+_CACHE = tempfile.TemporaryDirectory(prefix="motiontool-test-cache-")
+os.environ["XDG_CACHE_HOME"] = _CACHE.name
 
 
 def missing_data(reason: str) -> NoReturn:
