@@ -23,6 +23,7 @@ from typing import Any, NamedTuple
 
 __all__ = [
     "BYTES_PER_MB",
+    "NO_CACHE_ROOT",
     "CacheUsage",
     "ResultCache",
     "cache_root",
@@ -35,10 +36,23 @@ BYTES_PER_MB = 1_000_000
 """A megabyte, as ``--cache-max-mb`` counts it."""
 
 
+NO_CACHE_ROOT = Path(os.devnull) / "motiontool"
+"""The caches' folder where none can be found: a path below the null device, under which no
+folder can be made nor any file read, so that every cache is empty and keeps nothing."""
+
+
 def cache_root() -> Path:
     """Where motiontool keeps what it can compute again: ``$XDG_CACHE_HOME/motiontool``
-    (``~/.cache/motiontool``), one folder per cache in it."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    (``~/.cache/motiontool``), one folder per cache in it. Without ``XDG_CACHE_HOME`` and a
+    home directory (no ``HOME`` and a user the system does not know: a container run as an
+    arbitrary user id, ``env -i``), :data:`NO_CACHE_ROOT`: the caches are off, as they are
+    where the folder cannot be written."""
+    base = os.environ.get("XDG_CACHE_HOME")
+    if not base:
+        try:
+            base = str(Path.home() / ".cache")
+        except RuntimeError:  # "Could not determine home directory."
+            return NO_CACHE_ROOT
     return Path(base) / "motiontool"
 
 

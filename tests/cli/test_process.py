@@ -388,3 +388,33 @@ def test_start_up_runs_without_collecting_and_the_command_with_the_collector_on(
     )
     assert (ran.returncode, ran.stderr) == (0, "")
     assert "checked 1 file: 0 errors" in ran.stdout
+
+
+def test_without_a_home_directory_the_caches_are_off(here: Path) -> None:
+    """No ``XDG_CACHE_HOME``, no ``HOME`` and a user the system does not know (a container run
+    as an arbitrary user id): Python finds no home directory, and every cache is off, the
+    configuration's, the findings', the robot tables' included, instead of a traceback."""
+    script = (
+        "import pathlib, sys\n"
+        "def home(cls):\n"
+        "    raise RuntimeError('Could not determine home directory.')\n"
+        "pathlib.Path.home = classmethod(home)\n"
+        "from motiontool.cli.__main__ import main\n"
+        "sys.argv[0] = 'motiontool'\n"
+        "main()\n"
+    )
+    (here / "motiontool.toml").write_text('ignore = ["MT206"]\n')
+    env = {k: v for k, v in os.environ.items() if k not in ("XDG_CACHE_HOME", "HOME")}
+    env.pop("MOTIONTOOL_NO_CACHE", None)
+    for args in (["validate", "in.motion"], ["validate", "--robot", "none", "in.motion"]):
+        for _ in range(2):  # a second run finds nothing kept either
+            ran = subprocess.run(
+                [sys.executable, "-c", script, *args], capture_output=True, text=True, env=env
+            )
+            assert (ran.returncode, ran.stderr) == (0, ""), ran.stderr
+            assert "checked 1 file: 0 errors" in ran.stdout
+    ran = subprocess.run(
+        [sys.executable, "-c", script, "cache", "info"], capture_output=True, text=True, env=env
+    )
+    assert (ran.returncode, ran.stderr) == (0, "")
+    assert ran.stdout.count("/dev/null/motiontool/") == 4
