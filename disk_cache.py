@@ -30,6 +30,7 @@ __all__ = [
     "code_stamp",
     "files_stamp",
     "libraries_stamp",
+    "write_replacing",
 ]
 
 BYTES_PER_MB = 1_000_000
@@ -111,32 +112,10 @@ class ResultCache(NamedTuple):
         return self.store_bytes(key, json.dumps(doc, sort_keys=True).encode())
 
     def store_bytes(self, key: str, data: bytes) -> bool:
-        """Write ``data`` under ``key``: a temporary file beside it, then a rename, so that a
-        reader sees the whole result or none, and whatever was at the path (a FIFO, a link) is
-        replaced, never written through. False where it cannot be written (a read-only or
-        full disk, a file where a folder should be): a cache that cannot be written is no
-        error, the result is computed again next time."""
-        import tempfile
-
-        path = self._path(key)
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".", suffix=".tmp")
-        except OSError:
-            return False
-        try:
-            with os.fdopen(fd, "wb") as f:
-                f.write(data)
-            os.replace(tmp, path)
-        except OSError:
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            return False
-        except BaseException:  # SIGTERM, Ctrl-C: no temporary file left in the cache
-            with contextlib.suppress(OSError):
-                os.unlink(tmp)
-            raise
-        return True
+        """Write ``data`` under ``key`` (:func:`write_replacing`). False where it cannot be
+        written: a cache that cannot be written is no error, the result is computed again next
+        time."""
+        return write_replacing(self._path(key), data)
 
     def _entries(self) -> list[tuple[float, int, Path]]:
         """(mtime, size in bytes, path) of every result, least recently used first."""
@@ -171,6 +150,32 @@ class ResultCache(NamedTuple):
             with contextlib.suppress(OSError):
                 path.parent.rmdir()  # only when it is empty
         return CacheUsage(removed, freed)
+
+
+def write_replacing(path: Path, data: bytes) -> bool:
+    """Write ``data`` to ``path``: a temporary file beside it, then a rename, so that a reader
+    sees all of it or nothing, and whatever was at the path (a FIFO, a link) is replaced, never
+    written through. The temporary file's name is drawn before the file is made, inside the
+    ``try`` that removes it: a signal at any moment (Ctrl-C, SIGTERM) leaves none behind
+    (``tempfile.mkstemp`` makes the file, then calls Python code before it returns its name).
+    False where it cannot be written (a read-only or full disk, a file where a folder should
+    be)."""
+    tmp = path.with_name(f".{os.urandom(6).hex()}.tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except FileExistsError:  # a file where the folder should be, or the name taken: not ours
+        return False
+    except BaseException as exc:  # OSError; SIGTERM, Ctrl-C: no temporary file left behind
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if isinstance(exc, OSError):
+            return False
+        raise
+    return True
 
 
 def files_stamp(paths: Iterable[Path], suffix: str = ".py") -> str:

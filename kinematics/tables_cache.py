@@ -17,11 +17,10 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from motiontool.disk_cache import cache_root, libraries_stamp
+from motiontool.disk_cache import cache_root, libraries_stamp, write_replacing
 from motiontool.kinematics._pinocchio import KinematicTables, kinematic_tables
 from motiontool.kinematics.robots import RobotSpec
 
@@ -105,22 +104,13 @@ def _load(path: Path) -> KinematicTables | None:
 
 
 def _save(path: Path, tables: KinematicTables) -> None:
-    """Store ``tables`` at ``path`` (a temporary file, then a rename); a failure is ignored:
-    the next run builds them again."""
-    import tempfile
+    """Store ``tables`` at ``path`` (:func:`motiontool.disk_cache.write_replacing`: no
+    temporary file left by a signal); a failure is ignored: the next run builds them again."""
+    import io
 
     import numpy as np
 
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=".tables-", suffix=_SUFFIX)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                for value in tables:
-                    np.save(f, np.array(value), allow_pickle=False)
-            os.replace(tmp, path)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
-    except OSError:
-        return
+    stream = io.BytesIO()
+    for value in tables:
+        np.save(stream, np.array(value), allow_pickle=False)
+    write_replacing(path, stream.getvalue())

@@ -7,6 +7,7 @@ import os
 from pathlib import Path
 from typing import Any
 
+import pytest
 from typer.testing import CliRunner
 
 from motiontool.cli.app import app
@@ -105,3 +106,28 @@ def test_prune_keeps_at_most_max_results_the_most_recently_used(tmp_path: Path) 
     assert cache.prune().results == 3
     assert _kept(tmp_path) == [3, 4]
     assert ResultCache(tmp_path, max_bytes=10**6, max_results=2).prune().results == 0
+
+
+@pytest.mark.parametrize("where", ["open", "fdopen", "replace"])
+def test_a_signal_while_a_result_is_stored_leaves_no_temporary_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, where: str
+) -> None:
+    """Ctrl-C (or SIGTERM, which the CLI raises as an exception) at any moment of a store: the
+    temporary file made so far is removed, whatever was stored before stays whole."""
+    import motiontool.disk_cache as disk_cache
+
+    cache = ResultCache(tmp_path)
+    assert cache.store("ab" + "c" * 62, {"kept": 1})
+    real = {"open": os.open, "fdopen": os.fdopen, "replace": os.replace}[where]
+
+    def interrupted(*args: Any, **kwargs: Any) -> Any:
+        if where == "open":
+            real(*args, **kwargs)  # the file is made, then the signal comes
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(disk_cache.os, where, interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        cache.store("ab" + "c" * 62, {"kept": 2})
+    monkeypatch.undo()
+    assert [p.name for p in tmp_path.rglob("*")] == ["ab", "ab" + "c" * 62 + ".json"]
+    assert cache.load("ab" + "c" * 62) == {"kept": 1}
