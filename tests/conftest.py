@@ -22,7 +22,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from types import ModuleType
-from typing import NoReturn
+from typing import Any, NoReturn
 
 import pytest
 
@@ -124,6 +124,23 @@ def dev_module(name: str) -> ModuleType:
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def calls_of(
+    monkeypatch: pytest.MonkeyPatch, owner: object, name: str
+) -> list[tuple[tuple[Any, ...], Any]]:
+    """Every call of ``owner.name`` from here on, as (its positional arguments, its result);
+    the function still runs: what a test counts of the work a check or a reader does."""
+    real = getattr(owner, name)
+    calls: list[tuple[tuple[Any, ...], Any]] = []
+
+    def recorded(*args: Any, **kwargs: Any) -> Any:
+        result = real(*args, **kwargs)
+        calls.append((args, result))
+        return result
+
+    monkeypatch.setattr(owner, name, recorded)
+    return calls
 
 
 def require(path: Path, what: str) -> Path:

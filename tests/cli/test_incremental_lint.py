@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from conftest import calls_of
 from edits import edit, motion
 
 from motiontool.cli.config import Resolver
@@ -108,41 +109,27 @@ def test_a_value_edit_scans_only_the_configurations_it_changed(
     reader = Rereader()
     first = b"\n".join(lines) + b"\n"
     lint_document(path, first, Resolver(), Overrides(), lambda *k: checks, reader)
-    scanned: list[int] = []
-    scan = collision.scan_self_collisions
-
-    def counted(spec: Any, q: Any, **options: Any) -> list[collision.Contact]:
-        scanned.append(len(q))
-        return scan(spec, q, **options)
-
-    monkeypatch.setattr(collision, "scan_self_collisions", counted)
-    steps: list[int] = []
-    commands_at = velocity.commands_at
-
-    def stepped(motion: Any, elapsed: Any) -> Any:
-        steps.append(len(elapsed))
-        return commands_at(motion, elapsed)
-
-    monkeypatch.setattr(velocity, "commands_at", stepped)
+    scans = calls_of(monkeypatch, collision, "scan_self_collisions")  # (spec, q)
+    steps = calls_of(monkeypatch, velocity, "commands_at")  # (motion, elapsed)
     cells = lines[150].split(b",")
     cells[4] = b"0.25"
     lines[150] = b",".join(cells)
     data = b"\n".join(lines) + b"\n"
     got, _robot = lint_document(path, data, Resolver(), Overrides(), lambda *k: checks, reader)
-    assert sum(scanned) == 3
-    assert 0 < sum(steps) <= 40  # of 601 (a step every 20 ms over 12 s)
+    assert sum(len(args[1]) for args, _ in scans) == 3
+    assert 0 < sum(len(args[1]) for args, _ in steps) <= 40  # of 601 (a step every 20 ms, 12 s)
     assert reader.resumed == 1
     want, _robot = lint_document(path, data, Resolver(), Overrides(), _checks)
     assert _seen(got) == _seen(want)
 
-    scanned.clear()
+    scans.clear()
     cells = lines[100].split(b",")
     cells[0] = str(int(cells[0]) + 20).encode()  # halfway to the next pose
     cells[3] = b"0.125"
     lines.insert(101, b",".join(cells))
     data = b"\n".join(lines) + b"\n"
     got, _robot = lint_document(path, data, Resolver(), Overrides(), lambda *k: checks, reader)
-    assert sum(scanned) == 3
+    assert sum(len(args[1]) for args, _ in scans) == 3
     assert reader.resumed == 2
     want, _robot = lint_document(path, data, Resolver(), Overrides(), _checks)
     assert _seen(got) == _seen(want)

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from conftest import CORPUS, DATA, ROBOT_FACTS, ROOT, require
+from conftest import CORPUS, DATA, ROBOT_FACTS, ROOT, calls_of, require
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from oracle import UNDEFINED, webots_load, webots_play
@@ -377,20 +377,13 @@ def test_the_velocity_check_of_a_motion_ending_at_2_31_ms_reads_a_few_steps(
     all 107 million 20 ms steps. It reads the steps around each pose: a few dozen."""
     from motiontool.kinematics.checks import velocity
 
-    read: list[int] = []
-    original = velocity.commands_at
-
-    def counting(motion: Any, elapsed: Any) -> Any:
-        read.append(len(elapsed))
-        return original(motion, elapsed)
-
-    monkeypatch.setattr(velocity, "commands_at", counting)
+    read = calls_of(monkeypatch, velocity, "commands_at")  # (motion, elapsed)
     rows = b"0,P1,0,0\n40,P2,1.5,*\n2147483000,P3,0,1\n2147483640,P4,0,1\n"
     data = b"#WEBOTS_MOTION,V1.0,HeadYaw,HeadPitch\n" + rows
     found = findings(data, checks=("velocity",), timestep_ms=20)
     assert [f.split(": ")[1] for f in found] == ["warning MT303", "warning MT207", "warning MT304"]
     assert "target jumps by 1 rad at 2147483020 ms" in found[2]
-    assert 0 < sum(read) <= 32  # of 107 374 183 steps
+    assert 0 < sum(len(args[1]) for args, _ in read) <= 32  # of 107 374 183 steps
 
 
 EXTREME = ["0", "0.5", "-2", "3.14", "1e30", "-1e200", "1e308", "-1e308", "5e-324", "*"]
@@ -529,16 +522,10 @@ def test_a_cycle_met_again_is_not_scanned_again(monkeypatch: pytest.MonkeyPatch)
     cycle = ["1.7,0.3,-1.8,0.3", "1.7,0.3,-1.8,0.3", "-1.0,-0.3,1.5,1.5", "0,0,0,0"]
     lines = ["#WEBOTS_MOTION,V1.0,RShoulderPitch,RShoulderRoll,RElbowYaw,RElbowRoll"]
     lines += [f"{400 * p},P{p},{cycle[p % 4]}" for p in range(24)]
-    scanned: list[int] = []
-    scan = collision._scan_unique
-
-    def counted(spec: Any, unique: Any, *args: Any) -> Any:
-        scanned.append(unique.shape[0])
-        return scan(spec, unique, *args)
-
-    monkeypatch.setattr(collision, "_scan_unique", counted)
+    scans = calls_of(monkeypatch, collision, "_scan_unique")  # (spec, unique, ...)
     checks = robot_checks(_NAO, ["collision"])
     report = validate_bytes(("\n".join(lines) + "\n").encode(), "t.motion", checks=checks)
+    scanned = [args[1].shape[0] for args, _ in scans]
     assert scanned[0] > 0 and scanned[1:] == [0] * 5
     hits = [d for d in report.diagnostics if d.code == "MT307"]
     assert [d.line for d in hits] == [2 + 4 * k for k in range(6)]  # a run of 2 poses each
