@@ -2,9 +2,9 @@
 (:func:`cache_root`), results as one file per key, bounded in size, least recently used out
 (:class:`ResultCache`: batch's simulation results, ``validate``'s robot findings, the
 configuration files' tables), and the stamps their keys are made of. At the top of the
-package, as :mod:`motiontool.stamps` is, so
-that each layer's cache (``kinematics/tables_cache.py``, ``kinematics/checks/findings_cache.py``,
-``sim/batch.py``) says only what it stores and under which key.
+package, as :mod:`motiontool.stamps` is, so that each layer's cache
+(``kinematics/tables_cache.py``, ``kinematics/checks/findings_cache.py``, ``sim/batch.py``,
+``cli/config_cache.py``) says only what it stores and under which key.
 
 A result is ``<directory>/<key[:2]>/<key>.json`` (another suffix for bytes of another format:
 the configuration cache, ``cli/config_cache.py``). Reading a result marks it used (its mtime),

@@ -314,7 +314,7 @@ def _may_name_motiontool(text: str) -> bool:
     """Whether TOML ``text`` can hold a ``[tool.motiontool]`` table: every way of writing the
     key spells ``motiontool``, but a quoted key with ``\\u`` escapes. A project's
     ``pyproject.toml`` without it (the hook run in a repository that configures nothing) is
-    left unparsed: 5 ms of a 0.09 s run."""
+    left unparsed: ``tomllib``'s import and the parse, about 3 ms of a 0.08 s run."""
     return "motiontool" in text or "\\u" in text or "\\U" in text
 
 
